@@ -1,0 +1,85 @@
+//! Safe output: write to a temporary file beside the target, then rename it into place, so a
+//! failure never leaves a partial file; refuse to overwrite any input.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Why an output file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The output path names one of the inputs of the same command.
+    #[error("{output}: refusing to overwrite an input file; choose another output path")]
+    OverwritesInput { output: PathBuf },
+    /// Creating, writing or renaming the file failed.
+    #[error("{path}: cannot write: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+}
+
+/// Writes `contents` to `output` atomically, after checking that `output` is none of `inputs`
+/// (compared after resolving links and `..`, so `./a.osim` and `a.osim` are the same file).
+pub fn write_atomically(output: &Path, contents: &[u8], inputs: &[&Path]) -> Result<(), OutputError> {
+    ensure_not_an_input(output, inputs)?;
+    let io_error = |source| OutputError::Io { path: output.to_path_buf(), source };
+    let directory = match output.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let mut temporary = tempfile::NamedTempFile::new_in(&directory).map_err(io_error)?;
+    temporary.write_all(contents).map_err(io_error)?;
+    temporary.as_file().sync_all().map_err(io_error)?;
+    temporary.persist(output).map_err(|error| io_error(error.error))?;
+    Ok(())
+}
+
+/// Fails with [`OutputError::OverwritesInput`] when `output` is the same file as an input.
+pub fn ensure_not_an_input(output: &Path, inputs: &[&Path]) -> Result<(), OutputError> {
+    let resolved_output = resolve(output);
+    if inputs.iter().any(|input| resolve(input) == resolved_output) {
+        return Err(OutputError::OverwritesInput { output: output.to_path_buf() });
+    }
+    Ok(())
+}
+
+/// Canonical form of a path whose file may not exist yet (its directory is resolved).
+fn resolve(path: &Path) -> PathBuf {
+    if let Ok(canonical) = fs::canonicalize(path) {
+        return canonical;
+    }
+    let directory = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    match (fs::canonicalize(directory), path.file_name()) {
+        (Ok(dir), Some(name)) => dir.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refuses_an_input_spelled_differently() {
+        let dir = tempfile::tempdir().unwrap();
+        let input = dir.path().join("a.osim");
+        fs::write(&input, "x").unwrap();
+        let same = dir.path().join(".").join("a.osim");
+        let error = write_atomically(&same, b"y", &[&input]).unwrap_err();
+        assert!(matches!(error, OutputError::OverwritesInput { .. }));
+        assert_eq!(fs::read_to_string(&input).unwrap(), "x");
+    }
+
+    #[test]
+    fn writes_whole_file_and_leaves_no_temporary() {
+        let dir = tempfile::tempdir().unwrap();
+        let output = dir.path().join("out.sto");
+        write_atomically(&output, b"hello", &[]).unwrap();
+        assert_eq!(fs::read_to_string(&output).unwrap(), "hello");
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn missing_directory_is_an_error_not_a_panic() {
+        let error = write_atomically(Path::new("/nonexistent-dir/x.osim"), b"y", &[]).unwrap_err();
+        assert!(matches!(error, OutputError::Io { .. }));
+    }
+}

@@ -1,0 +1,1 @@
+//! Tables: OpenSim `.sto`/`.mot` storage files and `.trc` marker trajectories.

@@ -1,0 +1,10 @@
+//! osim-tune: read, check and tune OpenSim musculoskeletal models.
+//!
+//! Data flows one way: [`io`] (documents and tables, lossless) → [`model`] (typed view of a
+//! document) → [`review`] (semantic comparison of documents) → [`cli`] (the only place that
+//! prints). See `ARCHITECTURE.md` for the map.
+
+pub mod cli;
+pub mod io;
+pub mod model;
+pub mod review;

@@ -1,0 +1,1 @@
+//! Semantic comparison of OpenSim documents for review.
