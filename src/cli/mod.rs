@@ -1,1 +1,35 @@
-//! Command-line interface: the only module that prints.
+//! Command-line interface: parse arguments into plain structs, run the command, print. The only
+//! module that prints. Exit codes: 0 success (or no differences), 1 differences found,
+//! 2 error (bad input, unknown path, unwritable output).
+
+mod args;
+mod commands;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+pub use args::{Arguments, Command};
+
+/// A command's failure; printed as `error: …` with exit code 2.
+pub type Failure = Box<dyn std::error::Error>;
+
+/// What a successful command reports through the exit code.
+pub enum Outcome {
+    Success,
+    /// `diff` found differences.
+    Differences,
+}
+
+/// Parses the process arguments, runs the command and maps the outcome to an exit code.
+pub fn run() -> ExitCode {
+    let arguments = Arguments::parse();
+    match commands::run(arguments.command) {
+        Ok(Outcome::Success) => ExitCode::SUCCESS,
+        Ok(Outcome::Differences) => ExitCode::from(1),
+        Err(failure) => {
+            eprintln!("error: {failure}");
+            ExitCode::from(2)
+        }
+    }
+}

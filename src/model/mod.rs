@@ -1,1 +1,30 @@
-//! Typed view of an OpenSim model document.
+//! Typed view of an OpenSim model document: bodies, frames, joints, coordinates, functions,
+//! markers, forces with their paths, constraints and wrap objects, read from either the 4.x or
+//! the 3.x layout into one form. Elements keep their `ElementId` where later edits need it.
+
+mod body;
+mod constraint;
+mod coordinate;
+mod error;
+mod force;
+mod frame;
+mod function;
+mod joint;
+mod marker;
+mod path_point;
+mod reader;
+mod spec;
+mod wrap_object;
+
+pub use body::BodySpec;
+pub use constraint::{ConstraintSpec, CouplerSpec};
+pub use coordinate::{CoordinateSpec, CoordinateUnit, MotionType};
+pub use error::ModelError;
+pub use force::{ForceSpec, PathWrapSpec};
+pub use frame::{FrameChain, Offset};
+pub use function::FunctionSpec;
+pub use joint::{JointSpec, TransformAxisSpec};
+pub use marker::MarkerSpec;
+pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
+pub use spec::{ModelSpec, GROUND};
+pub use wrap_object::WrapObjectSpec;

@@ -1,0 +1,64 @@
+//! Arguments of every command, as plain structs (clap derive).
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+/// Turn generic OpenSim models into subject-specific ones.
+///
+/// Exit codes: 0 success, 1 differences found (diff), 2 error.
+#[derive(Debug, Parser)]
+#[command(name = "osim-tune", version, about)]
+pub struct Arguments {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Summarise a model: bodies, joints by type, coordinates with ranges and units, muscles by
+    /// class, markers, constraints and wrap objects.
+    Info {
+        /// The model (.osim, OpenSim 4.x or 3.x).
+        model: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Edit property values by component path and write the result to a new file.
+    ///
+    /// Each ASSIGNMENT is PATH=VALUE, e.g. /forceset/vas_lat_r/tendon_slack_length=0.17 or
+    /// /markerset/R.ASIS/location="0.01 0 0.13". Paths are OpenSim component paths; a property
+    /// is addressed by its XML name. Only the edited values change in the output; with no
+    /// assignment the output is a byte-identical copy. Numbers must stay numbers (with the same
+    /// count), booleans true/false. Any error writes nothing.
+    Set {
+        /// The document to edit (.osim model or OpenSim setup .xml); never overwritten.
+        input: PathBuf,
+        /// Where to write the edited document.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// PATH=VALUE edits.
+        assignments: Vec<String>,
+    },
+    /// Semantic diff of two OpenSim documents for review: added and removed components, changed
+    /// properties with old → new and the relative change of numbers. Formatting, comments and
+    /// number spelling (0.1 vs 1.0e-01) are ignored. Exit 0 same, 1 different, 2 error.
+    ///
+    /// As a git difftool: git difftool -x 'osim-tune diff' -- '*.osim'
+    Diff {
+        a: PathBuf,
+        b: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        /// Treat numbers as equal when |a − b| ≤ RTOL·max(|a|, |b|).
+        #[arg(long, default_value_t = 0.0)]
+        rtol: f64,
+    },
+    /// Print every property as `PATH = VALUE`, one per line, numbers in shortest form: a stable
+    /// text form of a document for `git diff` (use as diff.textconv; see README).
+    Flatten {
+        document: PathBuf,
+    },
+}

@@ -1,0 +1,48 @@
+//! Document versions (`<OpenSimDocument Version="40000">`) and the dialects they imply.
+
+/// The dialect of an OpenSim document, which decides where components live (e.g. 3.x nests joints
+/// in bodies and names markers' bodies with `<body>`; 4.x uses sockets).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Dialect {
+    /// OpenSim 2.x (e.g. `20302`): only tool setup files are read in this dialect.
+    V2,
+    /// OpenSim 3.x (`30000`–`30516`).
+    V3,
+    /// OpenSim 4.x (`40000`…).
+    V4,
+}
+
+/// The `Version` number of a document.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct DocumentVersion {
+    pub number: u32,
+    pub dialect: Dialect,
+}
+
+impl DocumentVersion {
+    /// The dialect of a version number; `None` for numbers no OpenSim release wrote.
+    pub fn from_number(number: u32) -> Option<Self> {
+        let dialect = match number {
+            20000..=29999 => Dialect::V2,
+            30000..=30516 => Dialect::V3,
+            40000..=49999 => Dialect::V4,
+            _ => return None,
+        };
+        Some(DocumentVersion { number, dialect })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn known_ranges_map_to_dialects() {
+        assert_eq!(DocumentVersion::from_number(20302).unwrap().dialect, Dialect::V2);
+        assert_eq!(DocumentVersion::from_number(30516).unwrap().dialect, Dialect::V3);
+        assert_eq!(DocumentVersion::from_number(40000).unwrap().dialect, Dialect::V4);
+        assert!(DocumentVersion::from_number(30517).is_none());
+        assert!(DocumentVersion::from_number(10500).is_none());
+        assert!(DocumentVersion::from_number(50000).is_none());
+    }
+}

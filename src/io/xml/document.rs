@@ -1,0 +1,209 @@
+//! The document: original text, an element tree with byte spans into it, and pending edits.
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use super::error::{EditError, XmlError};
+use super::text;
+
+/// Index of an element in its [`Document`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ElementId(pub(super) u32);
+
+/// An attribute as written in the start tag.
+#[derive(Debug, Clone)]
+pub struct Attribute {
+    pub name: String,
+    /// Unescaped value.
+    pub value: String,
+}
+
+/// One element: its tag, attributes, children and where it sits in the source text.
+#[derive(Debug, Clone)]
+pub struct Element {
+    pub tag: String,
+    pub attributes: Vec<Attribute>,
+    pub parent: Option<ElementId>,
+    pub children: Vec<ElementId>,
+    /// Bytes of the start tag (`<tag …>` or the whole `<tag … />`).
+    pub start_tag: Range<usize>,
+    /// Bytes between the start and the end tag; `None` for a self-closing element.
+    pub content: Option<Range<usize>>,
+}
+
+/// A parsed XML document that remembers its exact text.
+#[derive(Debug, Clone)]
+pub struct Document {
+    pub(super) file: PathBuf,
+    pub(super) source: String,
+    pub(super) elements: Vec<Element>,
+    pub(super) line_starts: Vec<usize>,
+    /// Replacements keyed by the start of the replaced byte range: (end, new text).
+    edits: BTreeMap<usize, (usize, String)>,
+    /// Current values of edited elements.
+    edited_values: BTreeMap<ElementId, String>,
+}
+
+impl Document {
+    pub(super) fn from_parts(file: PathBuf, source: String, elements: Vec<Element>) -> Self {
+        let line_starts = text::line_starts(&source);
+        Document { file, source, elements, line_starts, edits: BTreeMap::new(), edited_values: BTreeMap::new() }
+    }
+
+    /// Reads and parses `path`.
+    pub fn read(path: &Path) -> Result<Self, XmlError> {
+        let bytes = std::fs::read(path).map_err(|error| XmlError {
+            file: path.to_path_buf(),
+            line: 0,
+            column: 0,
+            message: format!("cannot read file: {error}"),
+        })?;
+        let source = String::from_utf8(bytes).map_err(|error| {
+            let offset = error.utf8_error().valid_up_to();
+            let prefix = String::from_utf8_lossy(&error.as_bytes()[..offset]).into_owned();
+            let (line, column) = text::line_and_column(&text::line_starts(&prefix), offset);
+            XmlError { file: path.to_path_buf(), line, column, message: "the file is not UTF-8 text".into() }
+        })?;
+        Self::parse(source, path)
+    }
+
+    /// The file this document was read from (used in messages).
+    pub fn file(&self) -> &Path {
+        &self.file
+    }
+
+    /// The root element.
+    pub fn root(&self) -> ElementId {
+        ElementId(0)
+    }
+
+    pub fn element(&self, id: ElementId) -> &Element {
+        &self.elements[id.0 as usize]
+    }
+
+    /// All elements in document order.
+    pub fn ids(&self) -> impl Iterator<Item = ElementId> {
+        (0..self.elements.len() as u32).map(ElementId)
+    }
+
+    pub fn tag(&self, id: ElementId) -> &str {
+        &self.element(id).tag
+    }
+
+    pub fn attribute(&self, id: ElementId, name: &str) -> Option<&str> {
+        self.element(id).attributes.iter().find(|a| a.name == name).map(|a| a.value.as_str())
+    }
+
+    /// The `name` attribute, when present and not empty.
+    pub fn name(&self, id: ElementId) -> Option<&str> {
+        self.attribute(id, "name").filter(|name| !name.is_empty())
+    }
+
+    pub fn children(&self, id: ElementId) -> &[ElementId] {
+        &self.element(id).children
+    }
+
+    /// The first child element with this tag.
+    pub fn child(&self, id: ElementId, tag: &str) -> Option<ElementId> {
+        self.children(id).iter().copied().find(|&c| self.tag(c) == tag)
+    }
+
+    pub fn parent(&self, id: ElementId) -> Option<ElementId> {
+        self.element(id).parent
+    }
+
+    /// 1-based line of the element's start tag.
+    pub fn line(&self, id: ElementId) -> usize {
+        text::line_and_column(&self.line_starts, self.element(id).start_tag.start).0
+    }
+
+    /// The element's value: its unescaped character data with comments removed, or `None` when it
+    /// holds child elements. A self-closing element has the empty value.
+    pub fn text(&self, id: ElementId) -> Option<Cow<'_, str>> {
+        if let Some(value) = self.edited_values.get(&id) {
+            return Some(Cow::Borrowed(value));
+        }
+        let element = self.element(id);
+        if !element.children.is_empty() {
+            return None;
+        }
+        let Some(content) = element.content.clone() else { return Some(Cow::Borrowed("")) };
+        let raw = &self.source[content];
+        if !raw.contains('<') {
+            return text::unescape(raw);
+        }
+        Some(Cow::Owned(character_data(raw)))
+    }
+
+    /// Replaces the value of an element that holds no child elements or comments, keeping the
+    /// whitespace around the old value so the line changes only where the value does.
+    pub fn set_text(&mut self, id: ElementId, value: &str) -> Result<(), EditError> {
+        let element = self.element(id);
+        let not_a_value =
+            || EditError::NotAValue { file: self.file.clone(), line: self.line(id), tag: element.tag.clone() };
+        let escaped = text::escape_content(value).into_owned();
+        let (range, replacement) = match element.content.clone() {
+            Some(content) => {
+                let raw = &self.source[content.clone()];
+                if !element.children.is_empty() || raw.contains('<') {
+                    return Err(not_a_value());
+                }
+                let leading = raw.len() - raw.trim_start().len();
+                let trailing = raw.len() - raw.trim_end().len();
+                if raw.trim().is_empty() {
+                    (content.start..content.end, escaped)
+                } else {
+                    (content.start + leading..content.end - trailing, escaped)
+                }
+            }
+            None => {
+                let tag_text = &self.source[element.start_tag.clone()];
+                let open = tag_text.trim_end_matches('>').trim_end_matches('/').trim_end();
+                (element.start_tag.clone(), format!("{open}>{escaped}</{}>", element.tag))
+            }
+        };
+        self.edits.insert(range.start, (range.end, replacement));
+        self.edited_values.insert(id, value.to_string());
+        Ok(())
+    }
+
+    /// Whether any edit was made.
+    pub fn is_modified(&self) -> bool {
+        !self.edits.is_empty()
+    }
+
+    /// The document text with all edits applied; the original text when there are none.
+    pub fn serialize(&self) -> String {
+        let mut output = String::with_capacity(self.source.len());
+        let mut position = 0;
+        for (&start, (end, replacement)) in &self.edits {
+            output.push_str(&self.source[position..start]);
+            output.push_str(replacement);
+            position = *end;
+        }
+        output.push_str(&self.source[position..]);
+        output
+    }
+}
+
+/// Character data of mixed raw content: comments dropped, CDATA kept verbatim, text unescaped.
+fn character_data(raw: &str) -> String {
+    let mut value = String::new();
+    let mut rest = raw;
+    while let Some(open) = rest.find('<') {
+        value.push_str(&text::unescape(&rest[..open]).unwrap_or(Cow::Borrowed(&rest[..open])));
+        rest = &rest[open..];
+        if let Some(cdata) = rest.strip_prefix("<![CDATA[") {
+            let close = cdata.find("]]>").unwrap_or(cdata.len());
+            value.push_str(&cdata[..close]);
+            rest = cdata.get(close + 3..).unwrap_or("");
+        } else {
+            let close = rest.find('>').map_or(rest.len(), |i| i + 1);
+            rest = &rest[close..];
+        }
+    }
+    value.push_str(&text::unescape(rest).unwrap_or(Cow::Borrowed(rest)));
+    value
+}

@@ -1,0 +1,46 @@
+//! Escaping and unescaping of character data and attribute values.
+
+use std::borrow::Cow;
+
+/// Replaces the predefined entities and character references of `raw`; `None` when a reference
+/// is malformed or unknown.
+pub fn unescape(raw: &str) -> Option<Cow<'_, str>> {
+    quick_xml::escape::unescape(raw).ok()
+}
+
+/// Escapes `&`, `<` and `>` for element content.
+pub fn escape_content(value: &str) -> Cow<'_, str> {
+    quick_xml::escape::partial_escape(value)
+}
+
+/// Byte offset → (1-based line, 1-based column), from the sorted offsets where lines start.
+pub fn line_and_column(line_starts: &[usize], offset: usize) -> (usize, usize) {
+    let line_index = line_starts.partition_point(|&start| start <= offset).saturating_sub(1);
+    (line_index + 1, offset - line_starts[line_index] + 1)
+}
+
+/// Offsets where each line of `source` starts (always begins with 0).
+pub fn line_starts(source: &str) -> Vec<usize> {
+    std::iter::once(0)
+        .chain(source.match_indices('\n').map(|(index, _)| index + 1))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lines_and_columns_are_one_based() {
+        let starts = line_starts("ab\ncd\n");
+        assert_eq!(line_and_column(&starts, 0), (1, 1));
+        assert_eq!(line_and_column(&starts, 4), (2, 2));
+        assert_eq!(line_and_column(&starts, 6), (3, 1));
+    }
+
+    #[test]
+    fn unescape_rejects_unknown_entities() {
+        assert_eq!(unescape("a &amp; b").unwrap(), "a & b");
+        assert!(unescape("&bogus;").is_none());
+    }
+}

@@ -1,0 +1,87 @@
+//! Generalized coordinates and their motion type.
+
+use serde::Serialize;
+
+use super::error::ModelError;
+use super::reader::ComponentReader;
+
+/// OpenSim's `Coordinate::MotionType`: rad for rotational, m for translational; `Coupled` when the
+/// coordinate drives its axes through a non-unit function (units then follow the model's intent).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MotionType {
+    Rotational,
+    Translational,
+    Coupled,
+}
+
+/// What a coordinate's values measure: an angle in rad or a length in m. A coupled coordinate
+/// that drives a rotation axis is an angle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CoordinateUnit {
+    Radian,
+    Meter,
+}
+
+impl CoordinateUnit {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            CoordinateUnit::Radian => "rad",
+            CoordinateUnit::Meter => "m",
+        }
+    }
+}
+
+/// A coordinate as written in the model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CoordinateSpec {
+    pub name: String,
+    pub joint: String,
+    pub motion_type: MotionType,
+    pub unit: CoordinateUnit,
+    pub default_value: f64,
+    pub default_speed_value: f64,
+    /// [min, max] in rad or m.
+    pub range: [f64; 2],
+    pub clamped: bool,
+    pub locked: bool,
+    pub prescribed: bool,
+}
+
+impl CoordinateSpec {
+    pub fn read(
+        reader: ComponentReader,
+        joint: &str,
+        motion_type: MotionType,
+        unit: CoordinateUnit,
+    ) -> Result<CoordinateSpec, ModelError> {
+        let range = reader.numbers("range", Some(2))?;
+        if range[0] > range[1] {
+            return Err(reader.bad("range", "min ≤ max", &format!("{} {}", range[0], range[1])));
+        }
+        Ok(CoordinateSpec {
+            name: reader.name(),
+            joint: joint.to_string(),
+            motion_type,
+            unit,
+            default_value: reader.number_or("default_value", 0.0)?,
+            default_speed_value: reader.number_or("default_speed_value", 0.0)?,
+            range: [range[0], range[1]],
+            clamped: reader.boolean_or("clamped", true)?,
+            locked: reader.boolean_or("locked", false)?,
+            prescribed: reader.boolean_or("prescribed", false)?,
+        })
+    }
+}
+
+/// The motion type 3.x files state in `<motion_type>`.
+pub fn written_motion_type(reader: ComponentReader) -> Result<Option<MotionType>, ModelError> {
+    Ok(match reader.optional_text("motion_type").as_deref() {
+        None => None,
+        Some("rotational") => Some(MotionType::Rotational),
+        Some("translational") => Some(MotionType::Translational),
+        Some("coupled") => Some(MotionType::Coupled),
+        Some(other) => return Err(reader.bad("motion_type", "rotational, translational or coupled", other)),
+    })
+}

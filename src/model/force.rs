@@ -1,0 +1,59 @@
+//! Forces, muscles among them, with their geometry paths.
+
+use serde::Serialize;
+
+use super::error::ModelError;
+use super::frame::FrameIndex;
+use super::path_point::PathPointSpec;
+use super::reader::ComponentReader;
+use crate::io::osim::Dialect;
+use crate::io::xml::ElementId;
+
+/// A wrap object a path may wrap over, with the point range it applies to.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PathWrapSpec {
+    pub wrap_object: String,
+    pub method: String,
+}
+
+/// A force element; muscles carry a path.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ForceSpec {
+    pub name: String,
+    pub class: String,
+    /// Element of the force in the document, for reading further properties and for edits.
+    #[serde(skip)]
+    pub element: ElementId,
+    pub path_points: Vec<PathPointSpec>,
+    pub path_wraps: Vec<PathWrapSpec>,
+}
+
+impl ForceSpec {
+    pub fn read(reader: ComponentReader, dialect: Dialect, frames: &FrameIndex) -> Result<ForceSpec, ModelError> {
+        let path = reader.object_property("path").or_else(|| reader.child("GeometryPath").map(|g| reader.at(g)));
+        let (mut path_points, mut path_wraps) = (Vec::new(), Vec::new());
+        if let Some(path) = path.filter(|p| p.class() == "GeometryPath") {
+            if let Some(set) = path.child("PathPointSet") {
+                for element in path.listed_objects(set) {
+                    path_points.push(PathPointSpec::read(path.at(element), dialect, frames)?);
+                }
+            }
+            if let Some(set) = path.child("PathWrapSet") {
+                for element in path.listed_objects(set) {
+                    let wrap = path.at(element);
+                    path_wraps.push(PathWrapSpec {
+                        wrap_object: wrap.text("wrap_object")?,
+                        method: wrap.optional_text("method").unwrap_or_else(|| "hybrid".into()),
+                    });
+                }
+            }
+        }
+        Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps })
+    }
+
+    /// Whether the class is a muscle (`Thelen2003Muscle`, `Millard2012EquilibriumMuscle`,
+    /// `DeGrooteFregly2016Muscle`, `RigidTendonMuscle`, the deprecated Schutte/Delp muscles, …).
+    pub fn is_muscle(&self) -> bool {
+        self.class.contains("Muscle")
+    }
+}

@@ -1,0 +1,119 @@
+//! Frames: where a joint, marker or path point is attached, as a body plus the chain of
+//! `PhysicalOffsetFrame` offsets leading from that body to the frame.
+
+use std::collections::HashMap;
+
+use serde::Serialize;
+
+use crate::io::osim::OsimDocument;
+use crate::io::xml::ElementId;
+
+use super::error::ModelError;
+use super::reader::ComponentReader;
+
+/// A fixed transform of a frame in its parent: translation (m) and body-fixed X-Y-Z Euler
+/// angles (rad), OpenSim's `translation`/`orientation`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Offset {
+    pub translation: [f64; 3],
+    pub orientation: [f64; 3],
+}
+
+/// A frame rigidly attached to `body` (a body name, or `ground`): X_body_frame is the product of
+/// `offsets` in order, the first one expressed in the body.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrameChain {
+    pub body: String,
+    pub offsets: Vec<Offset>,
+}
+
+/// Every body and offset frame of a model keyed by OpenSim component path (`/bodyset/femur_r`,
+/// `/jointset/knee_r/femur_r_offset`, `/ground`), for resolving socket paths.
+pub struct FrameIndex {
+    entries: HashMap<String, FrameEntry>,
+}
+
+enum FrameEntry {
+    Body(String),
+    Offset { element: ElementId, parent_socket: String, offset: Offset },
+}
+
+impl FrameIndex {
+    /// Indexes `<Ground>`, bodies and every `PhysicalOffsetFrame` in the model.
+    pub fn new(document: &OsimDocument, bodies: &[(String, ElementId)]) -> Result<Self, ModelError> {
+        let mut entries = HashMap::new();
+        for (name, element) in bodies {
+            entries.insert(opensim_path(document, *element), FrameEntry::Body(name.clone()));
+        }
+        for id in document.xml.ids().filter(|&id| document.xml.tag(id) == "PhysicalOffsetFrame") {
+            let reader = ComponentReader::new(document, id);
+            let offset = Offset { translation: reader.vec3("translation")?, orientation: reader.vec3("orientation")? };
+            let parent_socket = reader.text("socket_parent")?;
+            entries.insert(opensim_path(document, id), FrameEntry::Offset { element: id, parent_socket, offset });
+        }
+        Ok(FrameIndex { entries })
+    }
+
+    /// Resolves the socket path `socket` written on `owner` (relative to the owner, or absolute).
+    pub fn resolve(&self, owner: ComponentReader, socket: &str, property: &str) -> Result<FrameChain, ModelError> {
+        let mut offsets = Vec::new();
+        let mut current = join_socket(&opensim_path(owner.document, owner.element), socket);
+        let mut current_owner = owner;
+        for _ in 0..=self.entries.len() {
+            match self.entries.get(&current) {
+                Some(FrameEntry::Body(body)) => {
+                    offsets.reverse();
+                    return Ok(FrameChain { body: body.clone(), offsets });
+                }
+                Some(FrameEntry::Offset { element, parent_socket, offset }) => {
+                    offsets.push(offset.clone());
+                    current_owner = owner.at(*element);
+                    current = join_socket(&current, parent_socket);
+                }
+                None => return Err(current_owner.unknown(&format!("frame in <{property}>"), socket)),
+            }
+        }
+        Err(owner.unknown(&format!("frame in <{property}> (cyclic offsets)"), socket))
+    }
+}
+
+/// The OpenSim component path of an element: the names of its named ancestors below `<Model>`.
+pub fn opensim_path(document: &OsimDocument, id: ElementId) -> String {
+    let xml = &document.xml;
+    let mut names = Vec::new();
+    let mut current = Some(id);
+    while let Some(element) = current.filter(|&e| e != document.object) {
+        if let Some(name) = xml.name(element) {
+            names.push(name);
+        }
+        current = xml.parent(element);
+    }
+    names.reverse();
+    format!("/{}", names.join("/"))
+}
+
+/// Applies socket path `socket` (absolute, or relative to component `from`) with `..` steps.
+pub fn join_socket(from: &str, socket: &str) -> String {
+    let mut parts: Vec<&str> = if socket.starts_with('/') { Vec::new() } else { from.split('/').filter(|p| !p.is_empty()).collect() };
+    for part in socket.split('/').filter(|p| !p.is_empty() && *p != ".") {
+        if part == ".." {
+            parts.pop();
+        } else {
+            parts.push(part);
+        }
+    }
+    format!("/{}", parts.join("/"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn socket_paths_join_like_opensim() {
+        assert_eq!(join_socket("/jointset/knee_r", "femur_r_offset"), "/jointset/knee_r/femur_r_offset");
+        assert_eq!(join_socket("/jointset/knee_r", "/bodyset/femur_r"), "/bodyset/femur_r");
+        assert_eq!(join_socket("/jointset/knee_r/femur_r_offset", "../../../bodyset/femur_r"), "/bodyset/femur_r");
+        assert_eq!(join_socket("/markerset/R.ASIS", "../../ground"), "/ground");
+    }
+}

@@ -1,0 +1,93 @@
+//! OpenSim functions of one variable as they appear in model files (`SimmSpline`,
+//! `LinearFunction`, …), validated on reading. Evaluation lives with the kinematics.
+
+use serde::Serialize;
+
+use super::error::ModelError;
+use super::reader::ComponentReader;
+
+/// A function y = f(x) as written in the model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "class")]
+pub enum FunctionSpec {
+    Constant { value: f64 },
+    /// y = slope·x + intercept (`coefficients` = slope intercept).
+    LinearFunction { slope: f64, intercept: f64 },
+    SimmSpline { x: Vec<f64>, y: Vec<f64> },
+    NaturalCubicSpline { x: Vec<f64>, y: Vec<f64> },
+    GCVSpline { degree: usize, x: Vec<f64>, y: Vec<f64> },
+    PiecewiseLinearFunction { x: Vec<f64>, y: Vec<f64> },
+    PiecewiseConstantFunction { x: Vec<f64>, y: Vec<f64> },
+    /// y = Σ c_i x^(n−i), highest power first, as OpenSim's `PolynomialFunction`.
+    PolynomialFunction { coefficients: Vec<f64> },
+    /// y = scale · f(x).
+    MultiplierFunction { scale: f64, function: Box<FunctionSpec> },
+}
+
+impl FunctionSpec {
+    /// Reads the function object `reader` points at.
+    pub fn read(reader: ComponentReader) -> Result<FunctionSpec, ModelError> {
+        let function = match reader.class() {
+            "Constant" => FunctionSpec::Constant { value: reader.number("value")? },
+            "LinearFunction" => {
+                let c = reader.numbers("coefficients", Some(2))?;
+                FunctionSpec::LinearFunction { slope: c[0], intercept: c[1] }
+            }
+            "SimmSpline" => {
+                let (x, y) = knots(reader, 2)?;
+                FunctionSpec::SimmSpline { x, y }
+            }
+            "NaturalCubicSpline" => {
+                let (x, y) = knots(reader, 2)?;
+                FunctionSpec::NaturalCubicSpline { x, y }
+            }
+            "GCVSpline" => {
+                let degree = reader.number("degree")?;
+                if ![1.0, 3.0, 5.0, 7.0].contains(&degree) {
+                    return Err(reader.bad("degree", "1, 3, 5 or 7", &degree.to_string()));
+                }
+                let (x, y) = knots(reader, degree as usize + 1)?;
+                FunctionSpec::GCVSpline { degree: degree as usize, x, y }
+            }
+            "PiecewiseLinearFunction" => {
+                let (x, y) = knots(reader, 1)?;
+                FunctionSpec::PiecewiseLinearFunction { x, y }
+            }
+            "PiecewiseConstantFunction" => {
+                let (x, y) = knots(reader, 1)?;
+                FunctionSpec::PiecewiseConstantFunction { x, y }
+            }
+            "PolynomialFunction" => FunctionSpec::PolynomialFunction { coefficients: reader.numbers("coefficients", None)? },
+            "MultiplierFunction" => {
+                let inner = reader.object_property("function").ok_or_else(|| reader.missing("function"))?;
+                FunctionSpec::MultiplierFunction { scale: reader.number_or("scale", 1.0)?, function: Box::new(FunctionSpec::read(inner)?) }
+            }
+            other => return Err(reader.bad("function", "a supported OpenSim function", other)),
+        };
+        Ok(function)
+    }
+
+    /// Whether the function is `LinearFunction` with slope ±1 (OpenSim's test for a pure
+    /// rotation or translation of a `TransformAxis`).
+    pub fn is_unit_linear(&self) -> bool {
+        matches!(self, FunctionSpec::LinearFunction { slope, .. } if slope.abs() == 1.0)
+    }
+}
+
+/// `x` and `y` of a spline: equal lengths, at least `minimum` points, x strictly increasing.
+fn knots(reader: ComponentReader, minimum: usize) -> Result<(Vec<f64>, Vec<f64>), ModelError> {
+    let x = reader.numbers("x", None)?;
+    let y = reader.numbers("y", None)?;
+    if x.len() != y.len() {
+        let found = format!("{} x values and {} y values", x.len(), y.len());
+        return Err(reader.bad("y", "as many values as <x>", &found));
+    }
+    if x.len() < minimum {
+        return Err(reader.bad("x", &format!("at least {minimum} points"), &x.len().to_string()));
+    }
+    if let Some(i) = x.windows(2).position(|w| w[1] <= w[0]) {
+        let found = format!("x[{}] = {} after x[{i}] = {}", i + 1, x[i + 1], x[i]);
+        return Err(reader.bad("x", "strictly increasing values", &found));
+    }
+    Ok((x, y))
+}

@@ -1,0 +1,147 @@
+//! Joints: the frames they connect, their coordinates and, for `CustomJoint`, the
+//! `SpatialTransform` of three rotations and three translations.
+
+use serde::Serialize;
+
+use super::coordinate::{written_motion_type, CoordinateSpec, CoordinateUnit, MotionType};
+use super::error::ModelError;
+use super::frame::{FrameChain, FrameIndex, Offset};
+use super::function::FunctionSpec;
+use super::reader::ComponentReader;
+
+/// One of the six axes of a `SpatialTransform` (rotation1–3, translation1–3).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TransformAxisSpec {
+    pub name: String,
+    /// Names of the coordinates the function takes (usually one, none for a constant).
+    pub coordinates: Vec<String>,
+    /// Unit axis in the parent frame.
+    pub axis: [f64; 3],
+    /// Angle (rad) or displacement (m) along the axis; `None` means zero.
+    pub function: Option<FunctionSpec>,
+}
+
+/// A joint as written in the model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointSpec {
+    pub name: String,
+    /// OpenSim class, e.g. `CustomJoint`, `PinJoint`.
+    pub class: String,
+    pub parent: FrameChain,
+    pub child: FrameChain,
+    pub coordinates: Vec<CoordinateSpec>,
+    /// Six axes for `CustomJoint`, empty for the other classes.
+    pub spatial_transform: Vec<TransformAxisSpec>,
+}
+
+impl JointSpec {
+    /// Reads a 4.x joint, resolving its sockets through `frames`.
+    pub fn read_v4(reader: ComponentReader, frames: &FrameIndex) -> Result<JointSpec, ModelError> {
+        let parent = frames.resolve(reader, &reader.text("socket_parent_frame")?, "socket_parent_frame")?;
+        let child = frames.resolve(reader, &reader.text("socket_child_frame")?, "socket_child_frame")?;
+        let coordinate_elements = reader.child("coordinates").map(|c| reader.listed_objects(c)).unwrap_or_default();
+        Self::assemble(reader, parent, child, coordinate_elements)
+    }
+
+    /// Reads a 3.x joint nested in `<Body name=child_body><Joint>`.
+    pub fn read_v3(reader: ComponentReader, child_body: &str) -> Result<JointSpec, ModelError> {
+        let parent = FrameChain {
+            body: reader.text("parent_body")?,
+            offsets: vec![Offset { translation: reader.vec3("location_in_parent")?, orientation: reader.vec3("orientation_in_parent")? }],
+        };
+        let child = FrameChain {
+            body: child_body.to_string(),
+            offsets: vec![Offset { translation: reader.vec3("location")?, orientation: reader.vec3("orientation")? }],
+        };
+        let coordinate_elements = reader.child("CoordinateSet").map(|c| reader.listed_objects(c)).unwrap_or_default();
+        Self::assemble(reader, parent, child, coordinate_elements)
+    }
+
+    fn assemble(
+        reader: ComponentReader,
+        parent: FrameChain,
+        child: FrameChain,
+        coordinate_elements: Vec<crate::io::xml::ElementId>,
+    ) -> Result<JointSpec, ModelError> {
+        let name = reader.name();
+        let spatial_transform = read_spatial_transform(reader)?;
+        let fixed_types = class_motion_types(reader.class());
+        let mut coordinates = Vec::new();
+        for (index, &element) in coordinate_elements.iter().enumerate() {
+            let coordinate = reader.at(element);
+            let motion_type = match (written_motion_type(coordinate)?, &fixed_types) {
+                (Some(written), _) => written,
+                (None, Some(types)) => *types.get(index).ok_or_else(|| coordinate.bad("coordinates", &format!("at most {} coordinates for {}", types.len(), reader.class()), &coordinate_elements.len().to_string()))?,
+                (None, None) => transform_motion_type(&coordinate.name(), &spatial_transform),
+            };
+            let unit = coordinate_unit(&coordinate.name(), motion_type, &spatial_transform);
+            coordinates.push(CoordinateSpec::read(coordinate, &name, motion_type, unit)?);
+        }
+        Ok(JointSpec { name, class: reader.class().to_string(), parent, child, coordinates, spatial_transform })
+    }
+}
+
+fn read_spatial_transform(reader: ComponentReader) -> Result<Vec<TransformAxisSpec>, ModelError> {
+    let Some(transform) = reader.child("SpatialTransform") else { return Ok(Vec::new()) };
+    let axes = reader.listed_objects(transform);
+    let mut spatial_transform = Vec::with_capacity(6);
+    for &element in axes.iter().filter(|&&e| reader.document.xml.tag(e) == "TransformAxis") {
+        let axis = reader.at(element);
+        spatial_transform.push(TransformAxisSpec {
+            name: axis.name(),
+            coordinates: axis.optional_text("coordinates").unwrap_or_default().split_whitespace().map(String::from).collect(),
+            axis: axis.vec3("axis")?,
+            function: axis.object_property("function").map(FunctionSpec::read).transpose()?,
+        });
+    }
+    if spatial_transform.len() != 6 {
+        return Err(reader.bad("SpatialTransform", "6 TransformAxis elements", &spatial_transform.len().to_string()));
+    }
+    Ok(spatial_transform)
+}
+
+/// Coordinate motion types fixed by the joint class, in coordinate order.
+fn class_motion_types(class: &str) -> Option<Vec<MotionType>> {
+    use MotionType::{Rotational as R, Translational as T};
+    Some(match class {
+        "PinJoint" => vec![R],
+        "SliderJoint" => vec![T],
+        "UniversalJoint" => vec![R, R],
+        "BallJoint" | "GimbalJoint" | "EllipsoidJoint" => vec![R, R, R],
+        "FreeJoint" => vec![R, R, R, T, T, T],
+        "PlanarJoint" => vec![R, T, T],
+        "WeldJoint" => vec![],
+        _ => return None,
+    })
+}
+
+/// OpenSim's rule for `CustomJoint`: an axis driven through `LinearFunction` with slope ±1 makes
+/// the coordinate rotational (axes 0–2) or translational (3–5); any other function makes it
+/// coupled unless a pure axis has already typed it. Later pure axes win.
+fn transform_motion_type(coordinate: &str, axes: &[TransformAxisSpec]) -> MotionType {
+    let mut motion_type = None;
+    for (index, axis) in axes.iter().enumerate() {
+        if !axis.coordinates.iter().any(|c| c == coordinate) {
+            continue;
+        }
+        match &axis.function {
+            Some(function) if function.is_unit_linear() => {
+                motion_type = Some(if index < 3 { MotionType::Rotational } else { MotionType::Translational });
+            }
+            Some(_) => motion_type = motion_type.or(Some(MotionType::Coupled)),
+            None => {}
+        }
+    }
+    motion_type.unwrap_or(MotionType::Coupled)
+}
+
+/// Angle for rotational coordinates and coupled ones that drive a rotation axis, else length.
+fn coordinate_unit(coordinate: &str, motion_type: MotionType, axes: &[TransformAxisSpec]) -> CoordinateUnit {
+    let drives_rotation = axes.iter().take(3).any(|axis| axis.coordinates.iter().any(|c| c == coordinate));
+    match motion_type {
+        MotionType::Rotational => CoordinateUnit::Radian,
+        MotionType::Translational => CoordinateUnit::Meter,
+        MotionType::Coupled if drives_rotation => CoordinateUnit::Radian,
+        MotionType::Coupled => CoordinateUnit::Meter,
+    }
+}

@@ -1,0 +1,38 @@
+//! Markers: points fixed in a frame.
+
+use serde::Serialize;
+
+use super::error::ModelError;
+use super::frame::{FrameChain, FrameIndex};
+use super::reader::ComponentReader;
+use crate::io::osim::Dialect;
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MarkerSpec {
+    pub name: String,
+    pub frame: FrameChain,
+    /// m, in the frame.
+    pub location: [f64; 3],
+    /// Fixed markers are not moved by marker placement.
+    pub fixed: bool,
+}
+
+impl MarkerSpec {
+    pub fn read(reader: ComponentReader, dialect: Dialect, frames: &FrameIndex) -> Result<MarkerSpec, ModelError> {
+        Ok(MarkerSpec {
+            name: reader.name(),
+            frame: attachment_frame(reader, dialect, frames)?,
+            location: reader.vec3("location")?,
+            fixed: reader.boolean_or("fixed", false)?,
+        })
+    }
+}
+
+/// The frame a point-like component hangs on: 4.x `socket_parent_frame`, 3.x `body`.
+pub fn attachment_frame(reader: ComponentReader, dialect: Dialect, frames: &FrameIndex) -> Result<FrameChain, ModelError> {
+    if dialect == Dialect::V4 {
+        frames.resolve(reader, &reader.text("socket_parent_frame")?, "socket_parent_frame")
+    } else {
+        Ok(FrameChain { body: reader.text("body")?, offsets: Vec::new() })
+    }
+}

@@ -1,0 +1,148 @@
+//! Typed reading of one component's properties with errors that name the file, line and
+//! component.
+
+use crate::io::osim::OsimDocument;
+use crate::io::xml::ElementId;
+
+use super::error::ModelError;
+
+/// A component element and the document it lives in.
+#[derive(Clone, Copy)]
+pub struct ComponentReader<'a> {
+    pub document: &'a OsimDocument,
+    pub element: ElementId,
+}
+
+impl<'a> ComponentReader<'a> {
+    pub fn new(document: &'a OsimDocument, element: ElementId) -> Self {
+        ComponentReader { document, element }
+    }
+
+    /// The component's `name` attribute, or its tag when unnamed.
+    pub fn name(&self) -> String {
+        let xml = &self.document.xml;
+        xml.name(self.element).unwrap_or_else(|| xml.tag(self.element)).to_string()
+    }
+
+    pub fn class(&self) -> &'a str {
+        self.document.xml.tag(self.element)
+    }
+
+    /// The component's canonical path, for messages.
+    pub fn path(&self) -> String {
+        self.document.path_of(self.element)
+    }
+
+    pub fn line(&self) -> usize {
+        self.document.xml.line(self.element)
+    }
+
+    /// The child element holding `property`, if present.
+    pub fn child(&self, property: &str) -> Option<ElementId> {
+        self.document.xml.child(self.element, property)
+    }
+
+    /// Reader for another element of the same document.
+    pub fn at(&self, element: ElementId) -> ComponentReader<'a> {
+        ComponentReader::new(self.document, element)
+    }
+
+    /// Text of an optional value property, trimmed.
+    pub fn optional_text(&self, property: &str) -> Option<String> {
+        let id = self.child(property)?;
+        self.document.xml.text(id).map(|t| t.trim().to_string())
+    }
+
+    /// Text of a required value property, trimmed.
+    pub fn text(&self, property: &str) -> Result<String, ModelError> {
+        self.optional_text(property).ok_or_else(|| self.missing(property))
+    }
+
+    /// Numbers of a required property, exactly `count` of them when `count` is given.
+    pub fn numbers(&self, property: &str, count: Option<usize>) -> Result<Vec<f64>, ModelError> {
+        let text = self.text(property)?;
+        let expected = match count {
+            Some(1) => "a number".to_string(),
+            Some(n) => format!("{n} numbers"),
+            None => "a list of numbers".to_string(),
+        };
+        let values: Option<Vec<f64>> = text.split_whitespace().map(|t| t.parse().ok()).collect();
+        match values {
+            Some(values) if count.is_none_or(|n| values.len() == n) => Ok(values),
+            _ => Err(self.bad(property, &expected, &text)),
+        }
+    }
+
+    pub fn number(&self, property: &str) -> Result<f64, ModelError> {
+        Ok(self.numbers(property, Some(1))?[0])
+    }
+
+    pub fn vec3(&self, property: &str) -> Result<[f64; 3], ModelError> {
+        let values = self.numbers(property, Some(3))?;
+        Ok([values[0], values[1], values[2]])
+    }
+
+    /// A number with a default for when the property is absent.
+    pub fn number_or(&self, property: &str, default: f64) -> Result<f64, ModelError> {
+        if self.child(property).is_some() { self.number(property) } else { Ok(default) }
+    }
+
+    /// `true`/`false` with a default for when the property is absent.
+    pub fn boolean_or(&self, property: &str, default: bool) -> Result<bool, ModelError> {
+        match self.optional_text(property).as_deref() {
+            None => Ok(default),
+            Some("true") => Ok(true),
+            Some("false") => Ok(false),
+            Some(other) => Err(self.bad(property, "true or false", other)),
+        }
+    }
+
+    pub fn missing(&self, property: &str) -> ModelError {
+        ModelError::MissingProperty {
+            file: self.document.xml.file().into(),
+            line: self.line(),
+            component: self.path(),
+            property: property.into(),
+        }
+    }
+
+    pub fn bad(&self, property: &str, expected: &str, found: &str) -> ModelError {
+        let line = self.child(property).map_or(self.line(), |id| self.document.xml.line(id));
+        ModelError::BadProperty {
+            file: self.document.xml.file().into(),
+            line,
+            component: self.path(),
+            property: property.into(),
+            expected: expected.into(),
+            found: found.into(),
+        }
+    }
+
+    pub fn unknown(&self, what: &str, target: &str) -> ModelError {
+        ModelError::UnknownReference {
+            file: self.document.xml.file().into(),
+            line: self.line(),
+            component: self.path(),
+            what: what.into(),
+            target: target.into(),
+        }
+    }
+
+    /// The object held by property `property`: either `<property><Class …/></property>` (3.x and
+    /// unnamed objects) or `<Class name="property">` (4.x).
+    pub fn object_property(&self, property: &str) -> Option<ComponentReader<'a>> {
+        let xml = &self.document.xml;
+        let children = xml.children(self.element);
+        if let Some(&wrapper) = children.iter().find(|&&c| xml.tag(c) == property) {
+            return xml.children(wrapper).first().map(|&object| self.at(object));
+        }
+        children.iter().find(|&&c| xml.name(c) == Some(property)).map(|&object| self.at(object))
+    }
+
+    /// Elements with a `name` directly in a list (`<Set><objects>…`) or property container.
+    pub fn listed_objects(&self, container: ElementId) -> Vec<ElementId> {
+        let xml = &self.document.xml;
+        let list = xml.child(container, "objects").unwrap_or(container);
+        xml.children(list).to_vec()
+    }
+}

@@ -1,0 +1,114 @@
+//! `ModelSpec`: everything a model document says, typed, in both the 4.x and the 3.x layout.
+
+use serde::Serialize;
+
+use super::body::BodySpec;
+use super::constraint::ConstraintSpec;
+use super::coordinate::CoordinateSpec;
+use super::error::ModelError;
+use super::force::ForceSpec;
+use super::frame::FrameIndex;
+use super::joint::JointSpec;
+use super::marker::MarkerSpec;
+use super::reader::ComponentReader;
+use super::wrap_object::WrapObjectSpec;
+use crate::io::osim::{Dialect, OsimDocument};
+use crate::io::xml::ElementId;
+
+/// The typed content of a `<Model>`. Order follows the document (OpenSim's set order).
+#[derive(Debug, Clone, Serialize)]
+pub struct ModelSpec {
+    pub name: String,
+    pub version: u32,
+    /// m/s², in ground.
+    pub gravity: [f64; 3],
+    /// Bodies other than ground.
+    pub bodies: Vec<BodySpec>,
+    pub joints: Vec<JointSpec>,
+    pub markers: Vec<MarkerSpec>,
+    pub forces: Vec<ForceSpec>,
+    pub constraints: Vec<ConstraintSpec>,
+    pub wrap_objects: Vec<WrapObjectSpec>,
+}
+
+/// Name OpenSim gives the ground frame.
+pub const GROUND: &str = "ground";
+
+impl ModelSpec {
+    pub fn read(document: &OsimDocument) -> Result<ModelSpec, ModelError> {
+        let model = ComponentReader::new(document, document.object);
+        if model.class() != "Model" {
+            return Err(ModelError::NotAModel { file: document.xml.file().into(), line: model.line(), found: model.class().into() });
+        }
+        let dialect = document.version.dialect;
+        let body_elements = body_elements(model, dialect);
+        let frames = FrameIndex::new(document, &body_elements)?;
+        let mut spec = ModelSpec {
+            name: model.name(),
+            version: document.version.number,
+            gravity: if model.child("gravity").is_some() { model.vec3("gravity")? } else { [0.0, -9.80665, 0.0] },
+            bodies: Vec::new(),
+            joints: Vec::new(),
+            markers: Vec::new(),
+            forces: Vec::new(),
+            constraints: Vec::new(),
+            wrap_objects: Vec::new(),
+        };
+        for (name, element) in &body_elements {
+            let body = model.at(*element);
+            if let Some(set) = body.child("WrapObjectSet") {
+                spec.wrap_objects.extend(body.listed_objects(set).into_iter().map(|w| WrapObjectSpec::read(body.at(w), name)));
+            }
+            if name == GROUND {
+                continue;
+            }
+            spec.bodies.push(BodySpec::read(body, dialect)?);
+            if dialect != Dialect::V4 {
+                if let Some(joint) = body.child("Joint").and_then(|j| document.xml.children(j).first().copied()) {
+                    spec.joints.push(JointSpec::read_v3(body.at(joint), name)?);
+                }
+            }
+        }
+        for joint in set_members(model, "JointSet") {
+            spec.joints.push(JointSpec::read_v4(model.at(joint), &frames)?);
+        }
+        for marker in set_members(model, "MarkerSet") {
+            spec.markers.push(MarkerSpec::read(model.at(marker), dialect, &frames)?);
+        }
+        for force in set_members(model, "ForceSet") {
+            spec.forces.push(ForceSpec::read(model.at(force), dialect, &frames)?);
+        }
+        for constraint in set_members(model, "ConstraintSet") {
+            spec.constraints.push(ConstraintSpec::read(model.at(constraint))?);
+        }
+        Ok(spec)
+    }
+
+    /// All coordinates, joint by joint.
+    pub fn coordinates(&self) -> impl Iterator<Item = &CoordinateSpec> {
+        self.joints.iter().flat_map(|joint| joint.coordinates.iter())
+    }
+
+    pub fn muscles(&self) -> impl Iterator<Item = &ForceSpec> {
+        self.forces.iter().filter(|force| force.is_muscle())
+    }
+}
+
+/// Ground and the bodies, named: 4.x `<Ground>` plus `BodySet`; 3.x `BodySet` (with `ground`).
+fn body_elements(model: ComponentReader, dialect: Dialect) -> Vec<(String, ElementId)> {
+    let mut bodies = Vec::new();
+    if dialect == Dialect::V4 {
+        if let Some(ground) = model.child("Ground") {
+            bodies.push((GROUND.to_string(), ground));
+        }
+    }
+    for body in set_members(model, "BodySet") {
+        bodies.push((model.at(body).name(), body));
+    }
+    bodies
+}
+
+/// Members of the model's set `<tag>` (e.g. `ForceSet`), empty when the set is absent.
+fn set_members(model: ComponentReader, tag: &str) -> Vec<ElementId> {
+    model.child(tag).map(|set| model.listed_objects(set)).unwrap_or_default()
+}

@@ -1,0 +1,177 @@
+//! Semantic diff: added and removed components, changed property values (numbers compared as
+//! numbers, text with whitespace folded), with the relative change of numbers.
+
+use serde::Serialize;
+
+use super::flatten::{flatten, FlatDocument, FlatEntry};
+use crate::io::osim::OsimDocument;
+
+/// What happened at one path.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Change {
+    /// A component present only in the second document (its contents are not listed).
+    Added { class: String },
+    /// A component present only in the first document.
+    Removed { class: String },
+    /// A property present only in the second document.
+    PropertyAdded { value: String },
+    /// A property present only in the first document.
+    PropertyRemoved { value: String },
+    /// A property whose value differs; `relative_change` is the largest |new − old| / |old| over
+    /// the numbers of the value, when both values are lists of the same count of numbers.
+    Changed { old: String, new: String, relative_change: Option<f64> },
+}
+
+/// One difference, at a canonical component path.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Difference {
+    pub path: String,
+    #[serde(flatten)]
+    pub change: Change,
+}
+
+/// All differences between two documents, in document order (removals first).
+#[derive(Debug, Clone, Serialize)]
+pub struct DocumentDiff {
+    pub version_change: Option<(u32, u32)>,
+    pub differences: Vec<Difference>,
+}
+
+impl DocumentDiff {
+    pub fn is_empty(&self) -> bool {
+        self.version_change.is_none() && self.differences.is_empty()
+    }
+}
+
+/// Compares `a` with `b`. Numbers are equal when |a − b| ≤ `relative_tolerance`·max(|a|, |b|)
+/// (0 compares values exactly, so `0.1` equals `1.0e-01`); NaN equals NaN.
+pub fn diff(a: &OsimDocument, b: &OsimDocument, relative_tolerance: f64) -> DocumentDiff {
+    let (flat_a, flat_b) = (flatten(a), flatten(b));
+    let mut differences = removed_entries(&flat_a, &flat_b);
+    for (path, entry_b) in &flat_b.entries {
+        let change = match (flat_a.get(path), entry_b) {
+            (None, _) if has_ancestor_in(path, &flat_b, &flat_a) => continue,
+            (None, FlatEntry::Component { class }) => Change::Added { class: class.clone() },
+            (None, FlatEntry::Property { value }) => Change::PropertyAdded { value: value.clone() },
+            (Some(entry_a), _) => match compare(entry_a, entry_b, relative_tolerance) {
+                Some(change) => change,
+                None => continue,
+            },
+        };
+        differences.push(Difference { path: path.clone(), change });
+    }
+    let version_change = (a.version.number != b.version.number).then_some((a.version.number, b.version.number));
+    DocumentDiff { version_change, differences }
+}
+
+/// Entries of `a` missing from `b`, topmost only.
+fn removed_entries(a: &FlatDocument, b: &FlatDocument) -> Vec<Difference> {
+    a.entries
+        .iter()
+        .filter(|(path, _)| b.get(path).is_none() && !has_ancestor_in(path, a, b))
+        .map(|(path, entry)| {
+            let change = match entry {
+                FlatEntry::Component { class } => Change::Removed { class: class.clone() },
+                FlatEntry::Property { value } => Change::PropertyRemoved { value: value.clone() },
+            };
+            Difference { path: path.clone(), change }
+        })
+        .collect()
+}
+
+/// Whether some proper ancestor of `path` (present in `own`) is missing from `other`.
+fn has_ancestor_in(path: &str, own: &FlatDocument, other: &FlatDocument) -> bool {
+    let mut prefix = path;
+    while let Some(cut) = prefix.rfind(['/', '@']) {
+        prefix = &prefix[..cut];
+        if prefix.is_empty() {
+            return false;
+        }
+        if own.get(prefix).is_some() && other.get(prefix).is_none() {
+            return true;
+        }
+    }
+    false
+}
+
+fn compare(a: &FlatEntry, b: &FlatEntry, relative_tolerance: f64) -> Option<Change> {
+    match (a, b) {
+        (FlatEntry::Property { value: old }, FlatEntry::Property { value: new }) => {
+            compare_values(old, new, relative_tolerance)
+        }
+        (FlatEntry::Component { class: old }, FlatEntry::Component { class: new }) if old == new => None,
+        _ => Some(Change::Changed { old: describe(a), new: describe(b), relative_change: None }),
+    }
+}
+
+fn describe(entry: &FlatEntry) -> String {
+    match entry {
+        FlatEntry::Component { class } => format!("<{class}>"),
+        FlatEntry::Property { value } => value.clone(),
+    }
+}
+
+fn compare_values(old: &str, new: &str, relative_tolerance: f64) -> Option<Change> {
+    let changed = |relative_change| Some(Change::Changed { old: old.trim().into(), new: new.trim().into(), relative_change });
+    match (numbers(old), numbers(new)) {
+        (Some(a), Some(b)) if a.len() == b.len() => {
+            let equal = a.iter().zip(&b).all(|(&x, &y)| numbers_equal(x, y, relative_tolerance));
+            if equal {
+                None
+            } else {
+                changed(largest_relative_change(&a, &b))
+            }
+        }
+        _ if old.split_whitespace().eq(new.split_whitespace()) => None,
+        _ => changed(None),
+    }
+}
+
+fn numbers(value: &str) -> Option<Vec<f64>> {
+    let tokens: Vec<&str> = value.split_whitespace().collect();
+    if tokens.is_empty() {
+        return None;
+    }
+    tokens.iter().map(|t| t.parse().ok()).collect()
+}
+
+fn numbers_equal(a: f64, b: f64, relative_tolerance: f64) -> bool {
+    a == b || (a.is_nan() && b.is_nan()) || (a - b).abs() <= relative_tolerance * a.abs().max(b.abs())
+}
+
+/// max |b − a| / |a| over components with a ≠ 0; `None` when every changed component had a = 0.
+fn largest_relative_change(a: &[f64], b: &[f64]) -> Option<f64> {
+    a.iter()
+        .zip(b)
+        .filter(|(&x, &y)| x != 0.0 && x != y)
+        .map(|(&x, &y)| (y - x) / x.abs())
+        .max_by(|p, q| p.abs().total_cmp(&q.abs()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn number_spelling_and_whitespace_do_not_count() {
+        assert_eq!(compare_values("0.1", " 1.0e-01 ", 0.0), None);
+        assert_eq!(compare_values("1 2  3", "1.0 2.0 3.0", 0.0), None);
+        assert_eq!(compare_values("a  b", "a b", 0.0), None);
+    }
+
+    #[test]
+    fn relative_change_is_signed_and_largest() {
+        let change = compare_values("0.16 1", "0.17 1", 0.0).unwrap();
+        let Change::Changed { relative_change: Some(r), .. } = change else { panic!("{change:?}") };
+        assert!((r - 0.0625).abs() < 1e-12);
+        let shrink = largest_relative_change(&[2.0, 1.0], &[1.0, 1.1]).unwrap();
+        assert!((shrink + 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tolerance_hides_small_changes() {
+        assert!(compare_values("1.0", "1.0000001", 1e-6).is_none());
+        assert!(compare_values("1.0", "1.0000001", 1e-9).is_some());
+    }
+}

@@ -1,0 +1,61 @@
+//! A document as an ordered list of components and property values keyed by canonical path.
+
+use std::collections::HashMap;
+
+use crate::io::osim::OsimDocument;
+use crate::io::xml::ElementId;
+
+/// One addressable element.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FlatEntry {
+    /// An element holding other elements; `class` is its tag.
+    Component { class: String },
+    /// A value element (or an attribute other than `name`, keyed `path@attribute`).
+    Property { value: String },
+}
+
+/// Entries in document order with an index by path.
+#[derive(Debug, Clone, Default)]
+pub struct FlatDocument {
+    pub entries: Vec<(String, FlatEntry)>,
+    index: HashMap<String, usize>,
+}
+
+impl FlatDocument {
+    pub fn get(&self, path: &str) -> Option<&FlatEntry> {
+        self.index.get(path).map(|&i| &self.entries[i].1)
+    }
+
+    fn push(&mut self, path: String, entry: FlatEntry) {
+        self.index.insert(path.clone(), self.entries.len());
+        self.entries.push((path, entry));
+    }
+}
+
+/// Flattens the object of `document` (the `<Model>` or tool) with canonical paths.
+pub fn flatten(document: &OsimDocument) -> FlatDocument {
+    let mut flat = FlatDocument::default();
+    visit(document, document.object, "", &mut flat);
+    flat
+}
+
+fn visit(document: &OsimDocument, id: ElementId, path: &str, flat: &mut FlatDocument) {
+    let xml = &document.xml;
+    for attribute in &xml.element(id).attributes {
+        if attribute.name != "name" {
+            flat.push(format!("{path}@{}", attribute.name), FlatEntry::Property { value: attribute.value.clone() });
+        }
+    }
+    for (child, segment) in crate::io::osim::child_segments(xml, id) {
+        let child_path = format!("{path}/{segment}");
+        match xml.text(child) {
+            Some(value) if xml.element(child).attributes.is_empty() => {
+                flat.push(child_path, FlatEntry::Property { value: value.into_owned() });
+            }
+            _ => {
+                flat.push(child_path.clone(), FlatEntry::Component { class: xml.tag(child).to_string() });
+                visit(document, child, &child_path, flat);
+            }
+        }
+    }
+}

@@ -1,0 +1,127 @@
+//! The `osim-tune` binary: exit codes, outputs and bad input (clear message naming file and
+//! line, exit 2, no output file).
+
+mod common;
+
+use std::path::Path;
+
+use common::osim_tune;
+
+fn temporary() -> tempfile::TempDir {
+    tempfile::tempdir().unwrap()
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+#[test]
+fn set_without_assignments_copies_every_document_byte_for_byte() {
+    let dir = temporary();
+    for input in common::opensim_documents() {
+        let output = dir.path().join(input.file_name().unwrap());
+        let (code, _, stderr) = osim_tune(&["set", s(&input), "-o", s(&output)]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(std::fs::read(&input).unwrap() == std::fs::read(&output).unwrap(), "{}", input.display());
+    }
+}
+
+#[test]
+fn set_then_diff_reports_the_one_edit() {
+    let dir = temporary();
+    let input = common::root().join("models/gait2392_millard2012muscle.osim");
+    let output = dir.path().join("edited.osim");
+    let (code, _, stderr) = osim_tune(&["set", s(&input), "-o", s(&output), "/forceset/vas_lat_r/tendon_slack_length=0.17"]);
+    assert_eq!(code, 0, "{stderr}");
+    let (code, stdout, _) = osim_tune(&["diff", s(&input), s(&output), "--json"]);
+    assert_eq!(code, 1);
+    let report: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let differences = report["differences"].as_array().unwrap();
+    assert_eq!(differences.len(), 1);
+    assert_eq!(differences[0]["path"], "/forceset/vas_lat_r/tendon_slack_length");
+    assert_eq!(differences[0]["new"], "0.17");
+    let (code, stdout, _) = osim_tune(&["diff", s(&input), s(&input)]);
+    assert_eq!((code, stdout.as_str()), (0, ""));
+}
+
+#[test]
+fn info_json_counts_the_model() {
+    let (code, stdout, stderr) = osim_tune(&["info", "--json", s(&common::fixture("models/leg6dof9musc.osim"))]);
+    assert_eq!(code, 0, "{stderr}");
+    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(summary["muscles"].as_array().unwrap().len(), 9);
+    assert_eq!(summary["markers"].as_array().unwrap().len(), 12);
+    assert_eq!(summary["constraints"][0], "pat_angle_r");
+    assert_eq!(summary["joint_classes"]["WeldJoint"], 2);
+}
+
+/// Writes `text` to a file, runs `set` on it and checks the failure.
+fn assert_set_fails(text: &str, assignments: &[&str], expected: &[&str]) {
+    let dir = temporary();
+    let input = dir.path().join("bad.osim");
+    std::fs::write(&input, text).unwrap();
+    let output = dir.path().join("out.osim");
+    let mut arguments = vec!["set", s(&input), "-o", s(&output)];
+    arguments.extend_from_slice(assignments);
+    let (code, stdout, stderr) = osim_tune(&arguments);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stdout.is_empty());
+    for part in expected {
+        assert!(stderr.contains(part), "{part:?} not in {stderr:?}");
+    }
+    assert!(!output.exists(), "output written despite the error");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "stray files left");
+}
+
+#[test]
+fn malformed_xml_names_file_and_line() {
+    let text = "<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"40000\">\n<Model name=\"m\">\n<credits>x</credit>\n</Model>\n</OpenSimDocument>\n";
+    assert_set_fails(text, &[], &["bad.osim:4:", "malformed XML"]);
+    assert_set_fails("<OpenSimDocument Version=\"40000\"><Model name=\"m\">", &[], &["bad.osim:1:", "never closed"]);
+    assert_set_fails("<a/><b/>", &[], &["second root"]);
+}
+
+#[test]
+fn unknown_version_is_refused() {
+    let text = "<OpenSimDocument Version=\"12345\">\n<Model name=\"m\"/>\n</OpenSimDocument>\n";
+    assert_set_fails(text, &[], &["bad.osim:1:", "unsupported OpenSim document version \"12345\""]);
+    assert_set_fails("<Model name=\"m\"/>", &[], &["expected the root element <OpenSimDocument"]);
+}
+
+#[test]
+fn bad_assignments_write_nothing() {
+    let text = std::fs::read_to_string(common::fixture("legacy/pendulum_leg_v30000.osim")).unwrap();
+    assert_set_fails(&text, &["/ForceSet/vasti/optimal_fiber_length=abc"], &["bad.osim:187:", "optimal_fiber_length", "expected a number"]);
+    assert_set_fails(&text, &["/ForceSet/nothing/optimal_fiber_length=0.1"], &["no component or property", "\"nothing\""]);
+    assert_set_fails(&text, &["/ForceSet/vasti/optimal_fiber_length"], &["not PATH=VALUE"]);
+    // The first edit is valid; the second is not: nothing at all is written.
+    assert_set_fails(&text, &["/ForceSet/vasti/optimal_fiber_length=0.1", "/ForceSet/vasti/tendon_slack_length=x"], &["tendon_slack_length"]);
+}
+
+#[test]
+fn a_missing_or_unparsable_required_property_is_named() {
+    let text = std::fs::read_to_string(common::fixture("legacy/pendulum_leg_v30000.osim")).unwrap();
+    let dir = temporary();
+    let input = dir.path().join("broken.osim");
+    std::fs::write(&input, text.replacen("<mass>8.5</mass>", "<mass>8,5</mass>", 1)).unwrap();
+    let (code, _, stderr) = osim_tune(&["info", s(&input)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("broken.osim:") && stderr.contains("<mass> must be a number") && stderr.contains("thigh"), "{stderr}");
+    std::fs::write(&input, text.replacen("<range>-0.5 2.0</range>", "", 1)).unwrap();
+    let (code, _, stderr) = osim_tune(&["info", s(&input)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("hip_flexion: missing <range>"), "{stderr}");
+}
+
+#[test]
+fn output_equal_to_input_is_refused() {
+    let dir = temporary();
+    let input = dir.path().join("model.osim");
+    std::fs::copy(common::fixture("models/arm26.osim"), &input).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let same = dir.path().join(".").join("model.osim");
+    let (code, _, stderr) = osim_tune(&["set", s(&input), "-o", s(&same), "/forceset/TRIlong/optimal_fiber_length=0.2"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("refusing to overwrite an input"), "{stderr}");
+    assert_eq!(std::fs::read(&input).unwrap(), before);
+}

@@ -1,0 +1,43 @@
+//! Helpers shared by the integration tests: fixture paths and document lists.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn fixture(relative: &str) -> PathBuf {
+    root().join("fixtures").join(relative)
+}
+
+/// Every `.osim` and OpenSim setup `.xml` shipped in `models/` and `fixtures/`.
+pub fn opensim_documents() -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    collect(&root().join("models"), &mut found);
+    collect(&root().join("fixtures"), &mut found);
+    found.sort();
+    assert!(found.len() >= 15, "expected the bundled models and subject01 setups, found {found:?}");
+    found
+}
+
+fn collect(directory: &Path, found: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(directory).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            collect(&path, found);
+        } else if matches!(path.extension().and_then(|e| e.to_str()), Some("osim" | "xml")) {
+            found.push(path);
+        }
+    }
+}
+
+/// Runs the `osim-tune` binary; returns (exit code, stdout, stderr).
+pub fn osim_tune(arguments: &[&str]) -> (i32, String, String) {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_osim-tune")).args(arguments).output().unwrap();
+    (
+        output.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&output.stdout).into_owned(),
+        String::from_utf8_lossy(&output.stderr).into_owned(),
+    )
+}

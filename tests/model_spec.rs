@@ -1,0 +1,97 @@
+//! The typed model view against OpenSim 4.6's own report of the models
+//! (`fixtures/golden/geometry/<model>/coordinates.csv`, from `shared/tools/oracle/gen_geometry.py`).
+
+mod common;
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::{CoordinateUnit, ModelSpec, MotionType, PathPointKind};
+
+const MODELS: [(&str, &str, usize); 6] = [
+    ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim", 92),
+    ("gait2354_simbody", "models/gait2354_simbody.osim", 54),
+    ("arm26", "fixtures/models/arm26.osim", 6),
+    ("leg6dof9musc", "fixtures/models/leg6dof9musc.osim", 9),
+    ("Rajagopal2016", "fixtures/models/Rajagopal2016.osim", 80),
+    ("subject01_simbody", "fixtures/subject01/OutputReference/subject01_simbody.osim", 92),
+];
+
+fn read(relative: &str) -> ModelSpec {
+    let document = OsimDocument::read(&common::root().join(relative)).unwrap();
+    ModelSpec::read(&document).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn coordinates_match_opensim() {
+    for (stem, file, muscles) in MODELS {
+        let spec = read(file);
+        let golden = std::fs::read_to_string(common::fixture(&format!("golden/geometry/{stem}/coordinates.csv"))).unwrap();
+        let rows: Vec<Vec<&str>> = golden.lines().skip(1).map(|l| l.split(',').collect()).collect();
+        let coordinates: Vec<_> = spec.coordinates().collect();
+        assert_eq!(coordinates.len(), rows.len(), "{stem}");
+        for row in rows {
+            let c = coordinates.iter().find(|c| c.name == row[0]).unwrap_or_else(|| panic!("{stem}: {} missing", row[0]));
+            let motion = match row[2] {
+                "rotational" => MotionType::Rotational,
+                "translational" => MotionType::Translational,
+                _ => MotionType::Coupled,
+            };
+            let unit = if row[3] == "rotational" { CoordinateUnit::Radian } else { CoordinateUnit::Meter };
+            assert_eq!((c.joint.as_str(), c.motion_type, c.unit), (row[1], motion, unit), "{stem} {}", c.name);
+            let number = |i: usize| row[i].parse::<f64>().unwrap();
+            assert_eq!(c.range, [number(4), number(5)], "{stem} {}", c.name);
+            assert_eq!(c.default_value, number(6), "{stem} {}", c.name);
+            assert_eq!((c.locked, c.clamped), (row[7] == "1", row[8] == "1"), "{stem} {}", c.name);
+        }
+        assert_eq!(spec.muscles().count(), muscles, "{stem}");
+    }
+}
+
+#[test]
+fn joints_resolve_their_frames_to_bodies() {
+    let spec = read("models/gait2392_millard2012muscle.osim");
+    let knee = spec.joints.iter().find(|j| j.name == "knee_r").unwrap();
+    assert_eq!((knee.parent.body.as_str(), knee.child.body.as_str()), ("femur_r", "tibia_r"));
+    assert_eq!(knee.parent.offsets.len(), 1);
+    assert_eq!(knee.spatial_transform.len(), 6);
+    let ground_pelvis = spec.joints.iter().find(|j| j.name == "ground_pelvis").unwrap();
+    assert_eq!(ground_pelvis.parent.body, "ground");
+    let rect_fem = spec.forces.iter().find(|f| f.name == "rect_fem_r").unwrap();
+    let moving = rect_fem.path_points.iter().filter(|p| matches!(p.kind, PathPointKind::MovingPathPoint { .. })).count();
+    assert_eq!(moving, 1);
+}
+
+#[test]
+fn a_3x_model_reads_into_the_same_form() {
+    let spec = read("fixtures/legacy/pendulum_leg_v30000.osim");
+    assert_eq!(spec.version, 30000);
+    assert_eq!(spec.bodies.iter().map(|b| b.name.as_str()).collect::<Vec<_>>(), ["thigh", "shank"]);
+    assert_eq!(spec.bodies[0].inertia, [0.1339, 0.0351, 0.1412, 0.0, 0.0, 0.0]);
+    let knee = &spec.joints[1];
+    assert_eq!((knee.class.as_str(), knee.parent.body.as_str(), knee.child.body.as_str()), ("CustomJoint", "thigh", "shank"));
+    assert_eq!(knee.parent.offsets[0].translation, [0.0, -0.4, 0.0]);
+    assert_eq!(knee.child.offsets[0].translation, [0.0, 0.02, 0.0]);
+    assert_eq!(knee.coordinates[0].range, [-2.0944, 0.1745]);
+    assert!(knee.spatial_transform[0].function.as_ref().unwrap().is_unit_linear());
+    let marker = &spec.markers[0];
+    assert_eq!((marker.frame.body.as_str(), marker.location, marker.fixed), ("thigh", [0.0, -0.4, 0.05], true));
+    let vasti = &spec.forces[0];
+    assert!(matches!(&vasti.path_points[1].kind, PathPointKind::ConditionalPathPoint { coordinate, range, .. } if coordinate == "knee_angle" && *range == [-2.618, -1.4]));
+    assert_eq!(spec.wrap_objects[0].body, "thigh");
+}
+
+#[test]
+fn bad_functions_and_references_name_the_component() {
+    let path = common::root().join("models/gait2354_simbody.osim");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let cases = [
+        ("<x> -2.0944 -1.74533 -1.39626", "<x> -2.0944 -2.5 -1.39626", "strictly increasing"),
+        ("<socket_parent_frame>femur_r_offset</socket_parent_frame>", "<socket_parent_frame>femur_x_offset</socket_parent_frame>", "femur_x_offset"),
+        ("<mass>9.3013999999999992</mass>", "<mass>9.3O1</mass>", "must be a number"),
+    ];
+    for (from, to, expected) in cases {
+        assert!(text.contains(from), "{from}");
+        let broken = OsimDocument::parse(text.replacen(from, to, 1), &path).unwrap();
+        let message = ModelSpec::read(&broken).err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(message.contains(expected) && message.contains("gait2354_simbody.osim:"), "{message}");
+    }
+}
