@@ -1,1 +1,46 @@
-fn main() {}
+//! Project tasks: `cargo xtask validate` (conformance table against OpenSim goldens and
+//! round-trip checks; exits non-zero on any failure) and `cargo xtask fuzz-smoke [SECONDS]`
+//! (mutated inputs into every parser for a bounded time; exits non-zero on a panic).
+
+mod fuzz;
+mod validate;
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    let arguments: Vec<String> = std::env::args().skip(1).collect();
+    match arguments.first().map(String::as_str) {
+        Some("validate") => validate::run(),
+        Some("fuzz-smoke") => {
+            let seconds = arguments.get(1).and_then(|s| s.parse().ok()).unwrap_or(60.0);
+            fuzz::run(seconds)
+        }
+        _ => {
+            eprintln!("usage: cargo xtask validate | cargo xtask fuzz-smoke [SECONDS (default 60)]");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The repository root (the parent of `xtask/`).
+pub fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+}
+
+/// Files below `directory` (recursively) whose extension is one of `extensions`, sorted.
+pub fn files_with(directory: &std::path::Path, extensions: &[&str]) -> Vec<std::path::PathBuf> {
+    let mut found = Vec::new();
+    let mut pending = vec![directory.to_path_buf()];
+    while let Some(dir) = pending.pop() {
+        for entry in std::fs::read_dir(&dir).into_iter().flatten().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                pending.push(path);
+            } else if path.extension().and_then(|e| e.to_str()).is_some_and(|e| extensions.contains(&e)) {
+                found.push(path);
+            }
+        }
+    }
+    found.sort();
+    found
+}

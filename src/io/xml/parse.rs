@@ -3,7 +3,7 @@
 use std::ops::Range;
 use std::path::Path;
 
-use quick_xml::events::Event;
+use quick_xml::events::{BytesStart, Event};
 use quick_xml::Reader;
 
 use super::document::{Attribute, Document, Element, ElementId};
@@ -45,8 +45,8 @@ impl<'a> TreeBuilder<'a> {
             })?;
             let end = reader.buffer_position() as usize;
             match event {
-                Event::Start(tag) => self.open_element(tag.name().as_ref(), start..end, false)?,
-                Event::Empty(tag) => self.open_element(tag.name().as_ref(), start..end, true)?,
+                Event::Start(tag) => self.open_element(&tag, start..end, false)?,
+                Event::Empty(tag) => self.open_element(&tag, start..end, true)?,
                 Event::End(_) => self.close_element(start, end),
                 Event::Text(text) if self.open.is_empty() => {
                     let stray = String::from_utf8_lossy(text.as_ref()).trim().to_string();
@@ -75,12 +75,12 @@ impl<'a> TreeBuilder<'a> {
         Ok(self.elements)
     }
 
-    fn open_element(&mut self, name: &[u8], start_tag: Range<usize>, empty: bool) -> Result<(), XmlError> {
+    fn open_element(&mut self, start: &BytesStart, start_tag: Range<usize>, empty: bool) -> Result<(), XmlError> {
         if self.open.is_empty() && self.root_closed {
             return Err(self.error(start_tag.start, "a second root element"));
         }
-        let tag = String::from_utf8_lossy(name).into_owned();
-        let attributes = self.attributes(&start_tag, tag.len())?;
+        let tag = String::from_utf8_lossy(start.name().as_ref()).into_owned();
+        let attributes = self.attributes(start, start_tag.start)?;
         let id = ElementId(self.elements.len() as u32);
         let parent = self.open.last().copied();
         if let Some(parent) = parent {
@@ -105,18 +105,14 @@ impl<'a> TreeBuilder<'a> {
     }
 
     /// Attributes of a start tag, checked for well-formedness (quotes, `=`, duplicates).
-    fn attributes(&self, start_tag: &Range<usize>, tag_length: usize) -> Result<Vec<Attribute>, XmlError> {
-        let raw = &self.source[start_tag.clone()];
-        let inner = raw[1..].trim_end_matches('>').trim_end_matches('/');
-        let attributes_text = &inner[tag_length..];
-        let attributes_offset = start_tag.start + 1 + tag_length;
-        let mut attributes: Vec<Attribute> = Vec::new();
-        for item in quick_xml::events::attributes::Attributes::new(attributes_text, 0).with_checks(true) {
-            let attribute = item.map_err(|error| self.error(attributes_offset, format!("bad attribute: {error}")))?;
+    fn attributes(&self, start: &BytesStart, offset: usize) -> Result<Vec<Attribute>, XmlError> {
+        let mut attributes = Vec::new();
+        for item in start.attributes().with_checks(true) {
+            let attribute = item.map_err(|error| self.error(offset, format!("bad attribute: {error}")))?;
             let name = String::from_utf8_lossy(attribute.key.as_ref()).into_owned();
             let raw_value = String::from_utf8_lossy(&attribute.value).into_owned();
             let value = text::unescape(&raw_value)
-                .ok_or_else(|| self.error(attributes_offset, format!("bad entity in attribute {name}")))?
+                .ok_or_else(|| self.error(offset, format!("bad entity in attribute {name}")))?
                 .into_owned();
             attributes.push(Attribute { name, value });
         }
@@ -127,5 +123,40 @@ impl<'a> TreeBuilder<'a> {
         let starts = text::line_starts(self.source);
         let (line, column) = text::line_and_column(&starts, offset.min(self.source.len()));
         XmlError { file: self.file.to_path_buf(), line, column, message: message.into() }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    const SNIPPET: &str = "<OpenSimDocument Version=\"40000\"><Model name=\"m\"><objects/><x a='1'>1 &amp; 2</x></Model></OpenSimDocument>";
+
+    #[test]
+    fn spans_cover_tags_and_values() {
+        let document = Document::parse(SNIPPET.to_string(), Path::new("t.xml")).unwrap();
+        let x = document.ids().find(|&id| document.tag(id) == "x").unwrap();
+        assert_eq!(document.text(x).unwrap(), "1 & 2");
+        assert_eq!(document.attribute(x, "a"), Some("1"));
+        assert_eq!(&SNIPPET[document.element(x).start_tag.clone()], "<x a='1'>");
+    }
+
+    proptest! {
+        /// Regression: the fuzzer found start tags whose attribute text was sliced out of range.
+        #[test]
+        fn mutated_documents_never_panic(cut in 0..SNIPPET.len(), insert in "[<>/=\"' a-z&;#0-9]{0,6}") {
+            if SNIPPET.is_char_boundary(cut) {
+                let text = format!("{}{}{}", &SNIPPET[..cut], insert, &SNIPPET[cut..]);
+                let _ = Document::parse(text, Path::new("fuzz.xml"));
+            }
+        }
+
+        #[test]
+        fn unchanged_documents_serialise_to_their_input(text in "[<>/=\"' a-z]{0,40}") {
+            if let Ok(document) = Document::parse(text.clone(), Path::new("p.xml")) {
+                prop_assert_eq!(document.serialize(), text);
+            }
+        }
     }
 }
