@@ -139,7 +139,7 @@ impl<'a> ComponentReader<'a> {
         children.iter().find(|&&c| xml.name(c) == Some(property)).map(|&object| self.at(object))
     }
 
-    /// Elements with a `name` directly in a list (`<Set><objects>…`) or property container.
+    /// The member elements of a set (`<Set><objects>…`) or of a list property (`<coordinates>…`).
     pub fn listed_objects(&self, container: ElementId) -> Vec<ElementId> {
         let xml = &self.document.xml;
         let list = xml.child(container, "objects").unwrap_or(container);

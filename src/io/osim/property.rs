@@ -18,7 +18,7 @@ impl PropertyKind {
         let tokens: Vec<&str> = value.split_whitespace().collect();
         if matches!(tokens.as_slice(), ["true"] | ["false"]) {
             PropertyKind::Boolean
-        } else if !tokens.is_empty() && tokens.iter().all(|t| parse_number(t).is_some()) {
+        } else if !tokens.is_empty() && tokens.iter().all(|t| t.parse::<f64>().is_ok()) {
             PropertyKind::Numbers(tokens.len())
         } else {
             PropertyKind::Text
@@ -42,11 +42,6 @@ impl PropertyKind {
             PropertyKind::Text => "text".into(),
         }
     }
-}
-
-/// Parses a number as OpenSim writes them (`1e-05`, `-0`, `inf`, `nan`, `NaN`).
-pub fn parse_number(token: &str) -> Option<f64> {
-    token.parse::<f64>().ok()
 }
 
 #[cfg(test)]

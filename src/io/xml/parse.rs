@@ -47,7 +47,7 @@ impl<'a> TreeBuilder<'a> {
             match event {
                 Event::Start(tag) => self.open_element(&tag, start..end, false)?,
                 Event::Empty(tag) => self.open_element(&tag, start..end, true)?,
-                Event::End(_) => self.close_element(start, end),
+                Event::End(_) => self.close_element(start),
                 Event::Text(text) if self.open.is_empty() => {
                     let stray = String::from_utf8_lossy(text.as_ref()).trim().to_string();
                     if !stray.is_empty() && stray != "\u{feff}" {
@@ -96,7 +96,7 @@ impl<'a> TreeBuilder<'a> {
         Ok(())
     }
 
-    fn close_element(&mut self, end_tag_start: usize, _end: usize) {
+    fn close_element(&mut self, end_tag_start: usize) {
         if let Some(id) = self.open.pop() {
             let element = &mut self.elements[id.0 as usize];
             element.content = Some(element.start_tag.end..end_tag_start);
