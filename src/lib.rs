@@ -4,7 +4,10 @@
 //! document) → [`review`] (semantic comparison of documents) → [`cli`] (the only place that
 //! prints). See `ARCHITECTURE.md` for the map.
 
+pub mod analysis;
 pub mod cli;
 pub mod io;
+pub mod mechanics;
 pub mod model;
 pub mod review;
+pub mod validation;

@@ -85,6 +85,7 @@ fn bad_functions_and_references_name_the_component() {
     let text = std::fs::read_to_string(&path).unwrap();
     let cases = [
         ("<x> -2.0944 -1.74533 -1.39626", "<x> -2.0944 -2.5 -1.39626", "strictly increasing"),
+        ("<x> -2.0944 -1.74533 -1.39626", "<x> -2.0944 -1.39626", "as many values as <x>"),
         ("<socket_parent_frame>femur_r_offset</socket_parent_frame>", "<socket_parent_frame>femur_x_offset</socket_parent_frame>", "femur_x_offset"),
         ("<mass>9.3013999999999992</mass>", "<mass>9.3O1</mass>", "must be a number"),
     ];

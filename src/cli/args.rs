@@ -56,6 +56,29 @@ pub enum Command {
         #[arg(long, default_value_t = 0.0)]
         rtol: f64,
     },
+    /// Muscle-tendon lengths, moment arms and marker locations along a motion, like OpenSim's
+    /// MuscleAnalysis: writes DIR/Length.sto (one column per muscle, m),
+    /// DIR/MomentArm_<coordinate>.sto for every coordinate some muscle spans (m, or m/m) and
+    /// DIR/MarkerLocations.sto (<marker>_tx/_ty/_tz in ground, m).
+    ///
+    /// Motion columns are coordinate names (or /…/<coordinate>/value paths), in degrees or
+    /// radians per the header; coordinates the motion lacks stay at their default; a column
+    /// that is no coordinate of the model is an error unless --skip-unknown-columns (speed
+    /// columns are always skipped). Values are used as given, without clamping to ranges.
+    Analyze {
+        /// The model (.osim).
+        model: PathBuf,
+        /// Coordinate trajectories (.mot or .sto), e.g. an inverse kinematics result.
+        #[arg(long)]
+        motion: PathBuf,
+        /// Output folder (created if needed); existing files of the same names are replaced.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Skip motion columns that are no coordinate of the model (e.g. the marker and force
+        /// columns of a legacy IK .mot) instead of failing.
+        #[arg(long)]
+        skip_unknown_columns: bool,
+    },
     /// Print every property as `PATH = VALUE`, one per line, numbers in shortest form: a stable
     /// text form of a document for `git diff` (use as diff.textconv; see README).
     Flatten {

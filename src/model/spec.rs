@@ -1,5 +1,7 @@
 //! `ModelSpec`: everything a model document says, typed, in both the 4.x and the 3.x layout.
 
+use std::path::PathBuf;
+
 use serde::Serialize;
 
 use super::body::BodySpec;
@@ -18,6 +20,9 @@ use crate::io::xml::ElementId;
 /// The typed content of a `<Model>`. Order follows the document (OpenSim's set order).
 #[derive(Debug, Clone, Serialize)]
 pub struct ModelSpec {
+    /// The file the model was read from, for messages.
+    #[serde(skip)]
+    pub file: PathBuf,
     pub name: String,
     pub version: u32,
     /// m/s², in ground.
@@ -44,6 +49,7 @@ impl ModelSpec {
         let body_elements = body_elements(model, dialect);
         let frames = FrameIndex::new(document, &body_elements)?;
         let mut spec = ModelSpec {
+            file: document.xml.file().into(),
             name: model.name(),
             version: document.version.number,
             gravity: if model.child("gravity").is_some() { model.vec3("gravity")? } else { [0.0, -9.80665, 0.0] },

@@ -1,8 +1,11 @@
 //! Project tasks: `cargo xtask validate` (conformance table against OpenSim goldens and
-//! round-trip checks; exits non-zero on any failure) and `cargo xtask fuzz-smoke [SECONDS]`
+//! round-trip checks; exits non-zero on any failure), `cargo xtask bench` (speed beside
+//! OpenSim) and `cargo xtask fuzz-smoke [SECONDS]`
 //! (mutated inputs into every parser for a bounded time; exits non-zero on a panic).
 
+mod bench;
 mod fuzz;
+mod geometry;
 mod validate;
 
 use std::process::ExitCode;
@@ -11,12 +14,13 @@ fn main() -> ExitCode {
     let arguments: Vec<String> = std::env::args().skip(1).collect();
     match arguments.first().map(String::as_str) {
         Some("validate") => validate::run(),
+        Some("bench") => bench::run(),
         Some("fuzz-smoke") => {
             let seconds = arguments.get(1).and_then(|s| s.parse().ok()).unwrap_or(60.0);
             fuzz::run(seconds)
         }
         _ => {
-            eprintln!("usage: cargo xtask validate | cargo xtask fuzz-smoke [SECONDS (default 60)]");
+            eprintln!("usage: cargo xtask validate | cargo xtask bench | cargo xtask fuzz-smoke [SECONDS (default 60)]");
             ExitCode::from(2)
         }
     }

@@ -8,14 +8,16 @@ use osim_tune::io::table::{MarkerTable, StorageTable};
 use osim_tune::model::ModelSpec;
 use osim_tune::review::diff;
 
-use crate::{files_with, root};
+use crate::{files_with, geometry, root};
 
 /// One line of the conformance table.
-struct Row {
-    what: String,
-    reference: String,
-    worst: f64,
-    tolerance: f64,
+pub struct Row {
+    pub what: String,
+    pub reference: String,
+    pub worst: f64,
+    pub tolerance: f64,
+    /// Where the worst case occurred, when that helps (empty otherwise).
+    pub at: String,
 }
 
 pub fn run() -> ExitCode {
@@ -25,6 +27,7 @@ pub fn run() -> ExitCode {
     rows.push(single_edit_is_single_line(&documents));
     rows.push(respelled_documents_have_no_diff(&documents));
     rows.extend(coordinates_against_opensim());
+    rows.extend(GOLDEN_MODELS.iter().flat_map(|(stem, file)| geometry::rows(stem, &root().join(file))));
     rows.push(storage_round_trip(&files_with(&root().join("fixtures"), &["sto", "mot"])));
     rows.push(marker_round_trip(&files_with(&root().join("fixtures"), &["trc"])));
     print_table(&rows)
@@ -37,6 +40,9 @@ fn print_table(rows: &[Row]) -> ExitCode {
         let pass = row.worst <= row.tolerance;
         failures += usize::from(!pass);
         println!("{:<58} {:<40} {:>12.3e} {:>10.1e}  {}", row.what, row.reference, row.worst, row.tolerance, if pass { "pass" } else { "FAIL" });
+        if !row.at.is_empty() {
+            println!("    worst at {}", row.at);
+        }
     }
     println!("{} passed, {} failed", rows.len() - failures, failures);
     if failures == 0 { ExitCode::SUCCESS } else { ExitCode::FAILURE }
@@ -54,7 +60,7 @@ fn document_round_trip(documents: &[PathBuf]) -> Row {
         let written = read(path).map(|d| d.xml.serialize().into_bytes());
         worst = worst.max(written.map_or(f64::INFINITY, |w| differing_bytes(&original, &w)));
     }
-    Row { what: format!("round trip, byte-identical ({} documents)", documents.len()), reference: "the input file".into(), worst, tolerance: 0.0 }
+    Row { what: format!("round trip, byte-identical ({} documents)", documents.len()), reference: "the input file".into(), worst, tolerance: 0.0, at: String::new() }
 }
 
 fn differing_bytes(a: &[u8], b: &[u8]) -> f64 {
@@ -78,7 +84,7 @@ fn single_edit_is_single_line(documents: &[PathBuf]) -> Row {
         let changed = original.lines().zip(edited.lines()).filter(|(a, b)| a != b).count();
         worst = worst.max((changed as f64 - 1.0).abs() + original.lines().count().abs_diff(edited.lines().count()) as f64);
     }
-    Row { what: format!("set one property → one changed line ({} models)", models.len()), reference: "textual line diff".into(), worst, tolerance: 0.0 }
+    Row { what: format!("set one property → one changed line ({} models)", models.len()), reference: "textual line diff".into(), worst, tolerance: 0.0, at: String::new() }
 }
 
 /// Every number re-spelled in scientific notation: the semantic diff must be empty.
@@ -98,20 +104,22 @@ fn respelled_documents_have_no_diff(documents: &[PathBuf]) -> Row {
         }
         worst = worst.max(diff(&original, &respelled, 0.0).differences.len() as f64);
     }
-    Row { what: format!("diff ignores number spelling ({} documents)", documents.len()), reference: "0 differences".into(), worst, tolerance: 0.0 }
+    Row { what: format!("diff ignores number spelling ({} documents)", documents.len()), reference: "0 differences".into(), worst, tolerance: 0.0, at: String::new() }
 }
+
+/// The models with OpenSim 4.6 geometry goldens: (golden folder name, model file).
+const GOLDEN_MODELS: [(&str, &str); 6] = [
+    ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim"),
+    ("gait2354_simbody", "models/gait2354_simbody.osim"),
+    ("subject01_simbody", "fixtures/subject01/OutputReference/subject01_simbody.osim"),
+    ("leg6dof9musc", "fixtures/models/leg6dof9musc.osim"),
+    ("Rajagopal2016", "fixtures/models/Rajagopal2016.osim"),
+    ("arm26", "fixtures/models/arm26.osim"),
+];
 
 /// Coordinate ranges, defaults, motion types and flags against OpenSim 4.6's report.
 fn coordinates_against_opensim() -> Vec<Row> {
-    let models = [
-        ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim"),
-        ("gait2354_simbody", "models/gait2354_simbody.osim"),
-        ("arm26", "fixtures/models/arm26.osim"),
-        ("leg6dof9musc", "fixtures/models/leg6dof9musc.osim"),
-        ("Rajagopal2016", "fixtures/models/Rajagopal2016.osim"),
-        ("subject01_simbody", "fixtures/subject01/OutputReference/subject01_simbody.osim"),
-    ];
-    models.iter().map(|(stem, file)| coordinate_row(stem, file)).collect()
+    GOLDEN_MODELS.iter().map(|(stem, file)| coordinate_row(stem, file)).collect()
 }
 
 fn coordinate_row(stem: &str, file: &str) -> Row {
@@ -128,7 +136,7 @@ fn coordinate_row(stem: &str, file: &str) -> Row {
             worst = worst.max(if flags_match { error } else { f64::INFINITY });
         }
     }
-    Row { what: format!("coordinates, {stem}"), reference: "OpenSim 4.6 coordinates.csv".into(), worst, tolerance: 0.0 }
+    Row { what: format!("coordinates, {stem}"), reference: "OpenSim 4.6 coordinates.csv".into(), worst, tolerance: 0.0, at: String::new() }
 }
 
 /// Largest |value − value after write → read| over all storage files (∞ on a parse failure).
@@ -141,7 +149,7 @@ fn storage_round_trip(files: &[PathBuf]) -> Row {
             _ => f64::INFINITY,
         });
     }
-    Row { what: format!("table round trip .sto/.mot ({} files)", files.len()), reference: "the input values".into(), worst, tolerance: 0.0 }
+    Row { what: format!("table round trip .sto/.mot ({} files)", files.len()), reference: "the input values".into(), worst, tolerance: 0.0, at: String::new() }
 }
 
 fn marker_round_trip(files: &[PathBuf]) -> Row {
@@ -156,7 +164,7 @@ fn marker_round_trip(files: &[PathBuf]) -> Row {
             _ => f64::INFINITY,
         });
     }
-    Row { what: format!("table round trip .trc ({} files)", files.len()), reference: "the input values".into(), worst, tolerance: 0.0 }
+    Row { what: format!("table round trip .trc ({} files)", files.len()), reference: "the input values".into(), worst, tolerance: 0.0, at: String::new() }
 }
 
 /// max |a − b|, with NaN equal to NaN and NaN against a number infinite.

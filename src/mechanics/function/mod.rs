@@ -1,0 +1,188 @@
+//! Evaluation of OpenSim functions of one variable, agreeing with OpenSim 4.6 to the bit.
+//!
+//! OpenSim evaluates `SimmSpline` (alias `NaturalCubicSpline`), `PiecewiseLinearFunction`,
+//! `PiecewiseConstantFunction` and `MultiplierFunction` with its own `calcValue` /
+//! `calcDerivative`, and hands `LinearFunction`, `PolynomialFunction`, `Constant` and
+//! `GCVSpline` to Simbody (`Function::Linear`, `Function::Polynomial`,
+//! `Function::Constant`, `Spline`); each family here follows the code OpenSim runs,
+//! including extrapolation beyond the knots and which piece is used at a knot.
+
+mod gcv_fit;
+mod gcv_spline;
+mod knots;
+mod piecewise;
+mod polynomial;
+mod simm_spline;
+
+use crate::model::FunctionSpec;
+use gcv_fit::Smoothing;
+use gcv_spline::GcvSpline;
+use piecewise::{PiecewiseConstant, PiecewiseLinear};
+use polynomial::Polynomial;
+use simm_spline::SimmSpline;
+
+/// A compiled OpenSim function of one variable: coefficients precomputed once.
+#[derive(Debug, Clone)]
+pub struct Function {
+    kind: Kind,
+}
+
+#[derive(Debug, Clone)]
+enum Kind {
+    Constant(f64),
+    /// y = slope·x + intercept.
+    Linear { slope: f64, intercept: f64 },
+    SimmSpline(SimmSpline),
+    GcvSpline(GcvSpline),
+    PiecewiseLinear(PiecewiseLinear),
+    PiecewiseConstant(PiecewiseConstant),
+    Polynomial(Polynomial),
+    /// y = f(x)·scale, and likewise every derivative.
+    Multiplier { scale: f64, function: Box<Function> },
+}
+
+impl Function {
+    /// Compiles a validated spec (x strictly increasing, lengths equal, enough points).
+    /// `GCVSpline` uses OpenSim's default `error_variance` of 0: interpolation.
+    pub fn new(spec: &FunctionSpec) -> Function {
+        let kind = match spec {
+            FunctionSpec::Constant { value } => Kind::Constant(*value),
+            FunctionSpec::LinearFunction { slope, intercept } => Kind::Linear { slope: *slope, intercept: *intercept },
+            FunctionSpec::SimmSpline { x, y } | FunctionSpec::NaturalCubicSpline { x, y } => {
+                Kind::SimmSpline(SimmSpline::new(x, y))
+            }
+            FunctionSpec::GCVSpline { degree, x, y } => {
+                Kind::GcvSpline(GcvSpline::new(*degree, x, y, Smoothing::from_error_variance(0.0)))
+            }
+            FunctionSpec::PiecewiseLinearFunction { x, y } => Kind::PiecewiseLinear(PiecewiseLinear::new(x, y)),
+            FunctionSpec::PiecewiseConstantFunction { x, y } => Kind::PiecewiseConstant(PiecewiseConstant::new(x, y)),
+            FunctionSpec::PolynomialFunction { coefficients } => Kind::Polynomial(Polynomial::new(coefficients)),
+            FunctionSpec::MultiplierFunction { scale, function } => {
+                Kind::Multiplier { scale: *scale, function: Box::new(Function::new(function)) }
+            }
+        };
+        Function { kind }
+    }
+
+    /// y(x).
+    pub fn value(&self, x: f64) -> f64 {
+        match &self.kind {
+            Kind::Constant(value) => *value,
+            Kind::Linear { slope, intercept } => x * slope + intercept,
+            Kind::SimmSpline(f) => f.value(x),
+            Kind::GcvSpline(f) => f.value(x),
+            Kind::PiecewiseLinear(f) => f.value(x),
+            Kind::PiecewiseConstant(f) => f.value(x),
+            Kind::Polynomial(f) => f.value(x),
+            Kind::Multiplier { scale, function } => function.value(x) * scale,
+        }
+    }
+
+    /// dy/dx, OpenSim's `calcDerivative({0}, x)`.
+    pub fn derivative(&self, x: f64) -> f64 {
+        match &self.kind {
+            Kind::Constant(_) | Kind::PiecewiseConstant(_) => 0.0,
+            Kind::Linear { slope, .. } => *slope,
+            Kind::SimmSpline(f) => f.derivative(x),
+            Kind::GcvSpline(f) => f.derivative(x),
+            Kind::PiecewiseLinear(f) => f.derivative(x),
+            Kind::Polynomial(f) => f.derivative(x),
+            Kind::Multiplier { scale, function } => function.derivative(x) * scale,
+        }
+    }
+
+    /// d²y/dx², OpenSim's `calcDerivative({0, 0}, x)`.
+    pub fn second_derivative(&self, x: f64) -> f64 {
+        match &self.kind {
+            Kind::Constant(_) | Kind::Linear { .. } | Kind::PiecewiseLinear(_) | Kind::PiecewiseConstant(_) => 0.0,
+            Kind::SimmSpline(f) => f.second_derivative(x),
+            Kind::GcvSpline(f) => f.second_derivative(x),
+            Kind::Polynomial(f) => f.second_derivative(x),
+            Kind::Multiplier { scale, function } => function.second_derivative(x) * scale,
+        }
+    }
+
+    /// (y, dy/dx) with one knot search, equal to (`value`, `derivative`).
+    pub fn value_and_derivative(&self, x: f64) -> (f64, f64) {
+        match &self.kind {
+            Kind::SimmSpline(f) => f.value_and_derivative(x),
+            Kind::GcvSpline(f) => f.value_and_derivative(x),
+            Kind::Multiplier { scale, function } => {
+                let (value, derivative) = function.value_and_derivative(x);
+                (value * scale, derivative * scale)
+            }
+            _ => (self.value(x), self.derivative(x)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn knots(x: &[f64], y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        (x.to_vec(), y.to_vec())
+    }
+
+    #[test]
+    fn linear_function_is_exact() {
+        let f = Function::new(&FunctionSpec::LinearFunction { slope: -1.5, intercept: 0.25 });
+        assert_eq!((f.value(2.0), f.derivative(2.0), f.second_derivative(2.0)), (-2.75, -1.5, 0.0));
+    }
+
+    #[test]
+    fn constant_has_no_slope() {
+        let f = Function::new(&FunctionSpec::Constant { value: 3.5 });
+        assert_eq!((f.value(-9.0), f.derivative(1.0), f.second_derivative(1.0)), (3.5, 0.0, 0.0));
+    }
+
+    #[test]
+    fn natural_cubic_spline_is_a_simm_spline() {
+        let (x, y) = knots(&[0.0, 0.5, 1.3, 2.0], &[0.0, 0.8, 0.4, -0.3]);
+        let simm = Function::new(&FunctionSpec::SimmSpline { x: x.clone(), y: y.clone() });
+        let natural = Function::new(&FunctionSpec::NaturalCubicSpline { x, y });
+        for t in [-1.0, 0.2, 0.5, 1.7, 3.0] {
+            assert_eq!(simm.value(t), natural.value(t));
+            assert_eq!(simm.second_derivative(t), natural.second_derivative(t));
+        }
+    }
+
+    #[test]
+    fn multiplier_scales_value_and_derivatives() {
+        let (x, y) = knots(&[0.0, 1.0, 2.5, 3.0], &[1.0, 2.0, 0.5, 0.7]);
+        let inner = FunctionSpec::SimmSpline { x, y };
+        let f = Function::new(&inner);
+        let scaled = Function::new(&FunctionSpec::MultiplierFunction { scale: 0.93, function: Box::new(inner) });
+        for t in [-0.5, 0.3, 1.0, 2.9, 4.0] {
+            assert_eq!(scaled.value(t), f.value(t) * 0.93);
+            assert_eq!(scaled.derivative(t), f.derivative(t) * 0.93);
+            assert_eq!(scaled.second_derivative(t), f.second_derivative(t) * 0.93);
+            assert_eq!(scaled.value_and_derivative(t), (scaled.value(t), scaled.derivative(t)));
+        }
+    }
+
+    #[test]
+    fn gcv_spline_interpolates_with_zero_error_variance() {
+        let (x, y) = knots(&[0.0, 0.4, 1.1, 1.5, 2.3, 3.0, 3.2, 4.1], &[0.1, 0.9, 1.3, 0.7, -0.4, -0.2, 0.3, 1.6]);
+        for degree in [1, 3, 5, 7] {
+            let f = Function::new(&FunctionSpec::GCVSpline { degree, x: x.clone(), y: y.clone() });
+            for (xi, yi) in x.iter().zip(&y) {
+                assert!((f.value(*xi) - yi).abs() < 1e-9, "degree {degree} at {xi}");
+            }
+        }
+    }
+
+    #[test]
+    fn gcv_spline_derivative_matches_central_differences() {
+        let (x, y) = knots(&[0.0, 0.4, 1.1, 1.5, 2.3, 3.0, 3.2, 4.1], &[0.1, 0.9, 1.3, 0.7, -0.4, -0.2, 0.3, 1.6]);
+        let f = Function::new(&FunctionSpec::GCVSpline { degree: 5, x, y });
+        let h = 1e-6;
+        for t in [-0.5, 0.2, 1.3, 2.9, 4.5] {
+            let slope = (f.value(t + h) - f.value(t - h)) / (2.0 * h);
+            let curvature = (f.derivative(t + h) - f.derivative(t - h)) / (2.0 * h);
+            assert!((f.derivative(t) - slope).abs() < 1e-6, "slope at {t}");
+            assert!((f.second_derivative(t) - curvature).abs() < 1e-5, "curvature at {t}");
+            assert_eq!(f.value_and_derivative(t), (f.value(t), f.derivative(t)));
+        }
+    }
+}

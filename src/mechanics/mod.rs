@@ -1,0 +1,23 @@
+//! Mechanics compiled from the model view: functions, kinematics, muscle paths.
+
+mod coupling;
+mod error;
+pub mod function;
+mod geometry;
+mod kinematics;
+mod mobilizer;
+mod motion;
+mod multibody;
+mod path;
+mod spatial;
+
+pub use coupling::Coupler;
+pub use error::MechanicsError;
+pub use function::Function;
+pub use geometry::{MuscleGeometry, PathEvaluation};
+pub use kinematics::{CoordinateAxis, Kinematics};
+pub use mobilizer::{Mobilizer, PartialVelocity, TransformAxis};
+pub use motion::{Motion, MotionError};
+pub use multibody::{Body, Joint, Marker, Multibody, GROUND_INDEX};
+pub use path::{GeometryPath, PathScratch};
+pub use spatial::{body_fixed_xyz, rotation_about, Mat3, Transform, Vec3};

@@ -1,0 +1,90 @@
+//! `osim-tune analyze` end to end against OpenSim 4.6 (`fixtures/golden/analysis/`, made by
+//! `oracle/gen_muscle_analysis.py`: the subject01 IK motion read as an OpenSim Storage,
+//! converted to radians by OpenSim, every 20th row), and its bad-input errors.
+
+mod common;
+
+use std::path::Path;
+
+use osim_tune::io::table::StorageTable;
+use osim_tune::validation::GoldenTable;
+
+const MODEL: &str = "fixtures/subject01/OutputReference/subject01_simbody.osim";
+const MOTION: &str = "fixtures/subject01/OutputReference/subject01_walk1_ik.mot";
+
+fn path(relative: &str) -> String {
+    common::root().join(relative).to_string_lossy().into_owned()
+}
+
+/// Largest |ours − OpenSim| over the golden's rows (matched by time) and columns.
+fn worst_difference(ours: &StorageTable, golden: &GoldenTable) -> f64 {
+    let mut worst = 0.0f64;
+    for (r, row) in golden.rows.iter().enumerate() {
+        let time: f64 = row[0].parse().unwrap();
+        let ours_row = ours.rows().find(|values| values[0] == time).unwrap_or_else(|| panic!("no row at t = {time}"));
+        for (c, label) in golden.header.iter().enumerate().skip(1) {
+            let column = ours.column_index(label).unwrap_or_else(|| panic!("no column {label}"));
+            worst = worst.max((ours_row[column] - golden.number(r, c).unwrap()).abs());
+        }
+    }
+    assert!(golden.rows.len() >= 10);
+    worst
+}
+
+#[test]
+fn analyze_reproduces_opensim_along_the_walking_motion() {
+    let out = tempfile::tempdir().unwrap();
+    let (code, _, stderr) = common::osim_tune(&["analyze", &path(MODEL), "--motion", &path(MOTION), "-o", &out.path().to_string_lossy(), "--skip-unknown-columns"]);
+    assert_eq!(code, 0, "{stderr}");
+    let golden = |name: &str| GoldenTable::read(&common::fixture(&format!("golden/analysis/subject01_walk1/{name}.csv"))).unwrap();
+    let ours = |name: &str| StorageTable::read(&out.path().join(name)).unwrap();
+    assert!(worst_difference(&ours("Length.sto"), &golden("lengths")) <= 1e-9);
+    assert!(worst_difference(&ours("MarkerLocations.sto"), &golden("markers")) <= 1e-9);
+    for coordinate in ["hip_flexion_r", "knee_angle_r", "ankle_angle_r", "lumbar_extension"] {
+        let error = worst_difference(&ours(&format!("MomentArm_{coordinate}.sto")), &golden(&format!("moment_arms_{coordinate}")));
+        assert!(error <= 1e-8, "{coordinate}: {error:e}");
+    }
+    // One table per spanned coordinate: 2 × (hip 3, knee, ankle, subtalar, mtp) + lumbar 3; no
+    // muscle crosses the pelvis' free joint.
+    let moment_arm_tables = std::fs::read_dir(out.path()).unwrap().filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with("MomentArm_")).count();
+    assert_eq!(moment_arm_tables, 17);
+}
+
+#[test]
+fn a_column_that_is_no_coordinate_is_an_error_naming_file_and_column() {
+    let out = tempfile::tempdir().unwrap();
+    let (code, _, stderr) = common::osim_tune(&["analyze", &path(MODEL), "--motion", &path(MOTION), "-o", &out.path().to_string_lossy()]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("subject01_walk1_ik.mot") && stderr.contains("\"R.ASIS_tx\"") && stderr.contains("--skip-unknown-columns"), "{stderr}");
+    assert_eq!(std::fs::read_dir(out.path()).unwrap().count(), 0, "nothing is written on error");
+}
+
+#[test]
+fn missing_coordinates_take_their_default_and_radians_are_read_as_such() {
+    let out = tempfile::tempdir().unwrap();
+    let motion = out.path().join("knee.sto");
+    let table = StorageTable::new("knee", vec!["time".into(), "knee_angle_r".into()], vec![0.0, -1.0, 1.0, 0.0]).unwrap().with_in_degrees(false);
+    std::fs::write(&motion, table.to_text()).unwrap();
+    let (code, _, stderr) = common::osim_tune(&["analyze", &path(MODEL), "--motion", &motion.to_string_lossy(), "-o", &out.path().join("r").to_string_lossy()]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("stay at their default"), "{stderr}");
+    let knee = StorageTable::read(&out.path().join("r/MomentArm_knee_angle_r.sto")).unwrap();
+    let lengths = StorageTable::read(&out.path().join("r/Length.sto")).unwrap();
+    let vastus = lengths.column_index("vas_int_r").unwrap();
+    // Flexing the knee (negative angle in gait2392) lengthens the vastus, an extensor: its
+    // moment arm −∂L/∂q is positive.
+    assert!(lengths.value(0, vastus).unwrap() > lengths.value(1, vastus).unwrap());
+    assert!(knee.value(0, vastus).unwrap() > 0.0);
+}
+
+#[test]
+fn analyze_never_writes_over_its_inputs() {
+    let out = tempfile::tempdir().unwrap();
+    let model = out.path().join("Length.sto");
+    std::fs::copy(common::root().join(MODEL), &model).unwrap();
+    let before = std::fs::read(&model).unwrap();
+    let (code, _, stderr) = common::osim_tune(&["analyze", &model.to_string_lossy(), "--motion", &path(MOTION), "-o", &out.path().to_string_lossy(), "--skip-unknown-columns"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(std::fs::read(&model).unwrap(), before);
+    assert!(Path::new(&model).exists());
+}

@@ -1,0 +1,75 @@
+//! `mechanics::function::Function` against OpenSim 4.6's own evaluation of the same functions
+//! (`fixtures/golden/functions/`, from `oracle/gen_functions.py`).
+//!
+//! Bound: every value and both derivatives equal OpenSim's to the bit (`==`), which is
+//! stricter than the 1e-12·max(1, |y|) on values and 1e-10 relative on derivatives we promise.
+
+mod common;
+
+use osim_tune::mechanics::function::Function;
+use osim_tune::model::FunctionSpec;
+use serde_json::Value;
+
+/// The functions in definitions.json that `FunctionSpec` can express (GCVSpline with a
+/// non-default `error_variance` is checked by the unit tests of the module).
+fn golden_functions() -> Vec<(String, FunctionSpec)> {
+    let text = std::fs::read_to_string(common::fixture("golden/functions/definitions.json")).unwrap();
+    let definitions: Value = serde_json::from_str(&text).unwrap();
+    definitions["functions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d.get("error_variance").is_none())
+        .map(|d| (d["name"].as_str().unwrap().to_string(), spec(d)))
+        .collect()
+}
+
+fn spec(definition: &Value) -> FunctionSpec {
+    let number = |key: &str| definition[key].as_f64().unwrap();
+    let numbers = |key: &str| -> Vec<f64> { definition[key].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect() };
+    match definition["class"].as_str().unwrap() {
+        "Constant" => FunctionSpec::Constant { value: number("value") },
+        "LinearFunction" => FunctionSpec::LinearFunction { slope: number("slope"), intercept: number("intercept") },
+        "SimmSpline" => FunctionSpec::SimmSpline { x: numbers("x"), y: numbers("y") },
+        "NaturalCubicSpline" => FunctionSpec::NaturalCubicSpline { x: numbers("x"), y: numbers("y") },
+        "GCVSpline" => {
+            FunctionSpec::GCVSpline { degree: definition["degree"].as_u64().unwrap() as usize, x: numbers("x"), y: numbers("y") }
+        }
+        "PiecewiseLinearFunction" => FunctionSpec::PiecewiseLinearFunction { x: numbers("x"), y: numbers("y") },
+        "PiecewiseConstantFunction" => FunctionSpec::PiecewiseConstantFunction { x: numbers("x"), y: numbers("y") },
+        "PolynomialFunction" => FunctionSpec::PolynomialFunction { coefficients: numbers("coefficients") },
+        "MultiplierFunction" => {
+            FunctionSpec::MultiplierFunction { scale: number("scale"), function: Box::new(spec(&definition["function"])) }
+        }
+        other => panic!("unknown class {other}"),
+    }
+}
+
+/// Rows (x, value, derivative, second derivative) of `<name>.csv`.
+fn golden_rows(name: &str) -> Vec<[f64; 4]> {
+    let text = std::fs::read_to_string(common::fixture(&format!("golden/functions/{name}.csv"))).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|line| {
+            let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
+            [fields[0], fields[1], fields[2], fields[3]]
+        })
+        .collect()
+}
+
+#[test]
+fn every_function_class_matches_opensim_to_the_bit() {
+    let functions = golden_functions();
+    assert_eq!(functions.len(), 18, "functions in definitions.json without error_variance");
+    for (name, spec) in functions {
+        let function = Function::new(&spec);
+        let rows = golden_rows(&name);
+        assert!(rows.len() >= 8, "{name}: {} rows", rows.len());
+        for [x, value, derivative, second] in rows {
+            assert_eq!(function.value(x), value, "{name}: value at x = {x:?}");
+            assert_eq!(function.derivative(x), derivative, "{name}: derivative at x = {x:?}");
+            assert_eq!(function.second_derivative(x), second, "{name}: second derivative at x = {x:?}");
+            assert_eq!(function.value_and_derivative(x), (value, derivative), "{name}: value_and_derivative at {x:?}");
+        }
+    }
+}

@@ -1,0 +1,75 @@
+//! Geometry rows of the validation table: body poses, markers, path lengths and moment arms
+//! against OpenSim 4.6, over the full golden sweep when `../shared/reference` (or
+//! `$OSIM_TUNE_REFERENCE`) is present, else over the slice in `fixtures/golden/`.
+
+use std::path::{Path, PathBuf};
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::mechanics::MuscleGeometry;
+use osim_tune::model::ModelSpec;
+use osim_tune::validation::{compare_geometry, Worst};
+
+use crate::root;
+use crate::validate::Row;
+
+/// The golden folder for `stem` and how to name it in the table.
+fn golden_folder(stem: &str) -> (PathBuf, String) {
+    let reference = std::env::var_os("OSIM_TUNE_REFERENCE").map(PathBuf::from).unwrap_or_else(|| root().join("../shared/reference"));
+    let full = reference.join("geometry").join(stem);
+    if full.join("poses.csv").exists() {
+        (full, "OpenSim 4.6, all poses".into())
+    } else {
+        (root().join("fixtures/golden/geometry").join(stem), "OpenSim 4.6, fixture slice".into())
+    }
+}
+
+pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
+    let (folder, reference) = golden_folder(stem);
+    let failed = |what: &str, error: String| {
+        eprintln!("{stem}: {error}");
+        vec![Row { what: format!("{what}, {stem}"), reference: reference.clone(), worst: f64::INFINITY, tolerance: 0.0, at: String::new() }]
+    };
+    let spec = match OsimDocument::read(model).map_err(|e| e.to_string()).and_then(|d| ModelSpec::read(&d).map_err(|e| e.to_string())) {
+        Ok(spec) => spec,
+        Err(e) => return failed("model", e),
+    };
+    let geometry = match MuscleGeometry::new(&spec) {
+        Ok(geometry) => geometry,
+        Err(e) => return failed("mechanics", e.to_string()),
+    };
+    let comparison = match compare_geometry(&geometry, &folder) {
+        Ok(comparison) => comparison,
+        Err(e) => return failed("geometry", e.to_string()),
+    };
+    for mismatch in &comparison.span_mismatches {
+        eprintln!("{stem}: {mismatch}");
+    }
+    let skipped = if comparison.skipped.is_empty() { String::new() } else { format!(", {} wrapping muscles skipped", comparison.skipped.len()) };
+    let row = |what: &str, worst: &Worst, tolerance: f64| {
+        (worst.count > 0).then(|| Row {
+            what: format!("{what}, {stem} ({} values{})", worst.count, if what.starts_with("body") || what.starts_with("marker") { "" } else { &skipped }),
+            reference: reference.clone(),
+            worst: worst.error,
+            tolerance,
+            at: worst.at.clone(),
+        })
+    };
+    let mut rows: Vec<Row> = [
+        row("body positions (m)", &comparison.body_positions, 1e-9),
+        row("body rotations", &comparison.body_rotations, 1e-9),
+        row("marker positions (m)", &comparison.markers, 1e-9),
+        row("path lengths (m)", &comparison.lengths, 1e-9),
+        row("moment arms (m)", &comparison.moment_arms, 1e-8),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    rows.push(Row {
+        what: format!("muscle × coordinate pairs spanned, {stem}"),
+        reference: reference.clone(),
+        worst: comparison.span_mismatches.len() as f64,
+        tolerance: 0.0,
+        at: comparison.span_mismatches.first().cloned().unwrap_or_default(),
+    });
+    rows
+}
