@@ -67,6 +67,14 @@ fn models_with_couplers_and_wrapping_agree_where_computed() {
     }
 }
 
+/// Ball, Free, Planar, Slider, Gimbal, Pin and an oblique CustomJoint with offset frames on both sides.
+#[test]
+fn every_joint_class_agrees_with_opensim() {
+    let c = compare("joint_zoo", "fixtures/models/joint_zoo.osim");
+    assert_agrees("joint_zoo", &c);
+    assert!(c.moment_arms.count > 0 && c.markers.count > 0);
+}
+
 /// The error compiling the file at `relative` with the first occurrence of each `from`
 /// replaced by its `to`.
 fn compile_error(relative: &str, edits: &[(&str, &str)]) -> String {

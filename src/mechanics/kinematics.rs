@@ -1,17 +1,18 @@
-//! Forward kinematics: body poses in ground and the point Jacobian columns of every coordinate,
-//! for a pose given as coordinate values.
+//! Forward kinematics: body poses in ground and the point Jacobian columns of every generalized
+//! speed, for a pose given as coordinate values.
 
 use super::mobilizer::PartialVelocity;
 use super::multibody::{Multibody, GROUND_INDEX};
 use super::spatial::{Transform, Vec3};
 
-/// How one coordinate moves the bodies it carries, in ground: a point p fixed in such a body
-/// moves by ∂p/∂q = angular × (p − origin) + linear.
+/// How one coordinate's generalized speed u moves the bodies it carries, in ground: a point p
+/// fixed in such a body moves by ∂ṗ/∂u = angular × (p − origin) + linear. u = q̇ (so this is
+/// ∂p/∂q) except for `BallJoint`/`FreeJoint` rotations (see `mobilizer`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CoordinateAxis {
-    /// rad per unit q.
+    /// rad per unit u.
     pub angular: Vec3,
-    /// Velocity of `origin` per unit q (m per unit q).
+    /// Velocity of `origin` per unit u.
     pub linear: Vec3,
     /// The joint's child frame origin, m.
     pub origin: Vec3,
@@ -27,7 +28,7 @@ pub struct Kinematics {
 }
 
 impl Kinematics {
-    /// ∂p/∂q for the point `point` (in ground) fixed in `body`, q = `coordinate`.
+    /// ∂ṗ/∂u for the point `point` (in ground) fixed in `body`, u = the speed of `coordinate`.
     pub fn point_partial(&self, multibody: &Multibody, body: usize, point: &Vec3, coordinate: usize) -> Vec3 {
         let joint = multibody.coordinate_joint(coordinate);
         if !multibody.is_moved_by(body, joint) {

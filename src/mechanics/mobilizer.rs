@@ -1,18 +1,26 @@
 //! Mobilizers: how a joint's coordinates place its child frame M in its parent frame F
-//! (X_FM), and the partial velocities of M per unit rate of each coordinate.
+//! (X_FM), and the partial velocities of M per unit generalized speed of each coordinate.
 //!
 //! OpenSim builds every joint on a Simbody mobilizer; the conventions here are Simbody's:
 //! `PinJoint` turns about Z, `SliderJoint` slides along X, `UniversalJoint` turns about X then
-//! the new Y, `BallJoint`/`GimbalJoint` use body-fixed X-Y-Z angles, `FreeJoint` adds a
-//! translation in F, `PlanarJoint` turns about Z and translates in F's X-Y plane, and
-//! `CustomJoint` is Simbody's `FunctionBased` mobilizer: R = R(θ₁,a₁)·R(θ₂,a₂)·R(θ₃,a₃) and
-//! p = Σ sⱼ tⱼ (in F), with θᵢ, sⱼ functions of the coordinates.
+//! the new Y, `BallJoint`/`GimbalJoint` use body-fixed X-Y-Z angles (OpenSim switches the Ball
+//! from quaternions to Euler angles), `FreeJoint` adds a translation in F, `PlanarJoint` turns
+//! about Z and translates in F's X-Y plane, and `CustomJoint` is Simbody's `FunctionBased`
+//! mobilizer: R = R(θ₁,a₁)·R(θ₂,a₂)·R(θ₃,a₃) and p = Σ sⱼ tⱼ (in F), with θᵢ, sⱼ functions of
+//! the coordinates.
+//!
+//! Generalized speeds are Simbody's mobilities u, the rates OpenSim's `MomentArmSolver` takes
+//! generalized forces on. u = q̇ for every mobilizer except the rotations of `BallJoint` and
+//! `FreeJoint`, whose u is the angular velocity of M in F expressed in F (Simbody's
+//! `RBNodeBall`/`RBNodeFree`: H_FM rows (1,0,0), (0,1,0), (0,0,1)). So a moment arm about a
+//! Ball or Free rotational coordinate is the torque about F's X, Y or Z axis per unit tension,
+//! not −∂L/∂q (the Gimbal, same angles, has u = q̇ and gives −∂L/∂q).
 
 use super::function::Function;
 use super::spatial::{body_fixed_xyz, rotation_about, Mat3, Transform, Vec3};
 
-/// Motion of M in F per unit rate of one coordinate, both expressed in F: angular velocity
-/// (rad per unit q) and velocity of M's origin (m per unit q).
+/// Motion of M in F per unit generalized speed of one coordinate, both expressed in F: angular
+/// velocity (rad per unit speed) and velocity of M's origin (m per unit speed).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PartialVelocity {
     pub angular: Vec3,
@@ -55,8 +63,11 @@ pub enum Mobilizer {
     Pin,
     Slider,
     Universal,
-    /// `BallJoint` and `GimbalJoint`.
-    EulerXyz,
+    /// `BallJoint`: body-fixed X-Y-Z angles, speeds = angular velocity in F.
+    Ball,
+    /// `GimbalJoint`: body-fixed X-Y-Z angles, speeds = the angles' rates.
+    Gimbal,
+    /// `FreeJoint`: the Ball's rotation and speeds, then a translation in F.
     Free,
     Planar,
     /// `CustomJoint`: three rotation axes, then three translation axes.
@@ -70,7 +81,7 @@ impl Mobilizer {
             Mobilizer::Weld => 0,
             Mobilizer::Pin | Mobilizer::Slider => 1,
             Mobilizer::Universal => 2,
-            Mobilizer::EulerXyz | Mobilizer::Planar => 3,
+            Mobilizer::Ball | Mobilizer::Gimbal | Mobilizer::Planar => 3,
             Mobilizer::Free => 6,
             Mobilizer::Custom(_) => return None,
         })
@@ -83,7 +94,7 @@ impl Mobilizer {
             Mobilizer::Pin => (rotation_about(&Vec3::z(), q[0]), Vec3::zeros()),
             Mobilizer::Slider => (Mat3::identity(), Vec3::new(q[0], 0.0, 0.0)),
             Mobilizer::Universal => (body_fixed_xyz([q[0], q[1], 0.0]), Vec3::zeros()),
-            Mobilizer::EulerXyz => (body_fixed_xyz([q[0], q[1], q[2]]), Vec3::zeros()),
+            Mobilizer::Ball | Mobilizer::Gimbal => (body_fixed_xyz([q[0], q[1], q[2]]), Vec3::zeros()),
             Mobilizer::Free => (body_fixed_xyz([q[0], q[1], q[2]]), Vec3::new(q[3], q[4], q[5])),
             Mobilizer::Planar => (rotation_about(&Vec3::z(), q[0]), Vec3::new(q[1], q[2], 0.0)),
             Mobilizer::Custom(axes) => {
@@ -95,16 +106,18 @@ impl Mobilizer {
         Transform { rotation, translation }
     }
 
-    /// Fills `partials[k]` with the partial velocity of M in F for coordinate k of the joint.
+    /// Fills `partials[k]` with the partial velocity of M in F per unit generalized speed of
+    /// coordinate k of the joint (per unit q̇ except Ball and Free rotations, see the module).
     pub fn partial_velocities(&self, q: &[f64], partials: &mut [PartialVelocity]) {
         partials.fill(PartialVelocity::ZERO);
         match self {
             Mobilizer::Weld => {}
             Mobilizer::Pin => partials[0].angular = Vec3::z(),
             Mobilizer::Slider => partials[0].linear = Vec3::x(),
-            Mobilizer::Universal | Mobilizer::EulerXyz => euler_xyz_rates(q, partials),
+            Mobilizer::Universal | Mobilizer::Gimbal => euler_xyz_rates(q, partials),
+            Mobilizer::Ball => angular_velocity_speeds(partials),
             Mobilizer::Free => {
-                euler_xyz_rates(q, &mut partials[..3]);
+                angular_velocity_speeds(&mut partials[..3]);
                 for (k, partial) in partials[3..6].iter_mut().enumerate() {
                     partial.linear[k] = 1.0;
                 }
@@ -126,6 +139,13 @@ fn euler_xyz_rates(q: &[f64], partials: &mut [PartialVelocity]) {
         let axis = Vec3::ith(k, 1.0);
         partial.angular = rotation * axis;
         rotation *= rotation_about(&axis, q[k]);
+    }
+}
+
+/// Speeds that are the angular velocity in F: speed k turns about F's axis k, whatever q.
+fn angular_velocity_speeds(partials: &mut [PartialVelocity]) {
+    for (k, partial) in partials.iter_mut().enumerate() {
+        partial.angular = Vec3::ith(k, 1.0);
     }
 }
 
@@ -151,22 +171,45 @@ mod tests {
     use super::*;
     use approx::assert_relative_eq;
 
-    /// Central differences of X_FM against the analytic partial velocities.
-    fn check_partials(mobilizer: &Mobilizer, q: &[f64]) {
+    /// Central differences of X_FM along q̇ = `qdot(k)` against the analytic partial velocity
+    /// of speed k.
+    fn check_partials_along(mobilizer: &Mobilizer, q: &[f64], qdot: impl Fn(usize) -> Vec<f64>) {
         let mut partials = vec![PartialVelocity::ZERO; q.len()];
         mobilizer.partial_velocities(q, &mut partials);
         let x = mobilizer.transform(q);
         let h = 1e-6;
-        for k in 0..q.len() {
-            let (mut plus, mut minus) = (q.to_vec(), q.to_vec());
-            plus[k] += h;
-            minus[k] -= h;
+        for (k, partial) in partials.iter().enumerate() {
+            let rate = qdot(k);
+            let plus: Vec<f64> = q.iter().zip(&rate).map(|(q, r)| q + h * r).collect();
+            let minus: Vec<f64> = q.iter().zip(&rate).map(|(q, r)| q - h * r).collect();
             let (xp, xm) = (mobilizer.transform(&plus), mobilizer.transform(&minus));
             let rotation_rate = (xp.rotation - xm.rotation) / (2.0 * h);
             let omega = skew_vector(&(rotation_rate * x.rotation.transpose()));
-            assert_relative_eq!(omega, partials[k].angular, epsilon = 1e-8);
-            assert_relative_eq!((xp.translation - xm.translation) / (2.0 * h), partials[k].linear, epsilon = 1e-8);
+            assert_relative_eq!(omega, partial.angular, epsilon = 1e-8);
+            assert_relative_eq!((xp.translation - xm.translation) / (2.0 * h), partial.linear, epsilon = 1e-8);
         }
+    }
+
+    /// Mobilizers whose speeds are the coordinates' rates (u = q̇).
+    fn check_partials(mobilizer: &Mobilizer, q: &[f64]) {
+        check_partials_along(mobilizer, q, |k| (0..q.len()).map(|j| if j == k { 1.0 } else { 0.0 }).collect());
+    }
+
+    /// Ball and Free: rotational speed k is ω = e_k in F, i.e. q̇ = G(q)⁻¹ e_k with G the
+    /// Gimbal's (Euler-rate) partials; translational speeds are q̇.
+    fn check_angular_velocity_partials(mobilizer: &Mobilizer, q: &[f64]) {
+        let mut gimbal = [PartialVelocity::ZERO; 3];
+        Mobilizer::Gimbal.partial_velocities(&q[..3], &mut gimbal);
+        let g_inverse = Mat3::from_columns(&gimbal.map(|p| p.angular)).try_inverse().unwrap();
+        check_partials_along(mobilizer, q, |k| {
+            let mut rate = vec![0.0; q.len()];
+            if k < 3 {
+                rate[..3].copy_from_slice((g_inverse * Vec3::ith(k, 1.0)).as_slice());
+            } else {
+                rate[k] = 1.0;
+            }
+            rate
+        });
     }
 
     fn skew_vector(m: &Mat3) -> Vec3 {
@@ -178,9 +221,19 @@ mod tests {
         check_partials(&Mobilizer::Pin, &[0.7]);
         check_partials(&Mobilizer::Slider, &[0.2]);
         check_partials(&Mobilizer::Universal, &[0.4, -1.2]);
-        check_partials(&Mobilizer::EulerXyz, &[0.4, -1.2, 2.5]);
-        check_partials(&Mobilizer::Free, &[0.4, -1.2, 2.5, 0.1, 0.2, -0.3]);
+        check_partials(&Mobilizer::Gimbal, &[0.4, -1.2, 2.5]);
         check_partials(&Mobilizer::Planar, &[0.9, 0.1, -0.2]);
+        check_angular_velocity_partials(&Mobilizer::Ball, &[0.4, -1.2, 2.5]);
+        check_angular_velocity_partials(&Mobilizer::Free, &[0.4, -1.2, 2.5, 0.1, 0.2, -0.3]);
+    }
+
+    #[test]
+    fn ball_places_the_child_as_the_gimbal_but_turns_about_fixed_axes() {
+        let q = [0.4, -1.2, 2.5];
+        assert_eq!(Mobilizer::Ball.transform(&q), Mobilizer::Gimbal.transform(&q));
+        let mut partials = [PartialVelocity::ZERO; 3];
+        Mobilizer::Ball.partial_velocities(&q, &mut partials);
+        assert_eq!(partials.map(|p| p.angular), [Vec3::x(), Vec3::y(), Vec3::z()]);
     }
 
     #[test]

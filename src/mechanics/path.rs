@@ -147,8 +147,10 @@ impl GeometryPath {
     }
 
     /// Path length (m), and in `moment_arms[k]` the moment arm about `coordinates[k]`: m for a
-    /// rotational coordinate, m/m for a translational one; positive when tension drives q up
-    /// (r = −∂L/∂q for a path without wrapping).
+    /// rotational coordinate, m/m for a translational one; positive when tension drives q up.
+    /// For a path without wrapping r = −∂L/∂q, except about `BallJoint`/`FreeJoint` rotations,
+    /// where OpenSim's generalized speed is an angular velocity and r the torque about the
+    /// parent frame's axis.
     ///
     /// Computed as OpenSim does: the unit tension acts at each active point next to a point on
     /// another body, along the segment, and its generalized force is the moment arm; a

@@ -68,7 +68,7 @@ impl CoordinateSpec {
             default_value: reader.number_or("default_value", 0.0)?,
             default_speed_value: reader.number_or("default_speed_value", 0.0)?,
             range: [range[0], range[1]],
-            clamped: reader.boolean_or("clamped", true)?,
+            clamped: reader.boolean_or("clamped", false)?,
             locked: reader.boolean_or("locked", false)?,
             prescribed: reader.boolean_or("prescribed", false)?,
         })
