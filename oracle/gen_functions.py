@@ -6,7 +6,8 @@ model (`updateFromXMLNode`, the `NaturalCubicSpline` → `SimmSpline` rename, GC
 `half_order`/`error_variance` properties). Writes to fixtures/golden/functions/:
 
 - definitions.json: each function as {name, class, …} (degree, not half_order, for
-  GCVSpline; `function` nests the MultiplierFunction's inner definition);
+  GCVSpline; `function` nests the MultiplierFunction's inner definition), every number as
+  the text OpenSim read (lists space-separated) so it parses back exactly;
 - <name>.csv: x, value, derivative, second_derivative (calcValue and calcDerivative with
   derivComponents [0] and [0, 0]) on a grid below, at, between and above the knots.
 
@@ -74,6 +75,21 @@ DEFINITIONS = [
 
 def numbers(values):
     return " ".join(repr(float(v)) for v in values)
+
+
+def as_text(definition):
+    """`definition` with its numbers as the text written into the XML."""
+    text = {}
+    for key, value in definition.items():
+        if key == "function":
+            text[key] = as_text(value)
+        elif isinstance(value, list):
+            text[key] = numbers(value)
+        elif isinstance(value, float):
+            text[key] = repr(value)
+        else:
+            text[key] = value
+    return text
 
 
 def xml(definition):
@@ -144,7 +160,8 @@ def main():
         with open(os.path.join(OUT, f"{definition['name']}.csv"), "w") as file:
             file.write("\n".join(rows) + "\n")
     with open(os.path.join(OUT, "definitions.json"), "w") as file:
-        json.dump({"opensim_version": opensim.__version__, "functions": DEFINITIONS}, file,
+        json.dump({"opensim_version": opensim.__version__,
+                   "functions": [as_text(d) for d in DEFINITIONS]}, file,
                   indent=1)
         file.write("\n")
 

@@ -4,7 +4,7 @@
 mod common;
 
 use osim_tune::io::osim::OsimDocument;
-use osim_tune::model::{CoordinateUnit, ModelSpec, MotionType, PathPointKind};
+use osim_tune::model::{CoordinateUnit, FunctionSpec, ModelSpec, MotionType, PathPointKind};
 
 const MODELS: [(&str, &str, usize); 6] = [
     ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim", 92),
@@ -94,5 +94,23 @@ fn bad_functions_and_references_name_the_component() {
         let broken = OsimDocument::parse(text.replacen(from, to, 1), &path).unwrap();
         let message = ModelSpec::read(&broken).err().map(|e| e.to_string()).unwrap_or_default();
         assert!(message.contains(expected) && message.contains("gait2354_simbody.osim:"), "{message}");
+    }
+}
+
+/// OpenSim writes a GCVSpline's degree as `half_order` (degree = 2·half_order − 1).
+#[test]
+fn gcv_splines_read_half_order_and_error_variance() {
+    let path = common::root().join("models/gait2354_simbody.osim");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let spline = "<SimmSpline name=\"function\">\n\t\t\t\t\t\t\t\t<x> -2.0944";
+    assert!(text.contains(spline));
+    let edited = text
+        .replacen(spline, "<GCVSpline name=\"function\">\n<half_order>3</half_order><error_variance>0.01</error_variance>\n\t\t\t\t\t\t\t\t<x> -2.0944", 1)
+        .replacen("</SimmSpline>", "</GCVSpline>", 1);
+    let spec = ModelSpec::read(&OsimDocument::parse(edited, &path).unwrap()).unwrap();
+    let knee = spec.joints.iter().find(|j| j.name == "knee_r").unwrap();
+    match &knee.spatial_transform[3].function {
+        Some(FunctionSpec::GCVSpline { degree, error_variance, x, .. }) => assert_eq!((*degree, *error_variance, x.len()), (5, 0.01, 12)),
+        other => panic!("{other:?}"),
     }
 }

@@ -15,10 +15,13 @@ pub enum FunctionSpec {
     LinearFunction { slope: f64, intercept: f64 },
     SimmSpline { x: Vec<f64>, y: Vec<f64> },
     NaturalCubicSpline { x: Vec<f64>, y: Vec<f64> },
-    GCVSpline { degree: usize, x: Vec<f64>, y: Vec<f64> },
+    /// Woltring's smoothing spline of odd `degree` (= 2·`half_order` − 1); `error_variance` 0
+    /// interpolates, > 0 smooths, < 0 picks the smoothing by generalized cross-validation.
+    GCVSpline { degree: usize, error_variance: f64, x: Vec<f64>, y: Vec<f64> },
     PiecewiseLinearFunction { x: Vec<f64>, y: Vec<f64> },
     PiecewiseConstantFunction { x: Vec<f64>, y: Vec<f64> },
-    /// y = Σ c_i x^(n−i), highest power first, as OpenSim's `PolynomialFunction`.
+    /// y = c_0·x^p + c_1·x^(p−1) + … + c_p with p = len − 1: highest power first, as OpenSim's
+    /// `PolynomialFunction` (Simbody's `Function::Polynomial`).
     PolynomialFunction { coefficients: Vec<f64> },
     /// y = scale · f(x).
     MultiplierFunction { scale: f64, function: Box<FunctionSpec> },
@@ -42,12 +45,13 @@ impl FunctionSpec {
                 FunctionSpec::NaturalCubicSpline { x, y }
             }
             "GCVSpline" => {
-                let degree = reader.number("degree")?;
-                if ![1.0, 3.0, 5.0, 7.0].contains(&degree) {
-                    return Err(reader.bad("degree", "1, 3, 5 or 7", &degree.to_string()));
+                let half_order = reader.number("half_order")?;
+                if ![1.0, 2.0, 3.0, 4.0].contains(&half_order) {
+                    return Err(reader.bad("half_order", "1, 2, 3 or 4", &half_order.to_string()));
                 }
-                let (x, y) = knots(reader, degree as usize + 1)?;
-                FunctionSpec::GCVSpline { degree: degree as usize, x, y }
+                let half_order = half_order as usize;
+                let (x, y) = knots(reader, 2 * half_order)?;
+                FunctionSpec::GCVSpline { degree: 2 * half_order - 1, error_variance: reader.number_or("error_variance", 0.0)?, x, y }
             }
             "PiecewiseLinearFunction" => {
                 let (x, y) = knots(reader, 1)?;

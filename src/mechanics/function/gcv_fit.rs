@@ -5,8 +5,9 @@
 //! minimising  Σ (y_i − s(x_i))² + p·∫ (s⁽ᵐ⁾)²  over s; with B the banded matrix of
 //! basis-function values at the knots and W the banded penalty matrix, the coefficients c
 //! solve (B + p·W) c = y. The smoothing parameter p is searched (halving, doubling, then
-//! golden section) to minimise a criterion: the residual mean square minus the given error
-//! variance, or the generalized cross-validation function.
+//! golden section) to minimise a criterion of the residual mean square R and the normalised
+//! trace τ = p·tr(W (B + p·W)⁻¹)/n: R − σ²(2τ − 1) for a given error variance σ² (σ² = 0
+//! drives p to its lower clamp: interpolation), or R/τ² for generalized cross-validation.
 //!
 //! Band loops keep GCVSPL's 1-based indices and operation order, so the coefficients agree
 //! with Simbody's to the bit; unit weights (Simbody passes 1) are left out.
@@ -38,8 +39,9 @@ impl Smoothing {
 const EPSILON: f64 = 1e-15;
 /// The golden ratio as GCVSPL writes it.
 const GOLDEN: f64 = 1.618033983;
-/// p at which the doubling search gives up (GCVSPL's 1/EPS, as written in gcvspl.cpp).
-const LARGEST_P: f64 = 999_999_999_999_999.88;
+/// p at which the doubling search gives up: GCVSPL's 1/EPS as gcvspl.cpp writes it
+/// (`999999999999999.88`, the same double).
+const LARGEST_P: f64 = 999_999_999_999_999.9;
 
 /// Natural-spline coefficients c_1…c_n of half order m (degree 2m − 1) for data (x, y),
 /// n ≥ 2m, x strictly increasing.
@@ -101,6 +103,8 @@ struct Solution {
     criterion: f64,
     /// p actually used: 0 when clamped from below, the clamp when clamped from above.
     effective_p: f64,
+    /// Whether p was clamped from above (p·ē·EPS > 1).
+    at_ceiling: bool,
 }
 
 impl<'a> System<'a> {
@@ -141,7 +145,9 @@ impl<'a> System<'a> {
             if at_upper > at_high {
                 break;
             }
-            if solution.effective_p >= LARGEST_P {
+            // GCVSPL stops at p ≥ 1/EPS; once p·ē·EPS > 1 is clamped, every further doubling
+            // repeats this solve and Simbody loops forever, so we stop there too.
+            if solution.effective_p >= LARGEST_P || solution.at_ceiling {
                 return low;
             }
             at_high = at_upper;
@@ -189,7 +195,8 @@ impl<'a> System<'a> {
             used_p = EPSILON / self.scale;
             effective_p = 0.0;
         }
-        if relative * EPSILON > 1.0 {
+        let at_ceiling = relative * EPSILON > 1.0;
+        if at_ceiling {
             used_p = 1.0 / (self.scale * EPSILON);
             effective_p = used_p;
         }
@@ -208,7 +215,7 @@ impl<'a> System<'a> {
             Smoothing::ErrorVariance(variance) => residual - variance * (trace * 2.0 - 1.0),
             Smoothing::CrossValidation => residual / trace / trace,
         };
-        Solution { coefficients, criterion, effective_p }
+        Solution { coefficients, criterion, effective_p, at_ceiling }
     }
 
     /// Σ (B c − y)_i² / n.

@@ -43,7 +43,6 @@ enum Kind {
 
 impl Function {
     /// Compiles a validated spec (x strictly increasing, lengths equal, enough points).
-    /// `GCVSpline` uses OpenSim's default `error_variance` of 0: interpolation.
     pub fn new(spec: &FunctionSpec) -> Function {
         let kind = match spec {
             FunctionSpec::Constant { value } => Kind::Constant(*value),
@@ -51,8 +50,8 @@ impl Function {
             FunctionSpec::SimmSpline { x, y } | FunctionSpec::NaturalCubicSpline { x, y } => {
                 Kind::SimmSpline(SimmSpline::new(x, y))
             }
-            FunctionSpec::GCVSpline { degree, x, y } => {
-                Kind::GcvSpline(GcvSpline::new(*degree, x, y, Smoothing::from_error_variance(0.0)))
+            FunctionSpec::GCVSpline { degree, error_variance, x, y } => {
+                Kind::GcvSpline(GcvSpline::new(*degree, x, y, Smoothing::from_error_variance(*error_variance)))
             }
             FunctionSpec::PiecewiseLinearFunction { x, y } => Kind::PiecewiseLinear(PiecewiseLinear::new(x, y)),
             FunctionSpec::PiecewiseConstantFunction { x, y } => Kind::PiecewiseConstant(PiecewiseConstant::new(x, y)),
@@ -107,6 +106,7 @@ impl Function {
         match &self.kind {
             Kind::SimmSpline(f) => f.value_and_derivative(x),
             Kind::GcvSpline(f) => f.value_and_derivative(x),
+            Kind::PiecewiseLinear(f) => f.value_and_derivative(x),
             Kind::Multiplier { scale, function } => {
                 let (value, derivative) = function.value_and_derivative(x);
                 (value * scale, derivative * scale)
@@ -165,7 +165,7 @@ mod tests {
     fn gcv_spline_interpolates_with_zero_error_variance() {
         let (x, y) = knots(&[0.0, 0.4, 1.1, 1.5, 2.3, 3.0, 3.2, 4.1], &[0.1, 0.9, 1.3, 0.7, -0.4, -0.2, 0.3, 1.6]);
         for degree in [1, 3, 5, 7] {
-            let f = Function::new(&FunctionSpec::GCVSpline { degree, x: x.clone(), y: y.clone() });
+            let f = Function::new(&FunctionSpec::GCVSpline { degree, error_variance: 0.0, x: x.clone(), y: y.clone() });
             for (xi, yi) in x.iter().zip(&y) {
                 assert!((f.value(*xi) - yi).abs() < 1e-9, "degree {degree} at {xi}");
             }
@@ -175,7 +175,7 @@ mod tests {
     #[test]
     fn gcv_spline_derivative_matches_central_differences() {
         let (x, y) = knots(&[0.0, 0.4, 1.1, 1.5, 2.3, 3.0, 3.2, 4.1], &[0.1, 0.9, 1.3, 0.7, -0.4, -0.2, 0.3, 1.6]);
-        let f = Function::new(&FunctionSpec::GCVSpline { degree: 5, x, y });
+        let f = Function::new(&FunctionSpec::GCVSpline { degree: 5, error_variance: 0.0, x, y });
         let h = 1e-6;
         for t in [-0.5, 0.2, 1.3, 2.9, 4.5] {
             let slope = (f.value(t + h) - f.value(t - h)) / (2.0 * h);

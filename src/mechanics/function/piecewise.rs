@@ -22,8 +22,21 @@ impl PiecewiseLinear {
     }
 
     pub(super) fn value(&self, x: f64) -> f64 {
+        self.value_in(locate(&self.x, x), x)
+    }
+
+    pub(super) fn derivative(&self, x: f64) -> f64 {
+        self.slope_in(locate(&self.x, x))
+    }
+
+    pub(super) fn value_and_derivative(&self, x: f64) -> (f64, f64) {
+        let segment = locate(&self.x, x);
+        (self.value_in(segment, x), self.slope_in(segment))
+    }
+
+    fn value_in(&self, segment: Segment, x: f64) -> f64 {
         let last = self.x.len() - 1;
-        match locate(&self.x, x) {
+        match segment {
             Segment::Before => self.y[0] + (x - self.x[0]) * self.slope[0],
             Segment::After => self.y[last] + (x - self.x[last]) * self.slope[last],
             Segment::AtFirst => self.y[0],
@@ -34,8 +47,8 @@ impl PiecewiseLinear {
 
     /// The slope of the segment holding x; at an interior knot, of the segment OpenSim's
     /// bisection picks.
-    pub(super) fn derivative(&self, x: f64) -> f64 {
-        match locate(&self.x, x) {
+    fn slope_in(&self, segment: Segment) -> f64 {
+        match segment {
             Segment::Before | Segment::AtFirst => self.slope[0],
             Segment::After | Segment::AtLast => self.slope[self.x.len() - 1],
             Segment::Interval(k) => self.slope[k],
