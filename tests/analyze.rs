@@ -6,7 +6,10 @@ mod common;
 
 use std::path::Path;
 
+use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
+use osim_tune::mechanics::{MuscleGeometry, PathEvaluation};
+use osim_tune::model::ModelSpec;
 use osim_tune::validation::GoldenTable;
 
 const MODEL: &str = "fixtures/subject01/OutputReference/subject01_simbody.osim";
@@ -75,6 +78,15 @@ fn missing_coordinates_take_their_default_and_radians_are_read_as_such() {
     // moment arm −∂L/∂q is positive.
     assert!(lengths.value(0, vastus).unwrap() > lengths.value(1, vastus).unwrap());
     assert!(knee.value(0, vastus).unwrap() > 0.0);
+    // The column was read as −1 rad (not −1°) and every other coordinate took its default.
+    let spec = ModelSpec::read(&OsimDocument::read(&common::root().join(MODEL)).unwrap()).unwrap();
+    let geometry = MuscleGeometry::new(&spec).unwrap();
+    let mut q = geometry.multibody.default_pose();
+    q[geometry.multibody.coordinate_index("knee_angle_r").unwrap()] = -1.0;
+    let m = geometry.path_index("vas_int_r").unwrap();
+    let mut evaluation = PathEvaluation::new(&geometry, &[m]);
+    evaluation.evaluate(&geometry, &q);
+    assert_eq!(lengths.value(0, vastus).unwrap(), evaluation.length(0));
 }
 
 #[test]

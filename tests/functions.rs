@@ -8,6 +8,7 @@ mod common;
 
 use osim_tune::mechanics::function::Function;
 use osim_tune::model::FunctionSpec;
+use osim_tune::validation::GoldenTable;
 use serde_json::Value;
 
 /// The functions in definitions.json.
@@ -52,14 +53,8 @@ fn spec(definition: &Value) -> FunctionSpec {
 
 /// Rows (x, value, derivative, second derivative) of `<name>.csv`.
 fn golden_rows(name: &str) -> Vec<[f64; 4]> {
-    let text = std::fs::read_to_string(common::fixture(&format!("golden/functions/{name}.csv"))).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|line| {
-            let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
-            [fields[0], fields[1], fields[2], fields[3]]
-        })
-        .collect()
+    let table = GoldenTable::read(&common::fixture(&format!("golden/functions/{name}.csv"))).unwrap();
+    (0..table.rows.len()).map(|r| [0, 1, 2, 3].map(|c| table.number(r, c).unwrap())).collect()
 }
 
 #[test]

@@ -27,6 +27,9 @@ impl MuscleAnalysis {
         spanned.sort_unstable();
         spanned.dedup();
         let n_muscles = muscles.len();
+        // slots[t][k]: index of table t's coordinate in muscle k's spanned list.
+        let slots: Vec<Vec<Option<usize>>> =
+            spanned.iter().map(|&c| geometry.paths.iter().map(|p| p.spanned.iter().position(|&s| s == c)).collect()).collect();
         let mut lengths = Vec::with_capacity(motion.len() * (n_muscles + 1));
         let mut moment_arms = vec![Vec::with_capacity(motion.len() * (n_muscles + 1)); spanned.len()];
         let mut markers = Vec::with_capacity(motion.len() * (3 * multibody.markers.len() + 1));
@@ -34,11 +37,9 @@ impl MuscleAnalysis {
             evaluation.evaluate(geometry, motion.pose(row));
             lengths.push(time);
             lengths.extend((0..n_muscles).map(|k| evaluation.length(k)));
-            for (table, &coordinate) in moment_arms.iter_mut().zip(&spanned) {
+            for (table, slots) in moment_arms.iter_mut().zip(&slots) {
                 table.push(time);
-                table.extend(geometry.paths.iter().enumerate().map(|(k, path)| {
-                    path.spanned.iter().position(|&c| c == coordinate).map_or(0.0, |i| evaluation.moment_arms(k)[i])
-                }));
+                table.extend(slots.iter().enumerate().map(|(k, slot)| slot.map_or(0.0, |i| evaluation.moment_arms(k)[i])));
             }
             markers.push(time);
             for marker in 0..multibody.markers.len() {

@@ -95,7 +95,7 @@ impl Multibody {
         }
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
         let mut multibody = Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, moved_by: Vec::new(), coordinate_joints };
-        multibody.moved_by = multibody.bodies.iter().enumerate().map(|(b, _)| multibody.ancestor_joints(b)).collect();
+        multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;
             multibody.markers.push(Marker { name: marker.name.clone(), body, location: frame.apply(&Vec3::from(marker.location)) });

@@ -8,7 +8,7 @@ use super::function::Function;
 use super::kinematics::Kinematics;
 use super::multibody::Multibody;
 use super::spatial::{Transform, Vec3};
-use crate::model::{ForceSpec, ModelSpec, PathPointKind};
+use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind};
 
 /// Simbody's `SignificantReal` (ε^⅞): segments shorter than this have no direction.
 const SIGNIFICANT_LENGTH: f64 = 1.8189894035458565e-14;
@@ -114,13 +114,12 @@ impl GeometryPath {
                     PointKind::Conditional { location: Vec3::from(*location), coordinate, range: *range }
                 }
                 PathPointKind::MovingPathPoint { x, y, z } => {
-                    let mut axes = Vec::with_capacity(3);
-                    for component in [x, y, z] {
+                    let mut axis = |component: &MovingComponent| {
                         let c = coordinate(&component.coordinate, &spec.name)?;
                         switches.push(c);
-                        axes.push(MovingAxis { coordinate: c, function: Function::new(&component.function), range: multibody.coordinates[c].range });
-                    }
-                    PointKind::Moving(Box::new(axes.try_into().map_err(|_| invalid("moving point needs 3 axes".into()))?))
+                        Ok(MovingAxis { coordinate: c, function: Function::new(&component.function), range: multibody.coordinates[c].range })
+                    };
+                    PointKind::Moving(Box::new([axis(x)?, axis(y)?, axis(z)?]))
                 }
             };
             bodies.push(body);

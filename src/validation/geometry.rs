@@ -51,17 +51,12 @@ pub struct GeometryComparison {
 /// listed).
 pub fn compare_geometry(geometry: &MuscleGeometry, folder: &Path) -> Result<GeometryComparison, GoldenError> {
     let multibody = &geometry.multibody;
-    let poses = GoldenPoses::read(&folder.join("poses.csv"))?;
-    let columns: Vec<usize> = poses
-        .coordinates
-        .iter()
-        .map(|name| multibody.coordinate_index(name).ok_or_else(|| format_error(folder, &format!("coordinate {name} is not in the model"))))
-        .collect::<Result<_, _>>()?;
+    let poses = GoldenPoses::read(&folder.join("poses.csv"), multibody)?;
     let mut comparison = GeometryComparison::default();
     let skipped: BTreeSet<usize> = (0..geometry.paths.len()).filter(|&m| !geometry.paths[m].ignored_wraps.is_empty()).collect();
     comparison.skipped = skipped.iter().map(|&m| format!("{} (wrapping)", geometry.paths[m].name)).collect();
     let pairs = moment_arm_pairs(geometry, folder, &mut comparison)?;
-    let mut evaluator = Evaluator { geometry, kinematics: multibody.kinematics(), scratch: PathScratch::default(), q: vec![0.0; columns.len()] };
+    let mut evaluator = Evaluator { geometry, kinematics: multibody.kinematics(), scratch: PathScratch::default(), q: Vec::new() };
     for table in ["bodies.csv", "markers.csv", "lengths.csv", "moment_arms.csv"] {
         let Some(table) = GoldenTable::read_optional(&folder.join(table))? else { continue };
         let mut by_pose: HashMap<&str, Vec<usize>> = HashMap::new();
@@ -70,7 +65,7 @@ pub fn compare_geometry(geometry: &MuscleGeometry, folder: &Path) -> Result<Geom
         }
         for id in &poses.ids {
             let Some(rows) = by_pose.get(id.as_str()) else { continue };
-            evaluator.pose(&columns, &poses.values[id]);
+            evaluator.pose(&poses.values[id]);
             for &r in rows {
                 evaluator.compare_row(&table, r, &skipped, &pairs, &mut comparison)?;
             }
@@ -117,10 +112,9 @@ struct Evaluator<'g> {
 }
 
 impl Evaluator<'_> {
-    fn pose(&mut self, columns: &[usize], values: &[f64]) {
-        for (&c, &v) in columns.iter().zip(values) {
-            self.q[c] = v;
-        }
+    fn pose(&mut self, q: &[f64]) {
+        self.q.clear();
+        self.q.extend_from_slice(q);
         self.geometry.multibody.realize(&self.q, &mut self.kinematics);
     }
 

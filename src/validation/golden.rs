@@ -4,6 +4,8 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use crate::mechanics::Multibody;
+
 /// Errors reading a golden table.
 #[derive(Debug, thiserror::Error)]
 pub enum GoldenError {
@@ -54,23 +56,36 @@ impl GoldenTable {
     }
 }
 
-/// `poses.csv`: coordinate values per pose id, by coordinate name.
+/// `poses.csv`: coordinate values per pose id.
 pub struct GoldenPoses {
+    /// In file order.
     pub ids: Vec<String>,
-    pub coordinates: Vec<String>,
+    /// Per pose id, one value per coordinate of the model, in [`Multibody::coordinates`] order.
     pub values: HashMap<String, Vec<f64>>,
 }
 
 impl GoldenPoses {
-    pub fn read(file: &Path) -> Result<GoldenPoses, GoldenError> {
+    /// Reads `file`, whose columns must all be coordinates of `multibody`; coordinates the file
+    /// lacks keep their default value.
+    pub fn read(file: &Path, multibody: &Multibody) -> Result<GoldenPoses, GoldenError> {
         let table = GoldenTable::read(file)?;
+        let columns: Vec<usize> = table.header[1..]
+            .iter()
+            .map(|name| {
+                let problem = || format!("coordinate {name} is not in the model");
+                multibody.coordinate_index(name).ok_or_else(|| GoldenError::Format { file: file.into(), line: 1, problem: problem() })
+            })
+            .collect::<Result<_, _>>()?;
         let mut values = HashMap::new();
         let mut ids = Vec::new();
         for (r, row) in table.rows.iter().enumerate() {
-            let q = (1..table.header.len()).map(|c| table.number(r, c)).collect::<Result<Vec<_>, _>>()?;
+            let mut q = multibody.default_pose();
+            for (column, &c) in columns.iter().enumerate() {
+                q[c] = table.number(r, column + 1)?;
+            }
             ids.push(row[0].clone());
             values.insert(row[0].clone(), q);
         }
-        Ok(GoldenPoses { ids, coordinates: table.header[1..].to_vec(), values })
+        Ok(GoldenPoses { ids, values })
     }
 }

@@ -44,15 +44,8 @@ pub fn run() -> ExitCode {
 fn seconds_per_pose() -> Result<(f64, usize), Box<dyn std::error::Error>> {
     let spec = ModelSpec::read(&OsimDocument::read(&root().join(MODEL))?)?;
     let geometry = MuscleGeometry::new(&spec)?;
-    let poses = GoldenPoses::read(&root().join(GOLDEN).join("poses.csv"))?;
-    let columns: Vec<usize> = poses.coordinates.iter().map(|n| geometry.multibody.coordinate_index(n).ok_or(format!("no coordinate {n}"))).collect::<Result<_, _>>()?;
-    let qs: Vec<Vec<f64>> = poses.ids.iter().map(|id| {
-        let mut q = vec![0.0; columns.len()];
-        for (&c, &v) in columns.iter().zip(&poses.values[id]) {
-            q[c] = v;
-        }
-        q
-    }).collect();
+    let poses = GoldenPoses::read(&root().join(GOLDEN).join("poses.csv"), &geometry.multibody)?;
+    let qs: Vec<&Vec<f64>> = poses.ids.iter().map(|id| &poses.values[id]).collect();
     let muscles: Vec<usize> = (0..geometry.paths.len()).collect();
     let pairs = geometry.paths.iter().map(|p| p.spanned.len()).sum();
     let mut evaluation = PathEvaluation::new(&geometry, &muscles);

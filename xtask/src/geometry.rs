@@ -45,9 +45,10 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
         eprintln!("{stem}: {mismatch}");
     }
     let skipped = if comparison.skipped.is_empty() { String::new() } else { format!(", {} wrapping muscles skipped", comparison.skipped.len()) };
-    let row = |what: &str, worst: &Worst, tolerance: f64| {
+    // `of_muscles`: the row compares muscle values, so skipped muscles are mentioned.
+    let row = |what: &str, worst: &Worst, tolerance: f64, of_muscles: bool| {
         (worst.count > 0).then(|| Row {
-            what: format!("{what}, {stem} ({} values{})", worst.count, if what.starts_with("body") || what.starts_with("marker") { "" } else { &skipped }),
+            what: format!("{what}, {stem} ({} values{})", worst.count, if of_muscles { skipped.as_str() } else { "" }),
             reference: reference.clone(),
             worst: worst.error,
             tolerance,
@@ -55,11 +56,11 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
         })
     };
     let mut rows: Vec<Row> = [
-        row("body positions (m)", &comparison.body_positions, 1e-9),
-        row("body rotations", &comparison.body_rotations, 1e-9),
-        row("marker positions (m)", &comparison.markers, 1e-9),
-        row("path lengths (m)", &comparison.lengths, 1e-9),
-        row("moment arms (m)", &comparison.moment_arms, 1e-8),
+        row("body positions (m)", &comparison.body_positions, 1e-9, false),
+        row("body rotations", &comparison.body_rotations, 1e-9, false),
+        row("marker positions (m)", &comparison.markers, 1e-9, false),
+        row("path lengths (m)", &comparison.lengths, 1e-9, true),
+        row("moment arms (m)", &comparison.moment_arms, 1e-8, true),
     ]
     .into_iter()
     .flatten()
