@@ -100,3 +100,74 @@ fn analyze_never_writes_over_its_inputs() {
     assert_eq!(std::fs::read(&model).unwrap(), before);
     assert!(Path::new(&model).exists());
 }
+
+/// Writes the knee-sweep poses of the gait2392 geometry golden as a motion (radians), one row
+/// per pose, time = row index; returns the pose ids in row order.
+fn sweep_motion(file: &Path) -> Vec<String> {
+    let poses = GoldenTable::read(&common::fixture("golden/geometry/gait2392_millard2012muscle/poses.csv")).unwrap();
+    let rows: Vec<usize> = (0..poses.rows.len()).filter(|&r| poses.rows[r][0].starts_with("knee_")).collect();
+    let mut labels = vec!["time".to_string()];
+    labels.extend(poses.header[1..].iter().cloned());
+    let mut values = Vec::new();
+    for (t, &r) in rows.iter().enumerate() {
+        values.push(t as f64);
+        values.extend((1..poses.header.len()).map(|c| poses.number(r, c).unwrap()));
+    }
+    let table = StorageTable::new("sweep", labels, values).unwrap().with_in_degrees(false);
+    std::fs::write(file, table.to_text()).unwrap();
+    rows.iter().map(|&r| poses.rows[r][0].clone()).collect()
+}
+
+/// `--activation 0.5` along knee sweeps gives OpenSim's equilibrium fiber lengths and tendon
+/// forces (`fixtures/golden/muscle/`, OpenSim 4.6 `equilibrateMuscles`). Bound: our static
+/// balance is exact, OpenSim stops at 1e-8 F_max, so fiber lengths agree to 1e-7 m and forces
+/// to 2e-5 N in these rows (the largest such imbalance in them is 1.2e-5 N).
+#[test]
+fn activation_adds_the_fiber_tables_of_opensims_equilibrium() {
+    let out = tempfile::tempdir().unwrap();
+    let motion = out.path().join("sweep.mot");
+    let ids = sweep_motion(&motion);
+    let model = path("models/gait2392_millard2012muscle.osim");
+    let dir = out.path().join("out");
+    let (code, _, stderr) = common::osim_tune(&["analyze", &model, "--motion", &motion.to_string_lossy(), "-o", &dir.to_string_lossy(), "--activation", "0.5"]);
+    assert_eq!(code, 0, "{stderr}");
+    let golden = GoldenTable::read(&common::fixture("golden/muscle/gait2392_millard2012muscle/equilibrium.csv")).unwrap();
+    let (fiber, tendon) = (StorageTable::read(&dir.join("FiberLength.sto")).unwrap(), StorageTable::read(&dir.join("TendonForce.sto")).unwrap());
+    let mut compared = 0;
+    for (r, row) in golden.rows.iter().enumerate().filter(|(_, row)| row[2] == "0.5") {
+        let Some(t) = ids.iter().position(|id| *id == row[0]) else { continue };
+        let column = fiber.column_index(&row[1]).unwrap();
+        let fiber_error = (fiber.value(t, column).unwrap() - golden.number(r, golden.column("fiber_length").unwrap()).unwrap()).abs();
+        let force_error = (tendon.value(t, column).unwrap() - golden.number(r, golden.column("tendon_force").unwrap()).unwrap()).abs();
+        assert!(fiber_error <= 1e-7 && force_error <= 2e-5, "{} {}: {fiber_error:e} m, {force_error:e} N", row[0], row[1]);
+        compared += 1;
+    }
+    assert_eq!(compared, 6 * 13);
+    let moments = StorageTable::read(&dir.join("Moment_knee_angle_r.sto")).unwrap();
+    let total = moments.column_index("total").unwrap();
+    for t in 0..ids.len() {
+        let row = moments.row(t).unwrap();
+        let sum: f64 = row[1..total].iter().sum();
+        assert!((row[total] - sum).abs() <= 1e-9 * sum.abs().max(1.0));
+    }
+}
+
+#[test]
+fn bad_activations_are_errors_and_write_nothing() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().join("out");
+    let run = |extra: &[&str]| {
+        let (model, motion, dir) = (path("models/gait2392_millard2012muscle.osim"), path(MOTION), dir.to_string_lossy().into_owned());
+        let mut args = vec!["analyze", &model, "--motion", &motion, "--skip-unknown-columns", "-o", &dir];
+        args.extend_from_slice(extra);
+        common::osim_tune(&args)
+    };
+    let (code, _, stderr) = run(&["--activation", "1.5"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--activation 1.5") && stderr.contains("[0, 1]"), "{stderr}");
+    // The IK motion itself has no muscle columns: every muscle is missing.
+    let (code, _, stderr) = run(&["--activations", &path(MOTION)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("subject01_walk1_ik.mot") && stderr.contains("no activation column for muscles glut_med1_r"), "{stderr}");
+    assert!(!dir.exists(), "nothing may be written on error");
+}

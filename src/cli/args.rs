@@ -78,6 +78,15 @@ pub enum Command {
         /// columns of a legacy IK .mot) instead of failing.
         #[arg(long)]
         skip_unknown_columns: bool,
+        /// Also solve each muscle's static fiber–tendon equilibrium at this activation (0…1, all
+        /// muscles) and write FiberLength, NormFiberLength, PennationAngle, TendonLength,
+        /// TendonForce, ActiveFiberForce, PassiveFiberForce and Moment_<coordinate> tables.
+        #[arg(long, conflicts_with = "activations")]
+        activation: Option<f64>,
+        /// Like --activation, with per-muscle activations from a .sto (a column per muscle,
+        /// e.g. a static optimisation activation.sto), interpolated linearly in time.
+        #[arg(long)]
+        activations: Option<PathBuf>,
     },
     /// Print every property as `PATH = VALUE`, one per line, numbers in shortest form: a stable
     /// text form of a document for `git diff` (use as diff.textconv; see README).

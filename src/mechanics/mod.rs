@@ -8,6 +8,7 @@ mod kinematics;
 mod mobilizer;
 mod motion;
 mod multibody;
+pub mod muscle;
 mod path;
 mod spatial;
 

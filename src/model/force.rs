@@ -4,6 +4,7 @@ use serde::Serialize;
 
 use super::error::ModelError;
 use super::frame::FrameIndex;
+use super::muscle::MuscleSpec;
 use super::path_point::PathPointSpec;
 use super::reader::ComponentReader;
 use crate::io::osim::Dialect;
@@ -26,6 +27,8 @@ pub struct ForceSpec {
     pub element: ElementId,
     pub path_points: Vec<PathPointSpec>,
     pub path_wraps: Vec<PathWrapSpec>,
+    /// Hill-muscle properties when the class is one osim-tune evaluates.
+    pub muscle: Option<MuscleSpec>,
 }
 
 impl ForceSpec {
@@ -48,7 +51,8 @@ impl ForceSpec {
                 }
             }
         }
-        Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps })
+        let muscle = MuscleSpec::read(reader)?;
+        Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps, muscle })
     }
 
     /// Whether the class is a muscle (`Thelen2003Muscle`, `Millard2012EquilibriumMuscle`,

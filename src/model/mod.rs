@@ -11,6 +11,7 @@ mod frame;
 mod function;
 mod joint;
 mod marker;
+mod muscle;
 mod path_point;
 mod reader;
 mod spec;
@@ -25,6 +26,10 @@ pub use frame::{FrameChain, Offset};
 pub use function::FunctionSpec;
 pub use joint::{JointSpec, TransformAxisSpec};
 pub use marker::MarkerSpec;
+pub use muscle::{
+    ActiveForceLengthCurveSpec, DeGrooteSpec, FiberForceLengthCurveSpec, ForceVelocityCurveSpec, MillardSpec,
+    MuscleModelSpec, MuscleSpec, TendonForceLengthCurveSpec, ThelenSpec, MUSCLE_CLASSES,
+};
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
 pub use spec::{ModelSpec, GROUND};
 pub use wrap_object::WrapObjectSpec;

@@ -139,6 +139,12 @@ impl<'a> ComponentReader<'a> {
         children.iter().find(|&&c| xml.name(c) == Some(property)).map(|&object| self.at(object))
     }
 
+    /// The first child element of class (tag) `class`, e.g. a Millard muscle's curve objects.
+    pub fn child_of_class(&self, class: &str) -> Option<ComponentReader<'a>> {
+        let xml = &self.document.xml;
+        xml.children(self.element).iter().find(|&&c| xml.tag(c) == class).map(|&c| self.at(c))
+    }
+
     /// The member elements of a set (`<Set><objects>…`) or of a list property (`<coordinates>…`).
     pub fn listed_objects(&self, container: ElementId) -> Vec<ElementId> {
         let xml = &self.document.xml;

@@ -19,7 +19,7 @@ pub struct Worst {
 }
 
 impl Worst {
-    fn update(&mut self, error: f64, at: impl FnOnce() -> String) {
+    pub(super) fn update(&mut self, error: f64, at: impl FnOnce() -> String) {
         self.count += 1;
         if error > self.error || error.is_nan() {
             self.error = if error.is_nan() { f64::INFINITY } else { error };

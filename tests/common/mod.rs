@@ -41,3 +41,28 @@ pub fn osim_tune(arguments: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&output.stderr).into_owned(),
     )
 }
+
+/// Golden CSV rows read by column name.
+pub mod golden_rows {
+    use osim_tune::validation::GoldenTable;
+
+    /// One row of a golden table.
+    pub struct Row<'a> {
+        table: &'a GoldenTable,
+        index: usize,
+    }
+
+    impl Row<'_> {
+        pub fn number(&self, column: &str) -> f64 {
+            self.table.number(self.index, self.table.column(column).unwrap()).unwrap()
+        }
+
+        pub fn text(&self, column: &str) -> &str {
+            &self.table.rows[self.index][self.table.column(column).unwrap()]
+        }
+    }
+
+    pub fn rows(table: &GoldenTable) -> impl Iterator<Item = Row<'_>> {
+        (0..table.rows.len()).map(move |index| Row { table, index })
+    }
+}

@@ -1,12 +1,16 @@
-//! `cargo xtask bench`: lengths and moment arms of all gait2392 muscles about every coordinate
-//! each spans, per pose, single thread; beside OpenSim 4.6 doing the same work through its
-//! Python bindings (`oracle/bench_geometry.py`) when `python3 -c "import opensim"` works.
+//! `cargo xtask bench`, single thread, each beside OpenSim 4.6 doing the same work through its
+//! Python bindings when `python3 -c "import opensim"` works:
+//! - geometry: lengths and moment arms of all gait2392 muscles about every coordinate each
+//!   spans, per pose (`oracle/bench_geometry.py`);
+//! - equilibrium: path lengths and the static equilibrium of all 92 gait2392 Millard muscles at
+//!   activation 0.5, per pose (`oracle/bench_equilibrium.py`, `equilibrateMuscles`).
 
 use std::path::Path;
 use std::process::{Command, ExitCode};
 use std::time::Instant;
 
 use osim_tune::io::osim::OsimDocument;
+use osim_tune::mechanics::muscle::HillMuscle;
 use osim_tune::mechanics::{MuscleGeometry, PathEvaluation};
 use osim_tune::model::ModelSpec;
 use osim_tune::validation::GoldenPoses;
@@ -19,25 +23,59 @@ const GOLDEN: &str = "fixtures/golden/geometry/gait2392_millard2012muscle";
 const GOAL_SPEEDUP: f64 = 20.0;
 
 pub fn run() -> ExitCode {
-    match seconds_per_pose() {
-        Ok((ours, pairs)) => {
-            println!("gait2392, 92 muscles, {pairs} muscle × coordinate pairs per pose");
-            println!("osim-tune   {:>10.2} µs/pose", ours * 1e6);
-            match opensim_seconds_per_pose() {
-                Some(theirs) => {
-                    let speedup = theirs / ours;
-                    println!("OpenSim 4.6 {:>10.2} µs/pose (Python bindings)", theirs * 1e6);
-                    println!("speed-up    {speedup:>10.1}×  (goal ≥ {GOAL_SPEEDUP}×: {})", if speedup >= GOAL_SPEEDUP { "met" } else { "NOT met" });
-                }
-                None => println!("OpenSim 4.6  skipped: `python3 -c \"import opensim\"` failed (pip install opensim to compare)"),
-            }
-            ExitCode::SUCCESS
-        }
+    let geometry = seconds_per_pose().map(|(ours, pairs)| {
+        println!("geometry: gait2392, 92 muscles, {pairs} muscle × coordinate pairs per pose");
+        compare(ours, opensim_seconds_per_pose("oracle/bench_geometry.py", true));
+    });
+    let equilibrium = equilibrium_seconds_per_pose().map(|ours| {
+        println!("equilibrium: gait2392 Millard, 92 muscles at activation 0.5 per pose (path lengths included)");
+        compare(ours, opensim_seconds_per_pose("oracle/bench_equilibrium.py", false));
+    });
+    match geometry.and(equilibrium) {
+        Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
     }
+}
+
+fn compare(ours: f64, theirs: Option<f64>) {
+    println!("  osim-tune   {:>10.2} µs/pose", ours * 1e6);
+    match theirs {
+        Some(theirs) => {
+            let speedup = theirs / ours;
+            println!("  OpenSim 4.6 {:>10.2} µs/pose (Python bindings)", theirs * 1e6);
+            println!("  speed-up    {speedup:>10.1}×  (goal ≥ {GOAL_SPEEDUP}×: {})", if speedup >= GOAL_SPEEDUP { "met" } else { "NOT met" });
+        }
+        None => println!("  OpenSim 4.6  skipped: `python3 -c \"import opensim\"` failed (pip install opensim to compare)"),
+    }
+}
+
+/// Median over repeated sweeps: path lengths, then every muscle's static equilibrium.
+fn equilibrium_seconds_per_pose() -> Result<f64, Box<dyn std::error::Error>> {
+    let spec = ModelSpec::read(&OsimDocument::read(&root().join(MODEL))?)?;
+    let geometry = MuscleGeometry::new(&spec)?;
+    let muscles = spec.forces.iter().filter(|f| f.muscle.is_some()).map(HillMuscle::from_force).collect::<Result<Vec<_>, _>>()?;
+    let poses = GoldenPoses::read(&root().join(GOLDEN).join("poses.csv"), &geometry.multibody)?;
+    let qs: Vec<&Vec<f64>> = poses.ids.iter().map(|id| &poses.values[id]).collect();
+    let all: Vec<usize> = (0..geometry.paths.len()).collect();
+    let mut evaluation = PathEvaluation::new(&geometry, &all);
+    let mut samples = Vec::new();
+    let mut checksum = 0.0;
+    for _ in 0..10 {
+        let start = Instant::now();
+        for q in &qs {
+            evaluation.evaluate(&geometry, q);
+            for (k, muscle) in muscles.iter().enumerate() {
+                checksum += muscle.equilibrium(0.5, evaluation.length(k))?.tendon_force;
+            }
+        }
+        samples.push(start.elapsed().as_secs_f64() / qs.len() as f64);
+    }
+    std::hint::black_box(checksum);
+    samples.sort_by(f64::total_cmp);
+    Ok(samples[samples.len() / 2])
 }
 
 /// Median over repeated sweeps of the golden poses.
@@ -66,11 +104,16 @@ fn seconds_per_pose() -> Result<(f64, usize), Box<dyn std::error::Error>> {
     Ok((samples[samples.len() / 2], pairs))
 }
 
-fn opensim_seconds_per_pose() -> Option<f64> {
+/// Runs an oracle timing script on the bench model and poses (and, with `pairs`, the
+/// muscle × coordinate pairs).
+fn opensim_seconds_per_pose(script: &str, pairs: bool) -> Option<f64> {
     let folder = root().join(GOLDEN);
-    let script = root().join("oracle/bench_geometry.py");
-    let arguments = [script.as_path(), &root().join(MODEL), &folder.join("poses.csv"), &folder.join("muscle_coordinates.csv")];
-    let output = Command::new("python3").args(arguments.iter().map(|p: &&Path| p.as_os_str())).output().ok()?;
+    let (script, model, poses, pairs_file) = (root().join(script), root().join(MODEL), folder.join("poses.csv"), folder.join("muscle_coordinates.csv"));
+    let mut arguments: Vec<&Path> = vec![&script, &model, &poses];
+    if pairs {
+        arguments.push(&pairs_file);
+    }
+    let output = Command::new("python3").args(arguments.iter().map(|p| p.as_os_str())).output().ok()?;
     if !output.status.success() {
         return None;
     }

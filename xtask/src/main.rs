@@ -6,6 +6,7 @@
 mod bench;
 mod fuzz;
 mod geometry;
+mod muscle;
 mod validate;
 
 use std::process::ExitCode;

@@ -10,7 +10,14 @@ use super::{Command, Failure, Outcome};
 
 pub fn run(command: Command) -> Result<Outcome, Failure> {
     match command {
-        Command::Analyze { model, motion, output, skip_unknown_columns } => analyze::run(&model, &motion, &output, skip_unknown_columns),
+        Command::Analyze { model, motion, output, skip_unknown_columns, activation, activations } => {
+            let fibers = match (activation, activations) {
+                (Some(a), _) => Some(analyze::FiberInput::Uniform(a)),
+                (None, Some(file)) => Some(analyze::FiberInput::File(file)),
+                (None, None) => None,
+            };
+            analyze::run(&model, &motion, &output, skip_unknown_columns, fibers)
+        }
         Command::Info { model, json } => info::run(&model, json),
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),

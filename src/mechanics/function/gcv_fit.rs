@@ -21,6 +21,8 @@ pub(super) enum Smoothing {
     ErrorVariance(f64),
     /// Generalized cross-validation (a negative `error_variance`).
     CrossValidation,
+    /// A given smoothing parameter p (`SplineFitter::fitForSmoothingParameter`); 0 interpolates.
+    Parameter(f64),
 }
 
 impl Smoothing {
@@ -47,7 +49,10 @@ const LARGEST_P: f64 = 999_999_999_999_999.9;
 /// n ≥ 2m, x strictly increasing.
 pub(super) fn fit(half_order: usize, x: &[f64], y: &[f64], smoothing: Smoothing) -> Vec<f64> {
     let system = System::new(half_order, x, y, smoothing);
-    let p = system.smoothing_parameter();
+    let p = match smoothing {
+        Smoothing::Parameter(p) => p,
+        _ => system.smoothing_parameter(),
+    };
     system.solve(p).coefficients
 }
 
@@ -214,6 +219,7 @@ impl<'a> System<'a> {
         let criterion = match self.smoothing {
             Smoothing::ErrorVariance(variance) => residual - variance * (trace * 2.0 - 1.0),
             Smoothing::CrossValidation => residual / trace / trace,
+            Smoothing::Parameter(_) => residual,
         };
         Solution { coefficients, criterion, effective_p, at_ceiling }
     }

@@ -1,0 +1,177 @@
+//! OpenSim's `SegmentedQuinticBezierToolkit`: quintic Bézier segments x(u), y(u), u ∈ [0, 1],
+//! their u-derivatives written term by term as OpenSim writes them (so results agree to the
+//! bit), dy/dx and d²y/dx², and the C-shaped corner whose six control points make a segment.
+
+/// The control points of one quintic Bézier segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BezierSegment {
+    pub x: [f64; 6],
+    pub y: [f64; 6],
+}
+
+/// Why a corner cannot be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NotACorner;
+
+impl BezierSegment {
+    /// `calcQuinticBezierCornerControlPoints`: a segment from (x0, y0) with slope dydx0 to
+    /// (x1, y1) with slope dydx1, bending towards the intersection of the two tangent lines;
+    /// curviness ∈ [0, 1] places the inner points along the tangents.
+    pub fn corner(
+        (x0, y0, dydx0): (f64, f64, f64),
+        (x1, y1, dydx1): (f64, f64, f64),
+        curviness: f64,
+    ) -> Result<BezierSegment, NotACorner> {
+        let root_eps = f64::EPSILON.sqrt();
+        let xc = if (dydx0 - dydx1).abs() > root_eps {
+            (y1 - y0 - x1 * dydx1 + x0 * dydx0) / (dydx0 - dydx1)
+        } else {
+            (x1 + x0) / 2.0
+        };
+        let yc = (xc - x1) * dydx1 + y1;
+        let (xc_x0, yc_y0, xc_x1, yc_y1) = (xc - x0, yc - y0, xc - x1, yc - y1);
+        let (x0_x1, y0_y1) = (x1 - x0, y1 - y0);
+        let a = xc_x0 * xc_x0 + yc_y0 * yc_y0;
+        let b = xc_x1 * xc_x1 + yc_y1 * yc_y1;
+        let c = x0_x1 * x0_x1 + y0_y1 * y0_y1;
+        if !(c > a && c > b) {
+            return Err(NotACorner);
+        }
+        let x0_mid = x0 + curviness * xc_x0;
+        let y0_mid = y0 + curviness * yc_y0;
+        let x1_mid = x1 + curviness * xc_x1;
+        let y1_mid = y1 + curviness * yc_y1;
+        Ok(BezierSegment {
+            x: [x0, x0_mid, x0_mid, x1_mid, x1_mid, x1],
+            y: [y0, y0_mid, y0_mid, y1_mid, y1_mid, y1],
+        })
+    }
+
+    /// The segment with x and y exchanged (the inverse relation).
+    pub fn transposed(&self) -> BezierSegment {
+        BezierSegment {
+            x: self.y,
+            y: self.x,
+        }
+    }
+
+    /// d^order y / dx^order at parameter u, order 0, 1 or 2 (`calcQuinticBezierCurveDerivDYDX`).
+    pub fn dydx(&self, u: f64, order: usize) -> f64 {
+        match order {
+            0 => derivative_u(u, &self.y, 0),
+            1 => derivative_u(u, &self.y, 1) / derivative_u(u, &self.x, 1),
+            _ => {
+                let dxdu = derivative_u(u, &self.x, 1);
+                let dydu = derivative_u(u, &self.y, 1);
+                let d2xdu2 = derivative_u(u, &self.x, 2);
+                let d2ydu2 = derivative_u(u, &self.y, 2);
+                let t1 = 1.0 / dxdu;
+                let t3 = dxdu * dxdu;
+                (d2ydu2 * t1 - dydu / t3 * d2xdu2) * t1
+            }
+        }
+    }
+}
+
+/// d^order p/du^order of a quintic Bézier with control values `p`, order 0, 1 or 2
+/// (`calcQuinticBezierCurveDerivU`, same operation order).
+pub fn derivative_u(u: f64, p: &[f64; 6], order: usize) -> f64 {
+    let [p0, p1, p2, p3, p4, p5] = *p;
+    match order {
+        0 => {
+            let u5 = 1.0;
+            let u4 = u;
+            let u3 = u4 * u;
+            let u2 = u3 * u;
+            let u1 = u2 * u;
+            let u0 = u1 * u;
+            let t2 = u1 * 5.0;
+            let t3 = u2 * 10.0;
+            let t4 = u3 * 10.0;
+            let t5 = u4 * 5.0;
+            let t9 = u0 * 5.0;
+            let t10 = u1 * 20.0;
+            let t11 = u2 * 30.0;
+            let t15 = u0 * 10.0;
+            p0 * (-u0 + t2 - t3 + t4 - t5 + u5 * 1.0)
+                + p1 * (t9 - t10 + t11 + u3 * (-20.0) + t5)
+                + p2 * (-t15 + u1 * 30.0 - t11 + t4)
+                + p3 * (t15 - t10 + t3)
+                + p4 * (-t9 + t2)
+                + p5 * u0 * 1.0
+        }
+        1 => {
+            let t1 = u * u;
+            let t2 = t1 * t1;
+            let t4 = t1 * u;
+            let t5 = t4 * 20.0;
+            let t6 = t1 * 30.0;
+            let t7 = u * 20.0;
+            let t10 = t2 * 25.0;
+            let t11 = t4 * 80.0;
+            let t12 = t1 * 90.0;
+            let t16 = t2 * 50.0;
+            p0 * (t2 * (-5.0) + t5 - t6 + t7 - 5.0)
+                + p1 * (t10 - t11 + t12 + u * (-40.0) + 5.0)
+                + p2 * (-t16 + t4 * 120.0 - t12 + t7)
+                + p3 * (t16 - t11 + t6)
+                + p4 * (-t10 + t5)
+                + p5 * t2 * 5.0
+        }
+        _ => {
+            let t1 = u * u;
+            let t2 = t1 * u;
+            let t4 = t1 * 60.0;
+            let t5 = u * 60.0;
+            let t8 = t2 * 100.0;
+            let t9 = t1 * 240.0;
+            let t10 = u * 180.0;
+            let t13 = t2 * 200.0;
+            p0 * (t2 * (-20.0) + t4 - t5 + 20.0)
+                + p1 * (t8 - t9 + t10 - 40.0)
+                + p2 * (-t13 + t1 * 360.0 - t10 + 20.0)
+                + p3 * (t13 - t9 + t5)
+                + p4 * (-t8 + t4)
+                + p5 * t2 * 20.0
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_corner_interpolates_its_ends_with_their_slopes() {
+        let s = BezierSegment::corner((0.0, 0.0, 0.0), (1.0, 1.0, 3.0), 0.5).unwrap();
+        assert_eq!((derivative_u(0.0, &s.x, 0), s.dydx(0.0, 0)), (0.0, 0.0));
+        assert_eq!((derivative_u(1.0, &s.x, 0), s.dydx(1.0, 0)), (1.0, 1.0));
+        assert!(s.dydx(0.0, 1).abs() < 1e-15);
+        assert!((s.dydx(1.0, 1) - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn u_derivatives_match_central_differences() {
+        let p = [0.1, 0.7, 0.2, 1.5, -0.3, 2.0];
+        for u in [0.1, 0.45, 0.9] {
+            let h = 1e-6;
+            for order in 1..=2 {
+                let fd = (derivative_u(u + h, &p, order - 1) - derivative_u(u - h, &p, order - 1))
+                    / (2.0 * h);
+                assert!(
+                    (fd - derivative_u(u, &p, order)).abs() < 1e-7,
+                    "order {order} at {u}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_impossible_corner_is_refused() {
+        // Both tangents point away from each other: no C-shaped corner joins them.
+        assert_eq!(
+            BezierSegment::corner((0.0, 0.0, -1.0), (1.0, 1.0, -1.0), 0.5),
+            Err(NotACorner)
+        );
+    }
+}

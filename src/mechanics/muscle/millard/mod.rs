@@ -1,0 +1,14 @@
+//! `Millard2012EquilibriumMuscle`: quintic-Bézier curves (`bezier`, `smooth_function`,
+//! `curves`) and the muscle (`muscle`: parameters as OpenSim finalises them, static
+//! equilibrium, OpenSim's own equilibrium iteration, fiber velocity).
+
+mod bezier;
+mod curves;
+mod muscle;
+mod opensim_equilibrium;
+mod smooth_function;
+mod velocity;
+
+pub use curves::{force_velocity_inverse, ForceVelocityShape};
+pub use muscle::{Millard2012Muscle, MillardCurves};
+pub use smooth_function::SmoothSegmentedFunction;

@@ -1,0 +1,491 @@
+//! The Millard 2012 equilibrium muscle: OpenSim's parameter adjustments at finalisation
+//! (damped vs classic Hill model), the static equilibrium between fiber and tendon, OpenSim's
+//! `equilibrateMuscles` iteration reproduced step by step, and the fiber velocity of forward
+//! simulation.
+
+use super::curves::{self, CurveError, ForceVelocityShape};
+use super::smooth_function::SmoothSegmentedFunction;
+use crate::mechanics::muscle::pennation::{FixedWidthPennation, SIGNIFICANT_REAL};
+use crate::mechanics::muscle::{
+    bracketed_newton_from, check_inputs, EquilibriumStatus, FiberEquilibrium, MuscleError,
+    RootFailure,
+};
+use crate::model::{MillardSpec, MuscleSpec};
+
+/// Below this `fiber_damping` OpenSim uses the classic (undamped) Hill model.
+const MIN_NONZERO_DAMPING_COEFFICIENT: f64 = 0.001;
+/// Static-equilibrium force tolerance, N. The curves' x → u inversion stops at |Δx| ≤ 100 ε,
+/// which puts a noise floor of ~F_max·k_T·2e-14 (≤ 5e-10 N for gait2392) on the balance.
+const FORCE_TOLERANCE: f64 = 5e-10;
+
+/// The five curves one Millard muscle evaluates.
+#[derive(Debug, Clone)]
+pub struct MillardCurves {
+    /// Normalised fiber length → active force multiplier f_L.
+    pub active_force_length: SmoothSegmentedFunction,
+    /// Normalised fiber velocity → multiplier f_V.
+    pub force_velocity: SmoothSegmentedFunction,
+    /// f_V → normalised fiber velocity (end slopes ½ of the near-v_max slopes, as OpenSim).
+    pub force_velocity_inverse: SmoothSegmentedFunction,
+    /// Normalised fiber length → passive force multiplier f_PE.
+    pub fiber_force_length: SmoothSegmentedFunction,
+    /// Normalised tendon length → normalised tendon force f_T.
+    pub tendon_force_length: SmoothSegmentedFunction,
+}
+
+/// A Millard 2012 muscle with its finalised parameters.
+#[derive(Debug, Clone)]
+pub struct Millard2012Muscle {
+    pub name: String,
+    /// F_max, N.
+    pub max_isometric_force: f64,
+    /// L_opt, m.
+    pub optimal_fiber_length: f64,
+    /// L_ts, m.
+    pub tendon_slack_length: f64,
+    /// v_max, L_opt/s.
+    pub max_contraction_velocity: f64,
+    /// β, 0 for the classic Hill model.
+    pub fiber_damping: f64,
+    pub minimum_activation: f64,
+    pub ignore_tendon_compliance: bool,
+    pub pennation: FixedWidthPennation,
+    /// max(f_L's minimum active length · L_opt, the pennation model's minimum), m.
+    pub minimum_fiber_length: f64,
+    pub curves: MillardCurves,
+}
+
+/// Fiber quantities at one fiber length (`positionFunc` + `multipliersFunc`).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Position {
+    pub(super) fiber_length: f64,
+    pub(super) pennation_angle: f64,
+    pub(super) cos_alpha: f64,
+    pub(super) sin_alpha: f64,
+    pub(super) tendon_length: f64,
+    pub(super) norm_fiber_length: f64,
+    pub(super) norm_tendon_length: f64,
+    pub(super) active_force_length: f64,
+    pub(super) fiber_force_length: f64,
+    pub(super) tendon_force_length: f64,
+    /// Slopes of the three curves at their normalised lengths.
+    pub(super) d_active_force_length: f64,
+    pub(super) d_fiber_force_length: f64,
+    pub(super) d_tendon_force_length: f64,
+}
+
+impl Millard2012Muscle {
+    pub fn new(name: &str, spec: &MuscleSpec, class: &MillardSpec) -> Result<Self, MuscleError> {
+        let invalid =
+            |e: CurveError| MuscleError::invalid_parameter(name, &e.property, e.value, &e.expected);
+        check_pennation(
+            name,
+            spec.pennation_angle_at_optimal,
+            class.maximum_pennation_angle,
+        )?;
+        let damped = class.fiber_damping >= MIN_NONZERO_DAMPING_COEFFICIENT;
+        let classic_hill = !spec.ignore_tendon_compliance && !damped;
+        let mut minimum_activation = class.minimum_activation;
+        let fv = &class.force_velocity;
+        for (property, slope) in [
+            ("concentric_slope_near_vmax", fv.concentric_slope_near_vmax),
+            ("eccentric_slope_near_vmax", fv.eccentric_slope_near_vmax),
+        ] {
+            if slope < f64::EPSILON.sqrt() {
+                return Err(MuscleError::invalid_parameter(
+                    name,
+                    &format!("ForceVelocityCurve.{property}"),
+                    slope,
+                    "a slope ≥ 1.49e-8",
+                ));
+            }
+        }
+        let mut shape = ForceVelocityShape {
+            concentric_slope_at_vmax: fv.concentric_slope_at_vmax,
+            concentric_slope_near_vmax: fv.concentric_slope_near_vmax,
+            isometric_slope: fv.isometric_slope,
+            eccentric_slope_at_vmax: fv.eccentric_slope_at_vmax,
+            eccentric_slope_near_vmax: fv.eccentric_slope_near_vmax,
+            max_eccentric_velocity_force_multiplier: fv.max_eccentric_velocity_force_multiplier,
+            concentric_curviness: fv.concentric_curviness,
+            eccentric_curviness: fv.eccentric_curviness,
+        };
+        let afl = &class.active_force_length;
+        let mut afl_minimum = afl.minimum_value;
+        if classic_hill {
+            if minimum_activation < 0.01 {
+                return Err(MuscleError::invalid_parameter(
+                    name,
+                    "minimum_activation",
+                    minimum_activation,
+                    "≥ 0.01 for the classic Hill model with an elastic tendon",
+                ));
+            }
+            afl_minimum = afl_minimum.max(0.1);
+            shape.concentric_slope_at_vmax = shape
+                .concentric_slope_at_vmax
+                .max(shape.concentric_slope_near_vmax * 0.5);
+            shape.eccentric_slope_at_vmax = shape
+                .eccentric_slope_at_vmax
+                .max(shape.eccentric_slope_near_vmax * 0.5);
+        } else {
+            if minimum_activation < 0.0 {
+                return Err(MuscleError::invalid_parameter(
+                    name,
+                    "minimum_activation",
+                    minimum_activation,
+                    "a value ≥ 0",
+                ));
+            }
+            minimum_activation = minimum_activation.min(1.0);
+            afl_minimum = afl_minimum.min(0.0);
+            shape.concentric_slope_at_vmax = shape.concentric_slope_at_vmax.min(0.0);
+            shape.eccentric_slope_at_vmax = shape.eccentric_slope_at_vmax.min(0.0);
+        }
+        let inverse_shape = ForceVelocityShape {
+            concentric_slope_at_vmax: shape.concentric_slope_near_vmax * 0.5,
+            eccentric_slope_at_vmax: shape.eccentric_slope_near_vmax * 0.5,
+            ..shape
+        };
+        let fpe = &class.fiber_force_length;
+        let (fpe_k_low, fpe_k_iso, fpe_curviness) = fiber_force_length_in_use(name, fpe)?;
+        let tfl = &class.tendon_force_length;
+        let (tfl_k_iso, tfl_f_toe, tfl_curviness) = tendon_force_length_in_use(name, tfl)?;
+        let curves = MillardCurves {
+            active_force_length: curves::active_force_length(
+                [
+                    afl.min_norm_active_fiber_length,
+                    afl.transition_norm_fiber_length,
+                    1.0,
+                    afl.max_norm_active_fiber_length,
+                ],
+                afl_minimum,
+                afl.shallow_ascending_slope,
+                1.0,
+            )
+            .map_err(invalid)?,
+            force_velocity: curves::force_velocity(&shape).map_err(invalid)?,
+            force_velocity_inverse: curves::force_velocity_inverse(&inverse_shape)
+                .map_err(invalid)?,
+            fiber_force_length: curves::fiber_force_length(
+                fpe.strain_at_zero_force,
+                fpe.strain_at_one_norm_force,
+                fpe_k_low,
+                fpe_k_iso,
+                fpe_curviness,
+            )
+            .map_err(invalid)?,
+            tendon_force_length: curves::tendon_force_length(
+                tfl.strain_at_one_norm_force,
+                tfl_k_iso,
+                tfl_f_toe,
+                tfl_curviness,
+            )
+            .map_err(invalid)?,
+        };
+        let pennation = FixedWidthPennation::new(
+            spec.optimal_fiber_length,
+            spec.pennation_angle_at_optimal,
+            class.maximum_pennation_angle,
+        );
+        let minimum_active = afl.min_norm_active_fiber_length * spec.optimal_fiber_length;
+        let minimum_fiber_length =
+            SIGNIFICANT_REAL.max(minimum_active.max(pennation.minimum_fiber_length));
+        Ok(Millard2012Muscle {
+            name: name.to_string(),
+            max_isometric_force: spec.max_isometric_force,
+            optimal_fiber_length: spec.optimal_fiber_length,
+            tendon_slack_length: spec.tendon_slack_length,
+            max_contraction_velocity: spec.max_contraction_velocity,
+            fiber_damping: if damped { class.fiber_damping } else { 0.0 },
+            minimum_activation,
+            ignore_tendon_compliance: spec.ignore_tendon_compliance,
+            pennation,
+            minimum_fiber_length,
+            curves,
+        })
+    }
+
+    /// Activation as the muscle's dynamics see it: clamped to [minimum_activation, 1].
+    pub fn clamp_activation(&self, activation: f64) -> f64 {
+        activation.clamp(self.minimum_activation, 1.0)
+    }
+
+    /// Geometry and curve values at fiber length `fiber_length` for path length `mt_length`.
+    pub(super) fn position(&self, fiber_length: f64, mt_length: f64) -> Position {
+        let pennation_angle = self.pennation.pennation_angle(fiber_length);
+        let (cos_alpha, sin_alpha) = (pennation_angle.cos(), pennation_angle.sin());
+        let tendon_length = mt_length - fiber_length * cos_alpha;
+        let norm_fiber_length = fiber_length / self.optimal_fiber_length;
+        let norm_tendon_length = tendon_length / self.tendon_slack_length;
+        let (active_force_length, d_active_force_length) = self
+            .curves
+            .active_force_length
+            .value_and_derivative(norm_fiber_length);
+        let (fiber_force_length, d_fiber_force_length) = self
+            .curves
+            .fiber_force_length
+            .value_and_derivative(norm_fiber_length);
+        let (tendon_force_length, d_tendon_force_length) = self
+            .curves
+            .tendon_force_length
+            .value_and_derivative(norm_tendon_length);
+        Position {
+            fiber_length,
+            pennation_angle,
+            cos_alpha,
+            sin_alpha,
+            tendon_length,
+            norm_fiber_length,
+            norm_tendon_length,
+            active_force_length,
+            fiber_force_length,
+            tendon_force_length,
+            d_active_force_length,
+            d_fiber_force_length,
+            d_tendon_force_length,
+        }
+    }
+
+    /// F_m = F_max (a f_L f_V) + (F_max f_PE + F_max β ṽ) (`calcFiberForce`), N.
+    pub(super) fn fiber_force(
+        &self,
+        activation: f64,
+        p: &Position,
+        fv: f64,
+        norm_velocity: f64,
+    ) -> f64 {
+        let f = self.max_isometric_force;
+        f * (activation * p.active_force_length * fv)
+            + (f * p.fiber_force_length + f * self.fiber_damping * norm_velocity)
+    }
+
+    /// Static force balance F_m cos α − F_t (N, positive when the fiber pulls harder than the
+    /// tendon) and its derivative along the fiber length (N/m), at zero fiber velocity, for an
+    /// activation already in [minimum_activation, 1].
+    pub fn force_balance(&self, activation: f64, fiber_length: f64, mt_length: f64) -> (f64, f64) {
+        let p = self.position(fiber_length, mt_length);
+        let fiber_force = self.fiber_force(activation, &p, 1.0, 0.0);
+        let residual = fiber_force * p.cos_alpha - p.tendon_force_length * self.max_isometric_force;
+        (residual, self.d_residual(activation, &p, fiber_force))
+    }
+
+    /// d(F_m cos α − F_t)/dL_m (`partialsFunc`: fiber stiffness, pennation and tendon terms).
+    pub(super) fn d_residual(&self, activation: f64, p: &Position, fiber_force: f64) -> f64 {
+        let (f, l_opt) = (self.max_isometric_force, self.optimal_fiber_length);
+        let fiber_stiffness = f
+            * (activation * (p.d_active_force_length * (1.0 / l_opt)) * 1.0
+                + p.d_fiber_force_length * (1.0 / l_opt));
+        let d_alpha = self.pennation.d_pennation_d_fiber_length(p.fiber_length);
+        let d_force_along_tendon =
+            fiber_stiffness * p.cos_alpha + fiber_force * (-p.sin_alpha * d_alpha);
+        let tendon_stiffness = p.d_tendon_force_length * f / self.tendon_slack_length;
+        let d_tendon_force = tendon_stiffness
+            * self.pennation.d_tendon_length_d_fiber_length(
+                p.fiber_length,
+                p.sin_alpha,
+                p.cos_alpha,
+            );
+        d_force_along_tendon - d_tendon_force
+    }
+
+    /// Static equilibrium at fiber velocity 0: the fiber length in [L_min, L_slack] (L_slack:
+    /// the tendon exactly at slack length) where F_m cos α = F_t, by bracketed Newton to
+    /// 5e-10 N (or to the resolution of the fiber length). At the edges: when even the minimum fiber length leaves the tendon slack, or the
+    /// fiber's force at its minimum length exceeds the tendon's (the pennation/active-length
+    /// limit), the fiber stays at its minimum length with zero fiber force, as OpenSim clamps
+    /// it (`ClampedAtMinimumFiberLength`). A rigid tendon (`ignore_tendon_compliance`) has
+    /// L_t = L_ts and no solve.
+    pub fn equilibrium(
+        &self,
+        activation: f64,
+        mt_length: f64,
+    ) -> Result<FiberEquilibrium, MuscleError> {
+        check_inputs(&self.name, activation, mt_length)?;
+        let a = self.clamp_activation(activation);
+        let slack_fiber_length = self
+            .pennation
+            .fiber_length(mt_length, self.tendon_slack_length)
+            .max(self.minimum_fiber_length);
+        if self.ignore_tendon_compliance {
+            return Ok(self.report(a, mt_length, slack_fiber_length, 0.0, true));
+        }
+        if slack_fiber_length <= self.minimum_fiber_length
+            || self
+                .force_balance(a, self.minimum_fiber_length, mt_length)
+                .0
+                >= 0.0
+        {
+            return Ok(self.report(a, mt_length, self.minimum_fiber_length, 0.0, false));
+        }
+        let residual = |l: f64| self.force_balance(a, l, mt_length);
+        // OpenSim's first guess: the tendon 1 % beyond slack.
+        let start = self
+            .pennation
+            .fiber_length(mt_length, self.tendon_slack_length * 1.01);
+        let length_resolution = 4.0 * f64::EPSILON * slack_fiber_length;
+        match bracketed_newton_from(
+            residual,
+            start,
+            self.minimum_fiber_length,
+            slack_fiber_length,
+            length_resolution,
+            FORCE_TOLERANCE,
+            200,
+        ) {
+            Ok(root) => Ok(self.report(a, mt_length, root.x, 0.0, false)),
+            Err(failure) => Err(self.solve_failure(activation, mt_length, failure)),
+        }
+    }
+
+    pub(super) fn solve_failure(
+        &self,
+        activation: f64,
+        mt_length: f64,
+        failure: RootFailure,
+    ) -> MuscleError {
+        let muscle = self.name.clone();
+        match failure {
+            RootFailure::NotConverged(best) => {
+                MuscleError::NotConverged { muscle, activation, mt_length, iterations: best.iterations, residual: best.residual }
+            }
+            RootFailure::NoSignChange(lo, hi) => MuscleError::Infeasible {
+                muscle,
+                activation,
+                mt_length,
+                reason: format!("the force balance does not change sign between the shortest and the slack fiber ({lo} N, {hi} N)"),
+            },
+            RootFailure::NotFinite(x) => MuscleError::Infeasible {
+                muscle,
+                activation,
+                mt_length,
+                reason: format!("non-finite force at fiber length {x} m"),
+            },
+        }
+    }
+
+    /// The reported state at fiber length `fiber_length` and normalised fiber velocity
+    /// `norm_velocity` (`calcMuscleLengthInfo` + `calcMuscleDynamicsInfo`), activation already
+    /// clamped. A fiber at its minimum length and not lengthening is clamped: zero fiber force.
+    pub(super) fn report(
+        &self,
+        a: f64,
+        mt_length: f64,
+        fiber_length: f64,
+        norm_velocity: f64,
+        rigid: bool,
+    ) -> FiberEquilibrium {
+        let fiber_length = fiber_length.max(self.minimum_fiber_length);
+        let p = self.position(fiber_length, mt_length);
+        let f = self.max_isometric_force;
+        let clamped = fiber_length <= self.minimum_fiber_length && norm_velocity <= 0.0;
+        let (norm_velocity, fv) = if clamped {
+            (0.0, 1.0)
+        } else {
+            (
+                norm_velocity,
+                self.curves.force_velocity.value(norm_velocity),
+            )
+        };
+        let (active, passive) = if clamped {
+            (0.0, 0.0)
+        } else {
+            (
+                f * (a * p.active_force_length * fv),
+                f * p.fiber_force_length + f * self.fiber_damping * norm_velocity,
+            )
+        };
+        let fiber_force = active + passive;
+        let along_tendon = fiber_force * p.cos_alpha;
+        let tendon_force = if rigid {
+            along_tendon
+        } else {
+            p.tendon_force_length * f
+        };
+        FiberEquilibrium {
+            activation: a,
+            mt_length,
+            fiber_length,
+            normalized_fiber_length: p.norm_fiber_length,
+            pennation_angle: p.pennation_angle,
+            cos_pennation_angle: p.cos_alpha,
+            fiber_length_along_tendon: fiber_length * p.cos_alpha,
+            tendon_length: p.tendon_length,
+            tendon_strain: p.norm_tendon_length - 1.0,
+            tendon_force,
+            active_fiber_force: active,
+            passive_fiber_force: passive,
+            fiber_force,
+            fiber_force_along_tendon: along_tendon,
+            active_force_length_multiplier: p.active_force_length,
+            passive_force_multiplier: p.fiber_force_length,
+            force_velocity_multiplier: fv,
+            normalized_fiber_velocity: norm_velocity,
+            status: if clamped {
+                EquilibriumStatus::ClampedAtMinimumFiberLength
+            } else {
+                EquilibriumStatus::Converged
+            },
+        }
+    }
+}
+
+/// OpenSim rejects α_opt outside [0, π/2) and α_max outside [0, π/2].
+fn check_pennation(name: &str, optimal: f64, maximum: f64) -> Result<(), MuscleError> {
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    if !(0.0..=half_pi - SIGNIFICANT_REAL).contains(&optimal) {
+        return Err(MuscleError::invalid_parameter(
+            name,
+            "pennation_angle_at_optimal",
+            optimal,
+            "an angle in [0, π/2) rad",
+        ));
+    }
+    if !(0.0..=half_pi).contains(&maximum) {
+        return Err(MuscleError::invalid_parameter(
+            name,
+            "maximum_pennation_angle",
+            maximum,
+            "an angle in [0, π/2] rad",
+        ));
+    }
+    Ok(())
+}
+
+/// (k_low, k_iso, curviness) in use: all three set, or all derived from the strains.
+fn fiber_force_length_in_use(
+    name: &str,
+    fpe: &crate::model::FiberForceLengthCurveSpec,
+) -> Result<(f64, f64, f64), MuscleError> {
+    match (fpe.stiffness_at_low_force, fpe.stiffness_at_one_norm_force, fpe.curviness) {
+        (Some(low), Some(iso), Some(c)) => Ok((low, iso, c)),
+        (None, None, None) => Ok((0.2, 2.0 / (fpe.strain_at_one_norm_force - fpe.strain_at_zero_force), 0.75)),
+        _ => Err(MuscleError::invalid_parameter(
+            name,
+            "FiberForceLengthCurve.stiffness_at_low_force",
+            f64::NAN,
+            "stiffness_at_low_force, stiffness_at_one_norm_force and curviness all set or all empty",
+        )),
+    }
+}
+
+/// (k_iso, f_toe, curviness) in use: all three set, or all derived from the strain.
+fn tendon_force_length_in_use(
+    name: &str,
+    tfl: &crate::model::TendonForceLengthCurveSpec,
+) -> Result<(f64, f64, f64), MuscleError> {
+    match (
+        tfl.stiffness_at_one_norm_force,
+        tfl.norm_force_at_toe_end,
+        tfl.curviness,
+    ) {
+        (Some(k), Some(f), Some(c)) => Ok((k, f, c)),
+        (None, None, None) => Ok((1.375 / tfl.strain_at_one_norm_force, 2.0 / 3.0, 0.5)),
+        _ => Err(MuscleError::invalid_parameter(
+            name,
+            "TendonForceLengthCurve.stiffness_at_one_norm_force",
+            f64::NAN,
+            "stiffness_at_one_norm_force, norm_force_at_toe_end and curviness all set or all empty",
+        )),
+    }
+}

@@ -1,0 +1,124 @@
+//! Millard fiber velocity from the force balance at a given fiber length
+//! (`calcFiberVelocityInfo`): the damped model solves a f_L f_V(ṽ) + f_PE + β ṽ = f_T / cos α
+//! for ṽ by Newton's method; the classic model inverts f_V directly.
+
+use super::muscle::Millard2012Muscle;
+use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
+use crate::mechanics::muscle::{check_inputs, MuscleError};
+
+/// Newton steps of the damped velocity solve (`calcDampedNormFiberVelocity`).
+const MAX_VELOCITY_ITERATIONS: usize = 20;
+
+impl Millard2012Muscle {
+    /// Normalised fiber velocity ṽ = dL_m/dt / (v_max L_opt) balancing fiber and tendon at
+    /// fiber length `fiber_length` (clamped to the minimum), activation `a` (already clamped).
+    pub(super) fn norm_fiber_velocity(
+        &self,
+        a: f64,
+        fiber_length: f64,
+        mt_length: f64,
+    ) -> Result<f64, MuscleError> {
+        let p = self.position(fiber_length.max(self.minimum_fiber_length), mt_length);
+        let (fal, fpe, fse, cos_alpha) = (
+            p.active_force_length,
+            p.fiber_force_length,
+            p.tendon_force_length,
+            p.cos_alpha,
+        );
+        if self.fiber_damping > 0.0 {
+            return self.damped_norm_fiber_velocity(a, fal, fpe, fse, cos_alpha);
+        }
+        let singular = [
+            (cos_alpha, "cos of the pennation angle"),
+            (a, "activation"),
+            (fal, "active force-length multiplier"),
+        ];
+        if let Some((value, what)) = singular.iter().find(|(v, _)| *v <= SIGNIFICANT_REAL) {
+            return Err(MuscleError::invalid_input(
+                &self.name,
+                what,
+                *value,
+                "a positive value (the undamped model is singular at 0)",
+            ));
+        }
+        let fv = (fse / cos_alpha - fpe) / (a * fal);
+        Ok(self.curves.force_velocity_inverse.value(fv))
+    }
+
+    /// `calcDampedNormFiberVelocity`: Newton on F_m(ṽ) cos α − F_t, tolerance 1e-10 F_max.
+    fn damped_norm_fiber_velocity(
+        &self,
+        a: f64,
+        fal: f64,
+        fpe: f64,
+        fse: f64,
+        cos_alpha: f64,
+    ) -> Result<f64, MuscleError> {
+        let (f, beta) = (self.max_isometric_force, self.fiber_damping);
+        let tolerance = (1e-10 * f).max(SIGNIFICANT_REAL * 100.0);
+        let fv_undamped = (fse / cos_alpha.max(0.01) - fpe) / (a.max(0.01) * fal.max(0.01));
+        let mut v = self
+            .curves
+            .force_velocity_inverse
+            .value(fv_undamped)
+            .clamp(-1.0, 1.0);
+        let mut error = 1e10;
+        for _ in 0..MAX_VELOCITY_ITERATIONS {
+            let (fv, d_fv) = self.curves.force_velocity.value_and_derivative(v);
+            let fiber_force = f * (a * fal * fv) + (f * fpe + f * beta * v);
+            error = fiber_force * cos_alpha - fse * f;
+            if error.abs() <= tolerance {
+                return Ok(v);
+            }
+            let d_error = f * (a * fal * d_fv + beta) * cos_alpha;
+            if d_error.abs() <= SIGNIFICANT_REAL {
+                break;
+            }
+            v += -error / d_error;
+        }
+        Err(MuscleError::NotConverged {
+            muscle: self.name.clone(),
+            activation: a,
+            mt_length: f64::NAN,
+            iterations: MAX_VELOCITY_ITERATIONS,
+            residual: error,
+        })
+    }
+
+    /// dL_m/dt (m/s) of forward simulation at activation `activation`, fiber length
+    /// `fiber_length` and path length `mt_length` (path not moving), as OpenSim's
+    /// `getFiberVelocity`; 0 while the fiber is held at its minimum length.
+    pub fn fiber_velocity(
+        &self,
+        activation: f64,
+        fiber_length: f64,
+        mt_length: f64,
+    ) -> Result<f64, MuscleError> {
+        check_inputs(&self.name, activation, mt_length)?;
+        if self.ignore_tendon_compliance {
+            return Err(MuscleError::invalid_input(
+                &self.name,
+                "ignore_tendon_compliance",
+                1.0,
+                "a compliant tendon (a rigid-tendon muscle has no fiber-length state)",
+            ));
+        }
+        if !(fiber_length > 0.0 && fiber_length.is_finite()) {
+            return Err(MuscleError::invalid_input(
+                &self.name,
+                "fiber length",
+                fiber_length,
+                "a positive length in m",
+            ));
+        }
+        let v =
+            self.norm_fiber_velocity(self.clamp_activation(activation), fiber_length, mt_length)?;
+        let clamped =
+            fiber_length.max(self.minimum_fiber_length) <= self.minimum_fiber_length && v <= 0.0;
+        Ok(if clamped {
+            0.0
+        } else {
+            v * self.optimal_fiber_length * self.max_contraction_velocity
+        })
+    }
+}

@@ -1,0 +1,138 @@
+//! Hill-type muscle mechanics equal to OpenSim 4.6's: the curves of `Millard2012EquilibriumMuscle`,
+//! `Thelen2003Muscle` and `DeGrooteFregly2016Muscle`, fixed-width pennation, and the static
+//! (zero fiber velocity) equilibrium between fiber and tendon for an activation and path length.
+
+mod degroote;
+mod equilibrium;
+mod error;
+mod millard;
+mod pennation;
+mod root;
+mod thelen;
+
+pub use degroote::{DeGrooteCurves, DeGrooteFregly2016Muscle};
+pub use equilibrium::{EquilibriumStatus, FiberEquilibrium};
+pub use error::MuscleError;
+pub use millard::{
+    force_velocity_inverse, ForceVelocityShape, Millard2012Muscle, MillardCurves,
+    SmoothSegmentedFunction,
+};
+pub use pennation::FixedWidthPennation;
+pub use root::{bracketed_newton, bracketed_newton_from, Root, RootFailure};
+pub use thelen::{Thelen2003Muscle, ThelenCurves};
+
+use crate::model::{ForceSpec, MuscleModelSpec, MuscleSpec};
+
+/// A muscle of one of the supported classes.
+#[derive(Debug, Clone)]
+pub enum HillMuscle {
+    Millard(Box<Millard2012Muscle>),
+    Thelen(Thelen2003Muscle),
+    DeGroote(DeGrooteFregly2016Muscle),
+}
+
+impl HillMuscle {
+    /// Builds the muscle of a force element; an error for classes without mechanics here.
+    pub fn from_force(force: &ForceSpec) -> Result<HillMuscle, MuscleError> {
+        let spec = force
+            .muscle
+            .as_ref()
+            .ok_or_else(|| MuscleError::Unsupported {
+                muscle: force.name.clone(),
+                class: force.class.clone(),
+            })?;
+        HillMuscle::new(&force.name, spec)
+    }
+
+    pub fn new(name: &str, spec: &MuscleSpec) -> Result<HillMuscle, MuscleError> {
+        Ok(match &spec.model {
+            MuscleModelSpec::Millard2012(m) => {
+                HillMuscle::Millard(Box::new(Millard2012Muscle::new(name, spec, m)?))
+            }
+            MuscleModelSpec::Thelen2003(t) => {
+                HillMuscle::Thelen(Thelen2003Muscle::new(name, spec, t)?)
+            }
+            MuscleModelSpec::DeGrooteFregly2016(d) => {
+                HillMuscle::DeGroote(DeGrooteFregly2016Muscle::new(name, spec, d)?)
+            }
+        })
+    }
+
+    /// Static equilibrium (fiber velocity 0) at activation `activation` ∈ [0, 1] and path length
+    /// `mt_length` (m).
+    pub fn equilibrium(
+        &self,
+        activation: f64,
+        mt_length: f64,
+    ) -> Result<FiberEquilibrium, MuscleError> {
+        match self {
+            HillMuscle::Millard(m) => m.equilibrium(activation, mt_length),
+            HillMuscle::Thelen(m) => m.equilibrium(activation, mt_length),
+            HillMuscle::DeGroote(m) => m.equilibrium(activation, mt_length),
+        }
+    }
+
+    /// Static force balance F_m cos α − F_t (N, zero fiber velocity) at fiber length
+    /// `fiber_length` (m) for the classes that solve for the fiber length (Millard, Thelen);
+    /// `None` for DeGroote, which solves for the tendon force.
+    pub fn static_force_residual(
+        &self,
+        activation: f64,
+        fiber_length: f64,
+        mt_length: f64,
+    ) -> Option<f64> {
+        match self {
+            HillMuscle::Millard(m) => Some(
+                m.force_balance(m.clamp_activation(activation), fiber_length, mt_length)
+                    .0,
+            ),
+            HillMuscle::Thelen(m) => {
+                Some(m.static_force_residual(activation, fiber_length, mt_length))
+            }
+            HillMuscle::DeGroote(_) => None,
+        }
+    }
+
+    /// dL_m/dt (m/s) at activation `activation`, fiber length `fiber_length` (m) and path
+    /// length `mt_length` (m), the path at rest: the state derivative OpenSim's forward
+    /// simulation uses (Millard, Thelen and implicit-mode DeGroote balance fiber and tendon
+    /// forces; explicit-mode DeGroote, as OpenSim, leaves fiber damping out). Lengthening
+    /// positive.
+    pub fn fiber_velocity(
+        &self,
+        activation: f64,
+        fiber_length: f64,
+        mt_length: f64,
+    ) -> Result<f64, MuscleError> {
+        match self {
+            HillMuscle::Millard(m) => m.fiber_velocity(activation, fiber_length, mt_length),
+            HillMuscle::Thelen(m) => m.fiber_velocity(activation, fiber_length, mt_length),
+            HillMuscle::DeGroote(m) => m.fiber_velocity(activation, fiber_length, mt_length),
+        }
+    }
+}
+
+/// Checks activation ∈ [0, 1] and a positive, finite path length.
+pub(crate) fn check_inputs(
+    muscle: &str,
+    activation: f64,
+    mt_length: f64,
+) -> Result<(), MuscleError> {
+    if !(0.0..=1.0).contains(&activation) {
+        return Err(MuscleError::invalid_input(
+            muscle,
+            "activation",
+            activation,
+            "a number in [0, 1]",
+        ));
+    }
+    if !(mt_length > 0.0 && mt_length.is_finite()) {
+        return Err(MuscleError::invalid_input(
+            muscle,
+            "muscle-tendon length",
+            mt_length,
+            "a positive length in m",
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,86 @@
+//! OpenSim's `MuscleFixedWidthPennationModel`: the fiber keeps the height of its parallelogram,
+//! h = L_opt · sin α_opt, so sin α = h / L_m, capped at the maximum pennation angle.
+
+/// Fixed-width pennation of one muscle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FixedWidthPennation {
+    /// α_opt, rad.
+    pub pennation_angle_at_optimal: f64,
+    /// α_max, rad.
+    pub maximum_pennation_angle: f64,
+    /// h = L_opt · sin α_opt, m.
+    pub parallelogram_height: f64,
+    maximum_sin_pennation: f64,
+    /// The shortest fiber the pennation model allows, m: h / sin α_max (1 % of L_opt when
+    /// α_max = 0).
+    pub minimum_fiber_length: f64,
+}
+
+impl FixedWidthPennation {
+    pub fn new(
+        optimal_fiber_length: f64,
+        pennation_angle_at_optimal: f64,
+        maximum_pennation_angle: f64,
+    ) -> Self {
+        let parallelogram_height = optimal_fiber_length * pennation_angle_at_optimal.sin();
+        let maximum_sin_pennation = maximum_pennation_angle.sin();
+        let minimum_fiber_length = if maximum_pennation_angle > SIGNIFICANT_REAL {
+            parallelogram_height / maximum_sin_pennation
+        } else {
+            optimal_fiber_length * 0.01
+        };
+        FixedWidthPennation {
+            pennation_angle_at_optimal,
+            maximum_pennation_angle,
+            parallelogram_height,
+            maximum_sin_pennation,
+            minimum_fiber_length,
+        }
+    }
+
+    /// α(L_m), rad: asin(h / L_m), or α_max at and below the minimum fiber length.
+    pub fn pennation_angle(&self, fiber_length: f64) -> f64 {
+        if self.pennation_angle_at_optimal <= f64::EPSILON {
+            return 0.0;
+        }
+        if fiber_length > self.minimum_fiber_length {
+            let sin_phi = self.parallelogram_height / fiber_length;
+            if sin_phi < self.maximum_sin_pennation {
+                return sin_phi.asin();
+            }
+        }
+        self.maximum_pennation_angle
+    }
+
+    /// dα/dL_m = −(h/L_m²)/√(1 − (h/L_m)²), rad/m, OpenSim's formula (not capped at α_max; 0 for
+    /// unpennated muscles).
+    pub fn d_pennation_d_fiber_length(&self, fiber_length: f64) -> f64 {
+        let h_over_l = self.parallelogram_height / fiber_length;
+        (-h_over_l / fiber_length) / (1.0 - h_over_l * h_over_l).sqrt()
+    }
+
+    /// dL_t/dL_m at fixed path length = L_m sin α · dα/dL_m − cos α.
+    pub fn d_tendon_length_d_fiber_length(
+        &self,
+        fiber_length: f64,
+        sin_alpha: f64,
+        cos_alpha: f64,
+    ) -> f64 {
+        fiber_length * sin_alpha * self.d_pennation_d_fiber_length(fiber_length) - cos_alpha
+    }
+
+    /// The fiber length whose projection fills L_mt − L_t: √(h² + (L_mt − L_t)²), or the
+    /// minimum fiber length when the projection is shorter than its minimum (m).
+    pub fn fiber_length(&self, mt_length: f64, tendon_length: f64) -> f64 {
+        let along_tendon = mt_length - tendon_length;
+        if along_tendon >= self.minimum_fiber_length * self.maximum_pennation_angle.cos() {
+            (self.parallelogram_height * self.parallelogram_height + along_tendon * along_tendon)
+                .sqrt()
+        } else {
+            self.minimum_fiber_length
+        }
+    }
+}
+
+/// SimTK::SignificantReal = ε^(7/8) for doubles.
+pub const SIGNIFICANT_REAL: f64 = 2.0097183471152322e-14;
