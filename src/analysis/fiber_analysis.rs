@@ -3,8 +3,9 @@
 //! pose, and the moments r·F_t it produces about each spanned coordinate.
 
 use super::activation::Activations;
+use super::{path_labels, storage, Spans};
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::muscle::{FiberEquilibrium, HillMuscle, MuscleError};
+use crate::mechanics::muscle::{EquilibriumStatus, FiberEquilibrium, HillMuscle, MuscleError};
 use crate::mechanics::{Motion, MuscleGeometry, PathEvaluation};
 use crate::model::ModelSpec;
 
@@ -17,8 +18,9 @@ pub struct FiberAnalysis {
     /// `Moment_<coordinate>`: r·F_t per muscle (N·m, or N for a translational coordinate) and
     /// their `total`.
     pub moments: Vec<(String, StorageTable)>,
-    /// Muscles at their minimum fiber length (slack) somewhere in the motion, with a count.
-    pub slack: Vec<(String, usize)>,
+    /// Muscles held at their minimum fiber length without fiber force
+    /// (`ClampedAtMinimumFiberLength`) in some rows, with the number of rows.
+    pub clamped: Vec<(String, usize)>,
 }
 
 /// Why the analysis stopped.
@@ -26,8 +28,6 @@ pub struct FiberAnalysis {
 pub enum FiberAnalysisError {
     #[error("at time {time} s: {source}")]
     Muscle { time: f64, source: MuscleError },
-    #[error(transparent)]
-    Muscles(#[from] MuscleError),
     #[error(transparent)]
     Table(#[from] TableError),
 }
@@ -81,16 +81,11 @@ impl FiberAnalysis {
     ) -> Result<FiberAnalysis, FiberAnalysisError> {
         let paths: Vec<usize> = muscles.iter().map(|(p, _)| *p).collect();
         let mut evaluation = PathEvaluation::new(geometry, &paths);
-        let mut spanned: Vec<usize> = paths
-            .iter()
-            .flat_map(|&p| geometry.paths[p].spanned.iter().copied())
-            .collect();
-        spanned.sort_unstable();
-        spanned.dedup();
+        let Spans { coordinates: spanned, slots } = Spans::new(geometry, &paths);
         let n = muscles.len();
         let mut columns = vec![Vec::with_capacity(motion.len() * (n + 1)); QUANTITIES.len()];
         let mut moments = vec![Vec::with_capacity(motion.len() * (n + 2)); spanned.len()];
-        let mut slack = vec![0usize; n];
+        let mut clamped = vec![0usize; n];
         let mut states = Vec::with_capacity(n);
         for (row, &time) in motion.times.iter().enumerate() {
             evaluation.evaluate(geometry, motion.pose(row));
@@ -99,42 +94,28 @@ impl FiberAnalysis {
                 let state = muscle
                     .equilibrium(activations.at(k, time), evaluation.length(k))
                     .map_err(|source| FiberAnalysisError::Muscle { time, source })?;
-                slack[k] += usize::from(state.fiber_force == 0.0 && state.tendon_force == 0.0);
+                clamped[k] += usize::from(state.status == EquilibriumStatus::ClampedAtMinimumFiberLength);
                 states.push(state);
             }
             for (table, (_, quantity)) in columns.iter_mut().zip(QUANTITIES) {
                 table.push(time);
                 table.extend(states.iter().map(quantity));
             }
-            for (table, &c) in moments.iter_mut().zip(&spanned) {
+            for (table, slots) in moments.iter_mut().zip(&slots) {
                 table.push(time);
-                let per_muscle: Vec<f64> = (0..n)
-                    .map(|k| {
-                        let slot = geometry.paths[paths[k]]
-                            .spanned
-                            .iter()
-                            .position(|&s| s == c);
-                        slot.map_or(0.0, |i| {
-                            evaluation.moment_arms(k)[i] * states[k].tendon_force
-                        })
-                    })
-                    .collect();
-                let total = per_muscle.iter().sum();
-                table.extend(per_muscle);
+                let first = table.len();
+                table.extend(slots.iter().enumerate().map(|(k, slot)| {
+                    slot.map_or(0.0, |i| evaluation.moment_arms(k)[i] * states[k].tendon_force)
+                }));
+                let total = table[first..].iter().sum();
                 table.push(total);
             }
         }
-        let names: Vec<String> = paths
-            .iter()
-            .map(|&p| geometry.paths[p].name.clone())
-            .collect();
-        let labels: Vec<String> = std::iter::once("time".to_string())
-            .chain(names.iter().cloned())
-            .collect();
+        let labels = path_labels(geometry, &paths);
         let tables = QUANTITIES
             .iter()
             .zip(columns)
-            .map(|((name, _), values)| table(name, labels.clone(), values))
+            .map(|((name, _), values)| storage(name, labels.clone(), values))
             .collect::<Result<_, _>>()?;
         let mut moment_labels = labels;
         moment_labels.push("total".into());
@@ -145,23 +126,16 @@ impl FiberAnalysis {
                 let name = geometry.multibody.coordinates[c].name.clone();
                 Ok((
                     name.clone(),
-                    table(&format!("Moment_{name}"), moment_labels.clone(), values)?,
+                    storage(&format!("Moment_{name}"), moment_labels.clone(), values)?,
                 ))
             })
             .collect::<Result<_, TableError>>()?;
-        let slack = names
-            .into_iter()
-            .zip(slack)
+        let clamped = paths
+            .iter()
+            .zip(clamped)
             .filter(|(_, count)| *count > 0)
+            .map(|(&p, count)| (geometry.paths[p].name.clone(), count))
             .collect();
-        Ok(FiberAnalysis {
-            tables,
-            moments,
-            slack,
-        })
+        Ok(FiberAnalysis { tables, moments, clamped })
     }
-}
-
-fn table(name: &str, labels: Vec<String>, values: Vec<f64>) -> Result<StorageTable, TableError> {
-    Ok(StorageTable::new(name, labels, values)?.with_in_degrees(false))
 }

@@ -7,3 +7,36 @@ mod muscle_analysis;
 pub use activation::{ActivationError, Activations};
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use muscle_analysis::MuscleAnalysis;
+
+use crate::io::table::{StorageTable, TableError};
+use crate::mechanics::MuscleGeometry;
+
+/// The coordinates some of the chosen paths span, in model order, and where each sits in each
+/// path's `spanned` list: `slots[t][k]` for coordinate t and chosen path k.
+struct Spans {
+    coordinates: Vec<usize>,
+    slots: Vec<Vec<Option<usize>>>,
+}
+
+impl Spans {
+    fn new(geometry: &MuscleGeometry, paths: &[usize]) -> Spans {
+        let mut coordinates: Vec<usize> = paths.iter().flat_map(|&p| geometry.paths[p].spanned.iter().copied()).collect();
+        coordinates.sort_unstable();
+        coordinates.dedup();
+        let slots = coordinates
+            .iter()
+            .map(|&c| paths.iter().map(|&p| geometry.paths[p].spanned.iter().position(|&s| s == c)).collect())
+            .collect();
+        Spans { coordinates, slots }
+    }
+}
+
+/// `time` and then one label per chosen path.
+fn path_labels(geometry: &MuscleGeometry, paths: &[usize]) -> Vec<String> {
+    std::iter::once("time".to_string()).chain(paths.iter().map(|&p| geometry.paths[p].name.clone())).collect()
+}
+
+/// A radian-valued storage table.
+fn storage(name: &str, labels: Vec<String>, values: Vec<f64>) -> Result<StorageTable, TableError> {
+    Ok(StorageTable::new(name, labels, values)?.with_in_degrees(false))
+}

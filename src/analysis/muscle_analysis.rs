@@ -1,6 +1,7 @@
 //! MuscleAnalysis: muscle-tendon lengths, moment arms and marker locations along a motion, as
 //! OpenSim's `MuscleAnalysis` and `MarkerLocations` report them.
 
+use super::{path_labels, storage, Spans};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Motion, MuscleGeometry, PathEvaluation};
 
@@ -23,13 +24,8 @@ impl MuscleAnalysis {
         let multibody = &geometry.multibody;
         let muscles: Vec<usize> = (0..geometry.paths.len()).collect();
         let mut evaluation = PathEvaluation::new(geometry, &muscles);
-        let mut spanned: Vec<usize> = geometry.paths.iter().flat_map(|p| p.spanned.iter().copied()).collect();
-        spanned.sort_unstable();
-        spanned.dedup();
+        let Spans { coordinates: spanned, slots } = Spans::new(geometry, &muscles);
         let n_muscles = muscles.len();
-        // slots[t][k]: index of table t's coordinate in muscle k's spanned list.
-        let slots: Vec<Vec<Option<usize>>> =
-            spanned.iter().map(|&c| geometry.paths.iter().map(|p| p.spanned.iter().position(|&s| s == c)).collect()).collect();
         let mut lengths = Vec::with_capacity(motion.len() * (n_muscles + 1));
         let mut moment_arms = vec![Vec::with_capacity(motion.len() * (n_muscles + 1)); spanned.len()];
         let mut markers = Vec::with_capacity(motion.len() * (3 * multibody.markers.len() + 1));
@@ -46,7 +42,7 @@ impl MuscleAnalysis {
                 markers.extend(evaluation.kinematics().marker_location(multibody, marker).iter());
             }
         }
-        let muscle_labels: Vec<String> = std::iter::once("time".to_string()).chain(geometry.paths.iter().map(|p| p.name.clone())).collect();
+        let muscle_labels = path_labels(geometry, &muscles);
         let marker_labels = std::iter::once("time".to_string())
             .chain(multibody.markers.iter().flat_map(|m| ["tx", "ty", "tz"].map(|axis| format!("{}_{axis}", m.name))))
             .collect();
@@ -55,18 +51,14 @@ impl MuscleAnalysis {
             .zip(moment_arms)
             .map(|(&c, values)| {
                 let name = multibody.coordinates[c].name.clone();
-                Ok((name.clone(), table(&format!("MomentArm_{name}"), muscle_labels.clone(), values)?))
+                Ok((name.clone(), storage(&format!("MomentArm_{name}"), muscle_labels.clone(), values)?))
             })
             .collect::<Result<_, TableError>>()?;
         Ok(MuscleAnalysis {
-            lengths: table("Length", muscle_labels, lengths)?,
+            lengths: storage("Length", muscle_labels, lengths)?,
             moment_arms,
-            marker_locations: table("MarkerLocations", marker_labels, markers)?,
+            marker_locations: storage("MarkerLocations", marker_labels, markers)?,
             ignored_wraps: geometry.paths.iter().filter(|p| !p.ignored_wraps.is_empty()).map(|p| (p.name.clone(), p.ignored_wraps.clone())).collect(),
         })
     }
-}
-
-fn table(name: &str, labels: Vec<String>, values: Vec<f64>) -> Result<StorageTable, TableError> {
-    Ok(StorageTable::new(name, labels, values)?.with_in_degrees(false))
 }

@@ -7,10 +7,10 @@ use std::path::Path;
 use super::geometry::Worst;
 use super::golden::{GoldenError, GoldenTable};
 use crate::mechanics::muscle::{
-    force_velocity_inverse, FiberEquilibrium, ForceVelocityShape, HillMuscle, Millard2012Muscle,
+    force_velocity_inverse, FiberEquilibrium, HillMuscle, Millard2012Muscle,
     MuscleError, SmoothSegmentedFunction,
 };
-use crate::model::ModelSpec;
+use crate::model::{ForceVelocityCurveSpec, ModelSpec};
 
 /// Worst differences of curve samples: values absolute, derivatives relative to max(1, |golden|).
 #[derive(Debug, Clone, Default)]
@@ -22,7 +22,7 @@ pub struct CurveComparison {
 
 /// The class-default `ForceVelocityInverseCurve` OpenSim 4.6 constructs (the golden's set 0).
 pub fn default_force_velocity_inverse() -> SmoothSegmentedFunction {
-    let shape = ForceVelocityShape {
+    let shape = ForceVelocityCurveSpec {
         concentric_slope_at_vmax: 0.1,
         concentric_slope_near_vmax: 0.25,
         isometric_slope: 5.0,

@@ -107,7 +107,9 @@ fn fiber_analysis(
             return Err(format!("--activation {a}: expected a number in [0, 1]").into());
         }
     }
-    let (muscles, skipped) = hill_muscles(spec, geometry)?;
+    // Muscle errors name the muscle and property; the model file completes the address.
+    let in_model = |e: &dyn std::fmt::Display| format!("{}: {e}", spec.file.display());
+    let (muscles, skipped) = hill_muscles(spec, geometry).map_err(|e| in_model(&e))?;
     let names: Vec<String> = muscles
         .iter()
         .map(|(p, _)| geometry.paths[*p].name.clone())
@@ -120,10 +122,8 @@ fn fiber_analysis(
             Activations::from_table(&table, &file, &names)?
         }
     };
-    Ok((
-        FiberAnalysis::run(geometry, &muscles, motion, &activations)?,
-        skipped,
-    ))
+    let fibers = FiberAnalysis::run(geometry, &muscles, motion, &activations).map_err(|e| in_model(&e))?;
+    Ok((fibers, skipped))
 }
 
 fn report(
@@ -164,15 +164,15 @@ fn report_fibers(fibers: &FiberAnalysis, skipped: &[String]) {
             abbreviated(skipped)
         );
     }
-    if !fibers.slack.is_empty() {
-        let slack: Vec<String> = fibers
-            .slack
+    if !fibers.clamped.is_empty() {
+        let clamped: Vec<String> = fibers
+            .clamped
             .iter()
             .map(|(m, n)| format!("{m} ({n} rows)"))
             .collect();
         eprintln!(
-            "note: slack (fiber at its minimum length, no force) in some rows: {}",
-            abbreviated(&slack)
+            "note: fiber held at its minimum length, no fiber force (slack or overstretched path) in some rows: {}",
+            abbreviated(&clamped)
         );
     }
 }

@@ -14,7 +14,7 @@ pub use degroote::{DeGrooteCurves, DeGrooteFregly2016Muscle};
 pub use equilibrium::{EquilibriumStatus, FiberEquilibrium};
 pub use error::MuscleError;
 pub use millard::{
-    force_velocity_inverse, ForceVelocityShape, Millard2012Muscle, MillardCurves,
+    force_velocity_inverse, Millard2012Muscle, MillardCurves,
     SmoothSegmentedFunction,
 };
 pub use pennation::FixedWidthPennation;
@@ -133,6 +133,16 @@ pub(crate) fn check_inputs(
             mt_length,
             "a positive length in m",
         ));
+    }
+    Ok(())
+}
+
+/// Fiber velocity is a state derivative only with a compliant tendon: a rigid-tendon muscle
+/// (`ignore_tendon_compliance`) has no fiber-length state, its fiber follows the path.
+pub(crate) fn check_compliant_tendon(muscle: &str, ignore_tendon_compliance: bool) -> Result<(), MuscleError> {
+    if ignore_tendon_compliance {
+        let expected = "a compliant tendon (a rigid-tendon muscle has no fiber-length state; its fiber follows the path)";
+        return Err(MuscleError::invalid_input(muscle, "ignore_tendon_compliance", 1.0, expected));
     }
     Ok(())
 }

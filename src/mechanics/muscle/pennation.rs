@@ -14,6 +14,8 @@ pub struct FixedWidthPennation {
     /// The shortest fiber the pennation model allows, m: h / sin α_max (1 % of L_opt when
     /// α_max = 0).
     pub minimum_fiber_length: f64,
+    /// Its projection on the tendon, L_min cos α_max, m.
+    minimum_fiber_length_along_tendon: f64,
 }
 
 impl FixedWidthPennation {
@@ -35,6 +37,7 @@ impl FixedWidthPennation {
             parallelogram_height,
             maximum_sin_pennation,
             minimum_fiber_length,
+            minimum_fiber_length_along_tendon: minimum_fiber_length * maximum_pennation_angle.cos(),
         }
     }
 
@@ -73,7 +76,7 @@ impl FixedWidthPennation {
     /// minimum fiber length when the projection is shorter than its minimum (m).
     pub fn fiber_length(&self, mt_length: f64, tendon_length: f64) -> f64 {
         let along_tendon = mt_length - tendon_length;
-        if along_tendon >= self.minimum_fiber_length * self.maximum_pennation_angle.cos() {
+        if along_tendon >= self.minimum_fiber_length_along_tendon {
             (self.parallelogram_height * self.parallelogram_height + along_tendon * along_tendon)
                 .sqrt()
         } else {

@@ -15,7 +15,7 @@
 use super::curves::DeGrooteCurves;
 use super::muscle::TendonDynamics;
 use super::DeGrooteFregly2016Muscle;
-use crate::mechanics::muscle::{bracketed_newton, check_inputs, MuscleError};
+use crate::mechanics::muscle::{bracketed_newton, check_compliant_tendon, check_inputs, MuscleError};
 
 /// The implicit solve stops when the force balance is within this (normalized force) …
 const RESIDUAL_TOLERANCE: f64 = 1e-14;
@@ -37,16 +37,7 @@ impl DeGrooteFregly2016Muscle {
         mt_length: f64,
     ) -> Result<f64, MuscleError> {
         check_inputs(&self.name, activation, mt_length)?;
-        if self.ignore_tendon_compliance {
-            let expected =
-                "no fiber-length state: the tendon is rigid (ignore_tendon_compliance), the fiber follows the path";
-            return Err(MuscleError::invalid_input(
-                &self.name,
-                "fiber length",
-                fiber_length,
-                expected,
-            ));
-        }
+        check_compliant_tendon(&self.name, self.ignore_tendon_compliance)?;
         if !(fiber_length > self.fiber_width && fiber_length.is_finite()) {
             let expected = format!(
                 "a length in m greater than the fiber width {} m",

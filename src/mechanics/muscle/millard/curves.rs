@@ -3,6 +3,7 @@
 
 use super::bezier::{BezierSegment, NotACorner};
 use super::smooth_function::SmoothSegmentedFunction;
+use crate::model::ForceVelocityCurveSpec;
 
 /// A curve parameter OpenSim refuses.
 #[derive(Debug, Clone, PartialEq)]
@@ -118,24 +119,9 @@ pub fn active_force_length(
     ))
 }
 
-/// Slopes and curvinesses of a force–velocity curve (`ForceVelocityCurve` properties).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ForceVelocityShape {
-    pub concentric_slope_at_vmax: f64,
-    pub concentric_slope_near_vmax: f64,
-    pub isometric_slope: f64,
-    pub eccentric_slope_at_vmax: f64,
-    pub eccentric_slope_near_vmax: f64,
-    pub max_eccentric_velocity_force_multiplier: f64,
-    pub concentric_curviness: f64,
-    pub eccentric_curviness: f64,
-}
-
-impl ForceVelocityShape {
-    /// The four corners of the curve, from −1 (v_max shortening, 0 force) to +1 (v_max
-    /// lengthening, fmaxE): `createFiberForceVelocityCurve`'s construction.
-    fn segments(&self) -> Result<Vec<BezierSegment>, CurveError> {
-        let s = self;
+/// The four corners of a force–velocity curve, from −1 (v_max shortening, 0 force) to +1
+/// (v_max lengthening, fmaxE): `createFiberForceVelocityCurve`'s construction.
+fn force_velocity_segments(s: &ForceVelocityCurveSpec) -> Result<Vec<BezierSegment>, CurveError> {
         let (cc, ce) = (
             scale_curviness(s.concentric_curviness),
             scale_curviness(s.eccentric_curviness),
@@ -167,11 +153,11 @@ impl ForceVelocityShape {
         let mut segments = corners(&concentric, cc, "ForceVelocityCurve")?;
         segments.extend(corners(&eccentric, ce, "ForceVelocityCurve")?);
         Ok(segments)
-    }
+}
 
-    fn check(&self, inverse: bool) -> Result<(), CurveError> {
+/// OpenSim's checks on a force–velocity curve; the inverse also needs positive end slopes.
+fn check_force_velocity(s: &ForceVelocityCurveSpec, inverse: bool) -> Result<(), CurveError> {
         const P: &str = "ForceVelocityCurve";
-        let s = self;
         let fmax = s.max_eccentric_velocity_force_multiplier;
         let tiny = if inverse {
             super::super::pennation::SIGNIFICANT_REAL
@@ -223,16 +209,15 @@ impl ForceVelocityShape {
         )?;
         check_curviness(&format!("{P}.concentric_curviness"), s.concentric_curviness)?;
         check_curviness(&format!("{P}.eccentric_curviness"), s.eccentric_curviness)
-    }
 }
 
 /// `createFiberForceVelocityCurve`: normalised fiber velocity (−1 = v_max shortening) →
 /// force–velocity multiplier.
-pub fn force_velocity(shape: &ForceVelocityShape) -> Result<SmoothSegmentedFunction, CurveError> {
-    shape.check(false)?;
+pub fn force_velocity(shape: &ForceVelocityCurveSpec) -> Result<SmoothSegmentedFunction, CurveError> {
+    check_force_velocity(shape, false)?;
     let s = shape;
     Ok(SmoothSegmentedFunction::new(
-        shape.segments()?,
+        force_velocity_segments(shape)?,
         (-1.0, 0.0, s.concentric_slope_at_vmax),
         (
             1.0,
@@ -245,12 +230,11 @@ pub fn force_velocity(shape: &ForceVelocityShape) -> Result<SmoothSegmentedFunct
 /// `createFiberForceVelocityInverseCurve`: the same corners with x and y exchanged
 /// (multiplier → normalised velocity); both end slopes must be positive.
 pub fn force_velocity_inverse(
-    shape: &ForceVelocityShape,
+    shape: &ForceVelocityCurveSpec,
 ) -> Result<SmoothSegmentedFunction, CurveError> {
-    shape.check(true)?;
+    check_force_velocity(shape, true)?;
     let s = shape;
-    let segments = shape
-        .segments()?
+    let segments = force_velocity_segments(shape)?
         .iter()
         .map(BezierSegment::transposed)
         .collect();

@@ -9,6 +9,6 @@ mod opensim_equilibrium;
 mod smooth_function;
 mod velocity;
 
-pub use curves::{force_velocity_inverse, ForceVelocityShape};
+pub use curves::force_velocity_inverse;
 pub use muscle::{Millard2012Muscle, MillardCurves};
 pub use smooth_function::SmoothSegmentedFunction;

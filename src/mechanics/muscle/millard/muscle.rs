@@ -3,14 +3,14 @@
 //! `equilibrateMuscles` iteration reproduced step by step, and the fiber velocity of forward
 //! simulation.
 
-use super::curves::{self, CurveError, ForceVelocityShape};
+use super::curves::{self, CurveError};
 use super::smooth_function::SmoothSegmentedFunction;
 use crate::mechanics::muscle::pennation::{FixedWidthPennation, SIGNIFICANT_REAL};
 use crate::mechanics::muscle::{
     bracketed_newton_from, check_inputs, EquilibriumStatus, FiberEquilibrium, MuscleError,
     RootFailure,
 };
-use crate::model::{MillardSpec, MuscleSpec};
+use crate::model::{ForceVelocityCurveSpec, MillardSpec, MuscleSpec};
 
 /// Below this `fiber_damping` OpenSim uses the classic (undamped) Hill model.
 const MIN_NONZERO_DAMPING_COEFFICIENT: f64 = 0.001;
@@ -76,119 +76,17 @@ pub(super) struct Position {
 
 impl Millard2012Muscle {
     pub fn new(name: &str, spec: &MuscleSpec, class: &MillardSpec) -> Result<Self, MuscleError> {
-        let invalid =
-            |e: CurveError| MuscleError::invalid_parameter(name, &e.property, e.value, &e.expected);
-        check_pennation(
-            name,
-            spec.pennation_angle_at_optimal,
-            class.maximum_pennation_angle,
-        )?;
+        check_pennation(name, spec.pennation_angle_at_optimal, class.maximum_pennation_angle)?;
         let damped = class.fiber_damping >= MIN_NONZERO_DAMPING_COEFFICIENT;
-        let classic_hill = !spec.ignore_tendon_compliance && !damped;
-        let mut minimum_activation = class.minimum_activation;
-        let fv = &class.force_velocity;
-        for (property, slope) in [
-            ("concentric_slope_near_vmax", fv.concentric_slope_near_vmax),
-            ("eccentric_slope_near_vmax", fv.eccentric_slope_near_vmax),
-        ] {
-            if slope < f64::EPSILON.sqrt() {
-                return Err(MuscleError::invalid_parameter(
-                    name,
-                    &format!("ForceVelocityCurve.{property}"),
-                    slope,
-                    "a slope ≥ 1.49e-8",
-                ));
-            }
-        }
-        let mut shape = ForceVelocityShape {
-            concentric_slope_at_vmax: fv.concentric_slope_at_vmax,
-            concentric_slope_near_vmax: fv.concentric_slope_near_vmax,
-            isometric_slope: fv.isometric_slope,
-            eccentric_slope_at_vmax: fv.eccentric_slope_at_vmax,
-            eccentric_slope_near_vmax: fv.eccentric_slope_near_vmax,
-            max_eccentric_velocity_force_multiplier: fv.max_eccentric_velocity_force_multiplier,
-            concentric_curviness: fv.concentric_curviness,
-            eccentric_curviness: fv.eccentric_curviness,
-        };
-        let afl = &class.active_force_length;
-        let mut afl_minimum = afl.minimum_value;
-        if classic_hill {
-            if minimum_activation < 0.01 {
-                return Err(MuscleError::invalid_parameter(
-                    name,
-                    "minimum_activation",
-                    minimum_activation,
-                    "≥ 0.01 for the classic Hill model with an elastic tendon",
-                ));
-            }
-            afl_minimum = afl_minimum.max(0.1);
-            shape.concentric_slope_at_vmax = shape
-                .concentric_slope_at_vmax
-                .max(shape.concentric_slope_near_vmax * 0.5);
-            shape.eccentric_slope_at_vmax = shape
-                .eccentric_slope_at_vmax
-                .max(shape.eccentric_slope_near_vmax * 0.5);
-        } else {
-            if minimum_activation < 0.0 {
-                return Err(MuscleError::invalid_parameter(
-                    name,
-                    "minimum_activation",
-                    minimum_activation,
-                    "a value ≥ 0",
-                ));
-            }
-            minimum_activation = minimum_activation.min(1.0);
-            afl_minimum = afl_minimum.min(0.0);
-            shape.concentric_slope_at_vmax = shape.concentric_slope_at_vmax.min(0.0);
-            shape.eccentric_slope_at_vmax = shape.eccentric_slope_at_vmax.min(0.0);
-        }
-        let inverse_shape = ForceVelocityShape {
-            concentric_slope_at_vmax: shape.concentric_slope_near_vmax * 0.5,
-            eccentric_slope_at_vmax: shape.eccentric_slope_near_vmax * 0.5,
-            ..shape
-        };
-        let fpe = &class.fiber_force_length;
-        let (fpe_k_low, fpe_k_iso, fpe_curviness) = fiber_force_length_in_use(name, fpe)?;
-        let tfl = &class.tendon_force_length;
-        let (tfl_k_iso, tfl_f_toe, tfl_curviness) = tendon_force_length_in_use(name, tfl)?;
-        let curves = MillardCurves {
-            active_force_length: curves::active_force_length(
-                [
-                    afl.min_norm_active_fiber_length,
-                    afl.transition_norm_fiber_length,
-                    1.0,
-                    afl.max_norm_active_fiber_length,
-                ],
-                afl_minimum,
-                afl.shallow_ascending_slope,
-                1.0,
-            )
-            .map_err(invalid)?,
-            force_velocity: curves::force_velocity(&shape).map_err(invalid)?,
-            force_velocity_inverse: curves::force_velocity_inverse(&inverse_shape)
-                .map_err(invalid)?,
-            fiber_force_length: curves::fiber_force_length(
-                fpe.strain_at_zero_force,
-                fpe.strain_at_one_norm_force,
-                fpe_k_low,
-                fpe_k_iso,
-                fpe_curviness,
-            )
-            .map_err(invalid)?,
-            tendon_force_length: curves::tendon_force_length(
-                tfl.strain_at_one_norm_force,
-                tfl_k_iso,
-                tfl_f_toe,
-                tfl_curviness,
-            )
-            .map_err(invalid)?,
-        };
+        let finalised = finalise(name, spec, class, damped)?;
+        let curves = build_curves(name, class, &finalised)?;
         let pennation = FixedWidthPennation::new(
             spec.optimal_fiber_length,
             spec.pennation_angle_at_optimal,
             class.maximum_pennation_angle,
         );
-        let minimum_active = afl.min_norm_active_fiber_length * spec.optimal_fiber_length;
+        let minimum_active =
+            class.active_force_length.min_norm_active_fiber_length * spec.optimal_fiber_length;
         let minimum_fiber_length =
             SIGNIFICANT_REAL.max(minimum_active.max(pennation.minimum_fiber_length));
         Ok(Millard2012Muscle {
@@ -198,7 +96,7 @@ impl Millard2012Muscle {
             tendon_slack_length: spec.tendon_slack_length,
             max_contraction_velocity: spec.max_contraction_velocity,
             fiber_damping: if damped { class.fiber_damping } else { 0.0 },
-            minimum_activation,
+            minimum_activation: finalised.minimum_activation,
             ignore_tendon_compliance: spec.ignore_tendon_compliance,
             pennation,
             minimum_fiber_length,
@@ -274,7 +172,7 @@ impl Millard2012Muscle {
     pub(super) fn d_residual(&self, activation: f64, p: &Position, fiber_force: f64) -> f64 {
         let (f, l_opt) = (self.max_isometric_force, self.optimal_fiber_length);
         let fiber_stiffness = f
-            * (activation * (p.d_active_force_length * (1.0 / l_opt)) * 1.0
+            * (activation * (p.d_active_force_length * (1.0 / l_opt))
                 + p.d_fiber_force_length * (1.0 / l_opt));
         let d_alpha = self.pennation.d_pennation_d_fiber_length(p.fiber_length);
         let d_force_along_tendon =
@@ -291,11 +189,11 @@ impl Millard2012Muscle {
 
     /// Static equilibrium at fiber velocity 0: the fiber length in [L_min, L_slack] (L_slack:
     /// the tendon exactly at slack length) where F_m cos α = F_t, by bracketed Newton to
-    /// 5e-10 N (or to the resolution of the fiber length). At the edges: when even the minimum fiber length leaves the tendon slack, or the
-    /// fiber's force at its minimum length exceeds the tendon's (the pennation/active-length
-    /// limit), the fiber stays at its minimum length with zero fiber force, as OpenSim clamps
-    /// it (`ClampedAtMinimumFiberLength`). A rigid tendon (`ignore_tendon_compliance`) has
-    /// L_t = L_ts and no solve.
+    /// 5e-10 N (or to the resolution of the fiber length). At the edges: when even the minimum
+    /// fiber length leaves the tendon slack, or the fiber's force at its minimum length exceeds
+    /// the tendon's (the pennation/active-length limit), the fiber stays at its minimum length
+    /// with zero fiber force, as OpenSim clamps it (`ClampedAtMinimumFiberLength`). A rigid
+    /// tendon (`ignore_tendon_compliance`) has L_t = L_ts and no solve.
     pub fn equilibrium(
         &self,
         activation: f64,
@@ -310,30 +208,20 @@ impl Millard2012Muscle {
         if self.ignore_tendon_compliance {
             return Ok(self.report(a, mt_length, slack_fiber_length, 0.0, true));
         }
-        if slack_fiber_length <= self.minimum_fiber_length
-            || self
-                .force_balance(a, self.minimum_fiber_length, mt_length)
-                .0
-                >= 0.0
-        {
+        if slack_fiber_length <= self.minimum_fiber_length {
             return Ok(self.report(a, mt_length, self.minimum_fiber_length, 0.0, false));
         }
         let residual = |l: f64| self.force_balance(a, l, mt_length);
         // OpenSim's first guess: the tendon 1 % beyond slack.
-        let start = self
-            .pennation
-            .fiber_length(mt_length, self.tendon_slack_length * 1.01);
+        let start = self.pennation.fiber_length(mt_length, self.tendon_slack_length * 1.01);
         let length_resolution = 4.0 * f64::EPSILON * slack_fiber_length;
-        match bracketed_newton_from(
-            residual,
-            start,
-            self.minimum_fiber_length,
-            slack_fiber_length,
-            length_resolution,
-            FORCE_TOLERANCE,
-            200,
-        ) {
+        let (shortest, slack) = (self.minimum_fiber_length, slack_fiber_length);
+        match bracketed_newton_from(residual, start, shortest, slack, length_resolution, FORCE_TOLERANCE, 200) {
             Ok(root) => Ok(self.report(a, mt_length, root.x, 0.0, false)),
+            // The fiber outpulls the tendon even at its shortest: OpenSim's clamp.
+            Err(RootFailure::NoSignChange(at_shortest, _)) if at_shortest >= 0.0 => {
+                Ok(self.report(a, mt_length, shortest, 0.0, false))
+            }
             Err(failure) => Err(self.solve_failure(activation, mt_length, failure)),
         }
     }
@@ -428,6 +316,75 @@ impl Millard2012Muscle {
             },
         }
     }
+}
+
+/// The properties OpenSim's `extendFinalizeFromProperties` adjusts before building the curves.
+struct Finalised {
+    minimum_activation: f64,
+    /// The active force–length curve's `minimum_value` in use.
+    active_force_length_minimum: f64,
+    force_velocity: ForceVelocityCurveSpec,
+}
+
+/// The classic Hill model (elastic tendon, no damping) needs a = 0.01 or more, f_L ≥ 0.1 and
+/// end slopes of f_V of at least half the near-v_max slopes; the damped (or rigid-tendon)
+/// model clamps the minimum activation into [0, 1] and sets f_L's minimum and f_V's end
+/// slopes to 0.
+fn finalise(name: &str, spec: &MuscleSpec, class: &MillardSpec, damped: bool) -> Result<Finalised, MuscleError> {
+    let mut fv = class.force_velocity.clone();
+    for (property, slope) in [
+        ("concentric_slope_near_vmax", fv.concentric_slope_near_vmax),
+        ("eccentric_slope_near_vmax", fv.eccentric_slope_near_vmax),
+    ] {
+        if slope < f64::EPSILON.sqrt() {
+            let property = format!("ForceVelocityCurve.{property}");
+            return Err(MuscleError::invalid_parameter(name, &property, slope, "a slope ≥ 1.49e-8"));
+        }
+    }
+    let minimum = class.minimum_activation;
+    let afl_minimum = class.active_force_length.minimum_value;
+    if !spec.ignore_tendon_compliance && !damped {
+        if minimum < 0.01 {
+            let expected = "≥ 0.01 for the classic Hill model with an elastic tendon";
+            return Err(MuscleError::invalid_parameter(name, "minimum_activation", minimum, expected));
+        }
+        fv.concentric_slope_at_vmax = fv.concentric_slope_at_vmax.max(fv.concentric_slope_near_vmax * 0.5);
+        fv.eccentric_slope_at_vmax = fv.eccentric_slope_at_vmax.max(fv.eccentric_slope_near_vmax * 0.5);
+        return Ok(Finalised { minimum_activation: minimum, active_force_length_minimum: afl_minimum.max(0.1), force_velocity: fv });
+    }
+    if minimum < 0.0 {
+        return Err(MuscleError::invalid_parameter(name, "minimum_activation", minimum, "a value ≥ 0"));
+    }
+    fv.concentric_slope_at_vmax = fv.concentric_slope_at_vmax.min(0.0);
+    fv.eccentric_slope_at_vmax = fv.eccentric_slope_at_vmax.min(0.0);
+    Ok(Finalised { minimum_activation: minimum.min(1.0), active_force_length_minimum: afl_minimum.min(0.0), force_velocity: fv })
+}
+
+/// The five curves from the finalised properties (`*_in_use` derived where unset). The inverse
+/// force–velocity curve has end slopes ½ of the near-v_max slopes, as OpenSim builds it.
+fn build_curves(name: &str, class: &MillardSpec, finalised: &Finalised) -> Result<MillardCurves, MuscleError> {
+    let invalid = |e: CurveError| MuscleError::invalid_parameter(name, &e.property, e.value, &e.expected);
+    let afl = &class.active_force_length;
+    let fv = &finalised.force_velocity;
+    let inverse = ForceVelocityCurveSpec {
+        concentric_slope_at_vmax: fv.concentric_slope_near_vmax * 0.5,
+        eccentric_slope_at_vmax: fv.eccentric_slope_near_vmax * 0.5,
+        ..fv.clone()
+    };
+    let fpe = &class.fiber_force_length;
+    let (fpe_k_low, fpe_k_iso, fpe_curviness) = fiber_force_length_in_use(name, fpe)?;
+    let tfl = &class.tendon_force_length;
+    let (tfl_k_iso, tfl_f_toe, tfl_curviness) = tendon_force_length_in_use(name, tfl)?;
+    let afl_x = [afl.min_norm_active_fiber_length, afl.transition_norm_fiber_length, 1.0, afl.max_norm_active_fiber_length];
+    Ok(MillardCurves {
+        active_force_length: curves::active_force_length(afl_x, finalised.active_force_length_minimum, afl.shallow_ascending_slope, 1.0)
+            .map_err(invalid)?,
+        force_velocity: curves::force_velocity(fv).map_err(invalid)?,
+        force_velocity_inverse: curves::force_velocity_inverse(&inverse).map_err(invalid)?,
+        fiber_force_length: curves::fiber_force_length(fpe.strain_at_zero_force, fpe.strain_at_one_norm_force, fpe_k_low, fpe_k_iso, fpe_curviness)
+            .map_err(invalid)?,
+        tendon_force_length: curves::tendon_force_length(tfl.strain_at_one_norm_force, tfl_k_iso, tfl_f_toe, tfl_curviness).map_err(invalid)?,
+    })
 }
 
 /// OpenSim rejects α_opt outside [0, π/2) and α_max outside [0, π/2].

@@ -2,9 +2,9 @@
 //! (`calcFiberVelocityInfo`): the damped model solves a f_L f_V(ṽ) + f_PE + β ṽ = f_T / cos α
 //! for ṽ by Newton's method; the classic model inverts f_V directly.
 
-use super::muscle::Millard2012Muscle;
+use super::muscle::{Millard2012Muscle, Position};
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
-use crate::mechanics::muscle::{check_inputs, MuscleError};
+use crate::mechanics::muscle::{check_compliant_tendon, check_inputs, MuscleError};
 
 /// Newton steps of the damped velocity solve (`calcDampedNormFiberVelocity`).
 const MAX_VELOCITY_ITERATIONS: usize = 20;
@@ -19,15 +19,11 @@ impl Millard2012Muscle {
         mt_length: f64,
     ) -> Result<f64, MuscleError> {
         let p = self.position(fiber_length.max(self.minimum_fiber_length), mt_length);
-        let (fal, fpe, fse, cos_alpha) = (
-            p.active_force_length,
-            p.fiber_force_length,
-            p.tendon_force_length,
-            p.cos_alpha,
-        );
         if self.fiber_damping > 0.0 {
-            return self.damped_norm_fiber_velocity(a, fal, fpe, fse, cos_alpha);
+            return self.damped_norm_fiber_velocity(a, &p, mt_length);
         }
+        let (fal, fpe, fse, cos_alpha) =
+            (p.active_force_length, p.fiber_force_length, p.tendon_force_length, p.cos_alpha);
         let singular = [
             (cos_alpha, "cos of the pennation angle"),
             (a, "activation"),
@@ -46,31 +42,21 @@ impl Millard2012Muscle {
     }
 
     /// `calcDampedNormFiberVelocity`: Newton on F_m(ṽ) cos α − F_t, tolerance 1e-10 F_max.
-    fn damped_norm_fiber_velocity(
-        &self,
-        a: f64,
-        fal: f64,
-        fpe: f64,
-        fse: f64,
-        cos_alpha: f64,
-    ) -> Result<f64, MuscleError> {
-        let (f, beta) = (self.max_isometric_force, self.fiber_damping);
+    fn damped_norm_fiber_velocity(&self, a: f64, p: &Position, mt_length: f64) -> Result<f64, MuscleError> {
+        let f = self.max_isometric_force;
+        let (fal, fpe, fse, cos_alpha) =
+            (p.active_force_length, p.fiber_force_length, p.tendon_force_length, p.cos_alpha);
         let tolerance = (1e-10 * f).max(SIGNIFICANT_REAL * 100.0);
         let fv_undamped = (fse / cos_alpha.max(0.01) - fpe) / (a.max(0.01) * fal.max(0.01));
-        let mut v = self
-            .curves
-            .force_velocity_inverse
-            .value(fv_undamped)
-            .clamp(-1.0, 1.0);
+        let mut v = self.curves.force_velocity_inverse.value(fv_undamped).clamp(-1.0, 1.0);
         let mut error = 1e10;
         for _ in 0..MAX_VELOCITY_ITERATIONS {
             let (fv, d_fv) = self.curves.force_velocity.value_and_derivative(v);
-            let fiber_force = f * (a * fal * fv) + (f * fpe + f * beta * v);
-            error = fiber_force * cos_alpha - fse * f;
+            error = self.fiber_force(a, p, fv, v) * cos_alpha - fse * f;
             if error.abs() <= tolerance {
                 return Ok(v);
             }
-            let d_error = f * (a * fal * d_fv + beta) * cos_alpha;
+            let d_error = f * (a * fal * d_fv + self.fiber_damping) * cos_alpha;
             if d_error.abs() <= SIGNIFICANT_REAL {
                 break;
             }
@@ -79,7 +65,7 @@ impl Millard2012Muscle {
         Err(MuscleError::NotConverged {
             muscle: self.name.clone(),
             activation: a,
-            mt_length: f64::NAN,
+            mt_length,
             iterations: MAX_VELOCITY_ITERATIONS,
             residual: error,
         })
@@ -95,14 +81,7 @@ impl Millard2012Muscle {
         mt_length: f64,
     ) -> Result<f64, MuscleError> {
         check_inputs(&self.name, activation, mt_length)?;
-        if self.ignore_tendon_compliance {
-            return Err(MuscleError::invalid_input(
-                &self.name,
-                "ignore_tendon_compliance",
-                1.0,
-                "a compliant tendon (a rigid-tendon muscle has no fiber-length state)",
-            ));
-        }
+        check_compliant_tendon(&self.name, self.ignore_tendon_compliance)?;
         if !(fiber_length > 0.0 && fiber_length.is_finite()) {
             return Err(MuscleError::invalid_input(
                 &self.name,
