@@ -10,4 +10,7 @@ pub mod io;
 pub mod mechanics;
 pub mod model;
 pub mod review;
+pub mod setup;
+pub mod solvers;
+pub mod tuning;
 pub mod validation;

@@ -56,6 +56,41 @@ pub enum Command {
         #[arg(long, default_value_t = 0.0)]
         rtol: f64,
     },
+    /// OpenSim's Scale step: marker set, scale factors from marker-pair measurements and manual
+    /// factors, the model scaled (frames, joints, markers, path points, masses, inertias,
+    /// L_opt and L_ts by path length), then markers placed on the static trial.
+    ///
+    /// Either --setup SETUP.xml (an OpenSim ScaleTool setup, 2.x–4.x; its model_file is
+    /// replaced by MODEL and its output file names are ignored — use the options below), or a
+    /// TRIALS folder with --linear (see README: subject.json with the mass and static trial,
+    /// and the built-in gait2392 measurement set unless the folder names a setup).
+    Scale {
+        /// The generic model (.osim, OpenSim 4).
+        model: PathBuf,
+        /// Trials folder (with --linear).
+        trials: Option<PathBuf>,
+        /// ScaleTool setup file.
+        #[arg(long)]
+        setup: Option<PathBuf>,
+        /// Linear (ScaleTool) scaling of a trials folder.
+        #[arg(long)]
+        linear: bool,
+        /// The subject-specific model to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also write the model after scaling, before marker placement.
+        #[arg(long)]
+        scaled_only: Option<PathBuf>,
+        /// Also write the scale factors as an OpenSim ScaleSet file.
+        #[arg(long)]
+        scale_set: Option<PathBuf>,
+        /// Also write the static pose found by marker placement (.mot, degrees).
+        #[arg(long)]
+        static_pose: Option<PathBuf>,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Muscle-tendon lengths, moment arms and marker locations along a motion, like OpenSim's
     /// MuscleAnalysis: writes DIR/Length.sto (one column per muscle, m),
     /// DIR/MomentArm_<coordinate>.sto for every coordinate some muscle spans (m, or m/m) and

@@ -22,7 +22,7 @@ pub use constraint::{ConstraintSpec, CouplerSpec};
 pub use coordinate::{CoordinateSpec, CoordinateUnit, MotionType};
 pub use error::ModelError;
 pub use force::{ForceSpec, PathWrapSpec};
-pub use frame::{FrameChain, Offset};
+pub use frame::{opensim_path, FrameChain, FrameIndex, Offset};
 pub use function::FunctionSpec;
 pub use joint::{JointSpec, TransformAxisSpec};
 pub use marker::MarkerSpec;
@@ -30,6 +30,7 @@ pub use muscle::{
     ActiveForceLengthCurveSpec, DeGrooteSpec, FiberForceLengthCurveSpec, ForceVelocityCurveSpec, MillardSpec,
     MuscleModelSpec, MuscleSpec, TendonForceLengthCurveSpec, ThelenSpec, MUSCLE_CLASSES,
 };
+pub use reader::ComponentReader;
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
 pub use spec::{ModelSpec, GROUND};
 pub use wrap_object::WrapObjectSpec;

@@ -90,6 +90,12 @@ impl ModelSpec {
         Ok(spec)
     }
 
+    /// Every body and offset frame of the model, for resolving the frame a component is on.
+    pub fn frame_index(document: &OsimDocument) -> Result<FrameIndex, ModelError> {
+        let model = ComponentReader::new(document, document.object);
+        FrameIndex::new(document, &body_elements(model, document.version.dialect))
+    }
+
     /// All coordinates, joint by joint.
     pub fn coordinates(&self) -> impl Iterator<Item = &CoordinateSpec> {
         self.joints.iter().flat_map(|joint| joint.coordinates.iter())

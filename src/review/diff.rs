@@ -44,25 +44,42 @@ impl DocumentDiff {
     }
 }
 
+/// When two numbers count as equal: |a − b| ≤ max(`relative`·max(|a|, |b|), `absolute`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance {
+    pub relative: f64,
+    pub absolute: f64,
+}
+
 /// Compares `a` with `b`. Numbers are equal when |a − b| ≤ `relative_tolerance`·max(|a|, |b|)
 /// (0 compares values exactly, so `0.1` equals `1.0e-01`); NaN equals NaN.
 pub fn diff(a: &OsimDocument, b: &OsimDocument, relative_tolerance: f64) -> DocumentDiff {
-    let (flat_a, flat_b) = (flatten(a), flatten(b));
-    let mut differences = removed_entries(&flat_a, &flat_b);
+    diff_within(a, b, Tolerance { relative: relative_tolerance, absolute: 0.0 })
+}
+
+/// [`diff`] with an absolute floor under the relative tolerance (for values near zero).
+pub fn diff_within(a: &OsimDocument, b: &OsimDocument, tolerance: Tolerance) -> DocumentDiff {
+    let differences = diff_flat(&flatten(a), &flatten(b), tolerance);
+    let version_change = (a.version.number != b.version.number).then_some((a.version.number, b.version.number));
+    DocumentDiff { version_change, differences }
+}
+
+/// The differences between two flattened documents.
+pub fn diff_flat(flat_a: &FlatDocument, flat_b: &FlatDocument, tolerance: Tolerance) -> Vec<Difference> {
+    let mut differences = removed_entries(flat_a, flat_b);
     for (path, entry_b) in &flat_b.entries {
         let change = match (flat_a.get(path), entry_b) {
-            (None, _) if has_ancestor_in(path, &flat_b, &flat_a) => continue,
+            (None, _) if has_ancestor_in(path, flat_b, flat_a) => continue,
             (None, FlatEntry::Component { class }) => Change::Added { class: class.clone() },
             (None, FlatEntry::Property { value }) => Change::PropertyAdded { value: value.clone() },
-            (Some(entry_a), _) => match compare(entry_a, entry_b, relative_tolerance) {
+            (Some(entry_a), _) => match compare(entry_a, entry_b, tolerance) {
                 Some(change) => change,
                 None => continue,
             },
         };
         differences.push(Difference { path: path.clone(), change });
     }
-    let version_change = (a.version.number != b.version.number).then_some((a.version.number, b.version.number));
-    DocumentDiff { version_change, differences }
+    differences
 }
 
 /// Entries of `a` missing from `b`, topmost only.
@@ -95,10 +112,10 @@ fn has_ancestor_in(path: &str, own: &FlatDocument, other: &FlatDocument) -> bool
     false
 }
 
-fn compare(a: &FlatEntry, b: &FlatEntry, relative_tolerance: f64) -> Option<Change> {
+fn compare(a: &FlatEntry, b: &FlatEntry, tolerance: Tolerance) -> Option<Change> {
     match (a, b) {
         (FlatEntry::Property { value: old }, FlatEntry::Property { value: new }) => {
-            compare_values(old, new, relative_tolerance)
+            compare_values(old, new, tolerance)
         }
         (FlatEntry::Component { class: old }, FlatEntry::Component { class: new }) if old == new => None,
         _ => Some(Change::Changed { old: describe(a), new: describe(b), relative_change: None }),
@@ -112,11 +129,11 @@ fn describe(entry: &FlatEntry) -> String {
     }
 }
 
-fn compare_values(old: &str, new: &str, relative_tolerance: f64) -> Option<Change> {
+fn compare_values(old: &str, new: &str, tolerance: Tolerance) -> Option<Change> {
     let changed = |relative_change| Some(Change::Changed { old: old.trim().into(), new: new.trim().into(), relative_change });
     match (numbers(old), numbers(new)) {
         (Some(a), Some(b)) if a.len() == b.len() => {
-            let equal = a.iter().zip(&b).all(|(&x, &y)| numbers_equal(x, y, relative_tolerance));
+            let equal = a.iter().zip(&b).all(|(&x, &y)| numbers_equal(x, y, tolerance));
             if equal {
                 None
             } else {
@@ -136,8 +153,8 @@ fn numbers(value: &str) -> Option<Vec<f64>> {
     tokens.iter().map(|t| t.parse().ok()).collect()
 }
 
-fn numbers_equal(a: f64, b: f64, relative_tolerance: f64) -> bool {
-    a == b || (a.is_nan() && b.is_nan()) || (a - b).abs() <= relative_tolerance * a.abs().max(b.abs())
+fn numbers_equal(a: f64, b: f64, tolerance: Tolerance) -> bool {
+    a == b || (a.is_nan() && b.is_nan()) || (a - b).abs() <= (tolerance.relative * a.abs().max(b.abs())).max(tolerance.absolute)
 }
 
 /// max |b − a| / |a| over components with a ≠ 0; `None` when every changed component had a = 0.
@@ -153,16 +170,22 @@ fn largest_relative_change(a: &[f64], b: &[f64]) -> Option<f64> {
 mod tests {
     use super::*;
 
+    const EXACT: Tolerance = Tolerance { relative: 0.0, absolute: 0.0 };
+
+    fn relative(relative: f64) -> Tolerance {
+        Tolerance { relative, absolute: 0.0 }
+    }
+
     #[test]
     fn number_spelling_and_whitespace_do_not_count() {
-        assert_eq!(compare_values("0.1", " 1.0e-01 ", 0.0), None);
-        assert_eq!(compare_values("1 2  3", "1.0 2.0 3.0", 0.0), None);
-        assert_eq!(compare_values("a  b", "a b", 0.0), None);
+        assert_eq!(compare_values("0.1", " 1.0e-01 ", EXACT), None);
+        assert_eq!(compare_values("1 2  3", "1.0 2.0 3.0", EXACT), None);
+        assert_eq!(compare_values("a  b", "a b", EXACT), None);
     }
 
     #[test]
     fn relative_change_is_signed_and_largest() {
-        let change = compare_values("0.16 1", "0.17 1", 0.0).unwrap();
+        let change = compare_values("0.16 1", "0.17 1", EXACT).unwrap();
         let Change::Changed { relative_change: Some(r), .. } = change else { panic!("{change:?}") };
         assert!((r - 0.0625).abs() < 1e-12);
         let shrink = largest_relative_change(&[2.0, 1.0], &[1.0, 1.1]).unwrap();
@@ -171,7 +194,7 @@ mod tests {
 
     #[test]
     fn tolerance_hides_small_changes() {
-        assert!(compare_values("1.0", "1.0000001", 1e-6).is_none());
-        assert!(compare_values("1.0", "1.0000001", 1e-9).is_some());
+        assert!(compare_values("1.0", "1.0000001", relative(1e-6)).is_none());
+        assert!(compare_values("1.0", "1.0000001", relative(1e-9)).is_some());
     }
 }

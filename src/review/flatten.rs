@@ -26,6 +26,16 @@ impl FlatDocument {
         self.index.get(path).map(|&i| &self.entries[i].1)
     }
 
+    /// The same entries under paths mapped by `rename` (e.g. to match components a newer
+    /// OpenSim writes under another name).
+    pub fn renamed(self, rename: impl Fn(&str) -> String) -> FlatDocument {
+        let mut flat = FlatDocument::default();
+        for (path, entry) in self.entries {
+            flat.push(rename(&path), entry);
+        }
+        flat
+    }
+
     fn push(&mut self, path: String, entry: FlatEntry) {
         self.index.insert(path.clone(), self.entries.len());
         self.entries.push((path, entry));

@@ -3,7 +3,9 @@
 
 mod geometry;
 mod golden;
+pub mod ik;
 mod muscle;
+mod scale;
 
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};
@@ -11,3 +13,4 @@ pub use muscle::{
     compare_equilibrium, compare_millard_curves, default_force_velocity_inverse, CurveComparison, EquilibriumComparison,
     EquilibriumSolution, EquilibriumValidationError, FIBER_LENGTH_TOLERANCE, STATIC_FIBER_LENGTH_TOLERANCE,
 };
+pub use scale::{compare_scaled_models, SCALED_MODEL_TOLERANCE};

@@ -4,6 +4,7 @@ mod analyze;
 mod diff;
 mod flatten;
 mod info;
+mod scale;
 mod set;
 
 use super::{Command, Failure, Outcome};
@@ -22,5 +23,9 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
+        Command::Scale { model, trials, setup, linear, output, scaled_only, scale_set, static_pose, json } => {
+            let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose };
+            scale::run(&model, trials.as_deref(), setup.as_deref(), linear, &outputs, json)
+        }
     }
 }

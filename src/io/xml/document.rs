@@ -164,8 +164,60 @@ impl Document {
                 (element.start_tag.clone(), format!("{open}>{escaped}</{}>", element.tag))
             }
         };
-        self.edits.insert(range.start, (range.end, replacement));
+        self.insert_edit(id, range, replacement)?;
         self.edited_values.insert(id, value.to_string());
+        Ok(())
+    }
+
+    /// The element as written: from its start tag through its end tag.
+    pub fn element_source(&self, id: ElementId) -> &str {
+        &self.source[self.element_range(id)]
+    }
+
+    /// The whitespace that starts the line of the element's start tag (its indentation).
+    pub fn indentation(&self, id: ElementId) -> &str {
+        let start = self.element(id).start_tag.start;
+        let line_start = self.source[..start].rfind('\n').map_or(0, |i| i + 1);
+        let prefix = &self.source[line_start..start];
+        if prefix.trim().is_empty() { prefix } else { "" }
+    }
+
+    /// Replaces the whole element (start tag through end tag) by `text`, a structural edit such
+    /// as wrapping a function in a `MultiplierFunction`. Refused where it would overlap another
+    /// edit. An empty `text` removes the element together with the indentation and line break
+    /// before it.
+    pub fn replace_element(&mut self, id: ElementId, text: &str) -> Result<(), EditError> {
+        let mut range = self.element_range(id);
+        if text.is_empty() {
+            let indentation = self.indentation(id).len();
+            let line_break = usize::from(self.source[..range.start - indentation].ends_with('\n'));
+            range.start -= indentation + line_break;
+        }
+        self.insert_edit(id, range, text.to_string())
+    }
+
+    /// Bytes of the whole element.
+    fn element_range(&self, id: ElementId) -> Range<usize> {
+        let element = self.element(id);
+        match &element.content {
+            None => element.start_tag.clone(),
+            Some(content) => {
+                let close = self.source[content.end..].find('>').map_or(self.source.len(), |i| content.end + i + 1);
+                element.start_tag.start..close
+            }
+        }
+    }
+
+    /// Records one replacement, refusing overlap with an earlier one (edits must stay disjoint
+    /// for [`Document::serialize`] to splice them).
+    fn insert_edit(&mut self, id: ElementId, range: Range<usize>, replacement: String) -> Result<(), EditError> {
+        let same = |start: usize, end: usize| start == range.start && end == range.end;
+        let before = self.edits.range(..=range.start).next_back().is_some_and(|(&start, &(end, _))| !same(start, end) && (start == range.start || end > range.start));
+        let after = self.edits.range(range.start + 1..).next().is_some_and(|(&start, _)| start < range.end);
+        if before || after {
+            return Err(EditError::Overlapping { file: self.file.clone(), line: self.line(id), tag: self.element(id).tag.clone() });
+        }
+        self.edits.insert(range.start, (range.end, replacement));
         Ok(())
     }
 
@@ -206,4 +258,39 @@ fn character_data(raw: &str) -> String {
     }
     value.push_str(&text::unescape(rest).unwrap_or(Cow::Borrowed(rest)));
     value
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TEXT: &str = "<r>\n\t<f name=\"function\">\n\t\t<v>1</v>\n\t</f>\n\t<g/>\n</r>";
+
+    fn document() -> (Document, ElementId, ElementId, ElementId) {
+        let document = Document::parse(TEXT.to_string(), Path::new("t.xml")).unwrap();
+        let find = |tag: &str| document.ids().find(|&id| document.tag(id) == tag).unwrap();
+        let (f, v, g) = (find("f"), find("v"), find("g"));
+        (document, f, v, g)
+    }
+
+    #[test]
+    fn an_element_is_replaced_from_start_tag_to_end_tag() {
+        let (mut document, f, _, g) = document();
+        assert_eq!(document.element_source(f), "<f name=\"function\">\n\t\t<v>1</v>\n\t</f>");
+        assert_eq!(document.indentation(f), "\t");
+        document.replace_element(f, "<m>x</m>").unwrap();
+        document.replace_element(g, "").unwrap();
+        assert_eq!(document.serialize(), "<r>\n\t<m>x</m>\n</r>");
+    }
+
+    #[test]
+    fn overlapping_edits_are_refused_in_either_order() {
+        let (mut document, f, v, _) = document();
+        document.set_text(v, "2").unwrap();
+        document.set_text(v, "3").unwrap();
+        assert!(matches!(document.replace_element(f, "<m/>"), Err(EditError::Overlapping { .. })));
+        let (mut document, f, v, _) = self::document();
+        document.replace_element(f, "<m/>").unwrap();
+        assert!(matches!(document.set_text(v, "2"), Err(EditError::Overlapping { .. })));
+    }
 }

@@ -18,4 +18,7 @@ pub enum EditError {
     /// The element holds child elements or comments, not a plain value.
     #[error("{}:{line}: <{tag}> holds elements, not a value", file.display())]
     NotAValue { file: PathBuf, line: usize, tag: String },
+    /// The edit would overlap an earlier structural edit (or vice versa).
+    #[error("{}:{line}: <{tag}> overlaps an element already replaced in this edit", file.display())]
+    Overlapping { file: PathBuf, line: usize, tag: String },
 }

@@ -1,0 +1,119 @@
+//! `osim-tune ik MODEL TRIAL [--time START END] [--weights NAME=W,…] -o Q.mot [--errors ERR.sto]`
+
+use std::path::{Path, PathBuf};
+
+use crate::cli::{Failure, Outcome};
+use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::io::osim::OsimDocument;
+use crate::io::table::MarkerTable;
+use crate::mechanics::Multibody;
+use crate::model::ModelSpec;
+use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, MarkerTask, MissingFrom};
+
+/// Where the results go.
+pub struct Outputs {
+    pub motion: PathBuf,
+    pub errors: Option<PathBuf>,
+}
+
+pub fn run(model: &Path, trial_file: &Path, time: Option<[f64; 2]>, weights: &[String], outputs: &Outputs) -> Result<Outcome, Failure> {
+    let inputs = [model, trial_file];
+    ensure_not_an_input(&outputs.motion, &inputs)?;
+    if let Some(errors) = &outputs.errors {
+        ensure_not_an_input(errors, &inputs)?;
+        ensure_not_an_input(errors, &[&outputs.motion]).map_err(|_| format!("{}: --errors and -o name the same file", errors.display()))?;
+    }
+    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
+    let multibody = Multibody::new(&spec)?;
+    let trial = MarkerTable::read(trial_file)?;
+    let tasks = marker_tasks(&multibody, &trial, model, trial_file, weights)?;
+    let ik = InverseKinematics::new(&multibody, &trial, trial_file, &tasks, IkSettings::default())?;
+    let solution = ik.solve(time)?;
+    let motion = solution.motion_table(&multibody)?;
+    let errors = solution.marker_errors_table()?;
+    write_atomically(&outputs.motion, motion.to_text().as_bytes(), &inputs)?;
+    if let Some(file) = &outputs.errors {
+        write_atomically(file, errors.to_text().as_bytes(), &inputs)?;
+    }
+    report(&ik, &solution, trial_file, outputs);
+    Ok(if solution.unconverged().next().is_some() { Outcome::NotConverged } else { Outcome::Success })
+}
+
+/// Every model marker the trial has, weight 1, with the `NAME=W` weights applied; a name that
+/// is not a marker of both the model and the trial is an error.
+fn marker_tasks(multibody: &Multibody, trial: &MarkerTable, model: &Path, trial_file: &Path, weights: &[String]) -> Result<IkTasks, Failure> {
+    let mut tasks: Vec<MarkerTask> = trial
+        .marker_names()
+        .iter()
+        .filter(|name| multibody.markers.iter().any(|m| &m.name == *name))
+        .map(|name| MarkerTask { name: name.clone(), weight: 1.0 })
+        .collect();
+    for assignment in weights {
+        let (name, weight) = assignment.split_once('=').ok_or_else(|| format!("--weights {assignment:?}: expected NAME=WEIGHT, e.g. R.ASIS=10"))?;
+        let (name, weight) = (name.trim(), weight.trim());
+        let weight: f64 = weight.parse().ok().filter(|w: &f64| w.is_finite() && *w >= 0.0).ok_or_else(|| format!("--weights {name}={weight}: expected a number ≥ 0"))?;
+        let in_model = multibody.markers.iter().any(|m| m.name == name);
+        let in_trial = trial.marker_index(name).is_some();
+        let missing = match (in_model, in_trial) {
+            (true, true) => None,
+            (false, true) => Some(format!("is not a marker of the model {}", model.display())),
+            (true, false) => Some(format!("has no data in the trial {}", trial_file.display())),
+            (false, false) => Some(format!("is neither a marker of the model {} nor in the trial {}", model.display(), trial_file.display())),
+        };
+        if let Some(problem) = missing {
+            return Err(format!("--weights: marker {name:?} {problem}").into());
+        }
+        for task in tasks.iter_mut().filter(|t| t.name == name) {
+            task.weight = weight;
+        }
+    }
+    Ok(IkTasks { markers: tasks, coordinates: Vec::new() })
+}
+
+fn report(ik: &InverseKinematics, solution: &IkSolution, trial_file: &Path, outputs: &Outputs) {
+    let frames = &solution.frames;
+    let (Some(first), Some(last)) = (frames.first(), frames.last()) else { return };
+    println!(
+        "{} frames of {} ({}–{} s), {} markers tracked → {}{}",
+        frames.len(),
+        trial_file.display(),
+        first.time,
+        last.time,
+        solution.markers.len(),
+        outputs.motion.display(),
+        outputs.errors.as_ref().map_or(String::new(), |e| format!(", {}", e.display()))
+    );
+    let mean_rms = frames.iter().map(|f| f.errors.rms).sum::<f64>() / frames.len() as f64;
+    let worst_rms = frames.iter().max_by(|a, b| a.errors.rms.total_cmp(&b.errors.rms)).unwrap_or(first);
+    let worst = frames.iter().max_by(|a, b| a.errors.max.total_cmp(&b.errors.max)).unwrap_or(first);
+    println!("marker RMS: mean {:.2} mm, max {:.2} mm (t = {} s)", 1e3 * mean_rms, 1e3 * worst_rms.errors.rms, worst_rms.time);
+    println!("worst marker: {} {:.2} mm (t = {} s)", solution.worst_marker(worst).unwrap_or("-"), 1e3 * worst.errors.max, worst.time);
+    let iterations: Vec<usize> = frames.iter().map(|f| f.iterations).collect();
+    println!(
+        "iterations per frame: mean {:.1}, max {}",
+        iterations.iter().sum::<usize>() as f64 / frames.len() as f64,
+        iterations.iter().max().copied().unwrap_or(0)
+    );
+    for ignored in ik.ignored_marker_tasks() {
+        let place = match ignored.missing_from {
+            MissingFrom::Model => "the model",
+            MissingFrom::Trial => "the trial",
+            MissingFrom::ModelAndTrial => "the model and the trial",
+        };
+        eprintln!("note: marker {} is not in {place}; not tracked", ignored.name);
+    }
+    if solution.markers.len() < 4 {
+        eprintln!("warning: only {} markers tracked (OpenSim warns below 4)", solution.markers.len());
+    }
+    let with_gaps: Vec<&crate::solvers::IkFrame> = frames.iter().filter(|f| !f.missing_markers.is_empty()).collect();
+    if !with_gaps.is_empty() {
+        let mut names: Vec<&str> = with_gaps.iter().flat_map(|f| f.missing_markers.iter().map(|&i| solution.markers[i].as_str())).collect();
+        names.sort_unstable();
+        names.dedup();
+        eprintln!("note: {} frames lack data of some markers, dropped in those frames: {}", with_gaps.len(), names.join(", "));
+    }
+    let unconverged: Vec<String> = solution.unconverged().map(|f| format!("{} s ({:?})", f.time, f.status)).collect();
+    if !unconverged.is_empty() {
+        eprintln!("warning: {} frames did not converge: {}", unconverged.len(), unconverged.join(", "));
+    }
+}

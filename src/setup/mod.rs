@@ -1,0 +1,27 @@
+//! Typed views of OpenSim tool setup files — `<ScaleTool>` and `<InverseKinematicsTool>` — in
+//! the 2.x/3.x and 4.x dialects, read through `io::osim::OsimDocument` with OpenSim's defaults
+//! for absent properties. Objects given by reference (`<IKTaskSet file="…"/>`) are read from
+//! their files; file names resolve against the setup file's directory, as OpenSim resolves them;
+//! empty and `Unassigned` names are `None`.
+
+mod error;
+mod ik;
+mod ik_tasks;
+mod marker_placer;
+mod measurement;
+mod model_scaler;
+mod object;
+mod path;
+mod property;
+mod scale;
+mod time_range;
+
+pub use error::SetupError;
+pub use ik::IkSetup;
+pub use ik_tasks::{CoordinateTarget, CoordinateTask, IkTaskSet, MarkerTask};
+pub use marker_placer::MarkerPlacer;
+pub use measurement::{BodyScale, Measurement};
+pub use model_scaler::{ManualScale, ModelScaler, ScalingStep};
+pub use path::SetupPath;
+pub use scale::{GenericModelMaker, ScaleSetup};
+pub use time_range::TimeRange;

@@ -1,0 +1,83 @@
+//! Setup objects where OpenSim finds them: the document's object, an object property held inline
+//! (`<MeasurementSet>…</MeasurementSet>`) or in the file its `file` attribute names
+//! (`<MeasurementSet file="gait2354_Scale_MeasurementSet.xml"/>`), and the members of sets.
+
+use std::path::Path;
+
+use super::error::SetupError;
+use crate::io::osim::{Dialect, DocumentVersion, OsimDocument, OsimError};
+use crate::io::xml::Document;
+use crate::model::ComponentReader;
+
+/// The version OpenSim gives a document whose root is the object itself (no
+/// `<OpenSimDocument>`, as written before OpenSim 1.6 and in some task files).
+const BARE_DOCUMENT_VERSION: u32 = 10500;
+
+/// Reads a setup document: `<OpenSimDocument Version="…">` around the object, or the object as
+/// the root element (OpenSim reads both).
+pub fn read_document(path: &Path) -> Result<OsimDocument, SetupError> {
+    match OsimDocument::read(path) {
+        Err(OsimError::NotOpenSim { .. }) => {
+            let xml = Document::read(path).map_err(OsimError::from)?;
+            let object = xml.root();
+            let version = DocumentVersion { number: BARE_DOCUMENT_VERSION, dialect: Dialect::V2 };
+            Ok(OsimDocument { xml, version, object })
+        }
+        read => Ok(read?),
+    }
+}
+
+/// Checks that `reader` is an object of class (tag) `class`.
+pub fn expect_class(reader: ComponentReader, class: &str) -> Result<(), SetupError> {
+    expect_one_of(reader, &[class])
+}
+
+fn expect_one_of(reader: ComponentReader, classes: &[&str]) -> Result<(), SetupError> {
+    if classes.contains(&reader.class()) {
+        return Ok(());
+    }
+    Err(SetupError::UnexpectedObject {
+        file: reader.document.xml.file().into(),
+        line: reader.line(),
+        expected: classes.join("> or <"),
+        found: reader.class().into(),
+    })
+}
+
+/// Reads the object property of class `class` held by `parent` with `read`; `None` when absent.
+/// A `file` attribute is followed relative to `directory`, the top-level setup's directory: OpenSim
+/// reads referenced files with the working directory set there, also for references inside a
+/// referenced file. A referenced file's own root is not followed again, so references end.
+pub fn read_object<T>(
+    parent: ComponentReader,
+    class: &str,
+    directory: &Path,
+    read: impl FnOnce(ComponentReader) -> Result<T, SetupError>,
+) -> Result<Option<T>, SetupError> {
+    let Some(object) = parent.child_of_class(class) else { return Ok(None) };
+    let reference = parent.document.xml.attribute(object.element, "file").map(str::trim).filter(|f| !f.is_empty());
+    let Some(reference) = reference else { return read(object).map(Some) };
+    let from_file = || -> Result<T, SetupError> {
+        let document = read_document(&directory.join(reference))?;
+        let referenced = ComponentReader::new(&document, document.object);
+        expect_class(referenced, class)?;
+        read(referenced)
+    };
+    from_file().map(Some).map_err(|source| SetupError::Reference {
+        file: parent.document.xml.file().into(),
+        line: object.line(),
+        element: class.into(),
+        reference: reference.into(),
+        source: Box::new(source),
+    })
+}
+
+/// The members of a set (`<objects>` inside it), each checked to be one of `classes`.
+pub fn set_members<'a>(set: ComponentReader<'a>, classes: &[&str]) -> Result<Vec<ComponentReader<'a>>, SetupError> {
+    let Some(objects) = set.child("objects") else { return Ok(Vec::new()) };
+    let members: Vec<_> = set.document.xml.children(objects).iter().map(|&member| set.at(member)).collect();
+    for &member in &members {
+        expect_one_of(member, classes)?;
+    }
+    Ok(members)
+}

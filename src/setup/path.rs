@@ -1,0 +1,54 @@
+//! File names in setup files: what was written and where it points.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+/// A file or directory named in a setup file. OpenSim reads a setup and runs its tool with the
+/// working directory set to the setup file's directory, so a relative name is resolved there;
+/// an absolute name stays as written.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct SetupPath {
+    /// The name as written (trimmed), for messages.
+    pub written: String,
+    /// `written` joined to the setup's directory, `.` components removed (`..` kept).
+    pub resolved: PathBuf,
+}
+
+impl SetupPath {
+    pub fn resolve(written: &str, directory: &Path) -> SetupPath {
+        let resolved = directory.join(written).components().collect();
+        SetupPath { written: written.to_string(), resolved }
+    }
+}
+
+/// OpenSim's convention for an unset string property: empty or `Unassigned`.
+pub fn is_unassigned(text: &str) -> bool {
+    text.is_empty() || text == "Unassigned"
+}
+
+/// The directory that relative names in `setup_file` are resolved against.
+pub fn directory_of(setup_file: &Path) -> PathBuf {
+    setup_file.parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn relative_names_join_the_setup_directory_and_absolute_names_stay() {
+        let directory = Path::new("data/subject01");
+        assert_eq!(SetupPath::resolve("static.trc", directory).resolved, Path::new("data/subject01/static.trc"));
+        assert_eq!(SetupPath::resolve("./", directory).resolved, Path::new("data/subject01"));
+        assert_eq!(SetupPath::resolve("../models/a.osim", directory).resolved, Path::new("data/subject01/../models/a.osim"));
+        assert_eq!(SetupPath::resolve("/abs/a.osim", directory).resolved, Path::new("/abs/a.osim"));
+        assert_eq!(SetupPath::resolve("a.osim", &directory_of(Path::new("setup.xml"))).resolved, Path::new("a.osim"));
+    }
+
+    #[test]
+    fn empty_and_unassigned_are_unset() {
+        assert!(is_unassigned("") && is_unassigned("Unassigned"));
+        assert!(!is_unassigned("unassigned.trc"));
+    }
+}

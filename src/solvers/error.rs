@@ -1,0 +1,39 @@
+//! Errors of the solvers; each names the file (model or trial) and what was expected.
+
+use std::path::PathBuf;
+
+use crate::mechanics::MechanicsError;
+
+/// Why inverse kinematics could not be set up or run. Non-convergence of a frame is not an
+/// error: it is the frame's [`LeastSquaresStatus`](super::LeastSquaresStatus).
+#[derive(Debug, thiserror::Error)]
+pub enum IkError {
+    /// The model could not be compiled for kinematics.
+    #[error(transparent)]
+    Mechanics(#[from] MechanicsError),
+    /// A coordinate task names no coordinate of the model (OpenSim throws too).
+    #[error("{}: coordinate task {name:?}: the model has no coordinate of that name", model.display())]
+    UnknownCoordinate { model: PathBuf, name: String },
+    /// A task weight that is negative or not finite.
+    #[error("task {name:?}: weight {weight} is not a finite number ≥ 0")]
+    InvalidWeight { name: String, weight: f64 },
+    /// No marker both has a task and is in the model and the trial (OpenSim: "Marker data does
+    /// not correspond to any model markers").
+    #[error("{}: no marker of the trial {} has a task and a model marker of the same name (model markers: {model_markers}; trial markers: {trial_markers})", model.display(), trial.display())]
+    NoMarkers { model: PathBuf, trial: PathBuf, model_markers: String, trial_markers: String },
+    /// The trial has no frames.
+    #[error("{}: the trial has no frames", trial.display())]
+    EmptyTrial { trial: PathBuf },
+    /// The requested time range does not overlap the trial.
+    #[error("{}: time range {start}–{end} s does not overlap the trial's frames at {first}–{last} s", trial.display())]
+    TimeRange { trial: PathBuf, start: f64, end: f64, first: f64, last: f64 },
+    /// A frame in which no marker with a positive weight has data.
+    #[error("{}: frame {frame} (t = {time} s): none of the tracked markers with a positive weight has data in this frame", trial.display())]
+    NoUsableMarkers { trial: PathBuf, frame: usize, time: f64 },
+    /// The model uses something the solver does not handle.
+    #[error("{}: {component}: {what} is not supported by inverse kinematics", model.display())]
+    Unsupported { model: PathBuf, component: String, what: String },
+    /// A start pose of the wrong length.
+    #[error("a pose needs {expected} coordinate values, got {found}")]
+    PoseLength { expected: usize, found: usize },
+}

@@ -1,0 +1,176 @@
+//! The objective of one frame as least-squares residuals, equal to Simbody's assembler goal:
+//!
+//! F(q) = Σ_i w_i ‖x_i(q) − x̂_i‖² / (2 Σ_i w_i) + Σ_j w_j (q_j − q̂_j)² / 2 [+ Σ_k w_c e_k² / 2]
+//!
+//! over the markers i with data in the frame (Simbody's `Markers` goal divides by the total
+//! weight of those markers), the coordinate tasks j and, with a finite constraint weight w_c,
+//! the constraint errors e_k. Residuals: √(w_i/W)·(x_i − x̂_i) (three each, zero for a marker
+//! without data), √w_j·(q_j − q̂_j), √w_c·e_k, so F = ½‖r‖².
+
+use nalgebra::DMatrix;
+
+use super::coordinates::{CoordinateMap, PoseDerivatives};
+use super::tasks::{TrackedCoordinate, TrackedMarker};
+use crate::mechanics::{CoordinateAxis, Kinematics, Mobilizer, Multibody, Vec3};
+use crate::solvers::least_squares::LeastSquaresProblem;
+
+/// What the residuals of every frame share: the compiled model and tasks.
+#[derive(Debug, Clone)]
+pub(super) struct FrameModel<'m> {
+    pub multibody: &'m Multibody,
+    pub markers: Vec<TrackedMarker>,
+    pub coordinates: Vec<TrackedCoordinate>,
+    /// Per tracked marker: the coordinates that move it and are not held.
+    pub marker_coordinates: Vec<Vec<usize>>,
+}
+
+impl FrameModel<'_> {
+    pub fn residual_count(&self, map: &CoordinateMap) -> usize {
+        3 * self.markers.len() + self.coordinates.len() + map.soft_couplers.len() + map.soft_locks.len()
+    }
+}
+
+/// Buffers reused from frame to frame.
+#[derive(Debug, Clone)]
+pub(super) struct FrameScratch {
+    pub kinematics: Kinematics,
+    pub q: Vec<f64>,
+    /// ∂p/∂q axes per coordinate (Ball and Free rotations converted to angle rates).
+    axes: Vec<CoordinateAxis>,
+    derivatives: PoseDerivatives,
+}
+
+impl FrameScratch {
+    pub fn new(multibody: &Multibody) -> FrameScratch {
+        let kinematics = multibody.kinematics();
+        let axes = kinematics.axes.clone();
+        FrameScratch { kinematics, q: multibody.default_pose(), axes, derivatives: PoseDerivatives::default() }
+    }
+}
+
+/// One frame's residuals: observed marker positions and their per-frame scales.
+pub(super) struct FrameObjective<'a, 'm> {
+    pub model: &'a FrameModel<'m>,
+    pub map: &'a CoordinateMap,
+    pub scratch: &'a mut FrameScratch,
+    /// Per tracked marker: the observation (m, ground), `None` when missing in the frame.
+    pub observed: &'a [Option<Vec3>],
+    /// Per tracked marker: √(w_i / W), 0 without data.
+    pub scales: &'a [f64],
+}
+
+impl LeastSquaresProblem for FrameObjective<'_, '_> {
+    fn variable_count(&self) -> usize {
+        self.map.variable_count()
+    }
+
+    fn residual_count(&self) -> usize {
+        self.model.residual_count(self.map)
+    }
+
+    fn evaluate(&mut self, x: &[f64], residuals: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
+        let multibody = self.model.multibody;
+        let scratch = &mut *self.scratch;
+        self.map.pose(multibody, x, &mut scratch.q);
+        multibody.realize(&scratch.q, &mut scratch.kinematics);
+        let mut row = 0;
+        for (i, marker) in self.model.markers.iter().enumerate() {
+            let location = scratch.kinematics.bodies[marker.body].apply(&marker.location);
+            let error = match self.observed[i] {
+                Some(observed) if self.scales[i] > 0.0 => self.scales[i] * (location - observed),
+                _ => Vec3::zeros(),
+            };
+            residuals[row..row + 3].copy_from_slice(error.as_slice());
+            row += 3;
+        }
+        for task in &self.model.coordinates {
+            residuals[row] = task.weight.sqrt() * (scratch.q[task.coordinate] - task.target);
+            row += 1;
+        }
+        let root_weight = self.map.root_weight;
+        for &k in &self.map.soft_couplers {
+            let coupler = &multibody.couplers[k];
+            residuals[row] = root_weight * (coupler.dependent_value(&scratch.q) - scratch.q[coupler.dependent]);
+            row += 1;
+        }
+        for &c in &self.map.soft_locks {
+            residuals[row] = root_weight * (scratch.q[c] - multibody.coordinates[c].default_value);
+            row += 1;
+        }
+        if let Some(jacobian) = jacobian {
+            self.fill_jacobian(jacobian);
+        }
+    }
+}
+
+impl FrameObjective<'_, '_> {
+    /// ∂r/∂x at the pose of the last `evaluate`.
+    fn fill_jacobian(&mut self, jacobian: &mut DMatrix<f64>) {
+        let multibody = self.model.multibody;
+        let scratch = &mut *self.scratch;
+        self.map.derivatives(multibody, &scratch.q, &mut scratch.derivatives);
+        let derivatives = &scratch.derivatives;
+        angle_rate_axes(multibody, &scratch.kinematics, &scratch.q, &mut scratch.axes);
+        jacobian.fill(0.0);
+        let map = self.map;
+        for (i, marker) in self.model.markers.iter().enumerate() {
+            let scale = self.scales[i];
+            if scale == 0.0 || self.observed[i].is_none() {
+                continue;
+            }
+            let location = scratch.kinematics.bodies[marker.body].apply(&marker.location);
+            for &c in &self.model.marker_coordinates[i] {
+                let axis = &scratch.axes[c];
+                let partial = scale * (axis.angular.cross(&(location - axis.origin)) + axis.linear);
+                for &(k, coefficient) in derivatives.of(c) {
+                    for a in 0..3 {
+                        jacobian[(3 * i + a, k)] += coefficient * partial[a];
+                    }
+                }
+            }
+        }
+        let mut row = 3 * self.model.markers.len();
+        for task in &self.model.coordinates {
+            for &(k, coefficient) in derivatives.of(task.coordinate) {
+                jacobian[(row, k)] += task.weight.sqrt() * coefficient;
+            }
+            row += 1;
+        }
+        for &k in &map.soft_couplers {
+            let coupler = &multibody.couplers[k];
+            let slope = coupler.slope(&scratch.q);
+            for &(x, coefficient) in derivatives.of(coupler.independent) {
+                jacobian[(row, x)] += map.root_weight * slope * coefficient;
+            }
+            for &(x, coefficient) in derivatives.of(coupler.dependent) {
+                jacobian[(row, x)] -= map.root_weight * coefficient;
+            }
+            row += 1;
+        }
+        for &c in &map.soft_locks {
+            for &(x, coefficient) in derivatives.of(c) {
+                jacobian[(row, x)] += map.root_weight * coefficient;
+            }
+            row += 1;
+        }
+    }
+}
+
+/// The motion axes per unit q̇ of every coordinate: [`Kinematics::axes`], except that the
+/// rotations of `BallJoint`/`FreeJoint` (whose speeds are angular velocities) are turned into
+/// rates of their body-fixed X-Y-Z angles, the q's Simbody's assembler varies.
+fn angle_rate_axes(multibody: &Multibody, kinematics: &Kinematics, q: &[f64], axes: &mut [CoordinateAxis]) {
+    axes.copy_from_slice(&kinematics.axes);
+    for joint in &multibody.joints {
+        if !matches!(joint.mobilizer, Mobilizer::Ball | Mobilizer::Free) {
+            continue;
+        }
+        let angles: Vec<f64> = joint.coordinates[..3].iter().map(|&c| q[c]).collect();
+        let mut partials = [crate::mechanics::PartialVelocity { angular: Vec3::zeros(), linear: Vec3::zeros() }; 3];
+        Mobilizer::Gimbal.partial_velocities(&angles, &mut partials);
+        let parent_rotation = kinematics.bodies[joint.parent].rotation * joint.parent_frame.rotation;
+        for (partial, &c) in partials.iter().zip(&joint.coordinates[..3]) {
+            axes[c].angular = parent_rotation * partial.angular;
+        }
+    }
+}

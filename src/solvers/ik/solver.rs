@@ -1,0 +1,237 @@
+//! `InverseKinematics`: the per-frame problem compiled once for a model, a trial and tasks, and
+//! the loop over the trial's frames (OpenSim's `InverseKinematicsTool::run`).
+
+use std::ops::RangeInclusive;
+use std::path::{Path, PathBuf};
+
+use super::coordinates::{ConstraintWeight, CoordinateMap};
+use super::frame::{FrameModel, FrameObjective, FrameScratch};
+use super::report::{IkFrame, IkSolution, MarkerErrors};
+use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
+use crate::io::table::MarkerTable;
+use crate::mechanics::{Multibody, Vec3};
+use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions};
+use crate::solvers::IkError;
+
+/// How to solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IkSettings {
+    /// [`ConstraintWeight::Infinite`] is what OpenSim 4.6's tool does (see there).
+    pub constraint_weight: ConstraintWeight,
+    /// Stopping rules of each frame's minimisation. The defaults (steps ≤ 1e-10 rad or m,
+    /// gradient ≤ 1e-14) are far tighter than OpenSim's `accuracy` (1e-5 by default), which
+    /// is the convergence tolerance of Simbody's L-BFGS on the gradient.
+    pub convergence: LeastSquaresOptions,
+}
+
+impl Default for IkSettings {
+    fn default() -> Self {
+        IkSettings { constraint_weight: ConstraintWeight::Infinite, convergence: LeastSquaresOptions::default() }
+    }
+}
+
+/// Inverse kinematics of one trial: what is tracked, compiled; solve frame by frame.
+#[derive(Debug, Clone)]
+pub struct InverseKinematics<'m> {
+    model: FrameModel<'m>,
+    map: CoordinateMap,
+    settings: IkSettings,
+    trial_file: PathBuf,
+    times: Vec<f64>,
+    /// Frame-major observations of the tracked markers (m); `None` when missing or NaN.
+    observed: Vec<Option<Vec3>>,
+    ignored_marker_tasks: Vec<IgnoredMarkerTask>,
+    locked_coordinate_tasks: Vec<String>,
+}
+
+/// Buffers of a solve, reused from frame to frame.
+#[derive(Debug, Clone)]
+pub struct IkWorkspace {
+    frame: FrameScratch,
+    least_squares: LeastSquares,
+    x: Vec<f64>,
+    scales: Vec<f64>,
+}
+
+impl<'m> InverseKinematics<'m> {
+    /// Matches `tasks` with `multibody`'s markers and coordinates and the markers of `trial`
+    /// (read from `trial_file`, any length unit), as OpenSim does: markers are used in trial
+    /// column order when they are tasked and in the model ([`InverseKinematics::ignored_marker_tasks`]
+    /// lists the others); a coordinate task naming no coordinate is an error; a task on a
+    /// locked coordinate is dropped and the coordinate held
+    /// ([`InverseKinematics::locked_coordinate_tasks`]).
+    pub fn new(multibody: &'m Multibody, trial: &MarkerTable, trial_file: &Path, tasks: &IkTasks, settings: IkSettings) -> Result<Self, IkError> {
+        let trial = trial.in_meters();
+        if trial.n_frames() == 0 {
+            return Err(IkError::EmptyTrial { trial: trial_file.into() });
+        }
+        let (markers, ignored_marker_tasks) = resolve_markers(multibody, &trial, trial_file, &tasks.markers)?;
+        let all_coordinates = resolve_coordinates(multibody, &tasks.coordinates)?;
+        let mut tasked = vec![false; multibody.coordinates.len()];
+        for task in &all_coordinates {
+            tasked[task.coordinate] = true;
+        }
+        let map = CoordinateMap::new(multibody, settings.constraint_weight, &tasked)?;
+        let (coordinates, locked): (Vec<_>, Vec<_>) = all_coordinates.into_iter().partition(|t| !multibody.coordinates[t.coordinate].locked);
+        let locked_coordinate_tasks = locked.iter().map(|t| multibody.coordinates[t.coordinate].name.clone()).collect();
+        let marker_coordinates = markers
+            .iter()
+            .map(|m| (0..multibody.coordinates.len()).filter(|&c| !map.is_held(c) && multibody.is_moved_by(m.body, multibody.coordinate_joint(c))).collect())
+            .collect();
+        let mut observed = Vec::with_capacity(trial.n_frames() * markers.len());
+        for frame in 0..trial.n_frames() {
+            for marker in &markers {
+                let position = trial.position(frame, marker.trial_column).filter(|p| p.iter().all(|v| v.is_finite()));
+                observed.push(position.map(Vec3::from));
+            }
+        }
+        Ok(InverseKinematics {
+            model: FrameModel { multibody, markers, coordinates, marker_coordinates },
+            map,
+            settings,
+            trial_file: trial_file.into(),
+            times: trial.times().to_vec(),
+            observed,
+            ignored_marker_tasks,
+            locked_coordinate_tasks,
+        })
+    }
+
+    /// Names of the markers in use, in trial column order (the order OpenSim reports them in).
+    pub fn marker_names(&self) -> Vec<String> {
+        self.model.markers.iter().map(|m| m.name.clone()).collect()
+    }
+
+    /// Marker tasks that name a marker missing from the model or the trial (OpenSim ignores
+    /// them silently).
+    pub fn ignored_marker_tasks(&self) -> &[IgnoredMarkerTask] {
+        &self.ignored_marker_tasks
+    }
+
+    /// Coordinates that have a task but are locked: held at their default value, task dropped.
+    pub fn locked_coordinate_tasks(&self) -> &[String] {
+        &self.locked_coordinate_tasks
+    }
+
+    /// Frame times of the trial (s).
+    pub fn times(&self) -> &[f64] {
+        &self.times
+    }
+
+    /// The frames of `time_range` (s; `None`: all) as OpenSim picks them: the range is clipped
+    /// to the trial's, then each end goes to the nearest frame (ties to the later one).
+    /// A range that does not overlap the trial (or ends before it starts) is an error.
+    pub fn frames(&self, time_range: Option<[f64; 2]>) -> Result<RangeInclusive<usize>, IkError> {
+        let (first, last) = (self.times[0], self.times[self.times.len() - 1]);
+        let Some([start, end]) = time_range else { return Ok(0..=self.times.len() - 1) };
+        let (clipped_start, clipped_end) = (start.max(first), end.min(last));
+        if !(clipped_end >= clipped_start) {
+            return Err(IkError::TimeRange { trial: self.trial_file.clone(), start, end, first, last });
+        }
+        Ok(nearest_frame(&self.times, clipped_start)..=nearest_frame(&self.times, clipped_end))
+    }
+
+    /// Buffers for [`InverseKinematics::solve_frame`].
+    pub fn workspace(&self) -> IkWorkspace {
+        let n = self.map.variable_count();
+        IkWorkspace {
+            frame: FrameScratch::new(self.model.multibody),
+            least_squares: LeastSquares::new(n, self.model.residual_count(&self.map)),
+            x: vec![0.0; n],
+            scales: vec![0.0; self.model.markers.len()],
+        }
+    }
+
+    /// The pose the first frame starts from, as OpenSim's `assemble` starts from the model's
+    /// default state: default values, dependents following their couplers.
+    pub fn initial_pose(&self) -> Vec<f64> {
+        let multibody = self.model.multibody;
+        let mut x = vec![0.0; self.map.variable_count()];
+        self.map.free_values(&multibody.default_pose(), &mut x);
+        let mut q = multibody.default_pose();
+        self.map.pose(multibody, &x, &mut q);
+        q
+    }
+
+    /// Solves frame `frame` starting from `q` (rad or m per coordinate); `q` becomes the
+    /// solution (held coordinates at their values, dependents following their couplers).
+    pub fn solve_frame(&self, frame: usize, q: &mut [f64], workspace: &mut IkWorkspace) -> Result<IkFrame, IkError> {
+        let multibody = self.model.multibody;
+        if q.len() != multibody.coordinates.len() {
+            return Err(IkError::PoseLength { expected: multibody.coordinates.len(), found: q.len() });
+        }
+        let n_markers = self.model.markers.len();
+        let observed = &self.observed[frame * n_markers..(frame + 1) * n_markers];
+        let total_weight: f64 = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
+        if !(total_weight > 0.0) {
+            return Err(IkError::NoUsableMarkers { trial: self.trial_file.clone(), frame, time: self.times[frame] });
+        }
+        for ((scale, marker), observation) in workspace.scales.iter_mut().zip(&self.model.markers).zip(observed) {
+            *scale = if observation.is_some() { (marker.weight / total_weight).sqrt() } else { 0.0 };
+        }
+        self.map.free_values(q, &mut workspace.x);
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
+        let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
+        self.map.pose(multibody, &workspace.x, q);
+        multibody.realize(q, &mut workspace.frame.kinematics);
+        let errors = MarkerErrors::measure(&self.model.markers, observed, |m| workspace.frame.kinematics.bodies[m.body].apply(&m.location));
+        Ok(IkFrame {
+            frame,
+            time: self.times[frame],
+            q: q.to_vec(),
+            errors,
+            missing_markers: observed.iter().enumerate().filter(|(_, o)| o.is_none()).map(|(i, _)| i).collect(),
+            objective: report.cost,
+            iterations: report.iterations,
+            status: report.status,
+        })
+    }
+
+    /// Solves the frames of `time_range` in order, each starting from the previous solution and
+    /// the first from [`InverseKinematics::initial_pose`] (OpenSim's `assemble` then `track`).
+    pub fn solve(&self, time_range: Option<[f64; 2]>) -> Result<IkSolution, IkError> {
+        let frames = self.frames(time_range)?;
+        let mut workspace = self.workspace();
+        let mut q = self.initial_pose();
+        let mut solved = Vec::with_capacity(frames.clone().count());
+        for frame in frames {
+            solved.push(self.solve_frame(frame, &mut q, &mut workspace)?);
+        }
+        let multibody = self.model.multibody;
+        Ok(IkSolution {
+            markers: self.marker_names(),
+            coordinates: multibody.coordinates.iter().map(|c| c.name.clone()).collect(),
+            frames: solved,
+        })
+    }
+}
+
+/// OpenSim's `TimeSeriesTable::getNearestRowIndexForTime`: the first time ≥ `time` unless
+/// the one before is strictly nearer.
+fn nearest_frame(times: &[f64], time: f64) -> usize {
+    let after = times.partition_point(|t| *t < time);
+    if after == times.len() {
+        return times.len() - 1;
+    }
+    if after == 0 || times[after] - time <= time - times[after - 1] {
+        after
+    } else {
+        after - 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::nearest_frame;
+
+    #[test]
+    fn nearest_frame_as_opensim() {
+        let times = [0.0, 0.5, 1.0, 1.5];
+        assert_eq!(nearest_frame(&times, -1.0), 0);
+        assert_eq!(nearest_frame(&times, 0.0), 0);
+        assert_eq!(nearest_frame(&times, 0.2), 0);
+        assert_eq!(nearest_frame(&times, 0.25), 1);
+        assert_eq!(nearest_frame(&times, 1.2), 2);
+        assert_eq!(nearest_frame(&times, 9.0), 3);
+    }
+}

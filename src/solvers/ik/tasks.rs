@@ -1,0 +1,175 @@
+//! What inverse kinematics tracks: marker tasks (a weight per marker) and coordinate tasks (a
+//! weight and a target per coordinate), and how they are matched with a model and a trial the
+//! way OpenSim 4.6's `InverseKinematicsTool` matches them.
+
+use std::path::Path;
+
+use crate::io::table::MarkerTable;
+use crate::mechanics::{Multibody, Vec3};
+use crate::solvers::IkError;
+
+/// A tracked marker: OpenSim's `IKMarkerTask` with `apply = true`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MarkerTask {
+    pub name: String,
+    /// ≥ 0; 0 keeps the marker in the error report but out of the objective (as Simbody).
+    pub weight: f64,
+}
+
+/// The value a coordinate task pulls its coordinate towards (OpenSim's `value_type`; the
+/// `from_file` type is not supported).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CoordinateTarget {
+    /// The coordinate's `default_value` in the model (`default_value`).
+    DefaultValue,
+    /// This value, rad or m (`manual_value`).
+    Value(f64),
+}
+
+/// OpenSim's `IKCoordinateTask` with `apply = true`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoordinateTask {
+    pub name: String,
+    /// ≥ 0; 0 drops the task (Simbody skips goals of weight 0).
+    pub weight: f64,
+    pub target: CoordinateTarget,
+}
+
+/// The tasks of an inverse kinematics run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct IkTasks {
+    /// Empty: every trial marker the model has, weight 1 (OpenSim's rule when a task set lists
+    /// no marker task). Otherwise only these markers; a name listed twice takes its first
+    /// weight.
+    pub markers: Vec<MarkerTask>,
+    pub coordinates: Vec<CoordinateTask>,
+}
+
+impl IkTasks {
+    /// Every trial marker the model has, weight 1; no coordinate task.
+    pub fn every_marker() -> IkTasks {
+        IkTasks::default()
+    }
+}
+
+/// Where a marker task's marker is missing.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MissingFrom {
+    Model,
+    Trial,
+    ModelAndTrial,
+}
+
+/// A marker task that cannot be tracked; OpenSim ignores such tasks silently.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgnoredMarkerTask {
+    pub name: String,
+    pub missing_from: MissingFrom,
+}
+
+/// A marker in use: in the trial, in the model, and tasked (or every marker, by default).
+#[derive(Debug, Clone)]
+pub(super) struct TrackedMarker {
+    pub name: String,
+    /// Index of the trial column.
+    pub trial_column: usize,
+    pub body: usize,
+    /// m, in the body frame.
+    pub location: Vec3,
+    pub weight: f64,
+}
+
+/// A coordinate task resolved against the model.
+#[derive(Debug, Clone)]
+pub(super) struct TrackedCoordinate {
+    pub coordinate: usize,
+    pub weight: f64,
+    /// rad or m.
+    pub target: f64,
+}
+
+/// The markers in use in trial column order (OpenSim's `MarkersReference` order: the order of
+/// the error report and of "worst marker" ties), and the tasks that cannot be used.
+pub(super) fn resolve_markers(
+    multibody: &Multibody,
+    trial: &MarkerTable,
+    trial_file: &Path,
+    tasks: &[MarkerTask],
+) -> Result<(Vec<TrackedMarker>, Vec<IgnoredMarkerTask>), IkError> {
+    for task in tasks {
+        check_weight(&task.name, task.weight)?;
+    }
+    let in_model = |name: &str| multibody.markers.iter().position(|m| m.name == name);
+    let mut tracked = Vec::new();
+    for (column, name) in trial.marker_names().iter().enumerate() {
+        let weight = if tasks.is_empty() { Some(1.0) } else { tasks.iter().find(|t| &t.name == name).map(|t| t.weight) };
+        if let (Some(weight), Some(marker)) = (weight, in_model(name)) {
+            let marker = &multibody.markers[marker];
+            tracked.push(TrackedMarker { name: name.clone(), trial_column: column, body: marker.body, location: marker.location, weight });
+        }
+    }
+    let mut ignored = Vec::new();
+    for task in tasks {
+        let missing_from = match (in_model(&task.name).is_some(), trial.marker_index(&task.name).is_some()) {
+            (true, true) => continue,
+            (false, true) => MissingFrom::Model,
+            (true, false) => MissingFrom::Trial,
+            (false, false) => MissingFrom::ModelAndTrial,
+        };
+        if !ignored.iter().any(|i: &IgnoredMarkerTask| i.name == task.name) {
+            ignored.push(IgnoredMarkerTask { name: task.name.clone(), missing_from });
+        }
+    }
+    if tracked.is_empty() {
+        let list = |names: Vec<&str>| abbreviated(&names);
+        return Err(IkError::NoMarkers {
+            model: multibody.file.clone(),
+            trial: trial_file.into(),
+            model_markers: list(multibody.markers.iter().map(|m| m.name.as_str()).collect()),
+            trial_markers: list(trial.marker_names().iter().map(String::as_str).collect()),
+        });
+    }
+    Ok((tracked, ignored))
+}
+
+/// Coordinate tasks by coordinate index; tasks of weight 0 are dropped (a weight-0 goal does
+/// nothing in Simbody's assembler). Tasks on locked coordinates are kept here; the caller
+/// decides (OpenSim locks such a coordinate in the assembler and drops the task).
+pub(super) fn resolve_coordinates(multibody: &Multibody, tasks: &[CoordinateTask]) -> Result<Vec<TrackedCoordinate>, IkError> {
+    let mut tracked = Vec::new();
+    for task in tasks {
+        check_weight(&task.name, task.weight)?;
+        let coordinate = multibody
+            .coordinate_index(&task.name)
+            .ok_or_else(|| IkError::UnknownCoordinate { model: multibody.file.clone(), name: task.name.clone() })?;
+        let target = match task.target {
+            CoordinateTarget::DefaultValue => multibody.coordinates[coordinate].default_value,
+            CoordinateTarget::Value(value) => value,
+        };
+        if task.weight > 0.0 {
+            tracked.push(TrackedCoordinate { coordinate, weight: task.weight, target });
+        }
+    }
+    Ok(tracked)
+}
+
+fn check_weight(name: &str, weight: f64) -> Result<(), IkError> {
+    if weight.is_finite() && weight >= 0.0 {
+        Ok(())
+    } else {
+        Err(IkError::InvalidWeight { name: name.to_string(), weight })
+    }
+}
+
+/// The first few names, then how many more.
+fn abbreviated(names: &[&str]) -> String {
+    if names.is_empty() {
+        return "none".to_string();
+    }
+    let shown = names.iter().take(8).copied().collect::<Vec<_>>().join(", ");
+    if names.len() > 8 {
+        format!("{shown}, … ({} more)", names.len() - 8)
+    } else {
+        shown
+    }
+}

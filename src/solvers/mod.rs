@@ -1,0 +1,20 @@
+//! Solvers over the compiled mechanics: bounded nonlinear least squares and what is built on
+//! it. clarabel is used only here.
+//!
+//! - `least_squares.rs`: bounded Levenberg–Marquardt ([`LeastSquares`]);
+//! - `box_qp.rs`: the box-constrained QP of a bounded step (clarabel);
+//! - `ik/`: inverse kinematics as OpenSim 4.6 computes it ([`InverseKinematics`]);
+//! - `error.rs`: [`IkError`].
+
+mod box_qp;
+mod error;
+pub mod ik;
+mod least_squares;
+
+pub use box_qp::BoxQpError;
+pub use error::IkError;
+pub use ik::{
+    ConstraintWeight, CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkFrame, IkSettings, IkSolution, IkTasks, IkWorkspace,
+    InverseKinematics, MarkerErrors, MarkerTask, MissingFrom,
+};
+pub use least_squares::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresReport, LeastSquaresStatus};

@@ -1,0 +1,3 @@
+//! Making a generic model subject-specific: linear scaling with OpenSim ScaleTool semantics.
+
+pub mod scale;

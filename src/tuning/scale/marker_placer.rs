@@ -1,0 +1,153 @@
+//! OpenSim's `MarkerPlacer`: the static trial averaged over the time range, inverse kinematics of
+//! that one frame, then every non-fixed model marker moved onto its experimental position.
+
+use std::path::Path;
+
+use super::edits::{apply, numbers_edit};
+use super::error::ScaleError;
+use super::measurement::frame_range;
+use super::model_scaler::reparse;
+use crate::io::osim::OsimDocument;
+use crate::io::table::{MarkerTable, TrcHeader};
+use crate::mechanics::{Multibody, Vec3};
+use crate::model::{ComponentReader, ModelSpec};
+use crate::setup::{CoordinateTarget as SetupTarget, IkTaskSet, TimeRange};
+use crate::solvers::{CoordinateTarget, CoordinateTask, IkFrame, IkSettings, IkTasks, InverseKinematics, MarkerTask};
+
+/// The placed model and the static pose it was placed in.
+#[derive(Debug, Clone)]
+pub struct MarkerPlacement {
+    pub document: OsimDocument,
+    /// Time of the static pose: the start of the time range clamped to the trial (s).
+    pub time: f64,
+    /// The solved static frame: coordinates (rad or m, the model's CoordinateSet order) and the
+    /// marker errors of the scaled model before its markers moved.
+    pub frame: IkFrame,
+    pub coordinates: Vec<String>,
+    /// The markers the errors are over, in the order of `frame.errors.worst`.
+    pub tracked_markers: Vec<String>,
+    pub moved: Vec<String>,
+    /// Model markers absent from the static trial, deleted as OpenSim deletes them.
+    pub deleted: Vec<String>,
+    /// Non-fixed markers without data in the time range, left where they were.
+    pub without_data: Vec<String>,
+}
+
+/// Places the markers of `model` on the static trial `trial` (read from `trial_file`).
+pub fn place_markers(model: &OsimDocument, trial: &MarkerTable, trial_file: &Path, tasks: &IkTaskSet, range: TimeRange) -> Result<MarkerPlacement, ScaleError> {
+    let trial = trial.in_meters();
+    let times = trial.times();
+    let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
+        return Err(ScaleError::Measurement { file: trial_file.into(), measurement: "marker placement".into(), problem: "the static trial has no frames".into() });
+    };
+    let range = TimeRange { start: range.start.max(first), end: range.end.min(last) };
+    let static_pose = averaged_frame(&trial, range)?;
+    let (model, deleted) = delete_unused_markers(model, trial.marker_names())?;
+    let spec = ModelSpec::read(&model)?;
+    let multibody = Multibody::new(&spec)?;
+    let ik = InverseKinematics::new(&multibody, &static_pose, trial_file, &ik_tasks(tasks, trial_file)?, IkSettings::default())?;
+    let mut q = ik.initial_pose();
+    let frame = ik.solve_frame(0, &mut q, &mut ik.workspace())?;
+    let moved = move_markers_to_pose(&model, &static_pose, &frame.q)?;
+    Ok(MarkerPlacement {
+        document: moved.document,
+        time: range.start,
+        frame,
+        coordinates: multibody.coordinates.iter().map(|c| c.name.clone()).collect(),
+        tracked_markers: ik.marker_names(),
+        moved: moved.moved,
+        deleted,
+        without_data: moved.without_data,
+    })
+}
+
+/// The model with its markers moved onto an observed pose.
+#[derive(Debug, Clone)]
+pub struct MovedMarkers {
+    pub document: OsimDocument,
+    pub moved: Vec<String>,
+    /// Non-fixed markers without data in `static_pose`, left where they were.
+    pub without_data: Vec<String>,
+}
+
+/// `MarkerPlacer::moveModelMarkersToPose`: with the model at coordinates `q` (rad or m,
+/// CoordinateSet order), every non-fixed marker found in the first frame of `static_pose`
+/// (m) gets that position, expressed in the marker's parent frame.
+pub fn move_markers_to_pose(model: &OsimDocument, static_pose: &MarkerTable, q: &[f64]) -> Result<MovedMarkers, ScaleError> {
+    let spec = ModelSpec::read(model)?;
+    let multibody = Multibody::new(&spec)?;
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(q, &mut kinematics);
+    let (mut edits, mut moved, mut without_data) = (Vec::new(), Vec::new(), Vec::new());
+    for (marker, element) in spec.markers.iter().zip(marker_elements(model)) {
+        let Some(column) = static_pose.marker_index(&marker.name).filter(|_| !marker.fixed) else { continue };
+        let Some(position) = static_pose.position(0, column).filter(|p| p.iter().all(|v| v.is_finite())) else {
+            without_data.push(marker.name.clone());
+            continue;
+        };
+        let (body, frame_in_body) = multibody.attach(&marker.frame, &marker.name)?;
+        let in_frame = kinematics.bodies[body].compose(&frame_in_body).inverse().apply(&Vec3::from(position));
+        edits.extend(numbers_edit(ComponentReader::new(model, element), "location", &[in_frame.x, in_frame.y, in_frame.z])?);
+        moved.push(marker.name.clone());
+    }
+    let mut placed = model.clone();
+    apply(&mut placed, &edits)?;
+    Ok(MovedMarkers { document: reparse(&placed)?, moved, without_data })
+}
+
+/// `MarkerData::averageFrames`: one frame at `range.start` holding each marker's mean over the
+/// frames of `range` where it is present (absent when it never is).
+pub fn averaged_frame(trial: &MarkerTable, range: TimeRange) -> Result<MarkerTable, ScaleError> {
+    let frames = frame_range(trial.times(), range);
+    let positions = (0..trial.n_markers())
+        .map(|m| {
+            let present: Vec<[f64; 3]> = frames.clone().filter_map(|f| trial.position(f, m)).filter(|p| p.iter().all(|v| v.is_finite())).collect();
+            let n = present.len() as f64;
+            (!present.is_empty()).then(|| [0, 1, 2].map(|k| present.iter().map(|p| p[k]).sum::<f64>() / n))
+        })
+        .collect();
+    let header = TrcHeader::new(trial.rate(), trial.units());
+    Ok(MarkerTable::new(header, trial.marker_names().to_vec(), vec![range.start], positions)?)
+}
+
+/// `Model::deleteUnusedMarkers`: the model without the markers the trial does not have.
+fn delete_unused_markers(model: &OsimDocument, trial_markers: &[String]) -> Result<(OsimDocument, Vec<String>), ScaleError> {
+    let mut pruned = model.clone();
+    let mut deleted = Vec::new();
+    for element in marker_elements(model) {
+        let name = model.xml.name(element).unwrap_or_default();
+        if !trial_markers.iter().any(|m| m == name) {
+            pruned.xml.replace_element(element, "")?;
+            deleted.push(name.to_string());
+        }
+    }
+    Ok((if deleted.is_empty() { pruned } else { reparse(&pruned)? }, deleted))
+}
+
+/// The `<Marker>` elements of the model's `MarkerSet`, in order (as `ModelSpec::markers`).
+fn marker_elements(model: &OsimDocument) -> Vec<crate::io::xml::ElementId> {
+    let reader = ComponentReader::new(model, model.object);
+    reader.child("MarkerSet").map(|set| reader.listed_objects(set)).unwrap_or_default()
+}
+
+/// The applied tasks of a setup's `IKTaskSet` as the solver takes them.
+fn ik_tasks(tasks: &IkTaskSet, setup_file: &Path) -> Result<IkTasks, ScaleError> {
+    let markers = tasks.marker_tasks.iter().filter(|t| t.apply).map(|t| MarkerTask { name: t.name.clone(), weight: t.weight }).collect();
+    let mut coordinates = Vec::new();
+    for task in tasks.coordinate_tasks.iter().filter(|t| t.apply) {
+        let target = match task.target {
+            SetupTarget::DefaultValue => CoordinateTarget::DefaultValue,
+            SetupTarget::ManualValue(value) => CoordinateTarget::Value(value),
+            SetupTarget::FromFile => {
+                return Err(ScaleError::Unsupported {
+                    file: setup_file.into(),
+                    line: 0,
+                    component: format!("IKCoordinateTask {}", task.name),
+                    problem: "coordinate tasks with value_type from_file are not supported yet".into(),
+                })
+            }
+        };
+        coordinates.push(CoordinateTask { name: task.name.clone(), weight: task.weight, target });
+    }
+    Ok(IkTasks { markers, coordinates })
+}

@@ -1,0 +1,84 @@
+//! `postScale` of path-based forces: a muscle's `optimal_fiber_length` and
+//! `tendon_slack_length` (a ligament's or path spring's `resting_length`) times the ratio of its
+//! path length after and before scaling, both at the model's default pose.
+
+use super::edits::{scaled_number_edit, Edit};
+use super::error::ScaleError;
+use crate::io::osim::OsimDocument;
+use crate::mechanics::{GeometryPath, Multibody, PathScratch};
+use crate::model::{ComponentReader, ForceSpec, ModelSpec};
+
+/// Classes derived from OpenSim's `ActivationFiberLengthMuscle` (and DeGroote–Fregly), whose
+/// `extendPostScale` rescales both lengths.
+const FIBER_LENGTH_MUSCLES: [&str; 7] = [
+    "Millard2012EquilibriumMuscle",
+    "Millard2012AccelerationMuscle",
+    "Thelen2003Muscle",
+    "DeGrooteFregly2016Muscle",
+    "Schutte1993Muscle_Deprecated",
+    "Delp1990Muscle_Deprecated",
+    "Thelen2003Muscle_Deprecated",
+];
+
+/// Classes whose `extendPostScale` rescales `resting_length`.
+const RESTING_LENGTH_FORCES: [&str; 2] = ["Ligament", "PathSpring"];
+
+/// One force's path length at the default pose before and after scaling (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathRescale {
+    pub force: String,
+    pub length_before: f64,
+    pub length_after: f64,
+}
+
+impl PathRescale {
+    pub fn ratio(&self) -> f64 {
+        self.length_after / self.length_before
+    }
+}
+
+/// Default-pose path lengths of the forces OpenSim rescales, by name, in ForceSet order.
+pub fn default_pose_lengths(model: &ModelSpec) -> Result<Vec<(String, f64)>, ScaleError> {
+    let multibody = Multibody::new(model)?;
+    let mut kinematics = multibody.kinematics();
+    let q = multibody.default_pose();
+    multibody.realize(&q, &mut kinematics);
+    let mut scratch = PathScratch::default();
+    let mut lengths = Vec::new();
+    for force in model.forces.iter().filter(|f| rescaled(f)) {
+        if !force.path_wraps.is_empty() {
+            return Err(ScaleError::Unsupported {
+                file: model.file.clone(),
+                line: 0,
+                component: force.name.clone(),
+                problem: "its path wraps over objects; osim-tune does not compute wrapping yet, so it cannot rescale its lengths as OpenSim would".into(),
+            });
+        }
+        let path = GeometryPath::new(&multibody, model, force)?;
+        lengths.push((force.name.clone(), path.length(&kinematics, &q, &mut scratch)));
+    }
+    Ok(lengths)
+}
+
+fn rescaled(force: &ForceSpec) -> bool {
+    FIBER_LENGTH_MUSCLES.contains(&force.class.as_str()) || RESTING_LENGTH_FORCES.contains(&force.class.as_str())
+}
+
+/// The edits rescaling each force of `model` (read from `document`) by its length ratio.
+pub fn rescale_edits(document: &OsimDocument, model: &ModelSpec, before: &[(String, f64)], after: &[(String, f64)]) -> Result<(Vec<Edit>, Vec<PathRescale>), ScaleError> {
+    let mut edits = Vec::new();
+    let mut report = Vec::new();
+    for (force, ((name, length_before), (_, length_after))) in model.forces.iter().filter(|f| rescaled(f)).zip(before.iter().zip(after)) {
+        if *length_before <= 0.0 {
+            continue;
+        }
+        let rescale = PathRescale { force: name.clone(), length_before: *length_before, length_after: *length_after };
+        let reader = ComponentReader::new(document, force.element);
+        let properties: &[&str] = if RESTING_LENGTH_FORCES.contains(&force.class.as_str()) { &["resting_length"] } else { &["optimal_fiber_length", "tendon_slack_length"] };
+        for property in properties {
+            edits.extend(scaled_number_edit(reader, property, rescale.ratio())?);
+        }
+        report.push(rescale);
+    }
+    Ok((edits, report))
+}

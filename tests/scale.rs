@@ -1,0 +1,137 @@
+//! Linear scaling against OpenSim 4.6's ScaleTool on the subject01 example
+//! (fixtures/golden/scale, from ../shared/reference/pipelines/gait2392_subject01).
+
+mod common;
+
+use common::fixture;
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::{MarkerTable, StorageTable};
+use osim_tune::mechanics::{Multibody, Vec3};
+use osim_tune::model::ModelSpec;
+use osim_tune::review::Tolerance;
+use osim_tune::setup::{ScaleSetup, TimeRange};
+use osim_tune::validation::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
+use osim_tune::tuning::scale::{averaged_frame, move_markers_to_pose, read_marker_set, run_scale_tool, scale_model, update_marker_set, ScaleOutcome, ScaleSet};
+
+/// OpenSim's per-body factors, full precision (`scale_factors.csv`).
+fn opensim_scale_set() -> ScaleSet {
+    let text = std::fs::read_to_string(fixture("golden/scale/scale_factors.csv")).unwrap();
+    let mut set = ScaleSet::unit(std::iter::empty());
+    for line in text.lines().skip(1) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let factors = [1, 2, 3].map(|k| fields[k].parse::<f64>().unwrap());
+        set.bodies.push(osim_tune::tuning::scale::BodyScaleFactors { body: fields[0].into(), factors });
+    }
+    set
+}
+
+#[test]
+fn scaling_by_opensims_factors_gives_opensims_scaled_model() {
+    let generic = OsimDocument::read(&fixture("../models/gait2392_millard2012muscle.osim")).unwrap();
+    let markers = read_marker_set(&fixture("subject01/gait2392_Scale_MarkerSet.xml")).unwrap();
+    let with_markers = update_marker_set(&generic, &markers).unwrap();
+    let scaled = scale_model(&with_markers, &opensim_scale_set(), true, Some(72.6)).unwrap();
+    let golden = OsimDocument::read(&fixture("golden/scale/subject01_scaledOnly.osim")).unwrap();
+    let differences = compare_scaled_models(&golden, &scaled.document, SCALED_MODEL_TOLERANCE);
+    for d in differences.iter().take(60) {
+        println!("{} {:?}", d.path, d.change);
+    }
+    assert!(differences.is_empty(), "{} differences", differences.len());
+}
+
+#[test]
+fn the_comparison_sees_an_unscaled_model_and_a_single_changed_value() {
+    let generic = OsimDocument::read(&fixture("../models/gait2392_millard2012muscle.osim")).unwrap();
+    let markers = read_marker_set(&fixture("subject01/gait2392_Scale_MarkerSet.xml")).unwrap();
+    let with_markers = update_marker_set(&generic, &markers).unwrap();
+    let golden = OsimDocument::read(&fixture("golden/scale/subject01_scaledOnly.osim")).unwrap();
+    let unscaled = compare_scaled_models(&golden, &with_markers, SCALED_MODEL_TOLERANCE);
+    assert!(unscaled.len() > 500, "{} differences", unscaled.len());
+    let mut scaled = scale_model(&with_markers, &opensim_scale_set(), true, Some(72.6)).unwrap().document;
+    scaled.set_property("/forceset/vas_int_r/tendon_slack_length", "0.1412").unwrap();
+    let differences = compare_scaled_models(&golden, &scaled, SCALED_MODEL_TOLERANCE);
+    assert_eq!(differences.iter().map(|d| d.path.as_str()).collect::<Vec<_>>(), ["/forceset/vas_int_r/tendon_slack_length"]);
+}
+
+/// The subject01 setup as OpenSim 4.6 printed it, run on the generic model from `models/`.
+fn run_subject01() -> ScaleOutcome {
+    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
+    let generic = OsimDocument::read(&fixture("../models/gait2392_millard2012muscle.osim")).unwrap();
+    run_scale_tool(&generic, &setup, &mut |_| {}).unwrap()
+}
+
+#[test]
+fn subject01_scale_factors_equal_opensims() {
+    let outcome = run_subject01();
+    let golden = opensim_scale_set();
+    for body in &golden.bodies {
+        let ours = outcome.scale_set.factors(&body.body).unwrap();
+        for (a, b) in ours.iter().zip(body.factors) {
+            assert!((a - b).abs() <= 1e-9 * b, "{}: {a} vs OpenSim {b}", body.body);
+        }
+    }
+    assert_eq!(outcome.unknown_bodies, ["patella_r", "patella_l"]);
+}
+
+/// OpenSim's static pose (`subject01_static_output.mot`, printed to 8 decimals, rad and m), in
+/// the CoordinateSet order of `multibody`.
+fn opensim_static_pose(multibody: &Multibody) -> Vec<f64> {
+    let table = StorageTable::read(&fixture("golden/scale/subject01_static_output.mot")).unwrap();
+    let value = |name: &str| {
+        let label = table.labels().iter().find(|l| l.ends_with(&format!("/{name}/value"))).unwrap().clone();
+        table.column(&label).unwrap()[0]
+    };
+    multibody.coordinates.iter().map(|c| value(&c.name)).collect()
+}
+
+/// MarkerPlacer's objective Σ w‖x(q) − x̂‖² over the setup's marker tasks, computed here from
+/// first principles (marker positions of the scaled model, the trial averaged over 1–2 s).
+fn static_objective(multibody: &Multibody, q: &[f64]) -> f64 {
+    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
+    let trial = MarkerTable::read(&fixture("subject01/subject01_static.trc")).unwrap().in_meters();
+    let frames = 60..=120; // 1.0 s to 2.0 s at 60 Hz
+    assert_eq!((trial.times()[60], trial.times()[120]), (1.0, 2.0));
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(q, &mut kinematics);
+    let mut objective = 0.0;
+    for task in &setup.marker_placer.as_ref().unwrap().ik_tasks.marker_tasks {
+        let marker = multibody.markers.iter().position(|m| m.name == task.name).unwrap();
+        let column = trial.marker_index(&task.name).unwrap();
+        let observed: Vec<Vec3> = frames.clone().filter_map(|f| trial.position(f, column)).map(Vec3::from).collect();
+        let mean = observed.iter().sum::<Vec3>() / observed.len() as f64;
+        objective += task.weight * (kinematics.marker_location(multibody, marker) - mean).norm_squared();
+    }
+    objective
+}
+
+#[test]
+fn subject01_scale_step_gives_opensims_scaled_model() {
+    let outcome = run_subject01();
+    let scaled_only = OsimDocument::read(&fixture("golden/scale/subject01_scaledOnly.osim")).unwrap();
+    let differences = compare_scaled_models(&scaled_only, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
+    assert!(differences.is_empty(), "{differences:#?}");
+}
+
+/// OpenSim's MarkerPlacer solves the static pose with the assembler's default accuracy, so its
+/// pose is not the minimum of its own objective; ours must be at least as good. Markers moved
+/// at OpenSim's pose must land where OpenSim put them, to the 1e-8 print precision of that pose
+/// (bound 1e-7 m).
+#[test]
+fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
+    let outcome = run_subject01();
+    let scaled = &outcome.scaled.as_ref().unwrap().document;
+    let multibody = Multibody::new(&ModelSpec::read(scaled).unwrap()).unwrap();
+    let placement = outcome.placement.as_ref().unwrap();
+    let opensim_pose = opensim_static_pose(&multibody);
+    let (ours, opensim) = (static_objective(&multibody, &placement.frame.q), static_objective(&multibody, &opensim_pose));
+    assert!(ours <= opensim, "static objective {ours} worse than OpenSim's {opensim}");
+    assert_eq!(placement.moved.len(), 39);
+    assert!(placement.deleted.is_empty() && placement.without_data.is_empty());
+
+    let trial = MarkerTable::read(&fixture("subject01/subject01_static.trc")).unwrap();
+    let static_pose = averaged_frame(&trial.in_meters(), TimeRange { start: 1.0, end: 2.0 }).unwrap();
+    let at_opensim_pose = move_markers_to_pose(scaled, &static_pose, &opensim_pose).unwrap();
+    let golden = OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap();
+    let differences = compare_scaled_models(&golden, &at_opensim_pose.document, Tolerance { relative: 0.0, absolute: 1e-7 });
+    assert!(differences.is_empty(), "{differences:#?}");
+}
