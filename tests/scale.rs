@@ -6,11 +6,11 @@ mod common;
 use common::fixture;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::{MarkerTable, StorageTable};
-use osim_tune::mechanics::{Multibody, Vec3};
+use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
 use osim_tune::review::Tolerance;
 use osim_tune::setup::{ScaleSetup, TimeRange};
-use osim_tune::validation::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
+use osim_tune::validation::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};
 use osim_tune::tuning::scale::{averaged_frame, move_markers_to_pose, read_marker_set, run_scale_tool, scale_model, update_marker_set, ScaleOutcome, ScaleSet};
 
 /// OpenSim's per-body factors, full precision (`scale_factors.csv`).
@@ -84,26 +84,6 @@ fn opensim_static_pose(multibody: &Multibody) -> Vec<f64> {
     multibody.coordinates.iter().map(|c| value(&c.name)).collect()
 }
 
-/// MarkerPlacer's objective Σ w‖x(q) − x̂‖² over the setup's marker tasks, computed here from
-/// first principles (marker positions of the scaled model, the trial averaged over 1–2 s).
-fn static_objective(multibody: &Multibody, q: &[f64]) -> f64 {
-    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
-    let trial = MarkerTable::read(&fixture("subject01/subject01_static.trc")).unwrap().in_meters();
-    let frames = 60..=120; // 1.0 s to 2.0 s at 60 Hz
-    assert_eq!((trial.times()[60], trial.times()[120]), (1.0, 2.0));
-    let mut kinematics = multibody.kinematics();
-    multibody.realize(q, &mut kinematics);
-    let mut objective = 0.0;
-    for task in &setup.marker_placer.as_ref().unwrap().ik_tasks.marker_tasks {
-        let marker = multibody.markers.iter().position(|m| m.name == task.name).unwrap();
-        let column = trial.marker_index(&task.name).unwrap();
-        let observed: Vec<Vec3> = frames.clone().filter_map(|f| trial.position(f, column)).map(Vec3::from).collect();
-        let mean = observed.iter().sum::<Vec3>() / observed.len() as f64;
-        objective += task.weight * (kinematics.marker_location(multibody, marker) - mean).norm_squared();
-    }
-    objective
-}
-
 #[test]
 fn subject01_scale_step_gives_opensims_scaled_model() {
     let outcome = run_subject01();
@@ -123,13 +103,16 @@ fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
     let multibody = Multibody::new(&ModelSpec::read(scaled).unwrap()).unwrap();
     let placement = outcome.placement.as_ref().unwrap();
     let opensim_pose = opensim_static_pose(&multibody);
-    let (ours, opensim) = (static_objective(&multibody, &placement.frame.q), static_objective(&multibody, &opensim_pose));
+    let trial = MarkerTable::read(&fixture("subject01/subject01_static.trc")).unwrap();
+    let static_pose = averaged_frame(&trial.in_meters(), TimeRange { start: 1.0, end: 2.0 }).unwrap();
+    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
+    let tasks = &setup.marker_placer.as_ref().unwrap().ik_tasks;
+    let objective = |q: &[f64]| marker_objective(&multibody, tasks, &static_pose, q).unwrap();
+    let (ours, opensim) = (objective(&placement.frame.q), objective(&opensim_pose));
     assert!(ours <= opensim, "static objective {ours} worse than OpenSim's {opensim}");
     assert_eq!(placement.moved.len(), 39);
     assert!(placement.deleted.is_empty() && placement.without_data.is_empty());
 
-    let trial = MarkerTable::read(&fixture("subject01/subject01_static.trc")).unwrap();
-    let static_pose = averaged_frame(&trial.in_meters(), TimeRange { start: 1.0, end: 2.0 }).unwrap();
     let at_opensim_pose = move_markers_to_pose(scaled, &static_pose, &opensim_pose).unwrap();
     let golden = OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap();
     let differences = compare_scaled_models(&golden, &at_opensim_pose.document, Tolerance { relative: 0.0, absolute: 1e-7 });

@@ -346,7 +346,8 @@ fn mutated_after(relative: &str, anchor: &str, from: &str, to: &str) -> (tempfil
 /// file, the line, the element and what was expected.
 fn assert_bad_property(error: SetupError, path: &Path, line: usize, property: &str, component: &str, expected: &str) {
     let message = error.to_string();
-    let SetupError::Property(ModelError::BadProperty { file, line: at, component: element, property: name, .. }) = error else {
+    let SetupError::Property(error) = error else { panic!("not a property error: {message}") };
+    let ModelError::BadProperty { file, line: at, component: element, property: name, .. } = *error else {
         panic!("not a bad property: {message}")
     };
     assert_eq!((file.as_path(), at, name.as_str()), (path, line, property), "{message}");

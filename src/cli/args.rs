@@ -123,6 +123,31 @@ pub enum Command {
         #[arg(long)]
         activations: Option<PathBuf>,
     },
+    /// Inverse kinematics like OpenSim 4.6's InverseKinematicsTool: per frame, the pose that
+    /// minimises the weighted squared distances between model markers and the trial's markers
+    /// (locked coordinates held, clamped ones within their range, couplers exact), each frame
+    /// starting from the previous one. Writes the coordinates as OpenSim's IK .mot (degrees)
+    /// and, with --errors, OpenSim's marker-error table. Markers missing in a frame are dropped
+    /// for that frame. Exit 0 success, 1 some frame did not converge, 2 error.
+    Ik {
+        /// The model (.osim).
+        model: PathBuf,
+        /// Marker trajectories (.trc, any length unit).
+        trial: PathBuf,
+        /// Time range in seconds (clipped to the trial; each end goes to the nearest frame).
+        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+        time: Option<Vec<f64>>,
+        /// Marker weights NAME=W (default 1 for every model marker in the trial), comma
+        /// separated, e.g. R.ASIS=10,L.ASIS=10; W = 0 only reports the marker.
+        #[arg(long, value_delimiter = ',')]
+        weights: Vec<String>,
+        /// Output coordinates (.mot, OpenSim's IK layout, rotations in degrees).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also write total squared error, RMS and max marker error per frame (.sto).
+        #[arg(long)]
+        errors: Option<PathBuf>,
+    },
     /// Print every property as `PATH = VALUE`, one per line, numbers in shortest form: a stable
     /// text form of a document for `git diff` (use as diff.textconv; see README).
     Flatten {

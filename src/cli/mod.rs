@@ -19,6 +19,8 @@ pub enum Outcome {
     Success,
     /// `diff` found differences.
     Differences,
+    /// `ik`: some frame did not converge (results are written).
+    NotConverged,
 }
 
 /// Parses the process arguments, runs the command and maps the outcome to an exit code.
@@ -26,7 +28,7 @@ pub fn run() -> ExitCode {
     let arguments = Arguments::parse();
     match commands::run(arguments.command) {
         Ok(Outcome::Success) => ExitCode::SUCCESS,
-        Ok(Outcome::Differences) => ExitCode::from(1),
+        Ok(Outcome::Differences | Outcome::NotConverged) => ExitCode::from(1),
         Err(failure) => {
             eprintln!("error: {failure}");
             ExitCode::from(2)

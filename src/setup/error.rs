@@ -12,8 +12,9 @@ pub enum SetupError {
     #[error(transparent)]
     Document(#[from] OsimError),
     /// A property is missing or its value is not what it must be (file, line, element, expected).
+    /// Boxed to keep `Result<_, SetupError>` small.
     #[error(transparent)]
-    Property(#[from] ModelError),
+    Property(Box<ModelError>),
     /// The document holds another object than the one expected, e.g. an `<InverseKinematicsTool>`
     /// passed where a `<ScaleTool>` is expected, or a set member of the wrong class.
     #[error("{}:{line}: expected <{expected}>, found <{found}>", file.display())]
@@ -25,4 +26,10 @@ pub enum SetupError {
     /// An object given by reference (`<MeasurementSet file="…"/>`) could not be read.
     #[error("{}:{line}: <{element} file={reference:?}>: {source}", file.display())]
     Reference { file: PathBuf, line: usize, element: String, reference: String, source: Box<SetupError> },
+}
+
+impl From<ModelError> for SetupError {
+    fn from(error: ModelError) -> Self {
+        SetupError::Property(Box::new(error))
+    }
 }

@@ -83,9 +83,9 @@ fn read_scaling_order(scaler: ComponentReader) -> Result<Vec<ScalingStep>, Setup
     let step = |word: String| match word.as_str() {
         "measurements" => Ok(ScalingStep::Measurements),
         "manualScale" => Ok(ScalingStep::ManualScale),
-        _ => Err(scaler.bad("scaling_order", "the words measurements and/or manualScale", &word)),
+        _ => Err(SetupError::from(scaler.bad("scaling_order", "the words measurements and/or manualScale", &word))),
     };
-    Ok(words(scaler, "scaling_order").into_iter().map(step).collect::<Result<_, _>>()?)
+    words(scaler, "scaling_order").into_iter().map(step).collect()
 }
 
 impl ManualScale {

@@ -48,7 +48,7 @@ impl BoxQp {
         if !matches!(status, SolverStatus::Solved | SolverStatus::AlmostSolved) {
             return Err(BoxQpError::Status(status));
         }
-        let mut step = DVector::from_iterator(n, solver.solution.x.iter().map(|v| *v));
+        let mut step = DVector::from_iterator(n, solver.solution.x.iter().copied());
         for k in 0..n {
             step[k] = step[k].clamp(lower[k], upper[k]);
         }

@@ -33,6 +33,9 @@ pub enum IkError {
     /// The model uses something the solver does not handle.
     #[error("{}: {component}: {what} is not supported by inverse kinematics", model.display())]
     Unsupported { model: PathBuf, component: String, what: String },
+    /// A frame index past the trial's end.
+    #[error("{}: frame {frame} does not exist (the trial has {frames} frames)", trial.display())]
+    NoFrame { trial: PathBuf, frame: usize, frames: usize },
     /// A start pose of the wrong length.
     #[error("a pose needs {expected} coordinate values, got {found}")]
     PoseLength { expected: usize, found: usize },

@@ -6,7 +6,7 @@
 //! the box is the step recomputed as the box-constrained quadratic programme of
 //! [`box_qp`](super::box_qp) (clarabel). A step is accepted when F decreases by more than
 //! 10⁻⁴ of the decrease the linear model predicts; where both decreases are below what
-//! rounding of F can resolve (10⁻¹⁴·F) the step is taken unless F measurably grows, so the
+//! rounding of F can resolve (10⁻¹²·F) the step is taken unless F measurably grows, so the
 //! iteration can go on to steps far smaller than F can see.
 //!
 //! Convergence is tested on the step, not on F: an accepted step whose largest component is at
@@ -101,9 +101,40 @@ const MAX_DAMPING: f64 = 1e16;
 /// Step-based convergence needs the step to be (nearly) the Gauss–Newton step.
 const CONVERGED_DAMPING: f64 = 1e-3;
 /// Relative size of a change of F that rounding can hide.
-const RESOLUTION: f64 = 1e-14;
+const RESOLUTION: f64 = 1e-12;
 /// Scaling entries below this fraction of the largest are raised to it.
 const SCALING_FLOOR: f64 = 1e-12;
+
+/// F near x: F + gᵀδ + ½δᵀHδ with g = Jᵀr, H = JᵀJ.
+struct LocalModel {
+    gradient: DVector<f64>,
+    hessian: DMatrix<f64>,
+    cost: f64,
+}
+
+/// Nielsen's damping update: λ shrinks after good steps, grows ever faster after failures.
+struct Damping {
+    value: f64,
+    growth: f64,
+}
+
+impl Damping {
+    fn new() -> Damping {
+        Damping { value: INITIAL_DAMPING, growth: 2.0 }
+    }
+
+    fn accept(&mut self, ratio: f64) {
+        self.value = (self.value * (1.0 - (2.0 * ratio - 1.0).powi(3)).max(1.0 / 3.0)).max(MIN_DAMPING);
+        self.growth = 2.0;
+    }
+
+    /// `None` once λ exceeds `MAX_DAMPING`.
+    fn reject(&mut self) -> Option<()> {
+        self.value *= self.growth;
+        self.growth *= 2.0;
+        (self.value <= MAX_DAMPING).then_some(())
+    }
+}
 
 /// Scratch buffers of the solver, reused between calls of the same size.
 #[derive(Debug, Clone)]
@@ -113,6 +144,8 @@ pub struct LeastSquares {
     jacobian: DMatrix<f64>,
     trial_x: Vec<f64>,
     scaling: DVector<f64>,
+    /// Non-zero entries of one Jacobian row.
+    row: Vec<(usize, f64)>,
     qp: BoxQp,
 }
 
@@ -125,6 +158,7 @@ impl LeastSquares {
             jacobian: DMatrix::zeros(residuals, variables),
             trial_x: vec![0.0; variables],
             scaling: DVector::zeros(variables),
+            row: Vec::with_capacity(variables),
             qp: BoxQp::default(),
         }
     }
@@ -153,10 +187,10 @@ impl LeastSquares {
             return report;
         }
         self.scaling.fill(0.0);
-        let (mut damping, mut growth) = (INITIAL_DAMPING, 2.0);
+        let mut damping = Damping::new();
         loop {
             let gradient = self.jacobian.tr_mul(&self.residuals);
-            let hessian = self.jacobian.tr_mul(&self.jacobian);
+            let hessian = gram(&self.jacobian, &mut self.row);
             if projected_gradient_norm(x, &gradient, bounds) <= options.gradient_tolerance {
                 report.status = LeastSquaresStatus::Converged;
                 break;
@@ -166,54 +200,52 @@ impl LeastSquares {
                 break;
             }
             self.update_scaling(&hessian);
-            // Inner loop: raise the damping until a step decreases F.
-            let accepted = loop {
-                let Some((step, constrained)) = self.step(&hessian, &gradient, damping, x, bounds) else {
-                    damping *= growth;
-                    growth *= 2.0;
-                    if damping > MAX_DAMPING {
-                        break None;
-                    }
-                    continue;
-                };
-                let predicted = -(gradient.dot(&step) + 0.5 * step.dot(&(&hessian * &step)));
-                for ((trial, value), delta) in self.trial_x.iter_mut().zip(x.iter()).zip(step.iter()) {
-                    *trial = value + delta;
-                }
-                bounds.project(&mut self.trial_x);
-                problem.evaluate(&self.trial_x, self.trial_residuals.as_mut_slice(), None);
-                // F − F_trial = −½ Σ (t − r)(t + r): exact where both costs round alike.
-                let reduction = -0.5 * self.trial_residuals.iter().zip(self.residuals.iter()).map(|(t, r)| (t - r) * (t + r)).sum::<f64>();
-                // Below `noise` neither decrease can be resolved: the step is taken as predicted.
-                let noise = RESOLUTION * cost;
-                let ratio = if predicted > noise { reduction / predicted } else if reduction >= -noise { 1.0 } else { -1.0 };
-                if reduction.is_finite() && ratio > 1e-4 {
-                    damping = (damping * (1.0 - (2.0 * ratio - 1.0).powi(3)).max(1.0 / 3.0)).max(MIN_DAMPING);
-                    growth = 2.0;
-                    report.constrained_steps += usize::from(constrained);
-                    break Some(step.amax());
-                }
-                damping *= growth;
-                growth *= 2.0;
-                if damping > MAX_DAMPING {
-                    break None;
-                }
-            };
-            let Some(step_size) = accepted else {
+            let local = LocalModel { gradient, hessian, cost };
+            let Some(constrained) = self.find_step(problem, x, bounds, &local, &mut damping) else {
                 report.status = LeastSquaresStatus::Stalled;
                 break;
             };
+            report.constrained_steps += usize::from(constrained);
+            let step_size = x.iter().zip(&self.trial_x).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
             x.copy_from_slice(&self.trial_x);
             report.iterations += 1;
             problem.evaluate(x, self.residuals.as_mut_slice(), Some(&mut self.jacobian));
             cost = 0.5 * self.residuals.norm_squared();
-            if step_size <= options.step_tolerance && damping <= CONVERGED_DAMPING {
+            if step_size <= options.step_tolerance && damping.value <= CONVERGED_DAMPING {
                 report.status = LeastSquaresStatus::Converged;
                 break;
             }
         }
         report.cost = cost;
         report
+    }
+
+    /// Raises the damping until a step decreases F enough; leaves the new point in `trial_x`
+    /// and returns whether the step needed the box QP (`None`: the damping ran out).
+    fn find_step(&mut self, problem: &mut impl LeastSquaresProblem, x: &[f64], bounds: &Bounds, local: &LocalModel, damping: &mut Damping) -> Option<bool> {
+        let LocalModel { gradient, hessian, cost } = local;
+        loop {
+            let Some((step, constrained)) = self.step(hessian, gradient, damping.value, x, bounds) else {
+                damping.reject()?;
+                continue;
+            };
+            let predicted = -(gradient.dot(&step) + 0.5 * step.dot(&(hessian * &step)));
+            for ((trial, value), delta) in self.trial_x.iter_mut().zip(x).zip(step.iter()) {
+                *trial = value + delta;
+            }
+            bounds.project(&mut self.trial_x);
+            problem.evaluate(&self.trial_x, self.trial_residuals.as_mut_slice(), None);
+            // F − F_trial = −½ Σ (t − r)(t + r): exact where both costs round alike.
+            let reduction = -0.5 * self.trial_residuals.iter().zip(self.residuals.iter()).map(|(t, r)| (t - r) * (t + r)).sum::<f64>();
+            // Below `noise` neither decrease can be resolved: the step is taken as predicted.
+            let noise = RESOLUTION * cost;
+            let ratio = if predicted > noise { reduction / predicted } else if reduction >= -noise { 1.0 } else { -1.0 };
+            if reduction.is_finite() && ratio > 1e-4 {
+                damping.accept(ratio);
+                return Some(constrained);
+            }
+            damping.reject()?;
+        }
     }
 
     /// Marquardt's scaling: the running maximum of diag(JᵀJ), floored relative to its largest
@@ -245,6 +277,28 @@ impl LeastSquares {
         let upper: Vec<f64> = x.iter().zip(&bounds.upper).map(|(value, upper)| upper - value).collect();
         self.qp.solve(&damped, gradient, &lower, &upper).ok().map(|step| (step, true))
     }
+}
+
+/// JᵀJ, skipping the zero entries of each row (a marker moves with the coordinates of its
+/// chain only, so kinematic Jacobians are mostly zeros).
+fn gram(jacobian: &DMatrix<f64>, row: &mut Vec<(usize, f64)>) -> DMatrix<f64> {
+    let n = jacobian.ncols();
+    let mut gram = DMatrix::zeros(n, n);
+    for i in 0..jacobian.nrows() {
+        row.clear();
+        row.extend((0..n).map(|k| (k, jacobian[(i, k)])).filter(|(_, value)| *value != 0.0));
+        for (a, &(k, value_k)) in row.iter().enumerate() {
+            for &(l, value_l) in &row[a..] {
+                gram[(k, l)] += value_k * value_l;
+            }
+        }
+    }
+    for l in 0..n {
+        for k in l + 1..n {
+            gram[(k, l)] = gram[(l, k)];
+        }
+    }
+    gram
 }
 
 /// max_k |x_k − P(x_k − g_k)|: the gradient with components that push against an active bound
@@ -312,6 +366,12 @@ mod tests {
         assert_eq!(report.status, LeastSquaresStatus::Converged);
         assert_eq!(x[0], 2.0);
         assert!((x[1] - 4.0).abs() < 1e-12, "{x:?}");
+    }
+
+    #[test]
+    fn gram_equals_the_dense_product() {
+        let jacobian = DMatrix::from_row_slice(3, 3, &[1.0, 0.0, 2.0, 0.0, 0.0, 0.0, -1.5, 3.0, 0.0]);
+        assert_eq!(gram(&jacobian, &mut Vec::new()), jacobian.tr_mul(&jacobian));
     }
 
     #[test]

@@ -1,25 +1,33 @@
 //! Inverse kinematics against OpenSim 4.6's `InverseKinematicsTool` on subject01's walking
 //! trial: coordinates against `subject01_walk1_ik.mot` (per coordinate, degrees or metres) and
 //! marker RMS against `subject01_walk1_ik_marker_errors.sto`, with the tasks, weights and time
-//! range of the setup OpenSim ran (`setup_ik_used.xml`, read minimally here).
+//! range of the setup OpenSim ran (`setup_ik_used.xml`).
 
 use std::path::{Path, PathBuf};
 
 use crate::io::osim::OsimDocument;
 use crate::io::table::{MarkerTable, StorageTable};
-use crate::io::xml::Document;
 use crate::mechanics::{Motion, Multibody};
 use crate::model::{ModelSpec, MotionType};
-use crate::solvers::{CoordinateTarget, CoordinateTask, IkSettings, IkTasks, InverseKinematics, LeastSquaresStatus, MarkerTask};
+use crate::setup::IkSetup;
+use crate::solvers::{IkSettings, IkTasks, InverseKinematics, LeastSquaresStatus};
 
-/// Largest coordinate difference allowed: 0.05° for rotations…
-pub const ROTATION_TOLERANCE_DEGREES: f64 = 0.05;
-/// …and 0.1 mm for translations.
+/// Largest coordinate difference allowed against OpenSim run at `accuracy` 1e-5, rotations
+/// (degrees). OpenSim's L-BFGS stops once its gradient test passes, not at the minimum: OpenSim
+/// 4.6 itself moves by up to 0.140° (lumbar_rotation at 0.583 s) between accuracy 1e-5 and
+/// 1e-8, and our solution is within 6e-4° of OpenSim's at accuracy 1e-10. The tolerance covers
+/// OpenSim's convergence, not ours; [`OBJECTIVE_SLACK`] checks optimality.
+pub const ROTATION_TOLERANCE_DEGREES: f64 = 0.15;
+/// …and translations (m); OpenSim's convergence error is ≤ 5e-5 m here.
 pub const TRANSLATION_TOLERANCE_METERS: f64 = 1e-4;
-/// Our marker RMS may exceed OpenSim's by this much (m): the rounding of OpenSim's file (8
-/// decimals) plus 1 µm. Our solution minimises the weighted objective more tightly than
-/// OpenSim's L-BFGS, which need not lower the unweighted RMS in every frame.
-pub const RMS_SLACK_METERS: f64 = 1e-6;
+/// Our objective may exceed the objective of OpenSim's pose (both evaluated by our model) by
+/// this fraction: ours must be the better minimum in every frame.
+pub const OBJECTIVE_SLACK: f64 = 1e-12;
+/// Our marker RMS may exceed OpenSim's by this much (m). We minimise the weighted objective,
+/// not the unweighted RMS, and OpenSim's unconverged poses lie off the weighted optimum, so the
+/// RMS can come out a little lower in some frames (by ≤ 11.2 µm here at accuracy 1e-5, by
+/// ≤ 0.02 µm against OpenSim at accuracy 1e-10).
+pub const RMS_SLACK_METERS: f64 = 1.5e-5;
 
 /// The files of one comparison.
 #[derive(Debug, Clone)]
@@ -31,6 +39,9 @@ pub struct IkCase {
     pub motion: PathBuf,
     /// OpenSim's marker errors.
     pub errors: PathBuf,
+    /// Largest coordinate difference allowed: rotations (degrees) and translations (m).
+    pub rotation_tolerance_degrees: f64,
+    pub translation_tolerance_meters: f64,
 }
 
 impl IkCase {
@@ -42,6 +53,21 @@ impl IkCase {
             setup: root.join("fixtures/golden/ik/setup_ik_used.xml"),
             motion: root.join("fixtures/golden/ik/subject01_walk1_ik.mot"),
             errors: root.join("fixtures/golden/ik/subject01_walk1_ik_marker_errors.sto"),
+            rotation_tolerance_degrees: ROTATION_TOLERANCE_DEGREES,
+            translation_tolerance_meters: TRANSLATION_TOLERANCE_METERS,
+        }
+    }
+
+    /// The same trial against OpenSim 4.6 run to convergence (`accuracy` 1e-10,
+    /// `oracle/bench_ik.py --accuracy 1e-10 --write`), held to 0.05° and 0.1 mm.
+    pub fn subject01_walk1_converged(root: &Path) -> IkCase {
+        let golden = root.join("fixtures/golden/ik/accuracy_1e-10");
+        IkCase {
+            motion: golden.join("subject01_ik.mot"),
+            errors: golden.join("subject01_ik_marker_errors.sto"),
+            rotation_tolerance_degrees: 0.05,
+            translation_tolerance_meters: 1e-4,
+            ..IkCase::subject01_walk1(root)
         }
     }
 }
@@ -66,12 +92,8 @@ pub struct CoordinateDifference {
     pub rotational: bool,
     /// Time of the worst frame (s).
     pub at: f64,
-}
-
-impl CoordinateDifference {
-    pub fn tolerance(&self) -> f64 {
-        if self.rotational { ROTATION_TOLERANCE_DEGREES } else { TRANSLATION_TOLERANCE_METERS }
-    }
+    /// The case's tolerance for this coordinate (degrees or m).
+    pub tolerance: f64,
 }
 
 /// What a comparison found.
@@ -85,6 +107,11 @@ pub struct IkComparison {
     pub rms_excess_at: f64,
     /// max over frames of (OpenSim's marker RMS − ours), m: how much lower ours is.
     pub rms_improvement: f64,
+    /// max over frames of (our objective − OpenSim's) / OpenSim's: ≤ 0 when every frame of
+    /// ours is the better minimum.
+    pub objective_excess: f64,
+    /// max over frames of (OpenSim's objective − ours) / OpenSim's.
+    pub objective_improvement: f64,
     pub unconverged: usize,
     pub max_iterations: usize,
     pub mean_iterations: f64,
@@ -93,55 +120,25 @@ pub struct IkComparison {
 impl IkComparison {
     /// The coordinate furthest beyond (or nearest to) its tolerance.
     pub fn worst_coordinate(&self) -> Option<&CoordinateDifference> {
-        self.coordinates.iter().max_by(|a, b| (a.worst / a.tolerance()).total_cmp(&(b.worst / b.tolerance())))
+        self.coordinates.iter().max_by(|a, b| (a.worst / a.tolerance).total_cmp(&(b.worst / b.tolerance)))
     }
 
     /// Whether every stated tolerance holds.
     pub fn passes(&self) -> bool {
-        self.unconverged == 0 && self.rms_excess <= RMS_SLACK_METERS && self.coordinates.iter().all(|c| c.worst <= c.tolerance())
+        self.unconverged == 0
+            && self.rms_excess <= RMS_SLACK_METERS
+            && self.objective_excess <= OBJECTIVE_SLACK
+            && self.coordinates.iter().all(|c| c.worst <= c.tolerance)
     }
 }
 
 /// Errors reading a case or solving it.
 pub type IkValidationError = Box<dyn std::error::Error>;
 
-/// The tasks and time range of an `InverseKinematicsTool` setup: `IKMarkerTask`s and
-/// `IKCoordinateTask`s with `apply` true (`default_value` and `manual_value` targets), and
-/// `time_range`.
+/// The tasks and time range (s) of an `InverseKinematicsTool` setup.
 pub fn read_setup_tasks(setup: &Path) -> Result<(IkTasks, Option<[f64; 2]>), IkValidationError> {
-    let document = Document::read(setup)?;
-    let text = |id, tag: &str| document.child(id, tag).and_then(|c| document.text(c)).map(|t| t.trim().to_string());
-    let number = |id, tag: &str, default: f64| -> Result<f64, IkValidationError> {
-        match text(id, tag) {
-            None => Ok(default),
-            Some(t) => t.parse().map_err(|_| format!("{}:{}: <{tag}> {t:?} is not a number", setup.display(), document.line(id)).into()),
-        }
-    };
-    let mut tasks = IkTasks::default();
-    let mut time_range = None;
-    for id in document.ids() {
-        let name = document.name(id).unwrap_or_default().to_string();
-        let applied = text(id, "apply").is_none_or(|a| a == "true");
-        match document.tag(id) {
-            "IKMarkerTask" if applied => tasks.markers.push(MarkerTask { name, weight: number(id, "weight", 0.0)? }),
-            "IKCoordinateTask" if applied => {
-                let target = match text(id, "value_type").as_deref() {
-                    Some("manual_value") => CoordinateTarget::Value(number(id, "value", 0.0)?),
-                    None | Some("default_value") => CoordinateTarget::DefaultValue,
-                    Some(other) => return Err(format!("{}:{}: value_type {other} is not supported", setup.display(), document.line(id)).into()),
-                };
-                tasks.coordinates.push(CoordinateTask { name, weight: number(id, "weight", 0.0)?, target });
-            }
-            "time_range" => {
-                let values: Vec<f64> = document.text(id).unwrap_or_default().split_whitespace().filter_map(|v| v.parse().ok()).collect();
-                if let [start, end] = values[..] {
-                    time_range = Some([start, end]);
-                }
-            }
-            _ => {}
-        }
-    }
-    Ok((tasks, time_range))
+    let setup = IkSetup::read(setup)?;
+    Ok((IkTasks::from_task_set(&setup.tasks, &setup.file)?, Some([setup.time_range.start, setup.time_range.end])))
 }
 
 /// Solves `case` and compares with OpenSim's output.
@@ -165,11 +162,17 @@ pub fn compare_ik(case: &IkCase, frames: IkFrames) -> Result<IkComparison, IkVal
         coordinates: multibody
             .coordinates
             .iter()
-            .map(|c| CoordinateDifference { name: c.name.clone(), worst: 0.0, rotational: c.motion_type == MotionType::Rotational, at: 0.0 })
+            .map(|c| {
+                let rotational = c.motion_type == MotionType::Rotational;
+                let tolerance = if rotational { case.rotation_tolerance_degrees } else { case.translation_tolerance_meters };
+                CoordinateDifference { name: c.name.clone(), worst: 0.0, rotational, at: 0.0, tolerance }
+            })
             .collect(),
         rms_excess: f64::NEG_INFINITY,
         rms_excess_at: 0.0,
         rms_improvement: 0.0,
+        objective_excess: f64::NEG_INFINITY,
+        objective_improvement: 0.0,
         unconverged: 0,
         max_iterations: 0,
         mean_iterations: 0.0,
@@ -200,6 +203,10 @@ pub fn compare_ik(case: &IkCase, frames: IkFrames) -> Result<IkComparison, IkVal
             comparison.rms_excess_at = solved.time;
         }
         comparison.rms_improvement = comparison.rms_improvement.max(-excess);
+        let theirs = ik.objective(first + row, golden.pose(row), &mut workspace)?;
+        let relative = (solved.objective - theirs) / theirs;
+        comparison.objective_excess = comparison.objective_excess.max(relative);
+        comparison.objective_improvement = comparison.objective_improvement.max(-relative);
     }
     comparison.mean_iterations /= comparison.frames.max(1) as f64;
     Ok(comparison)

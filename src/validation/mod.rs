@@ -13,4 +13,4 @@ pub use muscle::{
     compare_equilibrium, compare_millard_curves, default_force_velocity_inverse, CurveComparison, EquilibriumComparison,
     EquilibriumSolution, EquilibriumValidationError, FIBER_LENGTH_TOLERANCE, STATIC_FIBER_LENGTH_TOLERANCE,
 };
-pub use scale::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
+pub use scale::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};

@@ -31,7 +31,9 @@ pub fn run() -> ExitCode {
         println!("equilibrium: gait2392 Millard, 92 muscles at activation 0.5 per pose (path lengths included)");
         compare(ours, opensim_seconds_per_pose("oracle/bench_equilibrium.py", false));
     });
-    match geometry.and(equilibrium) {
+    let ik = crate::bench_ik::run();
+    let scale = crate::bench_scale::run();
+    match geometry.and(equilibrium).and(ik).and(scale) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -4,9 +4,13 @@
 //! (mutated inputs into every parser for a bounded time; exits non-zero on a panic).
 
 mod bench;
+mod bench_scale;
+mod bench_ik;
 mod fuzz;
 mod geometry;
+mod ik;
 mod muscle;
+mod scale;
 mod validate;
 
 use std::process::ExitCode;

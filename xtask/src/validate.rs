@@ -8,7 +8,7 @@ use osim_tune::io::table::{MarkerTable, StorageTable};
 use osim_tune::model::ModelSpec;
 use osim_tune::review::diff;
 
-use crate::{files_with, geometry, muscle, root};
+use crate::{files_with, geometry, ik, muscle, root, scale};
 
 /// One line of the conformance table.
 pub struct Row {
@@ -29,6 +29,8 @@ pub fn run() -> ExitCode {
     rows.extend(coordinates_against_opensim());
     rows.extend(GOLDEN_MODELS.iter().flat_map(|(stem, file)| geometry::rows(stem, &root().join(file))));
     rows.extend(muscle::MUSCLE_MODELS.iter().flat_map(|(stem, file)| muscle::rows(stem, &root().join(file))));
+    rows.extend(ik::rows());
+    rows.extend(scale::rows());
     rows.push(storage_round_trip(&files_with(&root().join("fixtures"), &["sto", "mot"])));
     rows.push(marker_round_trip(&files_with(&root().join("fixtures"), &["trc"])));
     print_table(&rows)

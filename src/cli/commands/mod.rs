@@ -3,6 +3,7 @@
 mod analyze;
 mod diff;
 mod flatten;
+mod ik;
 mod info;
 mod scale;
 mod set;
@@ -23,6 +24,10 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
+        Command::Ik { model, trial, time, weights, output, errors } => {
+            let time = time.map(|t| [t[0], t[1]]);
+            ik::run(&model, &trial, time, &weights, &ik::Outputs { motion: output, errors })
+        }
         Command::Scale { model, trials, setup, linear, output, scaled_only, scale_set, static_pose, json } => {
             let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose };
             scale::run(&model, trials.as_deref(), setup.as_deref(), linear, &outputs, json)

@@ -10,7 +10,7 @@ use super::report::{IkFrame, IkSolution, MarkerErrors};
 use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Multibody, Vec3};
-use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions};
+use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions, LeastSquaresProblem};
 use crate::solvers::IkError;
 
 /// How to solve.
@@ -44,7 +44,8 @@ pub struct InverseKinematics<'m> {
     locked_coordinate_tasks: Vec<String>,
 }
 
-/// Buffers of a solve, reused from frame to frame.
+/// Buffers of a solve, reused from frame to frame; make one with
+/// [`InverseKinematics::workspace`] of the solver that uses it.
 #[derive(Debug, Clone)]
 pub struct IkWorkspace {
     frame: FrameScratch,
@@ -125,7 +126,7 @@ impl<'m> InverseKinematics<'m> {
         let (first, last) = (self.times[0], self.times[self.times.len() - 1]);
         let Some([start, end]) = time_range else { return Ok(0..=self.times.len() - 1) };
         let (clipped_start, clipped_end) = (start.max(first), end.min(last));
-        if !(clipped_end >= clipped_start) {
+        if clipped_end < clipped_start || clipped_end.is_nan() || clipped_start.is_nan() {
             return Err(IkError::TimeRange { trial: self.trial_file.clone(), start, end, first, last });
         }
         Ok(nearest_frame(&self.times, clipped_start)..=nearest_frame(&self.times, clipped_end))
@@ -157,19 +158,7 @@ impl<'m> InverseKinematics<'m> {
     /// solution (held coordinates at their values, dependents following their couplers).
     pub fn solve_frame(&self, frame: usize, q: &mut [f64], workspace: &mut IkWorkspace) -> Result<IkFrame, IkError> {
         let multibody = self.model.multibody;
-        if q.len() != multibody.coordinates.len() {
-            return Err(IkError::PoseLength { expected: multibody.coordinates.len(), found: q.len() });
-        }
-        let n_markers = self.model.markers.len();
-        let observed = &self.observed[frame * n_markers..(frame + 1) * n_markers];
-        let total_weight: f64 = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
-        if !(total_weight > 0.0) {
-            return Err(IkError::NoUsableMarkers { trial: self.trial_file.clone(), frame, time: self.times[frame] });
-        }
-        for ((scale, marker), observation) in workspace.scales.iter_mut().zip(&self.model.markers).zip(observed) {
-            *scale = if observation.is_some() { (marker.weight / total_weight).sqrt() } else { 0.0 };
-        }
-        self.map.free_values(q, &mut workspace.x);
+        let observed = self.prepare(frame, q, workspace)?;
         let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
         let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
         self.map.pose(multibody, &workspace.x, q);
@@ -185,6 +174,43 @@ impl<'m> InverseKinematics<'m> {
             iterations: report.iterations,
             status: report.status,
         })
+    }
+
+    /// The objective of frame `frame` at pose `q` (held coordinates taken at their values and
+    /// dependents from their couplers, as the solver sees it): what [`IkFrame::objective`]
+    /// reports, for comparing another solution (e.g. OpenSim's) with ours.
+    pub fn objective(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<f64, IkError> {
+        let observed = self.prepare(frame, q, workspace)?;
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
+        let mut residuals = vec![0.0; objective.residual_count()];
+        objective.evaluate(&workspace.x, &mut residuals, None);
+        Ok(0.5 * residuals.iter().map(|r| r * r).sum::<f64>())
+    }
+
+    /// Checks `q`, sets the marker scales of `frame` and the free values of `q`; returns the
+    /// frame's observations.
+    fn prepare(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<&[Option<Vec3>], IkError> {
+        let multibody = self.model.multibody;
+        if q.len() != multibody.coordinates.len() {
+            return Err(IkError::PoseLength { expected: multibody.coordinates.len(), found: q.len() });
+        }
+        if frame >= self.times.len() {
+            return Err(IkError::NoFrame { trial: self.trial_file.clone(), frame, frames: self.times.len() });
+        }
+        let n_markers = self.model.markers.len();
+        if workspace.frame.q.len() != q.len() || workspace.scales.len() != n_markers || workspace.x.len() != self.map.variable_count() {
+            *workspace = self.workspace();
+        }
+        let observed = &self.observed[frame * n_markers..(frame + 1) * n_markers];
+        let total_weight: f64 = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
+        if total_weight.is_nan() || total_weight <= 0.0 {
+            return Err(IkError::NoUsableMarkers { trial: self.trial_file.clone(), frame, time: self.times[frame] });
+        }
+        for ((scale, marker), observation) in workspace.scales.iter_mut().zip(&self.model.markers).zip(observed) {
+            *scale = if observation.is_some() { (marker.weight / total_weight).sqrt() } else { 0.0 };
+        }
+        self.map.free_values(q, &mut workspace.x);
+        Ok(observed)
     }
 
     /// Solves the frames of `time_range` in order, each starting from the previous solution and

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Multibody, Vec3};
+use crate::setup::{CoordinateTarget as SetupTarget, IkTaskSet};
 use crate::solvers::IkError;
 
 /// A tracked marker: OpenSim's `IKMarkerTask` with `apply = true`.
@@ -49,6 +50,25 @@ impl IkTasks {
     /// Every trial marker the model has, weight 1; no coordinate task.
     pub fn every_marker() -> IkTasks {
         IkTasks::default()
+    }
+
+    /// The applied tasks of a setup's `IKTaskSet` (read from `setup_file`); `from_file`
+    /// coordinate targets are not supported.
+    pub fn from_task_set(tasks: &IkTaskSet, setup_file: &Path) -> Result<IkTasks, IkError> {
+        let markers = tasks.marker_tasks.iter().filter(|t| t.apply).map(|t| MarkerTask { name: t.name.clone(), weight: t.weight }).collect();
+        let mut coordinates = Vec::new();
+        for task in tasks.coordinate_tasks.iter().filter(|t| t.apply) {
+            let target = match task.target {
+                SetupTarget::DefaultValue => CoordinateTarget::DefaultValue,
+                SetupTarget::ManualValue(value) => CoordinateTarget::Value(value),
+                SetupTarget::FromFile => {
+                    let component = format!("IKCoordinateTask {}", task.name);
+                    return Err(IkError::Unsupported { model: setup_file.into(), component, what: "value_type from_file".into() });
+                }
+            };
+            coordinates.push(CoordinateTask { name: task.name.clone(), weight: task.weight, target });
+        }
+        Ok(IkTasks { markers, coordinates })
     }
 }
 

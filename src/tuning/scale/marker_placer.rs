@@ -5,14 +5,14 @@ use std::path::Path;
 
 use super::edits::{apply, numbers_edit};
 use super::error::ScaleError;
-use super::measurement::frame_range;
+use super::measurement::{check_range, frame_range};
 use super::model_scaler::reparse;
 use crate::io::osim::OsimDocument;
 use crate::io::table::{MarkerTable, TrcHeader};
 use crate::mechanics::{Multibody, Vec3};
 use crate::model::{ComponentReader, ModelSpec};
-use crate::setup::{CoordinateTarget as SetupTarget, IkTaskSet, TimeRange};
-use crate::solvers::{CoordinateTarget, CoordinateTask, IkFrame, IkSettings, IkTasks, InverseKinematics, MarkerTask};
+use crate::setup::TimeRange;
+use crate::solvers::{IkFrame, IkSettings, IkTasks, InverseKinematics};
 
 /// The placed model and the static pose it was placed in.
 #[derive(Debug, Clone)]
@@ -34,18 +34,17 @@ pub struct MarkerPlacement {
 }
 
 /// Places the markers of `model` on the static trial `trial` (read from `trial_file`).
-pub fn place_markers(model: &OsimDocument, trial: &MarkerTable, trial_file: &Path, tasks: &IkTaskSet, range: TimeRange) -> Result<MarkerPlacement, ScaleError> {
+pub fn place_markers(model: &OsimDocument, trial: &MarkerTable, trial_file: &Path, tasks: &IkTasks, range: TimeRange) -> Result<MarkerPlacement, ScaleError> {
     let trial = trial.in_meters();
     let times = trial.times();
-    let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
-        return Err(ScaleError::Measurement { file: trial_file.into(), measurement: "marker placement".into(), problem: "the static trial has no frames".into() });
-    };
+    check_range(times, range).map_err(|problem| ScaleError::Measurement { file: trial_file.into(), measurement: "marker placement".into(), problem })?;
+    let (first, last) = (times[0], times[times.len() - 1]);
     let range = TimeRange { start: range.start.max(first), end: range.end.min(last) };
     let static_pose = averaged_frame(&trial, range)?;
     let (model, deleted) = delete_unused_markers(model, trial.marker_names())?;
     let spec = ModelSpec::read(&model)?;
     let multibody = Multibody::new(&spec)?;
-    let ik = InverseKinematics::new(&multibody, &static_pose, trial_file, &ik_tasks(tasks, trial_file)?, IkSettings::default())?;
+    let ik = InverseKinematics::new(&multibody, &static_pose, trial_file, tasks, IkSettings::default())?;
     let mut q = ik.initial_pose();
     let frame = ik.solve_frame(0, &mut q, &mut ik.workspace())?;
     let moved = move_markers_to_pose(&model, &static_pose, &frame.q)?;
@@ -128,26 +127,4 @@ fn delete_unused_markers(model: &OsimDocument, trial_markers: &[String]) -> Resu
 fn marker_elements(model: &OsimDocument) -> Vec<crate::io::xml::ElementId> {
     let reader = ComponentReader::new(model, model.object);
     reader.child("MarkerSet").map(|set| reader.listed_objects(set)).unwrap_or_default()
-}
-
-/// The applied tasks of a setup's `IKTaskSet` as the solver takes them.
-fn ik_tasks(tasks: &IkTaskSet, setup_file: &Path) -> Result<IkTasks, ScaleError> {
-    let markers = tasks.marker_tasks.iter().filter(|t| t.apply).map(|t| MarkerTask { name: t.name.clone(), weight: t.weight }).collect();
-    let mut coordinates = Vec::new();
-    for task in tasks.coordinate_tasks.iter().filter(|t| t.apply) {
-        let target = match task.target {
-            SetupTarget::DefaultValue => CoordinateTarget::DefaultValue,
-            SetupTarget::ManualValue(value) => CoordinateTarget::Value(value),
-            SetupTarget::FromFile => {
-                return Err(ScaleError::Unsupported {
-                    file: setup_file.into(),
-                    line: 0,
-                    component: format!("IKCoordinateTask {}", task.name),
-                    problem: "coordinate tasks with value_type from_file are not supported yet".into(),
-                })
-            }
-        };
-        coordinates.push(CoordinateTask { name: task.name.clone(), weight: task.weight, target });
-    }
-    Ok(IkTasks { markers, coordinates })
 }

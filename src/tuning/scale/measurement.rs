@@ -67,6 +67,7 @@ pub fn measure(markers: &DefaultPoseMarkers, trial: &MarkerTable, trial_file: &P
     if measurement.marker_pairs.is_empty() {
         return Err(error("it has no marker pairs".into()));
     }
+    check_range(trial.times(), range).map_err(error)?;
     let frames = frame_range(trial.times(), range);
     let mut pairs = Vec::new();
     for [a, b] in &measurement.marker_pairs {
@@ -88,6 +89,15 @@ pub fn measure(markers: &DefaultPoseMarkers, trial: &MarkerTable, trial_file: &P
     }
     let factor = pairs.iter().map(|p| p.experimental / p.model).sum::<f64>() / pairs.len() as f64;
     Ok(MeasuredFactor { measurement: measurement.name.clone(), pairs, factor })
+}
+
+/// A time range must overlap the trial (OpenSim would silently use its first or last frame).
+pub fn check_range(times: &[f64], range: TimeRange) -> Result<(), String> {
+    match (times.first(), times.last()) {
+        (Some(&first), Some(&last)) if range.start <= last && range.end >= first => Ok(()),
+        (Some(first), Some(last)) => Err(format!("time range {} s to {} s lies outside the trial ({first} s to {last} s)", range.start, range.end)),
+        _ => Err("the trial has no frames".into()),
+    }
 }
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {

@@ -14,6 +14,7 @@ use crate::io::table::MarkerTable;
 use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
 use crate::setup::{ModelScaler, ScaleSetup, ScalingStep};
+use crate::solvers::IkTasks;
 
 /// Scale factors outside [1/3, 3] are refused: such a factor comes from a unit mix-up or a
 /// mislabelled marker, not from a subject.
@@ -56,7 +57,8 @@ pub fn run_scale_tool(generic: &OsimDocument, setup: &ScaleSetup, progress: &mut
         let file = placer.marker_file.as_ref().ok_or_else(|| missing(setup, "MarkerPlacer", "marker_file"))?;
         progress(&format!("placing markers on {}", file.written));
         let trial = MarkerTable::read(&file.resolved)?;
-        let placement = place_markers(&outcome.document, &trial, &file.resolved, &placer.ik_tasks, placer.time_range)?;
+        let tasks = IkTasks::from_task_set(&placer.ik_tasks, &setup.file)?;
+        let placement = place_markers(&outcome.document, &trial, &file.resolved, &tasks, placer.time_range)?;
         outcome.document = placement.document.clone();
         outcome.placement = Some(placement);
     }

@@ -1,0 +1,86 @@
+//! `cargo xtask bench`, inverse kinematics: subject01's walking trial (151 frames, the tasks,
+//! weights and time range of OpenSim's `setup_ik_used.xml`) beside OpenSim 4.6's
+//! `InverseKinematicsTool` through its Python bindings (`oracle/bench_ik.py`):
+//! - whole run: read the model and the trial, solve every frame, build both output tables
+//!   (OpenSim: `InverseKinematicsTool.run()`, which also writes them);
+//! - per frame: the solver alone (OpenSim: `InverseKinematicsSolver.track`).
+
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::MarkerTable;
+use osim_tune::mechanics::Multibody;
+use osim_tune::model::ModelSpec;
+use osim_tune::solvers::{IkSettings, InverseKinematics};
+use osim_tune::validation::ik::{read_setup_tasks, IkCase};
+
+use crate::root;
+
+/// OpenSim must take at least this many times as long as osim-tune.
+const GOAL_SPEEDUP: f64 = 10.0;
+
+/// Times both sides and prints a block like the other benchmarks.
+pub fn run() -> Result<(), Box<dyn std::error::Error>> {
+    let case = IkCase::subject01_walk1(&root());
+    let (whole, per_frame, frames) = ours(&case)?;
+    println!("inverse kinematics: subject01 walk1, {frames} frames, 31 markers + 4 coordinate tasks");
+    let theirs = opensim(&case);
+    print_row("whole run", whole, theirs.map(|t| t.0), "s");
+    print_row("per frame", per_frame, theirs.map(|t| t.1), "µs");
+    Ok(())
+}
+
+fn print_row(what: &str, ours: f64, theirs: Option<f64>, unit: &str) {
+    let scale = if unit == "s" { 1.0 } else { 1e6 };
+    println!("  {what}: osim-tune {:>10.3} {unit}", ours * scale);
+    match theirs {
+        Some(theirs) => {
+            let speedup = theirs / ours;
+            println!("  {what}: OpenSim 4.6 {:>8.3} {unit} (Python bindings)", theirs * scale);
+            println!("  {what}: speed-up {speedup:>9.1}×  (goal ≥ {GOAL_SPEEDUP}×: {})", if speedup >= GOAL_SPEEDUP { "met" } else { "NOT met" });
+        }
+        None => println!("  {what}: OpenSim 4.6 skipped: `python3 oracle/bench_ik.py` failed (pip install opensim to compare)"),
+    }
+}
+
+/// Medians over repeated runs: (whole run s, solve s per frame, frames).
+fn ours(case: &IkCase) -> Result<(f64, f64, usize), Box<dyn std::error::Error>> {
+    let (tasks, time_range) = read_setup_tasks(&case.setup)?;
+    let (mut whole, mut per_frame, mut frames) = (Vec::new(), Vec::new(), 0);
+    for _ in 0..15 {
+        let start = Instant::now();
+        let spec = ModelSpec::read(&OsimDocument::read(&case.model)?)?;
+        let multibody = Multibody::new(&spec)?;
+        let trial = MarkerTable::read(&case.trial)?;
+        let ik = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default())?;
+        let solve_start = Instant::now();
+        let solution = ik.solve(time_range)?;
+        let solve = solve_start.elapsed().as_secs_f64();
+        let texts = (solution.motion_table(&multibody)?.to_text(), solution.marker_errors_table()?.to_text());
+        whole.push(start.elapsed().as_secs_f64());
+        std::hint::black_box(texts);
+        frames = solution.frames.len();
+        per_frame.push(solve / frames as f64);
+    }
+    Ok((median(whole), median(per_frame), frames))
+}
+
+fn median(mut samples: Vec<f64>) -> f64 {
+    samples.sort_by(f64::total_cmp);
+    samples[samples.len() / 2]
+}
+
+/// (whole run s, solve s per frame) from `oracle/bench_ik.py`, if OpenSim can be imported.
+fn opensim(case: &IkCase) -> Option<(f64, f64)> {
+    let script = root().join("oracle/bench_ik.py");
+    let arguments: [&Path; 4] = [&script, &case.setup, &case.model, &case.trial];
+    let output = Command::new("python3").args(arguments.iter().map(|p| p.as_os_str())).output().ok()?;
+    if !output.status.success() {
+        return None;
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let value = |key: &str| stdout.lines().find_map(|line| line.strip_prefix(key)).and_then(|v| v.trim().parse().ok());
+    Some((value("seconds_tool=")?, value("seconds_per_frame=")?))
+}

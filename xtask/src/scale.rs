@@ -1,0 +1,100 @@
+//! Scale-step rows of the validation table: OpenSim 4.6's ScaleTool run on subject01
+//! (`fixtures/golden/scale`, from `../shared/reference/pipelines/gait2392_subject01`).
+
+use std::process::Command;
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::{MarkerTable, StorageTable};
+use osim_tune::mechanics::Multibody;
+use osim_tune::model::ModelSpec;
+use osim_tune::review::Tolerance;
+use osim_tune::setup::ScaleSetup;
+use osim_tune::tuning::scale::{averaged_frame, move_markers_to_pose, run_scale_tool, ScaleOutcome};
+use osim_tune::validation::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};
+
+use crate::root;
+use crate::validate::Row;
+
+const REFERENCE: &str = "OpenSim 4.6 ScaleTool, subject01";
+
+pub fn rows() -> Vec<Row> {
+    let golden = |file: &str| root().join("fixtures/golden/scale").join(file);
+    let setup = ScaleSetup::read(&root().join("fixtures/subject01/subject01_Setup_Scale.xml")).expect("subject01 setup");
+    let generic = OsimDocument::read(&root().join("models/gait2392_millard2012muscle.osim")).expect("generic model");
+    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).expect("subject01 scales");
+    let mut rows = vec![scale_factor_row(&outcome, &std::fs::read_to_string(golden("scale_factors.csv")).expect("scale_factors.csv"))];
+    let scaled = &outcome.scaled.as_ref().expect("the setup scales").document;
+    let scaled_only = OsimDocument::read(&golden("subject01_scaledOnly.osim")).expect("golden scaled model");
+    let differences = compare_scaled_models(&scaled_only, scaled, SCALED_MODEL_TOLERANCE);
+    rows.push(Row {
+        what: "scaled model, every property (1e-7 rel. or 1e-9)".into(),
+        reference: REFERENCE.into(),
+        worst: differences.len() as f64,
+        tolerance: 0.0,
+        at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
+    });
+    rows.extend(placement_rows(&outcome, &setup, scaled));
+    rows.extend(opensim_loads(&outcome));
+    rows
+}
+
+fn scale_factor_row(outcome: &ScaleOutcome, csv: &str) -> Row {
+    let (mut worst, mut at) = (0.0_f64, String::new());
+    for line in csv.lines().skip(1) {
+        let fields: Vec<&str> = line.split(',').collect();
+        let ours = outcome.scale_set.factors(fields[0]).unwrap_or([f64::NAN; 3]);
+        for (k, value) in ours.iter().enumerate() {
+            let golden: f64 = fields[k + 1].parse().expect("a factor");
+            let error = ((value - golden) / golden).abs();
+            if error > worst || error.is_nan() {
+                (worst, at) = (if error.is_nan() { f64::INFINITY } else { error }, fields[0].to_string());
+            }
+        }
+    }
+    Row { what: "scale factors per body (relative)".into(), reference: REFERENCE.into(), worst, tolerance: 1e-9, at }
+}
+
+/// Markers moved at OpenSim's static pose land on OpenSim's (to the 1e-8 print precision of
+/// that pose), and our static pose is at least as good for MarkerPlacer's objective.
+fn placement_rows(outcome: &ScaleOutcome, setup: &ScaleSetup, scaled: &OsimDocument) -> Vec<Row> {
+    let multibody = Multibody::new(&ModelSpec::read(scaled).expect("scaled model")).expect("compiles");
+    let pose = StorageTable::read(&root().join("fixtures/golden/scale/subject01_static_output.mot")).expect("static pose");
+    let value = |name: &str| pose.labels().iter().find(|l| l.ends_with(&format!("/{name}/value"))).and_then(|l| pose.column(l)).map_or(f64::NAN, |c| c[0]);
+    let opensim_pose: Vec<f64> = multibody.coordinates.iter().map(|c| value(&c.name)).collect();
+    let placer = setup.marker_placer.as_ref().expect("marker placer");
+    let trial = MarkerTable::read(&placer.marker_file.as_ref().expect("static trial").resolved).expect("static trial").in_meters();
+    let static_pose = averaged_frame(&trial, placer.time_range).expect("averaged");
+    let moved = move_markers_to_pose(scaled, &static_pose, &opensim_pose).expect("markers move");
+    let golden = OsimDocument::read(&root().join("fixtures/golden/scale/subject01_simbody.osim")).expect("golden placed model");
+    let differences = compare_scaled_models(&golden, &moved.document, Tolerance { relative: 0.0, absolute: 1e-7 });
+    let ours = &outcome.placement.as_ref().expect("placement").frame.q;
+    let objective = |q: &[f64]| marker_objective(&multibody, &placer.ik_tasks, &static_pose, q).unwrap_or(f64::NAN);
+    let (ours, opensim) = (objective(ours), objective(&opensim_pose));
+    vec![
+        Row {
+            what: "placed markers at OpenSim's static pose (m)".into(),
+            reference: REFERENCE.into(),
+            worst: differences.len() as f64,
+            tolerance: 0.0,
+            at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
+        },
+        Row {
+            what: "static pose objective, ours − OpenSim's (relative)".into(),
+            reference: format!("{REFERENCE} (OpenSim {opensim:.6} m²)"),
+            worst: (ours - opensim) / opensim,
+            tolerance: 0.0,
+            at: String::new(),
+        },
+    ]
+}
+
+/// The final model loads and initialises in OpenSim 4.6, when Python can import it.
+fn opensim_loads(outcome: &ScaleOutcome) -> Option<Row> {
+    let python = |code: &str| Command::new("python3").args(["-c", code]).output().ok().filter(|o| o.status.success());
+    python("import opensim")?;
+    let file = tempfile::Builder::new().suffix(".osim").tempfile().expect("temporary file");
+    std::fs::write(file.path(), outcome.document.xml.serialize()).expect("written");
+    let code = format!("import opensim; m = opensim.Model(r'{}'); m.initSystem(); print(m.getNumBodies())", file.path().display());
+    let loaded = python(&code).is_some();
+    Some(Row { what: "scaled subject01 loads in OpenSim 4.6".into(), reference: "opensim.Model(...).initSystem()".into(), worst: f64::from(u8::from(!loaded)), tolerance: 0.0, at: String::new() })
+}
