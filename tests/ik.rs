@@ -389,6 +389,25 @@ fn cli_writes_the_motion_and_the_errors() {
     assert_eq!(StorageTable::read(&errors).unwrap().labels()[2], "marker_error_RMS");
 }
 
+/// With OpenSim's setup (tasks, weights, 0–2.5 s) the command's .mot matches OpenSim run to
+/// convergence within 0.05° and 0.1 mm.
+#[test]
+fn cli_with_the_opensim_setup_matches_converged_opensim() {
+    let directory = tempfile::tempdir().unwrap();
+    let (model, trial, setup) = (common::fixture("golden/scale/subject01_simbody.osim"), common::fixture("subject01/subject01_walk1.trc"), common::fixture("golden/ik/setup_ik_used.xml"));
+    let motion = directory.path().join("q.mot");
+    let arguments = ["ik", model.to_str().unwrap(), trial.to_str().unwrap(), "--setup", setup.to_str().unwrap(), "-o", motion.to_str().unwrap()];
+    let (code, stdout, stderr) = common::osim_tune(&arguments);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let (ours, golden) = (StorageTable::read(&motion).unwrap(), StorageTable::read(&common::fixture("golden/ik/accuracy_1e-10/subject01_ik.mot")).unwrap());
+    assert_eq!((ours.n_rows(), ours.labels()), (151, golden.labels()));
+    for label in &golden.labels()[1..] {
+        let tolerance = if label.ends_with("_tx") || label.ends_with("_ty") || label.ends_with("_tz") { 1e-4 } else { 0.05 };
+        let worst = ours.column(label).unwrap().iter().zip(golden.column(label).unwrap()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(worst <= tolerance, "{label}: {worst}");
+    }
+}
+
 #[test]
 fn cli_refuses_bad_requests_and_writes_nothing() {
     let directory = tempfile::tempdir().unwrap();

@@ -134,6 +134,11 @@ pub enum Command {
         model: PathBuf,
         /// Marker trajectories (.trc, any length unit).
         trial: PathBuf,
+        /// An OpenSim InverseKinematicsTool setup: its marker and coordinate tasks, weights and
+        /// time range are used (its model and marker file names are not; --time and --weights
+        /// override it).
+        #[arg(long)]
+        setup: Option<PathBuf>,
         /// Time range in seconds (clipped to the trial; each end goes to the nearest frame).
         #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
         time: Option<Vec<f64>>,

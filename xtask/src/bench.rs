@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::muscle::HillMuscle;
-use osim_tune::mechanics::{MuscleGeometry, PathEvaluation};
+use osim_tune::mechanics::{MuscleGeometry, PathEvaluation, PathScratch};
 use osim_tune::model::ModelSpec;
 use osim_tune::validation::GoldenPoses;
 
@@ -54,23 +54,24 @@ fn compare(ours: f64, theirs: Option<f64>) {
     }
 }
 
-/// Median over repeated sweeps: path lengths, then every muscle's static equilibrium.
+/// Median over repeated sweeps: path lengths (no moment arms: `equilibrateMuscles` realizes
+/// velocities, not moment arms), then every muscle's static equilibrium.
 fn equilibrium_seconds_per_pose() -> Result<f64, Box<dyn std::error::Error>> {
     let spec = ModelSpec::read(&OsimDocument::read(&root().join(MODEL))?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let muscles = spec.forces.iter().filter(|f| f.muscle.is_some()).map(HillMuscle::from_force).collect::<Result<Vec<_>, _>>()?;
     let poses = GoldenPoses::read(&root().join(GOLDEN).join("poses.csv"), &geometry.multibody)?;
     let qs: Vec<&Vec<f64>> = poses.ids.iter().map(|id| &poses.values[id]).collect();
-    let all: Vec<usize> = (0..geometry.paths.len()).collect();
-    let mut evaluation = PathEvaluation::new(&geometry, &all);
+    let mut kinematics = geometry.multibody.kinematics();
+    let mut scratch = PathScratch::default();
     let mut samples = Vec::new();
     let mut checksum = 0.0;
-    for _ in 0..10 {
+    for _ in 0..30 {
         let start = Instant::now();
         for q in &qs {
-            evaluation.evaluate(&geometry, q);
-            for (k, muscle) in muscles.iter().enumerate() {
-                checksum += muscle.equilibrium(0.5, evaluation.length(k))?.tendon_force;
+            geometry.multibody.realize(q, &mut kinematics);
+            for (path, muscle) in geometry.paths.iter().zip(&muscles) {
+                checksum += muscle.equilibrium(0.5, path.length(&kinematics, q, &mut scratch))?.tendon_force;
             }
         }
         samples.push(start.elapsed().as_secs_f64() / qs.len() as f64);

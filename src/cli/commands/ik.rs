@@ -1,4 +1,4 @@
-//! `osim-tune ik MODEL TRIAL [--time START END] [--weights NAME=W,…] -o Q.mot [--errors ERR.sto]`
+//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] -o Q.mot [--errors ERR.sto]`
 
 use std::path::{Path, PathBuf};
 
@@ -8,6 +8,7 @@ use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
 use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
+use crate::setup::IkSetup;
 use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, MarkerTask, MissingFrom};
 
 /// Where the results go.
@@ -16,38 +17,48 @@ pub struct Outputs {
     pub errors: Option<PathBuf>,
 }
 
-pub fn run(model: &Path, trial_file: &Path, time: Option<[f64; 2]>, weights: &[String], outputs: &Outputs) -> Result<Outcome, Failure> {
-    let inputs = [model, trial_file];
-    ensure_not_an_input(&outputs.motion, &inputs)?;
+pub fn run(model: &Path, trial_file: &Path, setup: Option<&Path>, time: Option<[f64; 2]>, weights: &[String], outputs: &Outputs) -> Result<Outcome, Failure> {
+    let inputs: Vec<&Path> = [model, trial_file].into_iter().chain(setup).collect();
+    let inputs = inputs.as_slice();
+    ensure_not_an_input(&outputs.motion, inputs)?;
     if let Some(errors) = &outputs.errors {
-        ensure_not_an_input(errors, &inputs)?;
+        ensure_not_an_input(errors, inputs)?;
         ensure_not_an_input(errors, &[&outputs.motion]).map_err(|_| format!("{}: --errors and -o name the same file", errors.display()))?;
     }
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let multibody = Multibody::new(&spec)?;
     let trial = MarkerTable::read(trial_file)?;
-    let tasks = marker_tasks(&multibody, &trial, model, trial_file, weights)?;
+    let (mut tasks, time) = match setup.map(IkSetup::read).transpose()? {
+        Some(setup) => (IkTasks::from_task_set(&setup.tasks, &setup.file)?, time.or(Some([setup.time_range.start, setup.time_range.end]))),
+        None => (every_marker(&multibody, &trial), time),
+    };
+    apply_weights(&mut tasks, &multibody, &trial, model, trial_file, weights)?;
     let ik = InverseKinematics::new(&multibody, &trial, trial_file, &tasks, IkSettings::default())?;
     let solution = ik.solve(time)?;
     let motion = solution.motion_table(&multibody)?;
     let errors = solution.marker_errors_table()?;
-    write_atomically(&outputs.motion, motion.to_text().as_bytes(), &inputs)?;
+    write_atomically(&outputs.motion, motion.to_text().as_bytes(), inputs)?;
     if let Some(file) = &outputs.errors {
-        write_atomically(file, errors.to_text().as_bytes(), &inputs)?;
+        write_atomically(file, errors.to_text().as_bytes(), inputs)?;
     }
     report(&ik, &solution, trial_file, outputs);
     Ok(if solution.unconverged().next().is_some() { Outcome::NotConverged } else { Outcome::Success })
 }
 
-/// Every model marker the trial has, weight 1, with the `NAME=W` weights applied; a name that
-/// is not a marker of both the model and the trial is an error.
-fn marker_tasks(multibody: &Multibody, trial: &MarkerTable, model: &Path, trial_file: &Path, weights: &[String]) -> Result<IkTasks, Failure> {
-    let mut tasks: Vec<MarkerTask> = trial
+/// Every model marker the trial has, weight 1 (no setup given).
+fn every_marker(multibody: &Multibody, trial: &MarkerTable) -> IkTasks {
+    let markers = trial
         .marker_names()
         .iter()
         .filter(|name| multibody.markers.iter().any(|m| &m.name == *name))
         .map(|name| MarkerTask { name: name.clone(), weight: 1.0 })
         .collect();
+    IkTasks { markers, coordinates: Vec::new() }
+}
+
+/// The `NAME=W` weights applied to the marker tasks; a name that is not a marker of both the
+/// model and the trial is an error.
+fn apply_weights(tasks: &mut IkTasks, multibody: &Multibody, trial: &MarkerTable, model: &Path, trial_file: &Path, weights: &[String]) -> Result<(), Failure> {
     for assignment in weights {
         let (name, weight) = assignment.split_once('=').ok_or_else(|| format!("--weights {assignment:?}: expected NAME=WEIGHT, e.g. R.ASIS=10"))?;
         let (name, weight) = (name.trim(), weight.trim());
@@ -63,11 +74,12 @@ fn marker_tasks(multibody: &Multibody, trial: &MarkerTable, model: &Path, trial_
         if let Some(problem) = missing {
             return Err(format!("--weights: marker {name:?} {problem}").into());
         }
-        for task in tasks.iter_mut().filter(|t| t.name == name) {
-            task.weight = weight;
+        match tasks.markers.iter_mut().find(|t| t.name == name) {
+            Some(task) => task.weight = weight,
+            None => tasks.markers.push(MarkerTask { name: name.to_string(), weight }),
         }
     }
-    Ok(IkTasks { markers: tasks, coordinates: Vec::new() })
+    Ok(())
 }
 
 fn report(ik: &InverseKinematics, solution: &IkSolution, trial_file: &Path, outputs: &Outputs) {

@@ -24,9 +24,9 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
-        Command::Ik { model, trial, time, weights, output, errors } => {
+        Command::Ik { model, trial, setup, time, weights, output, errors } => {
             let time = time.map(|t| [t[0], t[1]]);
-            ik::run(&model, &trial, time, &weights, &ik::Outputs { motion: output, errors })
+            ik::run(&model, &trial, setup.as_deref(), time, &weights, &ik::Outputs { motion: output, errors })
         }
         Command::Scale { model, trials, setup, linear, output, scaled_only, scale_set, static_pose, json } => {
             let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose };

@@ -14,6 +14,17 @@ pub(super) struct GcvSpline {
     half_order: usize,
     x: Vec<f64>,
     coefficients: Vec<f64>,
+    /// Buckets of equal width over [x_1, x_n], n of them, for `interval`.
+    buckets: KnotBuckets,
+}
+
+/// Where the interval search starts: bucket b covers [x_1 + b·w, x_1 + (b + 1)·w) and
+/// `first[b]` counts the knots below its lower edge.
+#[derive(Debug, Clone)]
+struct KnotBuckets {
+    /// 1/w.
+    per_width: f64,
+    first: Vec<usize>,
 }
 
 /// Room for the 2m local coefficients, 1-based as in `SPLDER` (slot 0 unused).
@@ -23,11 +34,16 @@ impl GcvSpline {
     /// Fits degree `degree` (odd, n ≥ degree + 1 points) as `GCVSpline::createSimTKFunction`.
     pub(super) fn new(degree: usize, x: &[f64], y: &[f64], smoothing: Smoothing) -> GcvSpline {
         let half_order = degree.div_ceil(2).clamp(1, MAX_HALF_ORDER);
-        GcvSpline { half_order, x: x.to_vec(), coefficients: fit(half_order, x, y, smoothing) }
+        let buckets = KnotBuckets::new(x);
+        GcvSpline { half_order, x: x.to_vec(), coefficients: fit(half_order, x, y, smoothing), buckets }
     }
 
     pub(super) fn value(&self, x: f64) -> f64 {
-        self.derivative_of_order(0, x, self.interval(x))
+        let l = self.interval(x);
+        if self.half_order == 2 && l >= 3 && l + 3 <= self.x.len() {
+            return self.interior_cubic_value(x, l);
+        }
+        self.derivative_of_order(0, x, l)
     }
 
     pub(super) fn derivative(&self, x: f64) -> f64 {
@@ -43,9 +59,18 @@ impl GcvSpline {
         (self.derivative_of_order(0, x, l), self.derivative_of_order(1, x, l))
     }
 
-    /// GCVSPL's `SEARCH`: l with x_l ≤ t < x_{l+1} (1-based), 0 before x_1, n from x_n on.
+    /// GCVSPL's `SEARCH`: l with x_l ≤ t < x_{l+1} (1-based), 0 before x_1 (and for NaN), n
+    /// from x_n on. Starts from t's bucket and steps to the interval, usually at once.
+    #[inline]
     fn interval(&self, t: f64) -> usize {
-        self.x.partition_point(|&knot| knot <= t)
+        let mut l = self.buckets.start(self.x[0], t);
+        while l < self.x.len() && self.x[l] <= t {
+            l += 1;
+        }
+        while l > 0 && self.x[l - 1] > t {
+            l -= 1;
+        }
+        l
     }
 
     /// GCVSPL's `SPLDER`: the `order`-th derivative at t in interval l. Takes the 2m
@@ -79,6 +104,21 @@ impl GcvSpline {
             }
         }
         q
+    }
+
+    /// `SPLDER`'s value for a cubic (m = 2) in an interval l with 3 ≤ l ≤ n − 3, where every
+    /// knot the recursion touches exists: the same operations in the same order, unrolled.
+    fn interior_cubic_value(&self, t: f64, l: usize) -> f64 {
+        let c = &self.coefficients[l - 2..l + 2];
+        let x = &self.x[l - 3..l + 3];
+        let sweep = |z: f64, below: f64, left: f64, right: f64| z + (right - t) * (below - z) / (right - left);
+        let (q1, q2, q3, q4) = (c[0], c[1], c[2], c[3]);
+        let q4 = sweep(q4, q3, x[2], x[5]);
+        let q3 = sweep(q3, q2, x[1], x[4]);
+        let q2 = sweep(q2, q1, x[0], x[3]);
+        let q4 = sweep(q4, q3, x[2], x[4]);
+        let q3 = sweep(q3, q2, x[1], x[3]);
+        sweep(q4, q3, x[2], x[3])
     }
 
     /// Divided differences of the local coefficients, `order` times, shifted down to q_1….
@@ -139,6 +179,23 @@ impl GcvSpline {
     }
 }
 
+impl KnotBuckets {
+    /// n buckets over the increasing knots `x`.
+    fn new(x: &[f64]) -> KnotBuckets {
+        let n = x.len();
+        let per_width = n as f64 / (x[n - 1] - x[0]);
+        let first = (0..n).map(|b| x.partition_point(|&knot| knot < x[0] + b as f64 / per_width)).collect();
+        KnotBuckets { per_width, first }
+    }
+
+    /// Where to start looking for t's interval: the knot count at the lower edge of t's bucket
+    /// (the first or last bucket outside [x_1, x_n], the first for NaN).
+    fn start(&self, x_1: f64, t: f64) -> usize {
+        let bucket = ((t - x_1) * self.per_width) as usize;
+        self.first[bucket.min(self.first.len() - 1)]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -148,6 +205,22 @@ mod tests {
     fn golden(file: &str) -> String {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/golden/functions").join(file);
         std::fs::read_to_string(path).unwrap()
+    }
+
+    /// The bucketed search finds GCVSPL's interval (the number of knots ≤ t) everywhere: on,
+    /// between, before and after the knots of unevenly spaced data, and for NaN.
+    #[test]
+    fn interval_counts_the_knots_at_or_below_t() {
+        let x: Vec<f64> = (0..40).map(|i| (i as f64 * 0.37).powi(3) - 20.0).collect();
+        let y: Vec<f64> = x.iter().map(|v| v.sin()).collect();
+        let spline = GcvSpline::new(3, &x, &y, Smoothing::Parameter(0.0));
+        let mut probes = vec![f64::NAN, f64::NEG_INFINITY, f64::INFINITY, x[0] - 1.0, x[39] + 1.0];
+        for w in x.windows(2) {
+            probes.extend([w[0], w[0].next_up(), w[0].next_down(), 0.5 * (w[0] + w[1])]);
+        }
+        for t in probes {
+            assert_eq!(spline.interval(t), x.partition_point(|&knot| knot <= t), "t = {t:?}");
+        }
     }
 
     /// The smoothing variants `FunctionSpec` cannot express yet, against OpenSim 4.6.

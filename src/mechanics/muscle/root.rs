@@ -21,41 +21,50 @@ pub enum RootFailure {
     NotConverged(Root),
 }
 
+/// One end of a bracket: x and the residual there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BracketEnd {
+    pub x: f64,
+    pub residual: f64,
+}
+
 /// Finds x in [lo, hi] with |r(x)| ≤ `residual_tolerance` or a bracket narrower than
 /// `x_tolerance`, starting at the midpoint. `residual` returns (r(x), dr/dx).
 pub fn bracketed_newton(
-    residual: impl FnMut(f64) -> (f64, f64),
+    mut residual: impl FnMut(f64) -> (f64, f64),
     lo: f64,
     hi: f64,
     x_tolerance: f64,
     residual_tolerance: f64,
     max_iterations: usize,
 ) -> Result<Root, RootFailure> {
+    let lo_end = BracketEnd { x: lo, residual: residual(lo).0 };
+    let hi_end = BracketEnd { x: hi, residual: residual(hi).0 };
     bracketed_newton_from(
         residual,
         0.5 * (lo + hi),
-        lo,
-        hi,
+        lo_end,
+        hi_end,
         x_tolerance,
         residual_tolerance,
         max_iterations,
     )
 }
 
-/// `bracketed_newton` starting at `start` (clamped into the bracket): a good first guess
-/// saves iterations, a bad one costs bisections, never convergence.
+/// `bracketed_newton` on a bracket whose end residuals the caller has, starting at `start`
+/// (clamped into the bracket): a good first guess saves iterations, a bad one costs
+/// bisections, never convergence.
 pub fn bracketed_newton_from(
     mut residual: impl FnMut(f64) -> (f64, f64),
     start: f64,
-    lo: f64,
-    hi: f64,
+    lo: BracketEnd,
+    hi: BracketEnd,
     x_tolerance: f64,
     residual_tolerance: f64,
     max_iterations: usize,
 ) -> Result<Root, RootFailure> {
-    let (r_lo, _) = residual(lo);
-    let (r_hi, _) = residual(hi);
-    for (x, r) in [(lo, r_lo), (hi, r_hi)] {
+    let (r_lo, r_hi) = (lo.residual, hi.residual);
+    for BracketEnd { x, residual: r } in [lo, hi] {
         if !r.is_finite() {
             return Err(RootFailure::NotFinite(x));
         }
@@ -70,6 +79,7 @@ pub fn bracketed_newton_from(
     if (r_lo > 0.0) == (r_hi > 0.0) {
         return Err(RootFailure::NoSignChange(r_lo, r_hi));
     }
+    let (lo, hi) = (lo.x, hi.x);
     // Orient so that r(negative_end) < 0 < r(positive_end).
     let (mut negative_end, mut positive_end) = if r_lo < 0.0 { (lo, hi) } else { (hi, lo) };
     let mut x = start.clamp(lo.min(hi), lo.max(hi));

@@ -56,15 +56,20 @@ impl BezierSegment {
     }
 
     /// d^order y / dx^order at parameter u, order 0, 1 or 2 (`calcQuinticBezierCurveDerivDYDX`).
+    #[inline]
     pub fn dydx(&self, u: f64, order: usize) -> f64 {
         match order {
             0 => derivative_u(u, &self.y, 0),
-            1 => derivative_u(u, &self.y, 1) / derivative_u(u, &self.x, 1),
+            1 => {
+                let first = Weights::at(u, 1);
+                first.apply(&self.y) / first.apply(&self.x)
+            }
             _ => {
-                let dxdu = derivative_u(u, &self.x, 1);
-                let dydu = derivative_u(u, &self.y, 1);
-                let d2xdu2 = derivative_u(u, &self.x, 2);
-                let d2ydu2 = derivative_u(u, &self.y, 2);
+                let (first, second) = (Weights::at(u, 1), Weights::at(u, 2));
+                let dxdu = first.apply(&self.x);
+                let dydu = first.apply(&self.y);
+                let d2xdu2 = second.apply(&self.x);
+                let d2ydu2 = second.apply(&self.y);
                 let t1 = 1.0 / dxdu;
                 let t3 = dxdu * dxdu;
                 (d2ydu2 * t1 - dydu / t3 * d2xdu2) * t1
@@ -75,65 +80,99 @@ impl BezierSegment {
 
 /// d^order p/du^order of a quintic Bézier with control values `p`, order 0, 1 or 2
 /// (`calcQuinticBezierCurveDerivU`, same operation order).
+#[inline]
 pub fn derivative_u(u: f64, p: &[f64; 6], order: usize) -> f64 {
-    let [p0, p1, p2, p3, p4, p5] = *p;
-    match order {
-        0 => {
-            let u5 = 1.0;
-            let u4 = u;
-            let u3 = u4 * u;
-            let u2 = u3 * u;
-            let u1 = u2 * u;
-            let u0 = u1 * u;
-            let t2 = u1 * 5.0;
-            let t3 = u2 * 10.0;
-            let t4 = u3 * 10.0;
-            let t5 = u4 * 5.0;
-            let t9 = u0 * 5.0;
-            let t10 = u1 * 20.0;
-            let t11 = u2 * 30.0;
-            let t15 = u0 * 10.0;
-            p0 * (-u0 + t2 - t3 + t4 - t5 + u5 * 1.0)
-                + p1 * (t9 - t10 + t11 + u3 * (-20.0) + t5)
-                + p2 * (-t15 + u1 * 30.0 - t11 + t4)
-                + p3 * (t15 - t10 + t3)
-                + p4 * (-t9 + t2)
-                + p5 * u0 * 1.0
+    Weights::at(u, order).apply(p)
+}
+
+/// What `calcQuinticBezierCurveDerivU` multiplies the control values by at one u and order:
+/// it sums p0·w0 + … + p4·w4 + p5·w5·c5 left to right, each w_k a term of u alone, so one set
+/// of weights serves x and y with OpenSim's operations unchanged.
+#[derive(Debug, Clone, Copy)]
+pub struct Weights {
+    w: [f64; 6],
+    /// The constant OpenSim multiplies p5·w5 by (after the product, not folded into w5).
+    c5: f64,
+}
+
+impl Weights {
+    /// The weights of derivative order 0, 1 or 2 at u.
+    #[inline]
+    pub fn at(u: f64, order: usize) -> Weights {
+        match order {
+            0 => {
+                let u5 = 1.0;
+                let u4 = u;
+                let u3 = u4 * u;
+                let u2 = u3 * u;
+                let u1 = u2 * u;
+                let u0 = u1 * u;
+                let t2 = u1 * 5.0;
+                let t3 = u2 * 10.0;
+                let t4 = u3 * 10.0;
+                let t5 = u4 * 5.0;
+                let t9 = u0 * 5.0;
+                let t10 = u1 * 20.0;
+                let t11 = u2 * 30.0;
+                let t15 = u0 * 10.0;
+                let w = [
+                    -u0 + t2 - t3 + t4 - t5 + u5 * 1.0,
+                    t9 - t10 + t11 + u3 * (-20.0) + t5,
+                    -t15 + u1 * 30.0 - t11 + t4,
+                    t15 - t10 + t3,
+                    -t9 + t2,
+                    u0,
+                ];
+                Weights { w, c5: 1.0 }
+            }
+            1 => {
+                let t1 = u * u;
+                let t2 = t1 * t1;
+                let t4 = t1 * u;
+                let t5 = t4 * 20.0;
+                let t6 = t1 * 30.0;
+                let t7 = u * 20.0;
+                let t10 = t2 * 25.0;
+                let t11 = t4 * 80.0;
+                let t12 = t1 * 90.0;
+                let t16 = t2 * 50.0;
+                let w = [
+                    t2 * (-5.0) + t5 - t6 + t7 - 5.0,
+                    t10 - t11 + t12 + u * (-40.0) + 5.0,
+                    -t16 + t4 * 120.0 - t12 + t7,
+                    t16 - t11 + t6,
+                    -t10 + t5,
+                    t2,
+                ];
+                Weights { w, c5: 5.0 }
+            }
+            _ => {
+                let t1 = u * u;
+                let t2 = t1 * u;
+                let t4 = t1 * 60.0;
+                let t5 = u * 60.0;
+                let t8 = t2 * 100.0;
+                let t9 = t1 * 240.0;
+                let t10 = u * 180.0;
+                let t13 = t2 * 200.0;
+                let w = [
+                    t2 * (-20.0) + t4 - t5 + 20.0,
+                    t8 - t9 + t10 - 40.0,
+                    -t13 + t1 * 360.0 - t10 + 20.0,
+                    t13 - t9 + t5,
+                    -t8 + t4,
+                    t2,
+                ];
+                Weights { w, c5: 20.0 }
+            }
         }
-        1 => {
-            let t1 = u * u;
-            let t2 = t1 * t1;
-            let t4 = t1 * u;
-            let t5 = t4 * 20.0;
-            let t6 = t1 * 30.0;
-            let t7 = u * 20.0;
-            let t10 = t2 * 25.0;
-            let t11 = t4 * 80.0;
-            let t12 = t1 * 90.0;
-            let t16 = t2 * 50.0;
-            p0 * (t2 * (-5.0) + t5 - t6 + t7 - 5.0)
-                + p1 * (t10 - t11 + t12 + u * (-40.0) + 5.0)
-                + p2 * (-t16 + t4 * 120.0 - t12 + t7)
-                + p3 * (t16 - t11 + t6)
-                + p4 * (-t10 + t5)
-                + p5 * t2 * 5.0
-        }
-        _ => {
-            let t1 = u * u;
-            let t2 = t1 * u;
-            let t4 = t1 * 60.0;
-            let t5 = u * 60.0;
-            let t8 = t2 * 100.0;
-            let t9 = t1 * 240.0;
-            let t10 = u * 180.0;
-            let t13 = t2 * 200.0;
-            p0 * (t2 * (-20.0) + t4 - t5 + 20.0)
-                + p1 * (t8 - t9 + t10 - 40.0)
-                + p2 * (-t13 + t1 * 360.0 - t10 + 20.0)
-                + p3 * (t13 - t9 + t5)
-                + p4 * (-t8 + t4)
-                + p5 * t2 * 20.0
-        }
+    }
+
+    /// The derivative for control values `p`.
+    #[inline]
+    pub fn apply(&self, p: &[f64; 6]) -> f64 {
+        let w = &self.w;
+        p[0] * w[0] + p[1] * w[1] + p[2] * w[2] + p[3] * w[3] + p[4] * w[4] + p[5] * w[5] * self.c5
     }
 }
 

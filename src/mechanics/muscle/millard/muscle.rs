@@ -7,7 +7,7 @@ use super::curves::{self, CurveError};
 use super::smooth_function::SmoothSegmentedFunction;
 use crate::mechanics::muscle::pennation::{FixedWidthPennation, SIGNIFICANT_REAL};
 use crate::mechanics::muscle::{
-    bracketed_newton_from, check_inputs, EquilibriumStatus, FiberEquilibrium, MuscleError,
+    bracketed_newton_from, check_inputs, BracketEnd, EquilibriumStatus, FiberEquilibrium, MuscleError,
     RootFailure,
 };
 use crate::model::{ForceVelocityCurveSpec, MillardSpec, MuscleSpec};
@@ -53,24 +53,65 @@ pub struct Millard2012Muscle {
     /// max(f_L's minimum active length · L_opt, the pennation model's minimum), m.
     pub minimum_fiber_length: f64,
     pub curves: MillardCurves,
+    /// f_V(0), the force–velocity multiplier of a fiber at rest.
+    isometric_force_velocity: f64,
+    /// The fiber part of every position at the minimum fiber length.
+    shortest_fiber: Fiber,
 }
 
-/// Fiber quantities at one fiber length (`positionFunc` + `multipliersFunc`).
+/// Fiber quantities at one fiber length, whatever the path (`positionFunc` and
+/// `multipliersFunc`, fiber part).
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Position {
-    pub(super) fiber_length: f64,
+pub(super) struct Fiber {
+    pub(super) length: f64,
     pub(super) pennation_angle: f64,
     pub(super) cos_alpha: f64,
     pub(super) sin_alpha: f64,
-    pub(super) tendon_length: f64,
-    pub(super) norm_fiber_length: f64,
-    pub(super) norm_tendon_length: f64,
+    pub(super) norm_length: f64,
     pub(super) active_force_length: f64,
     pub(super) fiber_force_length: f64,
-    pub(super) tendon_force_length: f64,
-    /// Slopes of the three curves at their normalised lengths.
+    /// Slopes of the two fiber curves at the normalised length.
     pub(super) d_active_force_length: f64,
     pub(super) d_fiber_force_length: f64,
+}
+
+impl Fiber {
+    /// Pennation and fiber curve values at fiber length `fiber_length` (L_opt
+    /// `optimal_fiber_length`).
+    fn at(
+        fiber_length: f64,
+        optimal_fiber_length: f64,
+        pennation: &FixedWidthPennation,
+        curves: &MillardCurves,
+    ) -> Fiber {
+        let pennation_angle = pennation.pennation_angle(fiber_length);
+        let (cos_alpha, sin_alpha) = (pennation_angle.cos(), pennation_angle.sin());
+        let norm_length = fiber_length / optimal_fiber_length;
+        let (active_force_length, d_active_force_length) =
+            curves.active_force_length.value_and_derivative(norm_length);
+        let (fiber_force_length, d_fiber_force_length) =
+            curves.fiber_force_length.value_and_derivative(norm_length);
+        Fiber {
+            length: fiber_length,
+            pennation_angle,
+            cos_alpha,
+            sin_alpha,
+            norm_length,
+            active_force_length,
+            fiber_force_length,
+            d_active_force_length,
+            d_fiber_force_length,
+        }
+    }
+}
+
+/// Fiber and tendon at one fiber length and path length (`positionFunc` + `multipliersFunc`).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Position {
+    pub(super) fiber: Fiber,
+    pub(super) tendon_length: f64,
+    pub(super) norm_tendon_length: f64,
+    pub(super) tendon_force_length: f64,
     pub(super) d_tendon_force_length: f64,
 }
 
@@ -89,6 +130,9 @@ impl Millard2012Muscle {
             class.active_force_length.min_norm_active_fiber_length * spec.optimal_fiber_length;
         let minimum_fiber_length =
             SIGNIFICANT_REAL.max(minimum_active.max(pennation.minimum_fiber_length));
+        let isometric_force_velocity = curves.force_velocity.value(0.0);
+        let shortest_fiber =
+            Fiber::at(minimum_fiber_length, spec.optimal_fiber_length, &pennation, &curves);
         Ok(Millard2012Muscle {
             name: name.to_string(),
             max_isometric_force: spec.max_isometric_force,
@@ -101,6 +145,8 @@ impl Millard2012Muscle {
             pennation,
             minimum_fiber_length,
             curves,
+            isometric_force_velocity,
+            shortest_fiber,
         })
     }
 
@@ -109,80 +155,69 @@ impl Millard2012Muscle {
         activation.clamp(self.minimum_activation, 1.0)
     }
 
-    /// Geometry and curve values at fiber length `fiber_length` for path length `mt_length`.
-    pub(super) fn position(&self, fiber_length: f64, mt_length: f64) -> Position {
-        let pennation_angle = self.pennation.pennation_angle(fiber_length);
-        let (cos_alpha, sin_alpha) = (pennation_angle.cos(), pennation_angle.sin());
-        let tendon_length = mt_length - fiber_length * cos_alpha;
-        let norm_fiber_length = fiber_length / self.optimal_fiber_length;
+    /// `fiber` with the tendon that fills path length `mt_length`.
+    fn on_path(&self, fiber: Fiber, mt_length: f64) -> Position {
+        let tendon_length = mt_length - fiber.length * fiber.cos_alpha;
         let norm_tendon_length = tendon_length / self.tendon_slack_length;
-        let (active_force_length, d_active_force_length) = self
-            .curves
-            .active_force_length
-            .value_and_derivative(norm_fiber_length);
-        let (fiber_force_length, d_fiber_force_length) = self
-            .curves
-            .fiber_force_length
-            .value_and_derivative(norm_fiber_length);
-        let (tendon_force_length, d_tendon_force_length) = self
-            .curves
-            .tendon_force_length
-            .value_and_derivative(norm_tendon_length);
-        Position {
-            fiber_length,
-            pennation_angle,
-            cos_alpha,
-            sin_alpha,
-            tendon_length,
-            norm_fiber_length,
-            norm_tendon_length,
-            active_force_length,
-            fiber_force_length,
-            tendon_force_length,
-            d_active_force_length,
-            d_fiber_force_length,
-            d_tendon_force_length,
-        }
+        let (tendon_force_length, d_tendon_force_length) =
+            self.curves.tendon_force_length.value_and_derivative(norm_tendon_length);
+        Position { fiber, tendon_length, norm_tendon_length, tendon_force_length, d_tendon_force_length }
+    }
+
+    /// Geometry and curve values at fiber length `fiber_length` for path length `mt_length`;
+    /// the minimum fiber length's fiber part is computed once, at construction.
+    pub(super) fn position(&self, fiber_length: f64, mt_length: f64) -> Position {
+        let fiber = if fiber_length == self.minimum_fiber_length {
+            self.shortest_fiber
+        } else {
+            Fiber::at(fiber_length, self.optimal_fiber_length, &self.pennation, &self.curves)
+        };
+        self.on_path(fiber, mt_length)
     }
 
     /// F_m = F_max (a f_L f_V) + (F_max f_PE + F_max β ṽ) (`calcFiberForce`), N.
     pub(super) fn fiber_force(
         &self,
         activation: f64,
-        p: &Position,
+        fiber: &Fiber,
         fv: f64,
         norm_velocity: f64,
     ) -> f64 {
         let f = self.max_isometric_force;
-        f * (activation * p.active_force_length * fv)
-            + (f * p.fiber_force_length + f * self.fiber_damping * norm_velocity)
+        f * (activation * fiber.active_force_length * fv)
+            + (f * fiber.fiber_force_length + f * self.fiber_damping * norm_velocity)
     }
 
     /// Static force balance F_m cos α − F_t (N, positive when the fiber pulls harder than the
     /// tendon) and its derivative along the fiber length (N/m), at zero fiber velocity, for an
     /// activation already in [minimum_activation, 1].
     pub fn force_balance(&self, activation: f64, fiber_length: f64, mt_length: f64) -> (f64, f64) {
-        let p = self.position(fiber_length, mt_length);
-        let fiber_force = self.fiber_force(activation, &p, 1.0, 0.0);
-        let residual = fiber_force * p.cos_alpha - p.tendon_force_length * self.max_isometric_force;
-        (residual, self.d_residual(activation, &p, fiber_force))
+        self.balance(activation, &self.position(fiber_length, mt_length))
+    }
+
+    /// `force_balance` at a computed position.
+    fn balance(&self, activation: f64, p: &Position) -> (f64, f64) {
+        let fiber_force = self.fiber_force(activation, &p.fiber, 1.0, 0.0);
+        let residual = fiber_force * p.fiber.cos_alpha - p.tendon_force_length * self.max_isometric_force;
+        (residual, self.d_residual(activation, p, fiber_force))
     }
 
     /// d(F_m cos α − F_t)/dL_m (`partialsFunc`: fiber stiffness, pennation and tendon terms).
     pub(super) fn d_residual(&self, activation: f64, p: &Position, fiber_force: f64) -> f64 {
         let (f, l_opt) = (self.max_isometric_force, self.optimal_fiber_length);
+        let fiber = &p.fiber;
         let fiber_stiffness = f
-            * (activation * (p.d_active_force_length * (1.0 / l_opt))
-                + p.d_fiber_force_length * (1.0 / l_opt));
-        let d_alpha = self.pennation.d_pennation_d_fiber_length(p.fiber_length);
+            * (activation * (fiber.d_active_force_length * (1.0 / l_opt))
+                + fiber.d_fiber_force_length * (1.0 / l_opt));
+        let d_alpha = self.pennation.d_pennation_d_fiber_length(fiber.length);
         let d_force_along_tendon =
-            fiber_stiffness * p.cos_alpha + fiber_force * (-p.sin_alpha * d_alpha);
+            fiber_stiffness * fiber.cos_alpha + fiber_force * (-fiber.sin_alpha * d_alpha);
         let tendon_stiffness = p.d_tendon_force_length * f / self.tendon_slack_length;
         let d_tendon_force = tendon_stiffness
             * self.pennation.d_tendon_length_d_fiber_length(
-                p.fiber_length,
-                p.sin_alpha,
-                p.cos_alpha,
+                fiber.length,
+                fiber.sin_alpha,
+                fiber.cos_alpha,
             );
         d_force_along_tendon - d_tendon_force
     }
@@ -205,22 +240,34 @@ impl Millard2012Muscle {
             .pennation
             .fiber_length(mt_length, self.tendon_slack_length)
             .max(self.minimum_fiber_length);
+        let at = |fiber_length| self.position(fiber_length, mt_length);
         if self.ignore_tendon_compliance {
-            return Ok(self.report(a, mt_length, slack_fiber_length, 0.0, true));
+            return Ok(self.report(a, mt_length, &at(slack_fiber_length), 0.0, true));
         }
+        let shortest = at(self.minimum_fiber_length);
         if slack_fiber_length <= self.minimum_fiber_length {
-            return Ok(self.report(a, mt_length, self.minimum_fiber_length, 0.0, false));
+            return Ok(self.report(a, mt_length, &shortest, 0.0, false));
         }
-        let residual = |l: f64| self.force_balance(a, l, mt_length);
+        // The solver's last evaluation is usually at the root: kept for the report.
+        let mut last = None;
+        let mut residual = |fiber_length| {
+            let p = at(fiber_length);
+            last = Some(p);
+            self.balance(a, &p)
+        };
+        let lo = BracketEnd { x: self.minimum_fiber_length, residual: self.balance(a, &shortest).0 };
+        let hi = BracketEnd { x: slack_fiber_length, residual: residual(slack_fiber_length).0 };
         // OpenSim's first guess: the tendon 1 % beyond slack.
         let start = self.pennation.fiber_length(mt_length, self.tendon_slack_length * 1.01);
         let length_resolution = 4.0 * f64::EPSILON * slack_fiber_length;
-        let (shortest, slack) = (self.minimum_fiber_length, slack_fiber_length);
-        match bracketed_newton_from(residual, start, shortest, slack, length_resolution, FORCE_TOLERANCE, 200) {
-            Ok(root) => Ok(self.report(a, mt_length, root.x, 0.0, false)),
+        match bracketed_newton_from(&mut residual, start, lo, hi, length_resolution, FORCE_TOLERANCE, 200) {
+            Ok(root) => {
+                let p = last.filter(|p| p.fiber.length == root.x).unwrap_or_else(|| at(root.x));
+                Ok(self.report(a, mt_length, &p, 0.0, false))
+            }
             // The fiber outpulls the tendon even at its shortest: OpenSim's clamp.
             Err(RootFailure::NoSignChange(at_shortest, _)) if at_shortest >= 0.0 => {
-                Ok(self.report(a, mt_length, shortest, 0.0, false))
+                Ok(self.report(a, mt_length, &shortest, 0.0, false))
             }
             Err(failure) => Err(self.solve_failure(activation, mt_length, failure)),
         }
@@ -252,39 +299,36 @@ impl Millard2012Muscle {
         }
     }
 
-    /// The reported state at fiber length `fiber_length` and normalised fiber velocity
-    /// `norm_velocity` (`calcMuscleLengthInfo` + `calcMuscleDynamicsInfo`), activation already
-    /// clamped. A fiber at its minimum length and not lengthening is clamped: zero fiber force.
+    /// The reported state at position `p` (fiber length at least the minimum) and normalised
+    /// fiber velocity `norm_velocity` (`calcMuscleLengthInfo` + `calcMuscleDynamicsInfo`),
+    /// activation already clamped. A fiber at its minimum length and not lengthening is
+    /// clamped: zero fiber force.
     pub(super) fn report(
         &self,
         a: f64,
         mt_length: f64,
-        fiber_length: f64,
+        p: &Position,
         norm_velocity: f64,
         rigid: bool,
     ) -> FiberEquilibrium {
-        let fiber_length = fiber_length.max(self.minimum_fiber_length);
-        let p = self.position(fiber_length, mt_length);
+        let fiber = &p.fiber;
         let f = self.max_isometric_force;
-        let clamped = fiber_length <= self.minimum_fiber_length && norm_velocity <= 0.0;
+        let clamped = fiber.length <= self.minimum_fiber_length && norm_velocity <= 0.0;
         let (norm_velocity, fv) = if clamped {
             (0.0, 1.0)
         } else {
-            (
-                norm_velocity,
-                self.curves.force_velocity.value(norm_velocity),
-            )
+            (norm_velocity, self.force_velocity_multiplier(norm_velocity))
         };
         let (active, passive) = if clamped {
             (0.0, 0.0)
         } else {
             (
-                f * (a * p.active_force_length * fv),
-                f * p.fiber_force_length + f * self.fiber_damping * norm_velocity,
+                f * (a * fiber.active_force_length * fv),
+                f * fiber.fiber_force_length + f * self.fiber_damping * norm_velocity,
             )
         };
         let fiber_force = active + passive;
-        let along_tendon = fiber_force * p.cos_alpha;
+        let along_tendon = fiber_force * fiber.cos_alpha;
         let tendon_force = if rigid {
             along_tendon
         } else {
@@ -293,11 +337,11 @@ impl Millard2012Muscle {
         FiberEquilibrium {
             activation: a,
             mt_length,
-            fiber_length,
-            normalized_fiber_length: p.norm_fiber_length,
-            pennation_angle: p.pennation_angle,
-            cos_pennation_angle: p.cos_alpha,
-            fiber_length_along_tendon: fiber_length * p.cos_alpha,
+            fiber_length: fiber.length,
+            normalized_fiber_length: fiber.norm_length,
+            pennation_angle: fiber.pennation_angle,
+            cos_pennation_angle: fiber.cos_alpha,
+            fiber_length_along_tendon: fiber.length * fiber.cos_alpha,
             tendon_length: p.tendon_length,
             tendon_strain: p.norm_tendon_length - 1.0,
             tendon_force,
@@ -305,8 +349,8 @@ impl Millard2012Muscle {
             passive_fiber_force: passive,
             fiber_force,
             fiber_force_along_tendon: along_tendon,
-            active_force_length_multiplier: p.active_force_length,
-            passive_force_multiplier: p.fiber_force_length,
+            active_force_length_multiplier: fiber.active_force_length,
+            passive_force_multiplier: fiber.fiber_force_length,
             force_velocity_multiplier: fv,
             normalized_fiber_velocity: norm_velocity,
             status: if clamped {
@@ -314,6 +358,16 @@ impl Millard2012Muscle {
             } else {
                 EquilibriumStatus::Converged
             },
+        }
+    }
+
+    /// f_V at normalised fiber velocity `norm_velocity`; at +0 (the static state) the value
+    /// computed once at construction.
+    fn force_velocity_multiplier(&self, norm_velocity: f64) -> f64 {
+        if norm_velocity == 0.0 && norm_velocity.is_sign_positive() {
+            self.isometric_force_velocity
+        } else {
+            self.curves.force_velocity.value(norm_velocity)
         }
     }
 }

@@ -4,7 +4,7 @@
 //! implies. The result carries OpenSim's own residual (|F_m cos α − F_t| up to 1e-8 F_max and a
 //! small fiber velocity), so it reproduces OpenSim's reported numbers, not the exact balance.
 
-use super::muscle::Millard2012Muscle;
+use super::muscle::{Millard2012Muscle, Position};
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
 use crate::mechanics::muscle::{check_inputs, FiberEquilibrium, MuscleError};
 
@@ -23,17 +23,18 @@ impl Millard2012Muscle {
         if self.ignore_tendon_compliance {
             let fiber_length = self
                 .pennation
-                .fiber_length(mt_length, self.tendon_slack_length);
-            return Ok(self.report(a, mt_length, fiber_length, 0.0, true));
+                .fiber_length(mt_length, self.tendon_slack_length)
+                .max(self.minimum_fiber_length);
+            return Ok(self.report(a, mt_length, &self.position(fiber_length, mt_length), 0.0, true));
         }
-        let fiber_length = self.estimate_fiber_length(a, mt_length)?;
-        let velocity = self.norm_fiber_velocity(a, fiber_length, mt_length)?;
-        Ok(self.report(a, mt_length, fiber_length, velocity, false))
+        let p = self.estimate_fiber_state(a, mt_length)?;
+        let velocity = self.norm_fiber_velocity(a, &p, mt_length)?;
+        Ok(self.report(a, mt_length, &p, velocity, false))
     }
 
-    /// `estimateMuscleFiberState` with `staticSolution`: the fiber length, or the minimum
-    /// fiber length when the iteration ends there.
-    fn estimate_fiber_length(&self, a: f64, mt_length: f64) -> Result<f64, MuscleError> {
+    /// `estimateMuscleFiberState` with `staticSolution`: the position at the fiber length the
+    /// iteration ends at (never below the minimum fiber length).
+    fn estimate_fiber_state(&self, a: f64, mt_length: f64) -> Result<Position, MuscleError> {
         let f = self.max_isometric_force;
         let tolerance = (1e-8 * f).max(SIGNIFICANT_REAL * 10.0);
         let start = self
@@ -42,9 +43,9 @@ impl Millard2012Muscle {
         let mut lce = start.max(self.minimum_fiber_length);
         let error_at = |lce: f64| {
             let p = self.position(lce, mt_length);
-            let fiber_force = self.fiber_force(a, &p, 1.0, 0.0);
+            let fiber_force = self.fiber_force(a, &p.fiber, 1.0, 0.0);
             (
-                fiber_force * p.cos_alpha - p.tendon_force_length * f,
+                fiber_force * p.fiber.cos_alpha - p.tendon_force_length * f,
                 p,
                 fiber_force,
             )
@@ -74,7 +75,7 @@ impl Millard2012Muscle {
             iterations += 1;
         }
         if error.abs() < tolerance || lce <= self.minimum_fiber_length {
-            return Ok(lce.max(self.minimum_fiber_length));
+            return Ok(p);
         }
         Err(MuscleError::NotConverged {
             muscle: self.name.clone(),

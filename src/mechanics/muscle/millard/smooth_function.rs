@@ -3,7 +3,7 @@
 //! interpolating spline of u(x) sampled at 100 points per segment gives the first guess, then
 //! Newton's method on x(u) − x = 0 to 100 ε (at most 20 steps).
 
-use super::bezier::{derivative_u, BezierSegment};
+use super::bezier::{derivative_u, BezierSegment, Weights};
 use crate::mechanics::Function;
 
 /// Newton tolerance on x(u) − x: 100 ε (`UTOL`).
@@ -70,6 +70,7 @@ impl SmoothSegmentedFunction {
     }
 
     /// Selected orders 0…2 at x (`calcSelectedDerivatives`); unselected entries are 0.
+    #[inline]
     fn derivatives(&self, x: f64, selected: [bool; 3]) -> [f64; 3] {
         if x < self.x0 {
             return [self.y0 + self.dydx0 * (x - self.x0), self.dydx0, 0.0];
@@ -79,12 +80,16 @@ impl SmoothSegmentedFunction {
         }
         let index = self.segment_index(x);
         let segment = &self.segments[index];
-        let u = self.parameter(x, index);
+        let (u, value_weights) = self.parameter(x, index);
         let mut out = [0.0; 3];
-        for (order, slot) in out.iter_mut().enumerate() {
-            if selected[order] {
-                *slot = segment.dydx(u, order);
-            }
+        if selected[0] {
+            out[0] = value_weights.apply(&segment.y);
+        }
+        if selected[1] {
+            out[1] = segment.dydx(u, 1);
+        }
+        if selected[2] {
+            out[2] = segment.dydx(u, 2);
         }
         out
     }
@@ -99,11 +104,13 @@ impl SmoothSegmentedFunction {
         })
     }
 
-    /// `calcU`: u with x(u) = x on segment `index`.
-    fn parameter(&self, x: f64, index: usize) -> f64 {
+    /// `calcU`: u with x(u) = x on segment `index`, and the order-0 weights at u (the last
+    /// Newton check computed them; y(u) needs the same).
+    fn parameter(&self, x: f64, index: usize) -> (f64, Weights) {
         let points = &self.segments[index].x;
         let mut u = self.u_guess[index].value(x).clamp(0.0, 1.0);
-        let mut f = derivative_u(u, points, 0) - x;
+        let mut weights = Weights::at(u, 0);
+        let mut f = weights.apply(points) - x;
         let mut iterations = 0;
         while f.abs() > U_TOLERANCE && iterations < MAX_U_ITERATIONS {
             let df = derivative_u(u, points, 1);
@@ -111,10 +118,11 @@ impl SmoothSegmentedFunction {
                 break;
             }
             u = (u - f / df).clamp(0.0, 1.0);
-            f = derivative_u(u, points, 0) - x;
+            weights = Weights::at(u, 0);
+            f = weights.apply(points) - x;
             iterations += 1;
         }
-        u
+        (u, weights)
     }
 }
 

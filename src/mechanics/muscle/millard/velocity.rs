@@ -11,19 +11,18 @@ const MAX_VELOCITY_ITERATIONS: usize = 20;
 
 impl Millard2012Muscle {
     /// Normalised fiber velocity ṽ = dL_m/dt / (v_max L_opt) balancing fiber and tendon at
-    /// fiber length `fiber_length` (clamped to the minimum), activation `a` (already clamped).
+    /// position `p` (path length `mt_length`), activation `a` (already clamped).
     pub(super) fn norm_fiber_velocity(
         &self,
         a: f64,
-        fiber_length: f64,
+        p: &Position,
         mt_length: f64,
     ) -> Result<f64, MuscleError> {
-        let p = self.position(fiber_length.max(self.minimum_fiber_length), mt_length);
         if self.fiber_damping > 0.0 {
-            return self.damped_norm_fiber_velocity(a, &p, mt_length);
+            return self.damped_norm_fiber_velocity(a, p, mt_length);
         }
         let (fal, fpe, fse, cos_alpha) =
-            (p.active_force_length, p.fiber_force_length, p.tendon_force_length, p.cos_alpha);
+            (p.fiber.active_force_length, p.fiber.fiber_force_length, p.tendon_force_length, p.fiber.cos_alpha);
         let singular = [
             (cos_alpha, "cos of the pennation angle"),
             (a, "activation"),
@@ -45,14 +44,14 @@ impl Millard2012Muscle {
     fn damped_norm_fiber_velocity(&self, a: f64, p: &Position, mt_length: f64) -> Result<f64, MuscleError> {
         let f = self.max_isometric_force;
         let (fal, fpe, fse, cos_alpha) =
-            (p.active_force_length, p.fiber_force_length, p.tendon_force_length, p.cos_alpha);
+            (p.fiber.active_force_length, p.fiber.fiber_force_length, p.tendon_force_length, p.fiber.cos_alpha);
         let tolerance = (1e-10 * f).max(SIGNIFICANT_REAL * 100.0);
         let fv_undamped = (fse / cos_alpha.max(0.01) - fpe) / (a.max(0.01) * fal.max(0.01));
         let mut v = self.curves.force_velocity_inverse.value(fv_undamped).clamp(-1.0, 1.0);
         let mut error = 1e10;
         for _ in 0..MAX_VELOCITY_ITERATIONS {
             let (fv, d_fv) = self.curves.force_velocity.value_and_derivative(v);
-            error = self.fiber_force(a, p, fv, v) * cos_alpha - fse * f;
+            error = self.fiber_force(a, &p.fiber, fv, v) * cos_alpha - fse * f;
             if error.abs() <= tolerance {
                 return Ok(v);
             }
@@ -90,8 +89,8 @@ impl Millard2012Muscle {
                 "a positive length in m",
             ));
         }
-        let v =
-            self.norm_fiber_velocity(self.clamp_activation(activation), fiber_length, mt_length)?;
+        let p = self.position(fiber_length.max(self.minimum_fiber_length), mt_length);
+        let v = self.norm_fiber_velocity(self.clamp_activation(activation), &p, mt_length)?;
         let clamped =
             fiber_length.max(self.minimum_fiber_length) <= self.minimum_fiber_length && v <= 0.0;
         Ok(if clamped {

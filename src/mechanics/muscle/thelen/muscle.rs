@@ -23,7 +23,7 @@
 use super::ThelenCurves;
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
 use crate::mechanics::muscle::{
-    bracketed_newton, check_inputs, EquilibriumStatus, FiberEquilibrium, FixedWidthPennation,
+    bracketed_newton_from, check_inputs, BracketEnd, EquilibriumStatus, FiberEquilibrium, FixedWidthPennation,
     MuscleError, Root, RootFailure,
 };
 use crate::model::{MuscleSpec, ThelenSpec};
@@ -164,7 +164,9 @@ impl Thelen2003Muscle {
         check_inputs(&self.name, activation, mt_length)?;
         let a = self.clamp_activation(activation);
         let shortest = self.minimum_fiber_length();
-        if self.force_residual(a, shortest, mt_length).0 > 0.0 {
+        let residual = |fiber_length| self.force_residual(a, fiber_length, mt_length);
+        let lo = BracketEnd { x: shortest, residual: residual(shortest).0 };
+        if lo.residual > 0.0 {
             let info = self.length_info(shortest, mt_length);
             return Ok(self.report(
                 a,
@@ -176,11 +178,12 @@ impl Thelen2003Muscle {
         let longest = (mt_length - self.tendon_slack_length).max(shortest)
             + self.pennation.parallelogram_height;
         let x_tolerance = BRACKET_EPSILONS * f64::EPSILON * longest;
-        let residual = |fiber_length| self.force_residual(a, fiber_length, mt_length);
-        let root = bracketed_newton(
+        let hi = BracketEnd { x: longest, residual: residual(longest).0 };
+        let root = bracketed_newton_from(
             residual,
-            shortest,
-            longest,
+            0.5 * (shortest + longest),
+            lo,
+            hi,
             x_tolerance,
             FORCE_TOLERANCE,
             MAX_ITERATIONS,
