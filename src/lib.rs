@@ -1,8 +1,9 @@
 //! osim-tune: read, check and tune OpenSim musculoskeletal models.
 //!
-//! Data flows one way: [`io`] (documents and tables, lossless) → [`model`] (typed view of a
-//! document) → [`review`] (semantic comparison of documents) → [`cli`] (the only place that
-//! prints). See `ARCHITECTURE.md` for the map.
+//! Data flows one way: [`io`] (documents and tables, lossless) → [`model`], [`setup`] (typed
+//! views of model and tool documents) → [`mechanics`] (kinematics, paths, muscles) →
+//! [`solvers`] (inverse kinematics) → [`tuning`] (scaling) → [`analysis`], [`validation`],
+//! [`review`] → [`cli`] (the only place that prints). See `ARCHITECTURE.md` for the map.
 
 pub mod analysis;
 pub mod cli;

@@ -9,3 +9,4 @@ mod text;
 
 pub use document::{Attribute, Document, Element, ElementId};
 pub use error::{EditError, XmlError};
+pub use text::escape_attribute;

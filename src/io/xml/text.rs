@@ -13,6 +13,11 @@ pub fn escape_content(value: &str) -> Cow<'_, str> {
     quick_xml::escape::partial_escape(value)
 }
 
+/// Escapes `&`, `<`, `>`, `'` and `"` for an attribute value (or any text).
+pub fn escape_attribute(value: &str) -> Cow<'_, str> {
+    quick_xml::escape::escape(value)
+}
+
 /// Byte offset → (1-based line, 1-based column), from the sorted offsets where lines start.
 pub fn line_and_column(line_starts: &[usize], offset: usize) -> (usize, usize) {
     let line_index = line_starts.partition_point(|&start| start <= offset).saturating_sub(1);

@@ -2,7 +2,7 @@
 //! and functions wrapped in a `MultiplierFunction` as OpenSim does when it scales them.
 
 use crate::io::osim::OsimDocument;
-use crate::io::xml::{Document, EditError, ElementId};
+use crate::io::xml::{escape_attribute, Document, EditError, ElementId};
 use crate::model::{ComponentReader, ModelError};
 
 /// One planned edit.
@@ -63,12 +63,18 @@ pub fn scaled_function_edit(document: &OsimDocument, function: ElementId, factor
     Ok(Some(Edit::Replace { element: function, text: multiplier_function(&document.xml, function, factor) }))
 }
 
+/// One level of indentation in a document indented by `indentation`: a tab unless it uses
+/// spaces.
+pub fn indent_unit(indentation: &str) -> &'static str {
+    if indentation.contains('\t') || indentation.is_empty() { "\t" } else { "  " }
+}
+
 /// `<MultiplierFunction>` text holding the element `function` (re-indented one level deeper
 /// than its new parent `<function>`) and `scale`.
 fn multiplier_function(xml: &Document, function: ElementId, scale: f64) -> String {
     let indentation = xml.indentation(function);
-    let unit = if indentation.contains('\t') || indentation.is_empty() { "\t" } else { "  " };
-    let name = xml.attribute(function, "name").map(|n| format!(" name=\"{n}\"")).unwrap_or_default();
+    let unit = indent_unit(indentation);
+    let name = xml.attribute(function, "name").map(|n| format!(" name=\"{}\"", escape_attribute(n))).unwrap_or_default();
     let inner = xml.element_source(function).replace('\n', &format!("\n{unit}{unit}"));
     format!(
         "<MultiplierFunction{name}>\n{indentation}{unit}<function>\n{indentation}{unit}{unit}{inner}\n{indentation}{unit}</function>\n\

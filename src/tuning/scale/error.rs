@@ -26,6 +26,10 @@ pub enum ScaleError {
     /// The model holds something osim-tune cannot scale as OpenSim would.
     #[error("{}:{line}: {component}: {problem}", file.display())]
     Unsupported { file: PathBuf, line: usize, component: String, problem: String },
+    /// An input file or setup that cannot be used as it is (subject file, static trial, a step
+    /// without its file).
+    #[error("{}: {problem}", file.display())]
+    Input { file: PathBuf, problem: String },
     /// A measurement cannot be taken (markers missing, no frames in the time range).
     #[error("{}: measurement {measurement:?}: {problem}", file.display())]
     Measurement { file: PathBuf, measurement: String, problem: String },

@@ -37,7 +37,7 @@ pub struct MarkerPlacement {
 pub fn place_markers(model: &OsimDocument, trial: &MarkerTable, trial_file: &Path, tasks: &IkTasks, range: TimeRange) -> Result<MarkerPlacement, ScaleError> {
     let trial = trial.in_meters();
     let times = trial.times();
-    check_range(times, range).map_err(|problem| ScaleError::Measurement { file: trial_file.into(), measurement: "marker placement".into(), problem })?;
+    check_range(times, range).map_err(|problem| ScaleError::Input { file: trial_file.into(), problem: format!("marker placement: {problem}") })?;
     let (first, last) = (times[0], times[times.len() - 1]);
     let range = TimeRange { start: range.start.max(first), end: range.end.min(last) };
     let static_pose = averaged_frame(&trial, range)?;
@@ -47,7 +47,7 @@ pub fn place_markers(model: &OsimDocument, trial: &MarkerTable, trial_file: &Pat
     let ik = InverseKinematics::new(&multibody, &static_pose, trial_file, tasks, IkSettings::default())?;
     let mut q = ik.initial_pose();
     let frame = ik.solve_frame(0, &mut q, &mut ik.workspace())?;
-    let moved = move_markers_to_pose(&model, &static_pose, &frame.q)?;
+    let moved = move_markers(&model, &spec, &multibody, &static_pose, &frame.q)?;
     Ok(MarkerPlacement {
         document: moved.document,
         time: range.start,
@@ -74,7 +74,11 @@ pub struct MovedMarkers {
 /// (m) gets that position, expressed in the marker's parent frame.
 pub fn move_markers_to_pose(model: &OsimDocument, static_pose: &MarkerTable, q: &[f64]) -> Result<MovedMarkers, ScaleError> {
     let spec = ModelSpec::read(model)?;
-    let multibody = Multibody::new(&spec)?;
+    move_markers(model, &spec, &Multibody::new(&spec)?, static_pose, q)
+}
+
+/// [`move_markers_to_pose`] with the model already read and compiled.
+fn move_markers(model: &OsimDocument, spec: &ModelSpec, multibody: &Multibody, static_pose: &MarkerTable, q: &[f64]) -> Result<MovedMarkers, ScaleError> {
     let mut kinematics = multibody.kinematics();
     multibody.realize(q, &mut kinematics);
     let (mut edits, mut moved, mut without_data) = (Vec::new(), Vec::new(), Vec::new());

@@ -4,9 +4,10 @@
 
 use std::path::Path;
 
+use super::edits::indent_unit;
 use super::error::ScaleError;
 use crate::io::osim::{Dialect, OsimDocument};
-use crate::io::xml::ElementId;
+use crate::io::xml::{escape_attribute, ElementId};
 use crate::model::{ComponentReader, ModelSpec};
 
 /// A marker as a marker-set file gives it.
@@ -47,7 +48,7 @@ pub fn update_marker_set(model: &OsimDocument, markers: &[MarkerDefinition]) -> 
     let Some(objects) = xml.child(set, "objects") else { return Err(unsupported(model, set, "its <MarkerSet> has no <objects>")) };
     check_frames(model, markers)?;
     let indentation = xml.indentation(objects);
-    let unit = if indentation.contains('\t') || indentation.is_empty() { "\t" } else { "  " };
+    let unit = indent_unit(indentation);
     let inner = format!("{indentation}{unit}");
     let mut text = String::from("<objects>");
     for &kept in xml.children(objects).iter().filter(|&&m| !markers.iter().any(|d| xml.name(m) == Some(d.name.as_str()))) {
@@ -68,8 +69,8 @@ fn marker_element(marker: &MarkerDefinition, indentation: &str, unit: &str) -> S
     let property = |tag: &str, value: String| format!("\n{indentation}{unit}<{tag}>{value}</{tag}>");
     format!(
         "<Marker name=\"{}\">{}{}{}\n{indentation}</Marker>",
-        marker.name,
-        property("socket_parent_frame", marker.parent_frame.clone()),
+        escape_attribute(&marker.name),
+        property("socket_parent_frame", escape_attribute(&marker.parent_frame).into_owned()),
         property("location", format!("{x} {y} {z}")),
         property("fixed", marker.fixed.to_string())
     )

@@ -47,12 +47,8 @@ pub fn default_pose_lengths(model: &ModelSpec) -> Result<Vec<(String, f64)>, Sca
     let mut lengths = Vec::new();
     for force in model.forces.iter().filter(|f| rescaled(f)) {
         if !force.path_wraps.is_empty() {
-            return Err(ScaleError::Unsupported {
-                file: model.file.clone(),
-                line: 0,
-                component: force.name.clone(),
-                problem: "its path wraps over objects; osim-tune does not compute wrapping yet, so it cannot rescale its lengths as OpenSim would".into(),
-            });
+            let problem = format!("{}: its path wraps over objects; osim-tune does not compute wrapping yet, so it cannot rescale its lengths as OpenSim would", force.name);
+            return Err(ScaleError::Input { file: model.file.clone(), problem });
         }
         let path = GeometryPath::new(&multibody, model, force)?;
         lengths.push((force.name.clone(), path.length(&kinematics, &q, &mut scratch)));

@@ -47,9 +47,7 @@ impl ScaleSet {
             None => false,
         }
     }
-}
 
-impl ScaleSet {
     /// The set as an OpenSim `ScaleSet` document (what ScaleTool's `output_scale_file` holds),
     /// with full-precision factors.
     pub fn to_document_text(&self) -> String {

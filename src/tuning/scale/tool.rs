@@ -123,5 +123,5 @@ fn check_subject_mass(setup: &ScaleSetup) -> Result<(), ScaleError> {
 }
 
 fn missing(setup: &ScaleSetup, object: &str, property: &str) -> ScaleError {
-    ScaleError::Unsupported { file: setup.file.clone(), line: 0, component: object.into(), problem: format!("<{property}> is not set but the step is applied") }
+    ScaleError::Input { file: setup.file.clone(), problem: format!("{object}: <{property}> is not set but the step is applied") }
 }

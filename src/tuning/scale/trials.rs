@@ -35,7 +35,7 @@ pub struct SubjectFile {
 /// The ScaleTool setup for the trials folder `folder`.
 pub fn trials_setup(folder: &Path) -> Result<ScaleSetup, ScaleError> {
     let file = folder.join(SUBJECT_FILE);
-    let bad = |problem: String| ScaleError::Measurement { file: file.clone(), measurement: "subject".into(), problem };
+    let bad = |problem: String| ScaleError::Input { file: file.clone(), problem };
     let text = std::fs::read_to_string(&file).map_err(|e| bad(format!("cannot read the subject file: {e}")))?;
     let subject: SubjectFile = serde_json::from_str(&text).map_err(|e| bad(format!("line {}: {e}", e.line())))?;
     let mut setup = match &subject.setup {
