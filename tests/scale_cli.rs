@@ -31,7 +31,7 @@ fn subject01_copy(edit: impl Fn(String) -> String) -> tempfile::TempDir {
 #[test]
 fn scale_with_the_opensim_setup_writes_the_scaled_model_and_its_side_files() {
     let out = tempfile::tempdir().unwrap();
-    let (model, scaled_only, scale_set, pose) = ["s.osim", "only.osim", "set.xml", "pose.mot"].map(|f| out.path().join(f)).into();
+    let (model, scaled_only, scale_set, pose) = ["s.osim", "only.osim", "set.xml", "new/folder/pose.mot"].map(|f| out.path().join(f)).into();
     let (setup, generic) = (fixture("subject01/subject01_Setup_Scale.xml"), generic());
     let arguments = ["scale", s(&generic), "--setup", s(&setup), "-o", s(&model), "--scaled-only", s(&scaled_only), "--scale-set", s(&scale_set), "--static-pose", s(&pose)];
     let (code, stdout, stderr) = osim_tune(&arguments);

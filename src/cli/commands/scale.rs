@@ -49,6 +49,9 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
         }
         (None, _) => None,
     };
+    for folder in outputs.files().filter_map(|f| f.parent()).filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(|e| format!("{}: cannot create the output folder: {e}", folder.display()))?;
+    }
     write_atomically(&outputs.model, outcome.document.xml.serialize().as_bytes(), &input_refs)?;
     if let (Some(file), Some(text)) = (&outputs.scaled_only, scaled_only) {
         write_atomically(file, text.as_bytes(), &input_refs)?;
