@@ -153,9 +153,70 @@ pub enum Command {
         #[arg(long)]
         errors: Option<PathBuf>,
     },
+    /// Functional knee axis from a flexion–extension trial (thesis ch. 4): segment poses from
+    /// the femur and tibia marker clusters, then GaL (Gamage & Lasenby) or SARA (Ehrig). Prints
+    /// the axis in the lab frame of the trial's first frame and in both segment frames; with
+    /// --epicondyles, its comparison with the transepicondylar axis. With --model the clusters
+    /// are the model's markers (their body-frame locations), so the axis is in the model's body
+    /// frames; --swap then replaces that knee joint by a PinJoint about the axis (same joint and
+    /// coordinate names, the tibia pose at the reference angle kept) and writes -o.
+    /// Exit 0 success, 2 error (e.g. too little rotation to identify an axis).
+    Axis {
+        /// Marker trajectories (.trc, any length unit) of a knee flexion–extension.
+        trial: PathBuf,
+        /// Femur cluster: ≥ 3 marker names, comma separated — or, with --model, one body name
+        /// (every model marker on it that the trial has).
+        #[arg(long, value_delimiter = ',', required = true)]
+        femur: Vec<String>,
+        /// Tibia cluster, as --femur.
+        #[arg(long, value_delimiter = ',', required = true)]
+        tibia: Vec<String>,
+        #[arg(long, value_enum, default_value_t = AxisMethodArgument::Gal)]
+        method: AxisMethodArgument,
+        /// Segment poses per frame by least squares, or by a Kalman smoother over the trial.
+        #[arg(long, value_enum, default_value_t = PoseArgument::LeastSquares)]
+        poses: PoseArgument,
+        /// Lateral and medial epicondyle markers (femur): compare with the transepicondylar axis.
+        #[arg(long, value_delimiter = ',', num_args = 1, value_names = ["LAT,MED"])]
+        epicondyles: Option<Vec<String>>,
+        /// The model whose markers define the clusters (and whose knee --swap replaces).
+        #[arg(long)]
+        model: Option<PathBuf>,
+        /// The joint to replace, e.g. knee_r (needs --model and -o).
+        #[arg(long, requires_all = ["model", "output"])]
+        swap: Option<String>,
+        /// Knee angle (degrees) at which the swapped joint keeps the tibia's pose (default: the
+        /// coordinate's default value).
+        #[arg(long, allow_negative_numbers = true, requires = "swap")]
+        reference_angle: Option<f64>,
+        /// The model with the swapped knee (.osim).
+        #[arg(short, long, requires = "swap")]
+        output: Option<PathBuf>,
+        /// Print the result as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Print every property as `PATH = VALUE`, one per line, numbers in shortest form: a stable
     /// text form of a document for `git diff` (use as diff.textconv; see README).
     Flatten {
         document: PathBuf,
     },
+}
+
+/// `--method` of `axis`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AxisMethodArgument {
+    /// Gamage & Lasenby: circles of the tibia markers in the femur frame.
+    Gal,
+    /// Ehrig's symmetrical axis of rotation approach.
+    Sara,
+}
+
+/// `--poses` of `axis`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PoseArgument {
+    /// Each frame's least-squares rigid fit (Söderkvist).
+    LeastSquares,
+    /// A Rauch–Tung–Striebel smoother, constant 4th derivative (thesis default settings).
+    Kalman,
 }

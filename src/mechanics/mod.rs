@@ -21,4 +21,4 @@ pub use mobilizer::{Mobilizer, PartialVelocity, TransformAxis};
 pub use motion::{Motion, MotionError};
 pub use multibody::{Body, Joint, Marker, Multibody, GROUND_INDEX};
 pub use path::{GeometryPath, PathScratch};
-pub use spatial::{body_fixed_xyz, rotation_about, Mat3, Transform, Vec3};
+pub use spatial::{body_fixed_xyz, body_fixed_xyz_angles, rotation_about, Mat3, Transform, Vec3};

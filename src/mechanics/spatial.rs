@@ -78,6 +78,17 @@ pub fn body_fixed_xyz(angles: [f64; 3]) -> Mat3 {
     )
 }
 
+/// The body-fixed X-Y-Z Euler angles (rad) of a rotation matrix, the inverse of
+/// [`body_fixed_xyz`]; the middle angle lies in [−π/2, π/2] (at ±π/2 the first angle is 0).
+pub fn body_fixed_xyz_angles(rotation: &Mat3) -> [f64; 3] {
+    let sin_b = rotation[(0, 2)].clamp(-1.0, 1.0);
+    let b = sin_b.asin();
+    if sin_b.abs() > 1.0 - 1e-12 {
+        return [0.0, b, rotation[(1, 0)].atan2(rotation[(1, 1)])];
+    }
+    [(-rotation[(1, 2)]).atan2(rotation[(2, 2)]), b, (-rotation[(0, 1)]).atan2(rotation[(0, 0)])]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -88,6 +99,14 @@ mod tests {
         let (a, b, c) = (0.3, -1.1, 2.0);
         let expected = rotation_about(&Vec3::x(), a) * rotation_about(&Vec3::y(), b) * rotation_about(&Vec3::z(), c);
         assert_relative_eq!(body_fixed_xyz([a, b, c]), expected, epsilon = 1e-15);
+    }
+
+    #[test]
+    fn euler_angles_are_recovered_from_the_matrix() {
+        for angles in [[0.3, -1.1, 2.0], [-2.5, 0.4, -0.2], [0.0, 0.0, 0.0], [1.0, std::f64::consts::FRAC_PI_2, 0.0]] {
+            let rotation = body_fixed_xyz(angles);
+            assert_relative_eq!(body_fixed_xyz(body_fixed_xyz_angles(&rotation)), rotation, epsilon = 1e-14);
+        }
     }
 
     #[test]

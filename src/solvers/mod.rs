@@ -10,6 +10,8 @@ mod box_qp;
 mod error;
 pub mod ik;
 mod least_squares;
+pub mod nlp;
+pub mod qp;
 
 pub use box_qp::BoxQpError;
 pub use error::IkError;

@@ -4,6 +4,7 @@
 mod geometry;
 mod golden;
 pub mod ik;
+pub mod knee_axis;
 mod muscle;
 mod scale;
 

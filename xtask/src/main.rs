@@ -9,6 +9,8 @@ mod bench_ik;
 mod fuzz;
 mod geometry;
 mod ik;
+mod knee_axis;
+mod knee_swap;
 mod muscle;
 mod scale;
 mod validate;

@@ -8,7 +8,7 @@ use osim_tune::io::table::{MarkerTable, StorageTable};
 use osim_tune::model::ModelSpec;
 use osim_tune::review::diff;
 
-use crate::{files_with, geometry, ik, muscle, root, scale};
+use crate::{files_with, geometry, ik, knee_swap, muscle, root, scale};
 
 /// One line of the conformance table.
 pub struct Row {
@@ -31,6 +31,8 @@ pub fn run() -> ExitCode {
     rows.extend(muscle::MUSCLE_MODELS.iter().flat_map(|(stem, file)| muscle::rows(stem, &root().join(file))));
     rows.extend(ik::rows());
     rows.extend(scale::rows());
+    rows.extend(crate::knee_axis::rows());
+    rows.extend(knee_swap::rows());
     rows.push(storage_round_trip(&files_with(&root().join("fixtures"), &["sto", "mot"])));
     rows.push(marker_round_trip(&files_with(&root().join("fixtures"), &["trc"])));
     print_table(&rows)

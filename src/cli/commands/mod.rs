@@ -1,6 +1,7 @@
 //! One file per command.
 
 mod analyze;
+mod axis;
 mod diff;
 mod flatten;
 mod ik;
@@ -21,6 +22,11 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             analyze::run(&model, &motion, &output, skip_unknown_columns, fibers)
         }
         Command::Info { model, json } => info::run(&model, json),
+        Command::Axis { trial, femur, tibia, method, poses, epicondyles, model, swap, reference_angle, output, json } => {
+            let swap = swap.zip(output).map(|(joint, output)| axis::Swap { joint, output, reference_angle: reference_angle.map(f64::to_radians) });
+            let request = axis::Request { femur, tibia, method, poses, epicondyles, model, swap, json };
+            axis::run(&trial, &request)
+        }
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),

@@ -10,5 +10,5 @@ mod version;
 pub use document::OsimDocument;
 pub use error::OsimError;
 pub use path::{canonical_path, child_segments, ComponentPath};
-pub use property::PropertyKind;
+pub use property::{format_numbers, PropertyKind};
 pub use version::{Dialect, DocumentVersion};

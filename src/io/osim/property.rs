@@ -44,6 +44,11 @@ impl PropertyKind {
     }
 }
 
+/// Numbers separated by single spaces, each in the shortest form that reads back exactly.
+pub fn format_numbers(values: &[f64]) -> String {
+    values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -196,6 +196,32 @@ impl Document {
         self.insert_edit(id, range, text.to_string())
     }
 
+    /// Removes the element with its indentation and line break and, when the line before it
+    /// holds only a comment (OpenSim's property documentation), that comment line too.
+    pub fn remove_element(&mut self, id: ElementId) -> Result<(), EditError> {
+        let mut range = self.element_range(id);
+        range.start -= self.indentation(id).len();
+        let before = &self.source[..range.start];
+        let line_start = before.trim_end_matches('\n').rfind('\n').map_or(0, |i| i + 1);
+        let previous_line = before[line_start..].trim();
+        let documented = previous_line.starts_with("<!--") && previous_line.ends_with("-->") && previous_line[4..].find("-->") == Some(previous_line.len() - 7);
+        range.start = if documented { line_start.saturating_sub(1) } else { range.start - usize::from(before.ends_with('\n')) };
+        self.insert_edit(id, range, String::new())
+    }
+
+    /// Renames the element's tag in its start and end tags, keeping attributes and content.
+    pub fn rename_element(&mut self, id: ElementId, tag: &str) -> Result<(), EditError> {
+        let element = self.element(id);
+        let old = element.tag.len();
+        let start = element.start_tag.start + 1;
+        let end_tag = element.content.as_ref().map(|content| content.end + 2);
+        self.insert_edit(id, start..start + old, tag.to_string())?;
+        if let Some(end) = end_tag {
+            self.insert_edit(id, end..end + old, tag.to_string())?;
+        }
+        Ok(())
+    }
+
     /// Bytes of the whole element.
     fn element_range(&self, id: ElementId) -> Range<usize> {
         let element = self.element(id);
@@ -281,6 +307,21 @@ mod tests {
         document.replace_element(f, "<m>x</m>").unwrap();
         document.replace_element(g, "").unwrap();
         assert_eq!(document.serialize(), "<r>\n\t<m>x</m>\n</r>");
+    }
+
+    #[test]
+    fn an_element_is_renamed_and_a_documented_one_removed_with_its_comment() {
+        let text = "<r>\n\t<f name=\"a\">\n\t\t<v>1</v>\n\t</f>\n\t<!--Doc of g.-->\n\t<g>\n\t</g>\n\t<h/>\n</r>";
+        let mut document = Document::parse(text.to_string(), Path::new("t.xml")).unwrap();
+        let find = |tag: &str| document.ids().find(|&id| document.tag(id) == tag).unwrap();
+        let (f, g, h) = (find("f"), find("g"), find("h"));
+        document.rename_element(f, "Pin").unwrap();
+        document.remove_element(g).unwrap();
+        document.rename_element(h, "k").unwrap();
+        assert_eq!(document.serialize(), "<r>\n\t<Pin name=\"a\">\n\t\t<v>1</v>\n\t</Pin>\n\t<k/>\n</r>");
+        let mut document = Document::parse(text.to_string(), Path::new("t.xml")).unwrap();
+        document.remove_element(h).unwrap();
+        assert_eq!(document.serialize(), "<r>\n\t<f name=\"a\">\n\t\t<v>1</v>\n\t</f>\n\t<!--Doc of g.-->\n\t<g>\n\t</g>\n</r>");
     }
 
     #[test]

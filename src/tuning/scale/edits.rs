@@ -1,6 +1,7 @@
 //! Edits of a model document planned while reading it, applied afterwards: new property values,
 //! and functions wrapped in a `MultiplierFunction` as OpenSim does when it scales them.
 
+use crate::io::osim::format_numbers;
 use crate::io::osim::OsimDocument;
 use crate::io::xml::{escape_attribute, Document, EditError, ElementId};
 use crate::model::{ComponentReader, ModelError};
@@ -23,11 +24,6 @@ pub fn apply(document: &mut OsimDocument, edits: &[Edit]) -> Result<(), EditErro
         }
     }
     Ok(())
-}
-
-/// Numbers separated by single spaces, each in the shortest form that reads back exactly.
-pub fn format_numbers(values: &[f64]) -> String {
-    values.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(" ")
 }
 
 /// The edit setting numeric property `property` of `component` to `values`, or none when the

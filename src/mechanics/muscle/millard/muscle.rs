@@ -49,6 +49,10 @@ pub struct Millard2012Muscle {
     pub fiber_damping: f64,
     pub minimum_activation: f64,
     pub ignore_tendon_compliance: bool,
+    /// The pennation model's limit, rad.
+    pub maximum_pennation_angle: f64,
+    /// f_L's shortest active normalised length.
+    pub min_norm_active_fiber_length: f64,
     pub pennation: FixedWidthPennation,
     /// max(f_L's minimum active length · L_opt, the pennation model's minimum), m.
     pub minimum_fiber_length: f64,
@@ -61,7 +65,7 @@ pub struct Millard2012Muscle {
 
 /// Fiber quantities at one fiber length, whatever the path (`positionFunc` and
 /// `multipliersFunc`, fiber part).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Fiber {
     pub(super) length: f64,
     pub(super) pennation_angle: f64,
@@ -121,19 +125,8 @@ impl Millard2012Muscle {
         let damped = class.fiber_damping >= MIN_NONZERO_DAMPING_COEFFICIENT;
         let finalised = finalise(name, spec, class, damped)?;
         let curves = build_curves(name, class, &finalised)?;
-        let pennation = FixedWidthPennation::new(
-            spec.optimal_fiber_length,
-            spec.pennation_angle_at_optimal,
-            class.maximum_pennation_angle,
-        );
-        let minimum_active =
-            class.active_force_length.min_norm_active_fiber_length * spec.optimal_fiber_length;
-        let minimum_fiber_length =
-            SIGNIFICANT_REAL.max(minimum_active.max(pennation.minimum_fiber_length));
         let isometric_force_velocity = curves.force_velocity.value(0.0);
-        let shortest_fiber =
-            Fiber::at(minimum_fiber_length, spec.optimal_fiber_length, &pennation, &curves);
-        Ok(Millard2012Muscle {
+        let mut muscle = Millard2012Muscle {
             name: name.to_string(),
             max_isometric_force: spec.max_isometric_force,
             optimal_fiber_length: spec.optimal_fiber_length,
@@ -142,12 +135,30 @@ impl Millard2012Muscle {
             fiber_damping: if damped { class.fiber_damping } else { 0.0 },
             minimum_activation: finalised.minimum_activation,
             ignore_tendon_compliance: spec.ignore_tendon_compliance,
-            pennation,
-            minimum_fiber_length,
+            maximum_pennation_angle: class.maximum_pennation_angle,
+            min_norm_active_fiber_length: class.active_force_length.min_norm_active_fiber_length,
+            pennation: FixedWidthPennation::new(1.0, 0.0, class.maximum_pennation_angle),
+            minimum_fiber_length: 0.0,
             curves,
             isometric_force_velocity,
-            shortest_fiber,
-        })
+            shortest_fiber: Fiber::default(),
+        };
+        muscle.set_fiber_geometry(spec.optimal_fiber_length, spec.pennation_angle_at_optimal)?;
+        Ok(muscle)
+    }
+
+    /// Sets L_opt (m) and α_opt (rad) and what derives from them (pennation width, minimum fiber
+    /// length), as a rebuild from the changed properties would — the curves do not depend on
+    /// them — without rebuilding the curves.
+    pub fn set_fiber_geometry(&mut self, optimal_fiber_length: f64, pennation_angle_at_optimal: f64) -> Result<(), MuscleError> {
+        check_pennation(&self.name, pennation_angle_at_optimal, self.maximum_pennation_angle)?;
+        let pennation = FixedWidthPennation::new(optimal_fiber_length, pennation_angle_at_optimal, self.maximum_pennation_angle);
+        let minimum_active = self.min_norm_active_fiber_length * optimal_fiber_length;
+        self.minimum_fiber_length = SIGNIFICANT_REAL.max(minimum_active.max(pennation.minimum_fiber_length));
+        self.optimal_fiber_length = optimal_fiber_length;
+        self.shortest_fiber = Fiber::at(self.minimum_fiber_length, optimal_fiber_length, &pennation, &self.curves);
+        self.pennation = pennation;
+        Ok(())
     }
 
     /// Activation as the muscle's dynamics see it: clamped to [minimum_activation, 1].

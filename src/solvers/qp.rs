@@ -1,0 +1,688 @@
+//! A general dense convex quadratic programme solved by clarabel's interior point method:
+//!
+//! ```text
+//! minimise    ½ xᵀPx + qᵀx
+//! subject to  A x = b                 (equality rows)
+//!             l ≤ G x ≤ u             (two-sided rows; l = u is an equality, ±∞ no side)
+//!             lower ≤ x ≤ upper       (bounds; ±∞ no bound, lower = upper fixes x)
+//! ```
+//!
+//! P is symmetric positive semidefinite (its upper triangle is used, after symmetrising). It may
+//! be smaller than x: a k×k P is the leading block, the remaining variables enter linearly.
+//!
+//! Multipliers follow one sign convention for every row: at the solution
+//! `P x + q + Aᵀy + Gᵀλ + ν = 0`, where λᵢ ≥ 0 when row i sits at its upper side and λᵢ ≤ 0 when
+//! at its lower side (ν likewise for bounds), y is free.
+//!
+//! Building ([`DenseQp::new`] and the `with_*` methods) checks sizes and bounds and returns a
+//! [`QpError`]; solving always returns a [`QpSolution`] whose [`QpStatus`] says how it ended.
+//!
+//! Polishing (on by default): clarabel's interior point solution meets the active constraints
+//! only to its tolerance and leaves small multipliers on inactive ones. The polish takes the
+//! rows and bounds clarabel (nearly) reaches as equalities, solves the equality-constrained
+//! KKT system on that active set exactly (dense LU) and keeps the result when it is a KKT point
+//! of the whole QP: inactive rows and free variables within their ranges (to 10⁻⁹ relative),
+//! multipliers of the right sign. Active sides are then met to rounding and inactive
+//! multipliers are exactly 0.
+
+use clarabel::algebra::CscMatrix;
+use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
+use nalgebra::DMatrix;
+
+/// Why a QP could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum QpError {
+    /// P is not square, or larger than x.
+    #[error("the QP's Hessian is {rows}×{columns}; it must be square and at most {variables}×{variables}")]
+    Hessian { rows: usize, columns: usize, variables: usize },
+    /// A matrix or vector has the wrong size.
+    #[error("{what} has size {found}, expected {expected}")]
+    Dimension { what: &'static str, expected: usize, found: usize },
+    /// A bound pair with lower > upper, lower = +∞, upper = −∞ or a NaN.
+    #[error("{what} {index}: the range [{lower}, {upper}] is empty or not a number")]
+    Range { what: &'static str, index: usize, lower: f64, upper: f64 },
+    /// Problem data that is not finite.
+    #[error("{what} contains a value that is not finite")]
+    NotFinite { what: &'static str },
+}
+
+/// clarabel's stopping tolerances and iteration limit (verbose output is always off).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct QpSettings {
+    /// Absolute and relative duality gap and feasibility tolerance.
+    pub tolerance: f64,
+    /// Interior point iterations allowed.
+    pub max_iterations: u32,
+    /// Polish clarabel's solution on its active set (see the module documentation).
+    pub polish: bool,
+}
+
+impl Default for QpSettings {
+    fn default() -> Self {
+        QpSettings { tolerance: 1e-10, max_iterations: 200, polish: true }
+    }
+}
+
+/// How a QP solve ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QpStatus {
+    /// Solved to the tolerance of [`QpSettings`].
+    Solved,
+    /// Solved to clarabel's reduced accuracy.
+    AlmostSolved,
+    /// The constraints cannot be met (certificate found).
+    Infeasible,
+    /// The objective is unbounded below on the feasible set.
+    Unbounded,
+    /// The iteration limit was reached.
+    MaxIterations,
+    /// clarabel refused the data or stopped on a numerical error or lack of progress.
+    Failed,
+}
+
+impl QpStatus {
+    /// Whether `x` and the multipliers are a solution (full or reduced accuracy).
+    pub fn is_solved(self) -> bool {
+        matches!(self, QpStatus::Solved | QpStatus::AlmostSolved)
+    }
+}
+
+/// A QP's solution; the vectors are meaningful only when `status.is_solved()`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QpSolution {
+    pub status: QpStatus,
+    pub x: Vec<f64>,
+    /// ½ xᵀPx + qᵀx.
+    pub objective: f64,
+    /// y, one per row of A.
+    pub equality_multipliers: Vec<f64>,
+    /// λ, one per row of G (0 for rows with no finite side).
+    pub inequality_multipliers: Vec<f64>,
+    /// ν, one per variable.
+    pub bound_multipliers: Vec<f64>,
+    /// clarabel's iterations.
+    pub iterations: u32,
+    /// Whether the polished solution replaced clarabel's.
+    pub polished: bool,
+}
+
+/// A validated QP over borrowed data.
+#[derive(Debug, Clone, Copy)]
+pub struct DenseQp<'a> {
+    hessian: &'a DMatrix<f64>,
+    linear: &'a [f64],
+    equalities: Option<(&'a DMatrix<f64>, &'a [f64])>,
+    inequalities: Option<(&'a DMatrix<f64>, &'a [f64], &'a [f64])>,
+    bounds: Option<(&'a [f64], &'a [f64])>,
+}
+
+impl<'a> DenseQp<'a> {
+    /// min ½xᵀPx + qᵀx over x ∈ ℝⁿ, n = `linear.len()`; P (`hessian`) is k×k with k ≤ n.
+    pub fn new(hessian: &'a DMatrix<f64>, linear: &'a [f64]) -> Result<Self, QpError> {
+        let (rows, columns) = hessian.shape();
+        if rows != columns || rows > linear.len() {
+            return Err(QpError::Hessian { rows, columns, variables: linear.len() });
+        }
+        finite("the Hessian", hessian.as_slice())?;
+        finite("the linear term", linear)?;
+        Ok(DenseQp { hessian, linear, equalities: None, inequalities: None, bounds: None })
+    }
+
+    /// Adds the rows A x = b.
+    pub fn with_equalities(mut self, matrix: &'a DMatrix<f64>, rhs: &'a [f64]) -> Result<Self, QpError> {
+        self.check_columns("the equality matrix", matrix)?;
+        size("the equality right-hand side", matrix.nrows(), rhs.len())?;
+        finite("the equality matrix", matrix.as_slice())?;
+        finite("the equality right-hand side", rhs)?;
+        self.equalities = Some((matrix, rhs));
+        Ok(self)
+    }
+
+    /// Adds the rows l ≤ G x ≤ u.
+    pub fn with_inequalities(mut self, matrix: &'a DMatrix<f64>, lower: &'a [f64], upper: &'a [f64]) -> Result<Self, QpError> {
+        self.check_columns("the inequality matrix", matrix)?;
+        finite("the inequality matrix", matrix.as_slice())?;
+        ranges("inequality row", matrix.nrows(), lower, upper)?;
+        self.inequalities = Some((matrix, lower, upper));
+        Ok(self)
+    }
+
+    /// Adds the bounds lower ≤ x ≤ upper.
+    pub fn with_bounds(mut self, lower: &'a [f64], upper: &'a [f64]) -> Result<Self, QpError> {
+        ranges("variable", self.linear.len(), lower, upper)?;
+        self.bounds = Some((lower, upper));
+        Ok(self)
+    }
+
+    fn check_columns(&self, what: &'static str, matrix: &DMatrix<f64>) -> Result<(), QpError> {
+        size(what, self.linear.len(), matrix.ncols())
+    }
+
+    /// Solves with clarabel (never panics; failures are a [`QpStatus`]). When clarabel stops
+    /// at its iteration limit or on a numerical failure it is run once more with the
+    /// conservative settings of [`clarabel_settings`] (no equilibration, shorter steps).
+    pub fn solve(&self, settings: &QpSettings) -> QpSolution {
+        let rows = self.rows();
+        let (a, b, cones) = rows.assemble(self.linear.len());
+        let p = self.upper_triangle();
+        let mut solution = self.run_clarabel(&p, &a, &b, &cones, &rows, clarabel_settings(settings, false));
+        if matches!(solution.status, QpStatus::MaxIterations | QpStatus::Failed) {
+            solution = self.run_clarabel(&p, &a, &b, &cones, &rows, clarabel_settings(settings, true));
+        }
+        if solution.status.is_solved() && settings.polish {
+            polish::polish(self, &mut solution);
+        }
+        solution
+    }
+
+    fn run_clarabel(
+        &self,
+        p: &CscMatrix<f64>,
+        a: &CscMatrix<f64>,
+        b: &[f64],
+        cones: &[SupportedConeT<f64>],
+        rows: &RowSet,
+        settings: DefaultSettings<f64>,
+    ) -> QpSolution {
+        let mut solution = self.empty_solution();
+        let Ok(mut solver) = DefaultSolver::new(p, self.linear, a, b, cones, settings) else { return solution };
+        solver.solve();
+        solution.status = status(solver.solution.status);
+        solution.iterations = solver.solution.iterations;
+        if solution.status.is_solved() {
+            solution.x.copy_from_slice(&solver.solution.x);
+            solution.objective = self.objective(&solution.x);
+            rows.scatter_multipliers(&solver.solution.z, &mut solution);
+        }
+        solution
+    }
+
+    fn empty_solution(&self) -> QpSolution {
+        let n = self.linear.len();
+        QpSolution {
+            status: QpStatus::Failed,
+            x: vec![0.0; n],
+            objective: f64::NAN,
+            equality_multipliers: vec![0.0; self.equalities.map_or(0, |(a, _)| a.nrows())],
+            inequality_multipliers: vec![0.0; self.inequalities.map_or(0, |(g, _, _)| g.nrows())],
+            bound_multipliers: vec![0.0; n],
+            iterations: 0,
+            polished: false,
+        }
+    }
+
+    fn objective(&self, x: &[f64]) -> f64 {
+        let k = self.hessian.nrows();
+        let mut value: f64 = self.linear.iter().zip(x).map(|(q, x)| q * x).sum();
+        for j in 0..k {
+            for i in 0..k {
+                value += 0.5 * x[i] * self.hessian[(i, j)] * x[j];
+            }
+        }
+        value
+    }
+
+    /// The upper triangle of (P + Pᵀ)/2, padded with zeros to n×n, in compressed columns.
+    fn upper_triangle(&self) -> CscMatrix<f64> {
+        let (k, n) = (self.hessian.nrows(), self.linear.len());
+        let (mut colptr, mut rowval, mut nzval) = (Vec::with_capacity(n + 1), Vec::new(), Vec::new());
+        colptr.push(0);
+        for j in 0..n {
+            for i in 0..=j.min(k) {
+                let value = if j < k { 0.5 * (self.hessian[(i, j)] + self.hessian[(j, i)]) } else { 0.0 };
+                if value != 0.0 {
+                    rowval.push(i);
+                    nzval.push(value);
+                }
+            }
+            colptr.push(rowval.len());
+        }
+        CscMatrix::new(n, n, colptr, rowval, nzval)
+    }
+
+    /// The rows in clarabel's form, A x + s = b, s in the zero cone or ℝ₊.
+    fn rows(&self) -> RowSet {
+        let mut rows = RowSet::default();
+        if let Some((matrix, rhs)) = self.equalities {
+            for i in 0..matrix.nrows() {
+                rows.zero.push_dense(matrix, i, 1.0, rhs[i], Link { kind: Kind::Equality, index: i, sign: 1.0 });
+            }
+        }
+        if let Some((matrix, lower, upper)) = self.inequalities {
+            for i in 0..matrix.nrows() {
+                rows.push_range(Kind::Inequality, i, lower[i], upper[i], |cone, sign, b, link| cone.push_dense(matrix, i, sign, b, link));
+            }
+        }
+        if let Some((lower, upper)) = self.bounds {
+            for k in 0..lower.len() {
+                rows.push_range(Kind::Bound, k, lower[k], upper[k], |cone, sign, b, link| cone.push_unit(k, sign, b, link));
+            }
+        }
+        rows
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Equality,
+    Inequality,
+    Bound,
+}
+
+/// Where a clarabel row's dual goes: `sign · z` is added to the multiplier `index` of `kind`.
+#[derive(Debug, Clone, Copy)]
+struct Link {
+    kind: Kind,
+    index: usize,
+    sign: f64,
+}
+
+/// The rows of one cone as triplets.
+#[derive(Debug, Default)]
+struct ConeRows {
+    rows: Vec<usize>,
+    columns: Vec<usize>,
+    values: Vec<f64>,
+    b: Vec<f64>,
+    links: Vec<Link>,
+}
+
+impl ConeRows {
+    /// The row `sign · matrix[i, :] x (+ s) = b`, zeros skipped.
+    fn push_dense(&mut self, matrix: &DMatrix<f64>, i: usize, sign: f64, b: f64, link: Link) {
+        let row = self.b.len();
+        for j in 0..matrix.ncols() {
+            let value = matrix[(i, j)];
+            if value != 0.0 {
+                self.rows.push(row);
+                self.columns.push(j);
+                self.values.push(sign * value);
+            }
+        }
+        self.b.push(b);
+        self.links.push(link);
+    }
+
+    /// The row `sign · x_k (+ s) = b`.
+    fn push_unit(&mut self, k: usize, sign: f64, b: f64, link: Link) {
+        self.rows.push(self.b.len());
+        self.columns.push(k);
+        self.values.push(sign);
+        self.b.push(b);
+        self.links.push(link);
+    }
+}
+
+/// Zero-cone rows (equalities) and nonnegative-cone rows (one per finite side).
+#[derive(Debug, Default)]
+struct RowSet {
+    zero: ConeRows,
+    nonnegative: ConeRows,
+}
+
+impl RowSet {
+    /// l ≤ row ≤ u as an equality when l = u, else as up to two one-sided rows.
+    fn push_range(&mut self, kind: Kind, index: usize, lower: f64, upper: f64, mut push: impl FnMut(&mut ConeRows, f64, f64, Link)) {
+        if lower == upper {
+            push(&mut self.zero, 1.0, upper, Link { kind, index, sign: 1.0 });
+            return;
+        }
+        if upper.is_finite() {
+            push(&mut self.nonnegative, 1.0, upper, Link { kind, index, sign: 1.0 });
+        }
+        if lower.is_finite() {
+            push(&mut self.nonnegative, -1.0, -lower, Link { kind, index, sign: -1.0 });
+        }
+    }
+
+    fn assemble(&self, n: usize) -> (CscMatrix<f64>, Vec<f64>, Vec<SupportedConeT<f64>>) {
+        let (zero, nonnegative) = (&self.zero, &self.nonnegative);
+        let offset = zero.b.len();
+        let rows: Vec<usize> = zero.rows.iter().copied().chain(nonnegative.rows.iter().map(|r| r + offset)).collect();
+        let columns: Vec<usize> = zero.columns.iter().chain(&nonnegative.columns).copied().collect();
+        let values: Vec<f64> = zero.values.iter().chain(&nonnegative.values).copied().collect();
+        let b: Vec<f64> = zero.b.iter().chain(&nonnegative.b).copied().collect();
+        let a = CscMatrix::new_from_triplets(b.len(), n, rows, columns, values);
+        let mut cones = Vec::with_capacity(2);
+        if offset > 0 {
+            cones.push(SupportedConeT::ZeroConeT(offset));
+        }
+        if !nonnegative.b.is_empty() {
+            cones.push(SupportedConeT::NonnegativeConeT(nonnegative.b.len()));
+        }
+        (a, b, cones)
+    }
+
+    fn scatter_multipliers(&self, z: &[f64], solution: &mut QpSolution) {
+        for (link, z) in self.zero.links.iter().chain(&self.nonnegative.links).zip(z) {
+            let target = match link.kind {
+                Kind::Equality => &mut solution.equality_multipliers,
+                Kind::Inequality => &mut solution.inequality_multipliers,
+                Kind::Bound => &mut solution.bound_multipliers,
+            };
+            target[link.index] += link.sign * z;
+        }
+    }
+}
+
+/// clarabel's settings: verbose off, the tolerance of `settings`; `conservative` turns
+/// equilibration off and shortens the steps to 0.9 of the way to the cone boundary (clarabel
+/// can stall on small, well-posed QPs with its equilibration).
+fn clarabel_settings(settings: &QpSettings, conservative: bool) -> DefaultSettings<f64> {
+    let defaults = DefaultSettings::default();
+    DefaultSettings {
+        verbose: false,
+        tol_gap_abs: settings.tolerance,
+        tol_gap_rel: settings.tolerance,
+        tol_feas: settings.tolerance,
+        max_iter: settings.max_iterations,
+        equilibrate_enable: !conservative,
+        max_step_fraction: if conservative { 0.9 } else { defaults.max_step_fraction },
+        ..defaults
+    }
+}
+
+fn status(status: SolverStatus) -> QpStatus {
+    match status {
+        SolverStatus::Solved => QpStatus::Solved,
+        SolverStatus::AlmostSolved => QpStatus::AlmostSolved,
+        SolverStatus::PrimalInfeasible | SolverStatus::AlmostPrimalInfeasible => QpStatus::Infeasible,
+        SolverStatus::DualInfeasible | SolverStatus::AlmostDualInfeasible => QpStatus::Unbounded,
+        SolverStatus::MaxIterations | SolverStatus::MaxTime => QpStatus::MaxIterations,
+        _ => QpStatus::Failed,
+    }
+}
+
+fn size(what: &'static str, expected: usize, found: usize) -> Result<(), QpError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(QpError::Dimension { what, expected, found })
+    }
+}
+
+fn finite(what: &'static str, values: &[f64]) -> Result<(), QpError> {
+    if values.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(QpError::NotFinite { what })
+    }
+}
+
+/// `count` ranges [lower, upper], each non-empty.
+fn ranges(what: &'static str, count: usize, lower: &[f64], upper: &[f64]) -> Result<(), QpError> {
+    size("the lower bounds", count, lower.len())?;
+    size("the upper bounds", count, upper.len())?;
+    for (index, (&l, &u)) in lower.iter().zip(upper).enumerate() {
+        if !(l <= u) || l == f64::INFINITY || u == f64::NEG_INFINITY {
+            return Err(QpError::Range { what, index, lower: l, upper: u });
+        }
+    }
+    Ok(())
+}
+
+/// The active-set polish of a clarabel solution (see the module documentation).
+mod polish {
+    use nalgebra::{DMatrix, DVector};
+
+    use super::{DenseQp, QpSolution};
+
+    /// A value is at a bound or row side when within this (relative to 1 + |side|).
+    const ACTIVE: f64 = 1e-8;
+    /// Slack allowed on ranges and multiplier signs when checking the polished point.
+    const CHECK: f64 = 1e-9;
+
+    /// Which constraint an active row is and the side it sits at (+1 upper, −1 lower, 0 both).
+    #[derive(Debug, Clone, Copy)]
+    struct Active {
+        equality: bool,
+        index: usize,
+        value: f64,
+        side: f64,
+    }
+
+    /// Replaces `solution` by the exact KKT point of its active set when that is a KKT point of
+    /// the whole QP.
+    pub(super) fn polish(qp: &DenseQp, solution: &mut QpSolution) {
+        let fixed = fixed_variables(qp, &solution.x);
+        let active = active_rows(qp, &solution.x);
+        let free: Vec<usize> = (0..fixed.len()).filter(|&k| fixed[k].is_none()).collect();
+        let Some((x, y)) = solve_active_set(qp, &fixed, &free, &active) else { return };
+        let Some(bound_multipliers) = check(qp, &x, &y, &fixed, &active) else { return };
+        solution.x.copy_from_slice(x.as_slice());
+        solution.objective = qp.objective(&solution.x);
+        solution.equality_multipliers.fill(0.0);
+        solution.inequality_multipliers.fill(0.0);
+        for (row, y) in active.iter().zip(y.iter()) {
+            let target = if row.equality { &mut solution.equality_multipliers } else { &mut solution.inequality_multipliers };
+            target[row.index] = *y;
+        }
+        solution.bound_multipliers.copy_from_slice(bound_multipliers.as_slice());
+        solution.polished = true;
+    }
+
+    fn near(value: f64, side: f64) -> bool {
+        side.is_finite() && (value - side).abs() <= ACTIVE * (1.0 + side.abs())
+    }
+
+    /// The bound each variable is fixed at (fixed variables and bounds clarabel reaches).
+    fn fixed_variables(qp: &DenseQp, x: &[f64]) -> Vec<Option<f64>> {
+        let Some((lower, upper)) = qp.bounds else { return vec![None; x.len()] };
+        let at = |k: usize| match () {
+            _ if lower[k] == upper[k] || near(x[k], lower[k]) => Some(lower[k]),
+            _ if near(x[k], upper[k]) => Some(upper[k]),
+            _ => None,
+        };
+        (0..x.len()).map(at).collect()
+    }
+
+    /// The equality rows and the inequality rows at one of their sides.
+    fn active_rows(qp: &DenseQp, x: &[f64]) -> Vec<Active> {
+        let x = DVector::from_column_slice(x);
+        let mut active = Vec::new();
+        if let Some((_, rhs)) = qp.equalities {
+            active.extend(rhs.iter().enumerate().map(|(index, &value)| Active { equality: true, index, value, side: 0.0 }));
+        }
+        if let Some((matrix, lower, upper)) = qp.inequalities {
+            let values = matrix * &x;
+            for (index, &value) in values.iter().enumerate() {
+                let side = if lower[index] == upper[index] {
+                    Some((upper[index], 0.0))
+                } else if near(value, upper[index]) {
+                    Some((upper[index], 1.0))
+                } else if near(value, lower[index]) {
+                    Some((lower[index], -1.0))
+                } else {
+                    None
+                };
+                active.extend(side.map(|(value, side)| Active { equality: false, index, value, side }));
+            }
+        }
+        active
+    }
+
+    /// Row `row` of the active set's matrix.
+    fn row_matrix<'a>(qp: &DenseQp<'a>, row: &Active) -> &'a DMatrix<f64> {
+        if row.equality {
+            qp.equalities.expect("active equality rows exist").0
+        } else {
+            qp.inequalities.expect("active inequality rows exist").0
+        }
+    }
+
+    /// P's entry (zero outside its block).
+    fn hessian(qp: &DenseQp, i: usize, j: usize) -> f64 {
+        let k = qp.hessian.nrows();
+        if i < k && j < k {
+            0.5 * (qp.hessian[(i, j)] + qp.hessian[(j, i)])
+        } else {
+            0.0
+        }
+    }
+
+    /// x and the active rows' multipliers y from
+    /// [P_FF  A_Fᵀ; A_F  0] [x_F; y] = [−q_F − P_FX x_X; b − A_X x_X] (X: fixed variables).
+    fn solve_active_set(qp: &DenseQp, fixed: &[Option<f64>], free: &[usize], active: &[Active]) -> Option<(DVector<f64>, DVector<f64>)> {
+        let (nf, na) = (free.len(), active.len());
+        let x_fixed = DVector::from_iterator(fixed.len(), fixed.iter().map(|f| f.unwrap_or(0.0)));
+        let mut system = DMatrix::zeros(nf + na, nf + na);
+        let mut rhs = DVector::zeros(nf + na);
+        for (a, &i) in free.iter().enumerate() {
+            for (b, &j) in free.iter().enumerate() {
+                system[(a, b)] = hessian(qp, i, j);
+            }
+            let coupling: f64 = (0..fixed.len()).filter(|&j| fixed[j].is_some()).map(|j| hessian(qp, i, j) * x_fixed[j]).sum();
+            rhs[a] = -qp.linear[i] - coupling;
+        }
+        for (r, row) in active.iter().enumerate() {
+            let matrix = row_matrix(qp, row);
+            for (a, &i) in free.iter().enumerate() {
+                system[(nf + r, a)] = matrix[(row.index, i)];
+                system[(a, nf + r)] = matrix[(row.index, i)];
+            }
+            let coupling: f64 = (0..fixed.len()).map(|j| matrix[(row.index, j)] * x_fixed[j]).sum();
+            rhs[nf + r] = row.value - coupling;
+        }
+        let solution = if nf + na == 0 { rhs } else { system.lu().solve(&rhs)? };
+        if solution.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let mut x = x_fixed;
+        for (a, &i) in free.iter().enumerate() {
+            x[i] = solution[a];
+        }
+        Some((x, solution.rows(nf, na).into_owned()))
+    }
+
+    /// The bound multipliers ν = −(P x + q + Aᵀy) of the fixed variables when (x, y) is a KKT
+    /// point of the whole QP; `None` otherwise.
+    fn check(qp: &DenseQp, x: &DVector<f64>, y: &DVector<f64>, fixed: &[Option<f64>], active: &[Active]) -> Option<DVector<f64>> {
+        let n = x.len();
+        let sign_slack = CHECK * y.amax().max(1.0);
+        let mut gradient = DVector::from_iterator(n, (0..n).map(|i| qp.linear[i] + (0..n).map(|j| hessian(qp, i, j) * x[j]).sum::<f64>()));
+        for (row, &y) in active.iter().zip(y.iter()) {
+            if row.side * y < -sign_slack {
+                return None;
+            }
+            let matrix = row_matrix(qp, row);
+            for j in 0..n {
+                gradient[j] += y * matrix[(row.index, j)];
+            }
+        }
+        if !inactive_rows_hold(qp, x, active) {
+            return None;
+        }
+        let (lower, upper) = qp.bounds.unwrap_or((&[], &[]));
+        let mut nu = DVector::zeros(n);
+        let sign_slack = CHECK * gradient.amax().max(1.0);
+        for k in 0..n {
+            match fixed[k] {
+                None if !lower.is_empty() && !within(x[k], lower[k], upper[k]) => return None,
+                None => {}
+                Some(value) => {
+                    nu[k] = -gradient[k];
+                    let side = if lower[k] == upper[k] { 0.0 } else if value == upper[k] { 1.0 } else { -1.0 };
+                    if side * nu[k] < -sign_slack {
+                        return None;
+                    }
+                }
+            }
+        }
+        Some(nu)
+    }
+
+    fn within(value: f64, lower: f64, upper: f64) -> bool {
+        value >= lower - CHECK * (1.0 + lower.abs()) && value <= upper + CHECK * (1.0 + upper.abs())
+    }
+
+    /// Every inequality row not in the active set within its range.
+    fn inactive_rows_hold(qp: &DenseQp, x: &DVector<f64>, active: &[Active]) -> bool {
+        let Some((matrix, lower, upper)) = qp.inequalities else { return true };
+        let values = matrix * x;
+        let mut is_active = vec![false; lower.len()];
+        for row in active.iter().filter(|row| !row.equality) {
+            is_active[row.index] = true;
+        }
+        (0..lower.len()).all(|i| is_active[i] || within(values[i], lower[i], upper[i]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const INF: f64 = f64::INFINITY;
+
+    #[test]
+    fn equality_constrained_minimiser_and_multiplier() {
+        // min ½(x₀² + x₁²) s.t. x₀ + x₁ = 2: x = (1, 1), y = −1 (x + y·(1, 1) = 0).
+        let p = DMatrix::identity(2, 2);
+        let a = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let qp = DenseQp::new(&p, &[0.0, 0.0]).unwrap().with_equalities(&a, &[2.0]).unwrap();
+        let solution = qp.solve(&QpSettings::default());
+        assert_eq!(solution.status, QpStatus::Solved);
+        assert!((solution.x[0] - 1.0).abs() < 1e-9 && (solution.x[1] - 1.0).abs() < 1e-9);
+        assert!((solution.equality_multipliers[0] + 1.0).abs() < 1e-9);
+        assert!((solution.objective - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn multiplier_signs_follow_the_active_side() {
+        // min ½‖x − (3, −3)‖² s.t. −1 ≤ x₀ + 0 ≤ 1 (row), x₁ ≥ −2 (bound).
+        let p = DMatrix::identity(2, 2);
+        let g = DMatrix::from_row_slice(1, 2, &[1.0, 0.0]);
+        let q = [-3.0, 3.0];
+        let qp = DenseQp::new(&p, &q).unwrap().with_inequalities(&g, &[-1.0], &[1.0]).unwrap().with_bounds(&[-INF, -2.0], &[INF, INF]).unwrap();
+        let solution = qp.solve(&QpSettings::default());
+        assert!(solution.status.is_solved());
+        assert!((solution.x[0] - 1.0).abs() < 1e-8 && (solution.x[1] + 2.0).abs() < 1e-8);
+        // Upper side active: λ = 2 > 0; lower bound active: ν₁ = −1 < 0.
+        assert!((solution.inequality_multipliers[0] - 2.0).abs() < 1e-7);
+        assert!((solution.bound_multipliers[1] + 1.0).abs() < 1e-7);
+        assert!(solution.bound_multipliers[0].abs() < 1e-7);
+    }
+
+    #[test]
+    fn a_smaller_hessian_leaves_the_other_variables_linear() {
+        // min ½x₀² − x₀ + x₁, 0 ≤ x₁ ≤ 5: x = (1, 0), ν₁ = −1.
+        let p = DMatrix::identity(1, 1);
+        let qp = DenseQp::new(&p, &[-1.0, 1.0]).unwrap().with_bounds(&[-INF, 0.0], &[INF, 5.0]).unwrap();
+        let solution = qp.solve(&QpSettings::default());
+        assert!(solution.status.is_solved());
+        assert!((solution.x[0] - 1.0).abs() < 1e-8 && solution.x[1].abs() < 1e-8);
+        assert!((solution.bound_multipliers[1] + 1.0).abs() < 1e-7);
+    }
+
+    #[test]
+    fn fixed_variables_and_equal_sided_rows_are_equalities() {
+        let p = DMatrix::identity(2, 2);
+        let g = DMatrix::from_row_slice(1, 2, &[1.0, 1.0]);
+        let qp = DenseQp::new(&p, &[0.0, 0.0]).unwrap().with_inequalities(&g, &[3.0], &[3.0]).unwrap().with_bounds(&[1.0, -INF], &[1.0, INF]).unwrap();
+        let solution = qp.solve(&QpSettings::default());
+        assert!(solution.status.is_solved());
+        assert!((solution.x[0] - 1.0).abs() < 1e-9 && (solution.x[1] - 2.0).abs() < 1e-9);
+        // x₁ + λ = 0 → λ = −2; x₀ + λ + ν₀ = 0 → ν₀ = 1.
+        assert!((solution.inequality_multipliers[0] + 2.0).abs() < 1e-8);
+        assert!((solution.bound_multipliers[0] - 1.0).abs() < 1e-8);
+    }
+
+    #[test]
+    fn infeasible_rows_are_a_status() {
+        let p = DMatrix::identity(1, 1);
+        let g = DMatrix::from_row_slice(2, 1, &[1.0, 1.0]);
+        let qp = DenseQp::new(&p, &[0.0]).unwrap().with_inequalities(&g, &[2.0, -INF], &[INF, 1.0]).unwrap();
+        assert_eq!(qp.solve(&QpSettings::default()).status, QpStatus::Infeasible);
+    }
+
+    #[test]
+    fn building_checks_sizes_and_ranges() {
+        let p = DMatrix::identity(3, 3);
+        assert!(matches!(DenseQp::new(&p, &[0.0, 0.0]), Err(QpError::Hessian { .. })));
+        let p = DMatrix::identity(2, 2);
+        let qp = DenseQp::new(&p, &[0.0, 0.0]).unwrap();
+        assert!(matches!(qp.with_bounds(&[1.0, 0.0], &[0.0, 0.0]), Err(QpError::Range { index: 0, .. })));
+        assert!(matches!(qp.with_bounds(&[f64::NAN, 0.0], &[0.0, 0.0]), Err(QpError::Range { .. })));
+        let g = DMatrix::zeros(1, 3);
+        assert!(matches!(qp.with_inequalities(&g, &[0.0], &[1.0]), Err(QpError::Dimension { .. })));
+    }
+}

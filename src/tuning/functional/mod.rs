@@ -1,0 +1,47 @@
+//! Functional scaling (thesis ch. 3 and 6): muscle-tendon parameters (L_opt, L_ts) fitted to
+//! measured isometric knee moments.
+//!
+//! - `trials.rs`: a dynamometry subject folder (`subject.json`, one `.mot` per trial set and
+//!   direction) as [`DynamometryData`] of [`IsometricTrial`]s, angles in rad.
+//! - `knee_moment.rs`: [`KneeMomentModel`], the knee moment Σ F_t·r of every knee-crossing
+//!   muscle in static equilibrium for each trial, with the geometry precomputed; the estimated
+//!   muscles are evaluated through the workspace [`EstimatedMuscles`].
+//! - `parameters.rs`: [`MuscleParameters`] (L_opt, L_ts, F_max, α_opt, v_max) and [`Parameter`].
+//! - `sensitivity.rs`: [`SensitivityTable`], eq. 3.3–3.4 with the low/medium/high classes.
+//! - `feasible_set.rs`: Phase I, the feasible (L_opt, L_ts) grid per muscle, the regression line
+//!   1/L_opt ≈ c1·(L_ts/L_opt) + c2 and the δ and L_ts/L_opt bounds ([`feasible_sets`]);
+//!   `hot_start.rs`: the feasible combination closest to the measured moments ([`hot_start`]).
+//! - `garner_pandy.rs`: the Garner & Pandy (2003) baseline ([`fit_garner_pandy`]).
+//! - `identifiability.rs`: Fisher information, D- and E-criteria and unidentifiable directions
+//!   per parameterisation ([`fisher_information`]).
+//! - `sigma_points.rs`: the 2n²+1 sigma points of Appendix 6.6 and noise propagation through any
+//!   estimator ([`propagate_noise`]).
+//! - `error.rs`: [`FunctionalError`].
+
+mod error;
+mod garner_pandy;
+mod identifiability;
+mod feasible_set;
+mod hot_start;
+mod knee_moment;
+mod parameters;
+mod sensitivity;
+mod sigma_points;
+mod trials;
+
+pub use error::FunctionalError;
+pub use garner_pandy::{
+    fit_garner_pandy, GarnerPandyFit, GarnerPandyOptions, JointRange, MusculotendonRange, NormalizedFiberLengthRange, RangeExtreme, RANGE_SAMPLES,
+};
+pub use identifiability::{
+    central_differences, fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, NullComponent, NullDirection,
+    ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
+    NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
+};
+pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
+pub use hot_start::{hot_start, HotStart};
+pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
+pub use parameters::{MuscleParameters, Parameter};
+pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
+pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};
+pub use trials::{DynamometryData, Direction, IsometricTrial, SetSelection, Side, TrialColumns, TrialOptions, ACTIVATION_SUFFIX, SUBJECT_FILE};
