@@ -19,15 +19,21 @@
 //!
 //! Polishing (on by default): clarabel's interior point solution meets the active constraints
 //! only to its tolerance and leaves small multipliers on inactive ones. The polish takes the
-//! rows and bounds clarabel (nearly) reaches as equalities, solves the equality-constrained
+//! sides whose slack is below their dual (s < z) as equalities, solves the equality-constrained
 //! KKT system on that active set exactly (dense LU) and keeps the result when it is a KKT point
 //! of the whole QP: inactive rows and free variables within their ranges (to 10⁻⁹ relative),
-//! multipliers of the right sign. Active sides are then met to rounding and inactive
+//! multipliers of the right sign. At a degenerate point the sides with negligible multipliers
+//! are left out in a second try. Active sides are then met to rounding and inactive
 //! multipliers are exactly 0.
 
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT};
 use nalgebra::DMatrix;
+
+use rows::{Activity, Kind, Link, RowSet};
+
+mod polish;
+mod rows;
 
 /// Why a QP could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -160,17 +166,17 @@ impl<'a> DenseQp<'a> {
 
     /// Solves with clarabel (never panics; failures are a [`QpStatus`]). When clarabel stops
     /// at its iteration limit or on a numerical failure it is run once more with the
-    /// conservative settings of [`clarabel_settings`] (no equilibration, shorter steps).
+    /// conservative settings (no equilibration, shorter steps; see `clarabel_settings`).
     pub fn solve(&self, settings: &QpSettings) -> QpSolution {
         let rows = self.rows();
         let (a, b, cones) = rows.assemble(self.linear.len());
         let p = self.upper_triangle();
-        let mut solution = self.run_clarabel(&p, &a, &b, &cones, &rows, clarabel_settings(settings, false));
+        let (mut solution, mut activity) = self.run_clarabel(&p, &a, &b, &cones, &rows, clarabel_settings(settings, false));
         if matches!(solution.status, QpStatus::MaxIterations | QpStatus::Failed) {
-            solution = self.run_clarabel(&p, &a, &b, &cones, &rows, clarabel_settings(settings, true));
+            (solution, activity) = self.run_clarabel(&p, &a, &b, &cones, &rows, clarabel_settings(settings, true));
         }
         if solution.status.is_solved() && settings.polish {
-            polish::polish(self, &mut solution);
+            polish::polish(self, &mut solution, &activity);
         }
         solution
     }
@@ -183,9 +189,10 @@ impl<'a> DenseQp<'a> {
         cones: &[SupportedConeT<f64>],
         rows: &RowSet,
         settings: DefaultSettings<f64>,
-    ) -> QpSolution {
+    ) -> (QpSolution, Activity) {
         let mut solution = self.empty_solution();
-        let Ok(mut solver) = DefaultSolver::new(p, self.linear, a, b, cones, settings) else { return solution };
+        let mut activity = Activity { rows: vec![0.0; solution.inequality_multipliers.len()], bounds: vec![0.0; solution.x.len()] };
+        let Ok(mut solver) = DefaultSolver::new(p, self.linear, a, b, cones, settings) else { return (solution, activity) };
         solver.solve();
         solution.status = status(solver.solution.status);
         solution.iterations = solver.solution.iterations;
@@ -193,8 +200,9 @@ impl<'a> DenseQp<'a> {
             solution.x.copy_from_slice(&solver.solution.x);
             solution.objective = self.objective(&solution.x);
             rows.scatter_multipliers(&solver.solution.z, &mut solution);
+            rows.mark_activity(&solver.solution.s, &solver.solution.z, &mut activity);
         }
-        solution
+        (solution, activity)
     }
 
     fn empty_solution(&self) -> QpSolution {
@@ -244,8 +252,8 @@ impl<'a> DenseQp<'a> {
     fn rows(&self) -> RowSet {
         let mut rows = RowSet::default();
         if let Some((matrix, rhs)) = self.equalities {
-            for i in 0..matrix.nrows() {
-                rows.zero.push_dense(matrix, i, 1.0, rhs[i], Link { kind: Kind::Equality, index: i, sign: 1.0 });
+            for (i, &value) in rhs.iter().enumerate() {
+                rows.zero.push_dense(matrix, i, 1.0, value, Link { kind: Kind::Equality, index: i, sign: 1.0 });
             }
         }
         if let Some((matrix, lower, upper)) = self.inequalities {
@@ -259,109 +267,6 @@ impl<'a> DenseQp<'a> {
             }
         }
         rows
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    Equality,
-    Inequality,
-    Bound,
-}
-
-/// Where a clarabel row's dual goes: `sign · z` is added to the multiplier `index` of `kind`.
-#[derive(Debug, Clone, Copy)]
-struct Link {
-    kind: Kind,
-    index: usize,
-    sign: f64,
-}
-
-/// The rows of one cone as triplets.
-#[derive(Debug, Default)]
-struct ConeRows {
-    rows: Vec<usize>,
-    columns: Vec<usize>,
-    values: Vec<f64>,
-    b: Vec<f64>,
-    links: Vec<Link>,
-}
-
-impl ConeRows {
-    /// The row `sign · matrix[i, :] x (+ s) = b`, zeros skipped.
-    fn push_dense(&mut self, matrix: &DMatrix<f64>, i: usize, sign: f64, b: f64, link: Link) {
-        let row = self.b.len();
-        for j in 0..matrix.ncols() {
-            let value = matrix[(i, j)];
-            if value != 0.0 {
-                self.rows.push(row);
-                self.columns.push(j);
-                self.values.push(sign * value);
-            }
-        }
-        self.b.push(b);
-        self.links.push(link);
-    }
-
-    /// The row `sign · x_k (+ s) = b`.
-    fn push_unit(&mut self, k: usize, sign: f64, b: f64, link: Link) {
-        self.rows.push(self.b.len());
-        self.columns.push(k);
-        self.values.push(sign);
-        self.b.push(b);
-        self.links.push(link);
-    }
-}
-
-/// Zero-cone rows (equalities) and nonnegative-cone rows (one per finite side).
-#[derive(Debug, Default)]
-struct RowSet {
-    zero: ConeRows,
-    nonnegative: ConeRows,
-}
-
-impl RowSet {
-    /// l ≤ row ≤ u as an equality when l = u, else as up to two one-sided rows.
-    fn push_range(&mut self, kind: Kind, index: usize, lower: f64, upper: f64, mut push: impl FnMut(&mut ConeRows, f64, f64, Link)) {
-        if lower == upper {
-            push(&mut self.zero, 1.0, upper, Link { kind, index, sign: 1.0 });
-            return;
-        }
-        if upper.is_finite() {
-            push(&mut self.nonnegative, 1.0, upper, Link { kind, index, sign: 1.0 });
-        }
-        if lower.is_finite() {
-            push(&mut self.nonnegative, -1.0, -lower, Link { kind, index, sign: -1.0 });
-        }
-    }
-
-    fn assemble(&self, n: usize) -> (CscMatrix<f64>, Vec<f64>, Vec<SupportedConeT<f64>>) {
-        let (zero, nonnegative) = (&self.zero, &self.nonnegative);
-        let offset = zero.b.len();
-        let rows: Vec<usize> = zero.rows.iter().copied().chain(nonnegative.rows.iter().map(|r| r + offset)).collect();
-        let columns: Vec<usize> = zero.columns.iter().chain(&nonnegative.columns).copied().collect();
-        let values: Vec<f64> = zero.values.iter().chain(&nonnegative.values).copied().collect();
-        let b: Vec<f64> = zero.b.iter().chain(&nonnegative.b).copied().collect();
-        let a = CscMatrix::new_from_triplets(b.len(), n, rows, columns, values);
-        let mut cones = Vec::with_capacity(2);
-        if offset > 0 {
-            cones.push(SupportedConeT::ZeroConeT(offset));
-        }
-        if !nonnegative.b.is_empty() {
-            cones.push(SupportedConeT::NonnegativeConeT(nonnegative.b.len()));
-        }
-        (a, b, cones)
-    }
-
-    fn scatter_multipliers(&self, z: &[f64], solution: &mut QpSolution) {
-        for (link, z) in self.zero.links.iter().chain(&self.nonnegative.links).zip(z) {
-            let target = match link.kind {
-                Kind::Equality => &mut solution.equality_multipliers,
-                Kind::Inequality => &mut solution.inequality_multipliers,
-                Kind::Bound => &mut solution.bound_multipliers,
-            };
-            target[link.index] += link.sign * z;
-        }
     }
 }
 
@@ -414,197 +319,11 @@ fn ranges(what: &'static str, count: usize, lower: &[f64], upper: &[f64]) -> Res
     size("the lower bounds", count, lower.len())?;
     size("the upper bounds", count, upper.len())?;
     for (index, (&l, &u)) in lower.iter().zip(upper).enumerate() {
-        if !(l <= u) || l == f64::INFINITY || u == f64::NEG_INFINITY {
+        if l.is_nan() || u.is_nan() || l > u || l == f64::INFINITY || u == f64::NEG_INFINITY {
             return Err(QpError::Range { what, index, lower: l, upper: u });
         }
     }
     Ok(())
-}
-
-/// The active-set polish of a clarabel solution (see the module documentation).
-mod polish {
-    use nalgebra::{DMatrix, DVector};
-
-    use super::{DenseQp, QpSolution};
-
-    /// A value is at a bound or row side when within this (relative to 1 + |side|).
-    const ACTIVE: f64 = 1e-8;
-    /// Slack allowed on ranges and multiplier signs when checking the polished point.
-    const CHECK: f64 = 1e-9;
-
-    /// Which constraint an active row is and the side it sits at (+1 upper, −1 lower, 0 both).
-    #[derive(Debug, Clone, Copy)]
-    struct Active {
-        equality: bool,
-        index: usize,
-        value: f64,
-        side: f64,
-    }
-
-    /// Replaces `solution` by the exact KKT point of its active set when that is a KKT point of
-    /// the whole QP.
-    pub(super) fn polish(qp: &DenseQp, solution: &mut QpSolution) {
-        let fixed = fixed_variables(qp, &solution.x);
-        let active = active_rows(qp, &solution.x);
-        let free: Vec<usize> = (0..fixed.len()).filter(|&k| fixed[k].is_none()).collect();
-        let Some((x, y)) = solve_active_set(qp, &fixed, &free, &active) else { return };
-        let Some(bound_multipliers) = check(qp, &x, &y, &fixed, &active) else { return };
-        solution.x.copy_from_slice(x.as_slice());
-        solution.objective = qp.objective(&solution.x);
-        solution.equality_multipliers.fill(0.0);
-        solution.inequality_multipliers.fill(0.0);
-        for (row, y) in active.iter().zip(y.iter()) {
-            let target = if row.equality { &mut solution.equality_multipliers } else { &mut solution.inequality_multipliers };
-            target[row.index] = *y;
-        }
-        solution.bound_multipliers.copy_from_slice(bound_multipliers.as_slice());
-        solution.polished = true;
-    }
-
-    fn near(value: f64, side: f64) -> bool {
-        side.is_finite() && (value - side).abs() <= ACTIVE * (1.0 + side.abs())
-    }
-
-    /// The bound each variable is fixed at (fixed variables and bounds clarabel reaches).
-    fn fixed_variables(qp: &DenseQp, x: &[f64]) -> Vec<Option<f64>> {
-        let Some((lower, upper)) = qp.bounds else { return vec![None; x.len()] };
-        let at = |k: usize| match () {
-            _ if lower[k] == upper[k] || near(x[k], lower[k]) => Some(lower[k]),
-            _ if near(x[k], upper[k]) => Some(upper[k]),
-            _ => None,
-        };
-        (0..x.len()).map(at).collect()
-    }
-
-    /// The equality rows and the inequality rows at one of their sides.
-    fn active_rows(qp: &DenseQp, x: &[f64]) -> Vec<Active> {
-        let x = DVector::from_column_slice(x);
-        let mut active = Vec::new();
-        if let Some((_, rhs)) = qp.equalities {
-            active.extend(rhs.iter().enumerate().map(|(index, &value)| Active { equality: true, index, value, side: 0.0 }));
-        }
-        if let Some((matrix, lower, upper)) = qp.inequalities {
-            let values = matrix * &x;
-            for (index, &value) in values.iter().enumerate() {
-                let side = if lower[index] == upper[index] {
-                    Some((upper[index], 0.0))
-                } else if near(value, upper[index]) {
-                    Some((upper[index], 1.0))
-                } else if near(value, lower[index]) {
-                    Some((lower[index], -1.0))
-                } else {
-                    None
-                };
-                active.extend(side.map(|(value, side)| Active { equality: false, index, value, side }));
-            }
-        }
-        active
-    }
-
-    /// Row `row` of the active set's matrix.
-    fn row_matrix<'a>(qp: &DenseQp<'a>, row: &Active) -> &'a DMatrix<f64> {
-        if row.equality {
-            qp.equalities.expect("active equality rows exist").0
-        } else {
-            qp.inequalities.expect("active inequality rows exist").0
-        }
-    }
-
-    /// P's entry (zero outside its block).
-    fn hessian(qp: &DenseQp, i: usize, j: usize) -> f64 {
-        let k = qp.hessian.nrows();
-        if i < k && j < k {
-            0.5 * (qp.hessian[(i, j)] + qp.hessian[(j, i)])
-        } else {
-            0.0
-        }
-    }
-
-    /// x and the active rows' multipliers y from
-    /// [P_FF  A_Fᵀ; A_F  0] [x_F; y] = [−q_F − P_FX x_X; b − A_X x_X] (X: fixed variables).
-    fn solve_active_set(qp: &DenseQp, fixed: &[Option<f64>], free: &[usize], active: &[Active]) -> Option<(DVector<f64>, DVector<f64>)> {
-        let (nf, na) = (free.len(), active.len());
-        let x_fixed = DVector::from_iterator(fixed.len(), fixed.iter().map(|f| f.unwrap_or(0.0)));
-        let mut system = DMatrix::zeros(nf + na, nf + na);
-        let mut rhs = DVector::zeros(nf + na);
-        for (a, &i) in free.iter().enumerate() {
-            for (b, &j) in free.iter().enumerate() {
-                system[(a, b)] = hessian(qp, i, j);
-            }
-            let coupling: f64 = (0..fixed.len()).filter(|&j| fixed[j].is_some()).map(|j| hessian(qp, i, j) * x_fixed[j]).sum();
-            rhs[a] = -qp.linear[i] - coupling;
-        }
-        for (r, row) in active.iter().enumerate() {
-            let matrix = row_matrix(qp, row);
-            for (a, &i) in free.iter().enumerate() {
-                system[(nf + r, a)] = matrix[(row.index, i)];
-                system[(a, nf + r)] = matrix[(row.index, i)];
-            }
-            let coupling: f64 = (0..fixed.len()).map(|j| matrix[(row.index, j)] * x_fixed[j]).sum();
-            rhs[nf + r] = row.value - coupling;
-        }
-        let solution = if nf + na == 0 { rhs } else { system.lu().solve(&rhs)? };
-        if solution.iter().any(|v| !v.is_finite()) {
-            return None;
-        }
-        let mut x = x_fixed;
-        for (a, &i) in free.iter().enumerate() {
-            x[i] = solution[a];
-        }
-        Some((x, solution.rows(nf, na).into_owned()))
-    }
-
-    /// The bound multipliers ν = −(P x + q + Aᵀy) of the fixed variables when (x, y) is a KKT
-    /// point of the whole QP; `None` otherwise.
-    fn check(qp: &DenseQp, x: &DVector<f64>, y: &DVector<f64>, fixed: &[Option<f64>], active: &[Active]) -> Option<DVector<f64>> {
-        let n = x.len();
-        let sign_slack = CHECK * y.amax().max(1.0);
-        let mut gradient = DVector::from_iterator(n, (0..n).map(|i| qp.linear[i] + (0..n).map(|j| hessian(qp, i, j) * x[j]).sum::<f64>()));
-        for (row, &y) in active.iter().zip(y.iter()) {
-            if row.side * y < -sign_slack {
-                return None;
-            }
-            let matrix = row_matrix(qp, row);
-            for j in 0..n {
-                gradient[j] += y * matrix[(row.index, j)];
-            }
-        }
-        if !inactive_rows_hold(qp, x, active) {
-            return None;
-        }
-        let (lower, upper) = qp.bounds.unwrap_or((&[], &[]));
-        let mut nu = DVector::zeros(n);
-        let sign_slack = CHECK * gradient.amax().max(1.0);
-        for k in 0..n {
-            match fixed[k] {
-                None if !lower.is_empty() && !within(x[k], lower[k], upper[k]) => return None,
-                None => {}
-                Some(value) => {
-                    nu[k] = -gradient[k];
-                    let side = if lower[k] == upper[k] { 0.0 } else if value == upper[k] { 1.0 } else { -1.0 };
-                    if side * nu[k] < -sign_slack {
-                        return None;
-                    }
-                }
-            }
-        }
-        Some(nu)
-    }
-
-    fn within(value: f64, lower: f64, upper: f64) -> bool {
-        value >= lower - CHECK * (1.0 + lower.abs()) && value <= upper + CHECK * (1.0 + upper.abs())
-    }
-
-    /// Every inequality row not in the active set within its range.
-    fn inactive_rows_hold(qp: &DenseQp, x: &DVector<f64>, active: &[Active]) -> bool {
-        let Some((matrix, lower, upper)) = qp.inequalities else { return true };
-        let values = matrix * x;
-        let mut is_active = vec![false; lower.len()];
-        for row in active.iter().filter(|row| !row.equality) {
-            is_active[row.index] = true;
-        }
-        (0..lower.len()).all(|i| is_active[i] || within(values[i], lower[i], upper[i]))
-    }
 }
 
 #[cfg(test)]

@@ -1,17 +1,26 @@
-//! Central finite differences of f and c, kept inside the bounds.
+//! Finite differences of f and c, kept inside the bounds.
 //!
 //! Variable j is stepped by h_j = ε^{1/3}·max(1, |x_j|) (ε the machine epsilon, so h ≈ 6·10⁻⁶
-//! relative: truncation and rounding errors balance at ~ε^{2/3} ≈ 4·10⁻¹¹ relative) to
-//! x_j ± h_j, each clipped to [x_l, x_u]; the derivative is the divided difference between the
-//! two points. Where one of them cannot be evaluated, or lies on x itself, the difference is
-//! one-sided from x. A fixed variable (x_l = x_u) gets a zero column.
+//! relative: truncation and rounding errors of the second-order formulas balance at
+//! ~ε^{2/3} ≈ 4·10⁻¹¹ relative):
+//! - central, (F(x + h) − F(x − h)) / 2h, with h shortened to the room left by the bounds when
+//!   that is at least h_j/4;
+//! - otherwise (x at or near a bound), or where a central point cannot be evaluated,
+//!   one-sided of second order, (−3F(x) + 4F(x + s) − F(x + 2s)) / 2s with s = ±min(h, room/2)
+//!   towards the side with more room (first order, (F(x + s) − F(x)) / s, when x + 2s fails);
+//! - a fixed variable (x_l = x_u) gets a zero column.
+//!
+//! Only points inside the bounds are evaluated.
 
 use nalgebra::DMatrix;
 
 use super::problem::{EvaluationError, NlpProblem};
 
-/// ∇f and ∂c/∂x at `x` by central differences of `problem.evaluate` (2n evaluations, plus one
-/// at x where a one-sided difference is needed).
+/// A step counts as central when the bounds leave at least this fraction of h on both sides.
+const CENTRAL_ROOM: f64 = 0.25;
+
+/// ∇f and ∂c/∂x at `x` by finite differences of `problem.evaluate`: 2n evaluations, plus one at
+/// x and a few more where variables sit at bounds or evaluations fail.
 pub fn central_differences<P: NlpProblem + ?Sized>(
     problem: &mut P,
     x: &[f64],
@@ -19,48 +28,103 @@ pub fn central_differences<P: NlpProblem + ?Sized>(
     jacobian: &mut DMatrix<f64>,
 ) -> Result<(), EvaluationError> {
     let (lower, upper) = problem.bounds();
-    let m = jacobian.nrows();
-    let mut point = x.to_vec();
-    let mut base: Option<(f64, Vec<f64>)> = None;
-    let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
+    let mut stencil = Stencil::new(problem, x, jacobian.nrows());
     for j in 0..x.len() {
         let h = f64::EPSILON.cbrt() * x[j].abs().max(1.0);
-        let (high, low) = ((x[j] + h).min(upper[j]), (x[j] - h).max(lower[j]));
-        if high <= low {
-            gradient[j] = 0.0;
-            jacobian.column_mut(j).fill(0.0);
-            continue;
-        }
-        let f_plus = side(problem, &mut point, j, high, &mut plus);
-        let f_minus = side(problem, &mut point, j, low, &mut minus);
-        if (f_plus.is_none() || f_minus.is_none()) && base.is_none() {
-            let mut constraints = vec![0.0; m];
-            let f = finite_evaluation(problem, x, &mut constraints).ok_or_else(|| EvaluationError::new("the point of the differences failed"))?;
-            base = Some((f, constraints));
-        }
-        let at_x = base.as_ref().map(|(f, c)| (x[j], *f, c));
-        let (high, f_high, c_high) = f_plus.map(|f| (high, f, &plus)).or(at_x).expect("evaluated above");
-        let (low, f_low, c_low) = f_minus.map(|f| (low, f, &minus)).or(at_x).expect("evaluated above");
-        if high <= low {
-            return Err(EvaluationError::new(format!("neither difference of variable {j} could be evaluated")));
-        }
-        let width = high - low;
-        gradient[j] = (f_high - f_low) / width;
-        for i in 0..m {
-            jacobian[(i, j)] = (c_high[i] - c_low[i]) / width;
+        let (room_up, room_down) = (upper[j] - x[j], x[j] - lower[j]);
+        let column = if room_up <= 0.0 && room_down <= 0.0 {
+            Some(Column::Zero)
+        } else {
+            let central = h.min(room_up).min(room_down);
+            let directions = if room_up >= room_down { [(1.0, room_up), (-1.0, room_down)] } else { [(-1.0, room_down), (1.0, room_up)] };
+            (central >= CENTRAL_ROOM * h).then(|| stencil.central(j, central)).flatten().or_else(|| {
+                directions.into_iter().filter(|(_, room)| *room > 0.0).find_map(|(sign, room)| stencil.one_sided(j, sign * h.min(0.5 * room)))
+            })
+        };
+        match column {
+            Some(column) => stencil.write(column, j, gradient, jacobian),
+            None => return Err(EvaluationError::new(format!("no difference of variable {j} could be evaluated"))),
         }
     }
     Ok(())
 }
 
-/// f and c at x with x_j = value (into `constraints`); `None` when x_j = value is x itself or
-/// the evaluation failed or was not finite.
-fn side<P: NlpProblem + ?Sized>(problem: &mut P, point: &mut [f64], j: usize, value: f64, constraints: &mut [f64]) -> Option<f64> {
-    let original = point[j];
-    point[j] = value;
-    let result = if value == original { None } else { finite_evaluation(problem, point, constraints) };
-    point[j] = original;
-    result
+/// Which formula a column takes (its points are in the stencil's buffers).
+#[derive(Debug, Clone, Copy)]
+enum Column {
+    Zero,
+    /// (F₁ − F₂) / 2h with F₁ = F(x + h), F₂ = F(x − h).
+    Central(f64),
+    /// (−3F(x) + 4F₁ − F₂) / 2s with F₁ = F(x + s), F₂ = F(x + 2s).
+    SecondOrder(f64),
+    /// (F₁ − F(x)) / s.
+    FirstOrder(f64),
+}
+
+/// Evaluations around x: F = (f, c) at two points and, once needed, at x itself.
+struct Stencil<'a, P: NlpProblem + ?Sized> {
+    problem: &'a mut P,
+    x: &'a [f64],
+    point: Vec<f64>,
+    first: (f64, Vec<f64>),
+    second: (f64, Vec<f64>),
+    base: Option<(f64, Vec<f64>)>,
+}
+
+impl<'a, P: NlpProblem + ?Sized> Stencil<'a, P> {
+    fn new(problem: &'a mut P, x: &'a [f64], m: usize) -> Self {
+        Stencil { problem, x, point: x.to_vec(), first: (0.0, vec![0.0; m]), second: (0.0, vec![0.0; m]), base: None }
+    }
+
+    /// F at x with x_j moved by `offset`, into the first or second buffer.
+    fn evaluate(&mut self, j: usize, offset: f64, second: bool) -> bool {
+        self.point[j] = self.x[j] + offset;
+        let target = if second { &mut self.second } else { &mut self.first };
+        let result = finite_evaluation(self.problem, &self.point, &mut target.1);
+        self.point[j] = self.x[j];
+        result.map(|f| target.0 = f).is_some()
+    }
+
+    fn central(&mut self, j: usize, h: f64) -> Option<Column> {
+        (self.evaluate(j, h, false) && self.evaluate(j, -h, true)).then_some(Column::Central(h))
+    }
+
+    fn one_sided(&mut self, j: usize, s: f64) -> Option<Column> {
+        if self.base.is_none() {
+            let mut constraints = vec![0.0; self.first.1.len()];
+            let f = finite_evaluation(self.problem, self.x, &mut constraints)?;
+            self.base = Some((f, constraints));
+        }
+        if !self.evaluate(j, s, false) {
+            return None;
+        }
+        Some(if self.evaluate(j, 2.0 * s, true) { Column::SecondOrder(s) } else { Column::FirstOrder(s) })
+    }
+
+    /// Column j of the gradient (f) and Jacobian (c) by `column`'s formula.
+    fn write(&self, column: Column, j: usize, gradient: &mut [f64], jacobian: &mut DMatrix<f64>) {
+        let zero = (0.0, Vec::new());
+        let base = self.base.as_ref().unwrap_or(&zero);
+        let (weights, denominator) = match column {
+            Column::Zero => ([0.0; 3], 1.0),
+            Column::Central(h) => ([0.0, 1.0, -1.0], 2.0 * h),
+            Column::SecondOrder(s) => ([-3.0, 4.0, -1.0], 2.0 * s),
+            Column::FirstOrder(s) => ([-1.0, 1.0, 0.0], s),
+        };
+        let combine = |b: f64, f1: f64, f2: f64| {
+            let [w0, w1, w2] = weights;
+            let mut sum = w1 * f1 + w2 * f2;
+            if w0 != 0.0 {
+                sum += w0 * b;
+            }
+            sum / denominator
+        };
+        gradient[j] = combine(base.0, self.first.0, self.second.0);
+        for i in 0..jacobian.nrows() {
+            let b = base.1.get(i).copied().unwrap_or(0.0);
+            jacobian[(i, j)] = combine(b, self.first.1[i], self.second.1[i]);
+        }
+    }
 }
 
 /// f (and c) when the evaluation succeeds with finite values.
@@ -124,18 +188,18 @@ mod tests {
     }
 
     #[test]
-    fn differences_at_a_bound_or_a_failing_side_are_one_sided() {
+    fn differences_at_a_bound_or_a_failing_side_are_one_sided_of_second_order() {
         // x₀ at its upper bound 0.5 and x₁ at its lower bound: forward and backward differences.
         let mut problem = Smooth { lower: vec![-1.0, -0.7], upper: vec![0.5, 2.0] };
         let x = [0.5, -0.7];
         let ((g, j), (g_exact, j_exact)) = (differences(&mut problem, &x), exact(&x));
-        assert!(g.iter().zip(&g_exact).all(|(a, b)| (a - b).abs() < 1e-4));
-        assert!((j - j_exact).amax() < 1e-4);
+        assert!(g.iter().zip(&g_exact).all(|(a, b)| (a - b).abs() < 1e-8));
+        assert!((j - j_exact).amax() < 1e-8);
         // x₀ = 1: the evaluation beyond it fails, the backward difference is used.
         let mut problem = Smooth { lower: vec![f64::NEG_INFINITY; 2], upper: vec![f64::INFINITY; 2] };
         let x = [1.0, 0.2];
         let ((g, _), (g_exact, _)) = (differences(&mut problem, &x), exact(&x));
-        assert!((g[0] - g_exact[0]).abs() < 1e-4);
+        assert!((g[0] - g_exact[0]).abs() < 1e-8);
     }
 
     #[test]

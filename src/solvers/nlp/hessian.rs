@@ -41,7 +41,7 @@ impl HessianModel {
         }
         let bs = &self.matrix * s;
         let sbs = s.dot(&bs);
-        if !(sbs > 0.0) || !sbs.is_finite() {
+        if sbs.is_nan() || sbs <= 0.0 || sbs.is_infinite() {
             return;
         }
         let theta = if sy >= DAMPING * sbs { 1.0 } else { (1.0 - DAMPING) * sbs / (sbs - sy) };
@@ -115,5 +115,42 @@ mod tests {
         let mut model = HessianModel::new(2);
         model.bfgs_update(&DVector::from_vec(vec![1.0, 0.0]), &DVector::from_vec(vec![-1.0, 0.2]));
         assert!(model.matrix.clone().cholesky().is_some());
+    }
+
+    /// ∇²L = [[1, 2], [2, 1]] (eigenvalues 3, −1).
+    struct Indefinite;
+
+    impl NlpProblem for Indefinite {
+        fn dimension(&self) -> usize {
+            2
+        }
+
+        fn constraint_bounds(&self) -> (Vec<f64>, Vec<f64>) {
+            (vec![], vec![])
+        }
+
+        fn evaluate(&mut self, x: &[f64], _: &mut [f64]) -> Result<f64, EvaluationError> {
+            Ok(0.5 * x[0] * x[0] + 2.0 * x[0] * x[1] + 0.5 * x[1] * x[1])
+        }
+
+        fn has_hessian(&self) -> bool {
+            true
+        }
+
+        fn hessian(&mut self, _: &[f64], _: &[f64], hessian: &mut DMatrix<f64>) -> Result<(), EvaluationError> {
+            hessian.copy_from_slice(&[1.0, 2.0, 2.0, 1.0]);
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn an_indefinite_exact_hessian_is_shifted_just_past_its_negative_eigenvalue() {
+        let mut model = HessianModel::new(2);
+        model.exact(&mut Indefinite, &[0.0, 0.0], &[]).unwrap();
+        let shift = model.matrix[(0, 0)] - 1.0;
+        // The shifts tried are 2·10⁻⁸·10ᵏ; the first above 1 is 2.
+        assert!((shift - 2.0).abs() < 1e-12, "shift {shift}");
+        assert!(model.matrix.clone().cholesky().is_some());
+        assert_eq!(model.matrix[(0, 1)], 2.0);
     }
 }

@@ -67,7 +67,7 @@ fn length(what: &'static str, expected: usize, found: usize) -> Result<(), NlpEr
 
 fn ranges(what: &'static str, lower: &[f64], upper: &[f64]) -> Result<(), NlpError> {
     for (index, (&l, &u)) in lower.iter().zip(upper).enumerate() {
-        if !(l <= u) || l == f64::INFINITY || u == f64::NEG_INFINITY {
+        if l.is_nan() || u.is_nan() || l > u || l == f64::INFINITY || u == f64::NEG_INFINITY {
             return Err(NlpError::Range { what, index, lower: l, upper: u });
         }
     }

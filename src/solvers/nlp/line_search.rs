@@ -9,8 +9,9 @@
 //! the quadratic through φ(x), −pred and φ(x + αd), kept in [0.1α, 0.5α].
 //!
 //! Second-order correction (Maratos effect): when the full step is rejected and V grew, the QP
-//! is solved once more with c replaced by c(x + d) − J d, and its step d̂ is accepted when
-//! φ(x + d̂) ≤ φ(x) − η pred.
+//! is solved once more with c replaced by c(x + d) − J d. Its step d̂ is tried, and if it is
+//! rejected too the search backtracks along the arc x + αd + α²(d̂ − d), which follows curved
+//! constraints (with the same Armijo test).
 
 use nalgebra::DVector;
 
@@ -35,12 +36,9 @@ pub(super) struct Search<'a> {
     pub max_backtracks: usize,
 }
 
-/// An accepted step: its length α and whether it is a second-order correction.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Accepted {
-    pub alpha: f64,
-    pub corrected: bool,
-}
+/// Gives the second-order-corrected step for the constraint values at x + d (`None` when its
+/// QP fails).
+pub(super) type Correction<'a> = &'a mut dyn FnMut(&DVector<f64>) -> Option<DVector<f64>>;
 
 /// Evaluation counters.
 #[derive(Debug, Clone, Copy, Default)]
@@ -55,20 +53,21 @@ impl Search<'_> {
         self.objective_weight * objective + self.penalty * self.limits.l1_violation(constraints.iter().copied())
     }
 
-    /// Searches along the step; `trial` holds the accepted point. `correction` gives the
-    /// second-order-corrected step for the constraint values at x + d.
+    /// Searches along the step; `trial` holds the accepted point, α is returned. `correction`
+    /// gives the second-order-corrected step for the constraint values at x + d.
     pub fn run<P: NlpProblem + ?Sized>(
         &self,
         problem: &mut P,
         trial: &mut Point,
         counts: &mut Counts,
-        mut correction: Option<&mut dyn FnMut(&DVector<f64>) -> Option<DVector<f64>>>,
-    ) -> Option<Accepted> {
+        mut correction: Option<Correction>,
+    ) -> Option<f64> {
         let current_merit = self.merit(self.current.objective, &self.current.constraints);
         let current_violation = self.limits.l1_violation(self.current.constraints.iter().copied());
         let mut alpha = 1.0;
+        let mut corrected: Option<DVector<f64>> = None;
         for _ in 0..self.max_backtracks {
-            self.place(trial, self.step, alpha);
+            self.place(trial, alpha, corrected.as_ref());
             counts.evaluations += 1;
             if !trial.evaluate(problem) {
                 alpha *= 0.5;
@@ -78,16 +77,17 @@ impl Search<'_> {
             if self.acceptable(current_merit, merit, alpha) {
                 counts.derivatives += 1;
                 if trial.differentiate(problem) {
-                    return Some(Accepted { alpha, corrected: false });
+                    return Some(alpha);
                 }
                 alpha *= 0.5;
                 continue;
             }
             let grew = self.limits.l1_violation(trial.constraints.iter().copied()) > current_violation;
-            if alpha == 1.0 && grew {
+            if alpha == 1.0 && grew && corrected.is_none() {
                 if let Some(correct) = correction.take() {
-                    if self.corrected(problem, trial, counts, correct, current_merit) {
-                        return Some(Accepted { alpha, corrected: true });
+                    corrected = correct(&trial.constraints);
+                    if corrected.is_some() {
+                        continue;
                     }
                 }
             }
@@ -96,41 +96,24 @@ impl Search<'_> {
         None
     }
 
-    /// Tries the corrected step; true when `trial` holds an accepted, differentiated point.
-    fn corrected<P: NlpProblem + ?Sized>(
-        &self,
-        problem: &mut P,
-        trial: &mut Point,
-        counts: &mut Counts,
-        correct: &mut dyn FnMut(&DVector<f64>) -> Option<DVector<f64>>,
-        current_merit: f64,
-    ) -> bool {
-        let Some(corrected_step) = correct(&trial.constraints) else { return false };
-        self.place(trial, &corrected_step, 1.0);
-        counts.evaluations += 1;
-        if !trial.evaluate(problem) {
-            return false;
+    /// trial.x = x + α d, or x + α d + α² (d̂ − d) on the arc through the corrected step d̂,
+    /// projected onto the bounds; at α = 1 a step component that is a bound's distance from x
+    /// lands exactly on the bound.
+    fn place(&self, trial: &mut Point, alpha: f64, corrected: Option<&DVector<f64>>) {
+        let (x, limits) = (&self.current.x, self.limits);
+        let full = if alpha == 1.0 { corrected.unwrap_or(self.step) } else { self.step };
+        trial.x.copy_from(x);
+        trial.x.axpy(alpha, full, 1.0);
+        if let (Some(corrected), true) = (corrected, alpha < 1.0) {
+            trial.x.axpy(alpha * alpha, corrected, 1.0);
+            trial.x.axpy(-alpha * alpha, self.step, 1.0);
         }
-        let merit = self.merit(trial.objective, &trial.constraints);
-        if merit > current_merit - self.armijo * self.predicted {
-            return false;
-        }
-        counts.derivatives += 1;
-        trial.differentiate(problem)
-    }
-
-    /// trial.x = x + α step, projected onto the bounds; a full step component that is a bound's
-    /// distance from x lands exactly on the bound.
-    fn place(&self, trial: &mut Point, step: &DVector<f64>, alpha: f64) {
-        trial.x.copy_from(&self.current.x);
-        trial.x.axpy(alpha, step, 1.0);
-        self.limits.project(trial.x.as_mut_slice());
+        limits.project(trial.x.as_mut_slice());
         if alpha == 1.0 {
-            let (x, limits) = (&self.current.x, self.limits);
             for k in 0..x.len() {
-                if step[k] == limits.lower[k] - x[k] {
+                if full[k] == limits.lower[k] - x[k] {
                     trial.x[k] = limits.lower[k];
-                } else if step[k] == limits.upper[k] - x[k] {
+                } else if full[k] == limits.upper[k] - x[k] {
                     trial.x[k] = limits.upper[k];
                 }
             }

@@ -29,8 +29,8 @@ pub struct NlpSettings {
     /// Relative size of a step taken as no step.
     pub step_tolerance: f64,
     /// An infeasible x is `LocallyInfeasible` when the ℓ1 violation V = Σᵢ dist(cᵢ, [c_l,i, c_u,i])
-    /// is stationary there: ‖Jᵀλ̂ + ν̂‖∞ ≤ this, with λ̂ ∈ [−1, 1] the multipliers of the
-    /// feasibility QP, and its linearisation cannot halve V.
+    /// is stationary there: the projected gradient of V over the bounds, Jᵀλ̂ with λ̂ ∈ [−1, 1]
+    /// the feasibility QP's multipliers, is at most this, and the linearisation cannot halve V.
     pub infeasibility_tolerance: f64,
     /// SQP iterations (QP steps) allowed.
     pub max_iterations: usize,

@@ -55,7 +55,9 @@ pub struct NlpSolution {
     pub x: Vec<f64>,
     /// f(x).
     pub objective: f64,
-    /// The multipliers of the last QP solved at x (zero when none was).
+    /// The multipliers of the last QP solved (zero when none was). For `LocallyInfeasible`
+    /// the certificate of the violation's stationarity instead: Jᵀλ̂ + ν̂ ≈ 0 with λ̂ᵢ = +1 (−1)
+    /// where cᵢ is above (below) its range, ν̂ on the bounds x sits at.
     pub multipliers: NlpMultipliers,
     /// Steps taken.
     pub iterations: usize,

@@ -6,18 +6,31 @@ use super::error::NlpError;
 use super::hessian::HessianModel;
 use super::kkt::{measure, Kkt};
 use super::limits::Limits;
-use super::line_search::{Counts, Search};
+use super::line_search::{Correction, Counts, Search};
 use super::point::Point;
 use super::problem::NlpProblem;
 use super::settings::{HessianMode, NlpSettings};
 use super::solution::{IterationRecord, NlpMultipliers, NlpSolution, NlpStatus};
-use super::steering::{direction, scaled_multipliers, Direction};
+use super::steering::{direction, violation_stationarity, Direction};
 use super::subproblem::{Linearisation, QpStep, Subproblem};
 use crate::solvers::qp::QpSettings;
 
 /// μ grows by this factor after each restoration step: the linearisation could not be met
 /// with the step lengths μ allows (B/μ regularises the feasibility QP).
 const RESTORATION_PENALTY_GROWTH: f64 = 10.0;
+
+/// The penalty for the next iteration after an optimality step with penalty μ and QP
+/// multipliers λ (Powell's update): μ is lowered towards them, to max(μ₀, 2‖λ‖∞, (μ + ‖λ‖∞)/2),
+/// when the step met its linearised constraints (‖λ‖∞ < μ). A μ far above the multipliers
+/// makes the merit function reject good steps along curved constraints; the steering raises it
+/// again when needed.
+fn relaxed_penalty(penalty: f64, step: &QpStep, settings: &NlpSettings) -> f64 {
+    let largest = step.constraint_multipliers.amax();
+    if largest >= penalty {
+        return penalty;
+    }
+    penalty.min(settings.initial_penalty.max(2.0 * largest).max(0.5 * (penalty + largest)))
+}
 
 /// A sequential quadratic programming solver for one problem's sizes and bounds; its buffers
 /// are reused between [`solve`](Sqp::solve) calls.
@@ -33,7 +46,10 @@ pub struct Sqp {
 
 /// The state of one solve besides the iterate.
 struct Progress {
+    /// μ for the next QP.
     penalty: f64,
+    /// μ of the last QP (recorded in the history).
+    used_penalty: f64,
     lambda: DVector<f64>,
     nu: DVector<f64>,
     kkt: Option<Kkt>,
@@ -105,6 +121,7 @@ impl Sqp {
         let exact = self.settings.hessian == HessianMode::Auto && problem.has_hessian();
         let mut progress = Progress {
             penalty: self.settings.initial_penalty,
+            used_penalty: self.settings.initial_penalty,
             lambda: DVector::zeros(m),
             nu: DVector::zeros(n),
             kkt: None,
@@ -144,7 +161,7 @@ impl Sqp {
             Direction::Restoration { step, feasibility } => (step, Some(feasibility)),
             Direction::Infeasible { step, feasibility } => {
                 self.record_step(progress, &step);
-                (progress.lambda, progress.nu) = scaled_multipliers(&feasibility);
+                (progress.lambda, progress.nu, _) = self.violation_stationarity(&feasibility);
                 return self.stop(progress, NlpStatus::LocallyInfeasible);
             }
             Direction::QpFailed if retried => return self.stop(progress, NlpStatus::QpFailed),
@@ -154,9 +171,10 @@ impl Sqp {
         if let Some(status) = self.termination(progress, &step) {
             return self.stop(progress, status);
         }
-        if restoration.is_some() {
-            progress.penalty = (progress.penalty * RESTORATION_PENALTY_GROWTH).min(self.settings.max_penalty);
-        }
+        progress.penalty = match restoration {
+            Some(_) => (progress.penalty * RESTORATION_PENALTY_GROWTH).min(self.settings.max_penalty),
+            None => relaxed_penalty(progress.penalty, &step, &self.settings),
+        };
         let search = match &restoration {
             None => Move {
                 step: &step.d,
@@ -166,7 +184,6 @@ impl Sqp {
             },
             Some(feasibility) => Move { step: &feasibility.d, objective_weight: 0.0, penalty: 1.0, predicted: violation - feasibility.linear_violation },
         };
-        if std::env::var("SQPDEBUG").is_ok() { eprintln!("x {:?} d {:?} lam {:?} restor {} B {:?} c {:?} J {:?} pred {}", self.current.x.as_slice(), search.step.as_slice(), progress.lambda.as_slice(), restoration.is_some(), self.hessian.matrix.as_slice(), self.current.constraints.as_slice(), self.current.jacobian.as_slice(), search.predicted); }
         let Some(alpha) = self.line_search(problem, progress, &search, restoration.is_none()) else {
             return if retried { self.stop(progress, NlpStatus::LineSearchFailed) } else { self.retry() };
         };
@@ -186,9 +203,23 @@ impl Sqp {
         direction(&mut self.subproblem, &self.limits, &data, penalty, violation, &self.settings)
     }
 
+    /// The stationarity of the violation at the current point (see `steering.rs`).
+    fn violation_stationarity(&self, feasibility: &QpStep) -> (DVector<f64>, DVector<f64>, f64) {
+        let current = &self.current;
+        let data = Linearisation {
+            x: &current.x,
+            gradient: None,
+            constraints: &current.constraints,
+            jacobian: &current.jacobian,
+            hessian: &self.hessian.matrix,
+        };
+        violation_stationarity(&self.limits, &data, feasibility)
+    }
+
     /// Keeps the step's penalty and multipliers and the KKT measures they give at x.
     fn record_step(&self, progress: &mut Progress, step: &QpStep) {
         progress.penalty = step.penalty;
+        progress.used_penalty = step.penalty;
         progress.lambda.copy_from(&step.constraint_multipliers);
         progress.nu.copy_from(&step.bound_multipliers);
         let c = &self.current;
@@ -235,9 +266,9 @@ impl Sqp {
             };
             subproblem.solve(limits, &data, search.penalty).map(|corrected| corrected.d)
         };
-        let correction: Option<&mut dyn FnMut(&DVector<f64>) -> Option<DVector<f64>>> =
+        let correction: Option<Correction> =
             if settings.second_order_correction && correctable { Some(&mut correct) } else { None };
-        line.run(problem, trial, &mut progress.counts, correction).map(|accepted| accepted.alpha)
+        line.run(problem, trial, &mut progress.counts, correction)
     }
 
     /// Moves to the accepted trial point: BFGS update, history, swap.
@@ -277,7 +308,7 @@ impl Sqp {
             kkt_error: progress.kkt.map_or(f64::NAN, |kkt| kkt.error()),
             step_norm: 0.0,
             step_length: 0.0,
-            penalty: progress.penalty,
+            penalty: progress.used_penalty,
         }
     }
 

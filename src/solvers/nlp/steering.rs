@@ -12,9 +12,10 @@
 //! - if not, the linearisation is inconsistent near x (within the steps such a penalty allows)
 //!   and the feasibility step is taken as a restoration step (line search on V alone), after
 //!   which μ is raised ×10 so that the next feasibility QP allows longer steps;
-//! - if, moreover, V > `feasibility_tolerance` is stationary — the feasibility QP's multipliers
-//!   scaled to [−1, 1] give ‖Jᵀλ̂ + ν̂‖∞ ≤ `infeasibility_tolerance` — and the feasibility step
-//!   cannot halve V, the problem is locally infeasible at x.
+//! - if, moreover, V > `feasibility_tolerance` is stationary — with the feasibility QP's
+//!   multipliers scaled to [−1, 1], the projected gradient of V, Jᵀλ̂ less what the bounds at x
+//!   absorb, is at most `infeasibility_tolerance` — and the feasibility step cannot halve V,
+//!   the problem is locally infeasible at x.
 
 use nalgebra::DVector;
 
@@ -53,7 +54,7 @@ pub(super) fn direction(subproblem: &mut Subproblem, limits: &Limits, data: &Lin
     let consistent = feasibility.linear_violation <= tolerance
         || (penalty < settings.max_penalty && consistent_with_larger_penalty(subproblem, limits, &feasibility_data, penalty, tolerance, settings));
     if !consistent {
-        return if violation > settings.feasibility_tolerance && is_infeasible_stationary(&feasibility, data, violation, settings) {
+        return if violation > settings.feasibility_tolerance && is_infeasible_stationary(limits, &feasibility, data, violation, settings) {
             Direction::Infeasible { step, feasibility }
         } else {
             Direction::Restoration { step, feasibility }
@@ -86,15 +87,34 @@ fn linear_tolerance(settings: &NlpSettings, violation: f64) -> f64 {
     0.1 * settings.feasibility_tolerance + 1e-9 * violation
 }
 
-/// The multipliers of the violation's stationarity, Jᵀλ̂ + ν̂ ≈ 0 with λ̂ ∈ [−1, 1]: the
-/// feasibility QP's divided by μ.
-pub(super) fn scaled_multipliers(feasibility: &QpStep) -> (DVector<f64>, DVector<f64>) {
-    (&feasibility.constraint_multipliers / feasibility.penalty, &feasibility.bound_multipliers / feasibility.penalty)
+/// A variable counts as at a bound within this (relative to max(1, |bound|)).
+const AT_BOUND: f64 = 1e-10;
+
+/// The stationarity of V at x: λ̂ = the feasibility QP's multipliers / μ (in [−1, 1], the
+/// signs of the violated rows), g = Jᵀλ̂ (a subgradient of V), ν̂ = −g on the bounds x sits at
+/// when its sign is right, and the largest remaining component of g + ν̂ (the projected
+/// gradient of V over the bounds).
+pub(super) fn violation_stationarity(limits: &Limits, data: &Linearisation, feasibility: &QpStep) -> (DVector<f64>, DVector<f64>, f64) {
+    let lambda = &feasibility.constraint_multipliers / feasibility.penalty;
+    let gradient = data.jacobian.tr_mul(&lambda);
+    let mut nu = DVector::zeros(gradient.len());
+    let mut residual: f64 = 0.0;
+    for k in 0..gradient.len() {
+        let (x, lower, upper) = (data.x[k], limits.lower[k], limits.upper[k]);
+        let at = |bound: f64| bound.is_finite() && (x - bound).abs() <= AT_BOUND * bound.abs().max(1.0);
+        let g = gradient[k];
+        if lower == upper || (at(lower) && g >= 0.0) || (at(upper) && g <= 0.0) {
+            nu[k] = -g;
+        } else {
+            residual = residual.max(g.abs());
+        }
+    }
+    (lambda, nu, residual)
 }
 
-/// ‖Jᵀλ̂ + ν̂‖∞ ≤ `infeasibility_tolerance` and the feasibility step cannot halve V.
-fn is_infeasible_stationary(feasibility: &QpStep, data: &Linearisation, violation: f64, settings: &NlpSettings) -> bool {
-    let (lambda, mut residual) = scaled_multipliers(feasibility);
-    residual.gemv_tr(1.0, data.jacobian, &lambda, 1.0);
-    residual.amax() <= settings.infeasibility_tolerance && feasibility.linear_violation >= 0.5 * violation
+/// V > 0 is stationary: the projected gradient of V is at most `infeasibility_tolerance` and
+/// the feasibility step cannot halve V.
+fn is_infeasible_stationary(limits: &Limits, feasibility: &QpStep, data: &Linearisation, violation: f64, settings: &NlpSettings) -> bool {
+    let (_, _, residual) = violation_stationarity(limits, data, feasibility);
+    residual <= settings.infeasibility_tolerance && feasibility.linear_violation >= 0.5 * violation
 }
