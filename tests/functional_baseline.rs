@@ -10,7 +10,7 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::solvers::LeastSquaresStatus;
 use osim_tune::tuning::functional::{
-    central_differences, fisher_information, fit_garner_pandy, noise_from_residuals, propagate_noise, Direction, DynamometryData, FisherInformation,
+    fisher_information, fit_garner_pandy, noise_from_residuals, propagate_noise, Direction, DynamometryData, FisherInformation,
     FisherOptions, GarnerPandyOptions, JointRange, KneeMomentModel, MuscleParameters, ParameterLabel, Parameterisation, SetSelection,
     SigmaPointError, SigmaPoints, TransformedParameter, TrialOptions,
 };
@@ -142,10 +142,6 @@ fn fisher_criteria_of_a_linear_model() {
     // J with orthogonal columns of norms 3 and 0.5 (and a 2 × 2 block): F = diag(9, 0.25)/σ².
     let j = DMatrix::from_row_slice(3, 2, &[3.0, 0.0, 0.0, 0.3, 0.0, 0.4]);
     let sigma = 2.0;
-    // Central differences of the linear map reproduce J.
-    let linear = |p: &[f64]| Ok::<_, ()>((&j * DVector::from_column_slice(p)).iter().copied().collect());
-    let differenced = central_differences(linear, &[0.1, 0.2], &[1e-3, 1e-3]).unwrap();
-    assert!((&differenced - &j).abs().max() < 1e-12);
     let labels = vec![label("a", TransformedParameter::OptimalFiberLength, 1.0), label("a", TransformedParameter::TendonSlackLength, 2.0)];
     let info = FisherInformation::from_jacobian("[L_opt, L_ts]", j.clone(), labels, sigma, 1e-9).unwrap();
     let (l1, l2) = (9.0 / 4.0, 0.25 / 4.0);

@@ -6,7 +6,7 @@
 
 use nalgebra::{DMatrix, DVector};
 use osim_tune::solvers::nlp::{EvaluationError, HessianMode, NlpError, NlpProblem, NlpSettings, NlpSolution, NlpStatus, Sqp};
-use osim_tune::solvers::qp::{DenseQp, QpSettings, QpStatus};
+use osim_tune::solvers::qp::{DenseQp, QpSettings, QpSolution, QpStatus};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 
@@ -531,6 +531,17 @@ fn convex_qp(n: usize, equalities: usize, inequalities: usize, values: &[f64]) -
     ConvexQp { p, q, rows, row_lower, row_upper, lower, upper }
 }
 
+/// The QP solved directly by clarabel, the reference of the SQP's answer.
+fn clarabel_optimum(problem: &ConvexQp) -> QpSolution {
+    DenseQp::new(&problem.p, problem.q.as_slice())
+        .unwrap()
+        .with_inequalities(&problem.rows, &problem.row_lower, &problem.row_upper)
+        .unwrap()
+        .with_bounds(&problem.lower, &problem.upper)
+        .unwrap()
+        .solve(&QpSettings::default())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, rng_seed: RngSeed::Fixed(20240611), failure_persistence: None, ..ProptestConfig::default() })]
 
@@ -543,10 +554,7 @@ proptest! {
         start in proptest::collection::vec(-2.0f64..2.0, 7),
     ) {
         let mut problem = convex_qp(n, equalities, inequalities, &values);
-        let reference = DenseQp::new(&problem.p, problem.q.as_slice()).unwrap()
-            .with_inequalities(&problem.rows, &problem.row_lower, &problem.row_upper).unwrap()
-            .with_bounds(&problem.lower, &problem.upper).unwrap()
-            .solve(&QpSettings::default());
+        let reference = clarabel_optimum(&problem);
         prop_assert!(reference.status.is_solved());
         let solution = solve(&mut problem, &start[..n]);
         prop_assert_eq!(solution.status, NlpStatus::Converged);
@@ -584,10 +592,7 @@ proptest! {
         start in proptest::collection::vec(-2.0f64..2.0, 7),
     ) {
         let mut problem = convex_qp(n, equalities, inequalities, &values);
-        let reference = DenseQp::new(&problem.p, problem.q.as_slice()).unwrap()
-            .with_inequalities(&problem.rows, &problem.row_lower, &problem.row_upper).unwrap()
-            .with_bounds(&problem.lower, &problem.upper).unwrap()
-            .solve(&QpSettings::default());
+        let reference = clarabel_optimum(&problem);
         prop_assume!(reference.status.is_solved());
         let settings = NlpSettings { hessian: HessianMode::Bfgs, ..NlpSettings::default() };
         let solution = solve_with(&mut problem, &start[..n], settings);

@@ -39,10 +39,11 @@ pub fn hot_start(model: &KneeMomentModel, sets: &[MuscleFeasibleSet], initial: &
         for (e, table) in contributions.iter().enumerate() {
             add(&mut totals, &table[choice[e]], -1.0);
             let error = |c: usize| totals.iter().zip(&table[c]).zip(measured).map(|((t, m), y)| (t + m - y).abs()).fold(0.0, f64::max);
-            let best = (0..table.len()).min_by(|&a, &b| error(a).total_cmp(&error(b))).unwrap_or(choice[e]);
-            changed |= best != choice[e] && error(best) < error(choice[e]);
-            if error(best) < error(choice[e]) {
+            let errors: Vec<f64> = (0..table.len()).map(error).collect();
+            let best = (0..table.len()).min_by(|&a, &b| errors[a].total_cmp(&errors[b])).unwrap_or(choice[e]);
+            if errors[best] < errors[choice[e]] {
                 choice[e] = best;
+                changed = true;
             }
             add(&mut totals, &table[choice[e]], 1.0);
         }

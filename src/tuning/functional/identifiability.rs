@@ -444,23 +444,6 @@ impl RightSingular {
     }
 }
 
-/// J (m × n) of `f` at `x` by central differences with steps `steps` (one per variable):
-/// J_ij = (f_i(x + h_j e_j) − f_i(x − h_j e_j)) / 2h_j.
-pub fn central_differences<E>(mut f: impl FnMut(&[f64]) -> Result<Vec<f64>, E>, x: &[f64], steps: &[f64]) -> Result<DMatrix<f64>, E> {
-    let mut point = x.to_vec();
-    let mut columns = Vec::with_capacity(x.len());
-    for (j, &h) in steps.iter().enumerate().take(x.len()) {
-        point[j] = x[j] + h;
-        let plus = f(&point)?;
-        point[j] = x[j] - h;
-        let minus = f(&point)?;
-        point[j] = x[j];
-        columns.push(plus.iter().zip(&minus).map(|(a, b)| (a - b) / (2.0 * h)).collect::<Vec<f64>>());
-    }
-    let m = columns.first().map_or(0, Vec::len);
-    Ok(DMatrix::from_fn(m, columns.len(), |i, j| columns[j][i]))
-}
-
 /// The Fisher information of `parameterisation` at `parameters` (one per estimated muscle, in
 /// order) for the trial moments of `knee`.
 pub fn fisher_information(

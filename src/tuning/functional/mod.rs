@@ -34,7 +34,7 @@ pub use garner_pandy::{
     fit_garner_pandy, GarnerPandyFit, GarnerPandyOptions, JointRange, MusculotendonRange, NormalizedFiberLengthRange, RangeExtreme, RANGE_SAMPLES,
 };
 pub use identifiability::{
-    central_differences, fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, NullComponent, NullDirection,
+    fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, NullComponent, NullDirection,
     ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };

@@ -22,17 +22,12 @@ pub fn log(rotation: &Rotation3<f64>) -> Vector3<f64> {
     v * (2.0 * sine.atan2(w) / sine)
 }
 
-/// The skew matrix [v]× with [v]×·w = v × w.
-pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
-    v.cross_matrix()
-}
-
 /// The left Jacobian J(θ) of SO(3): exp(θ + δ) ≈ exp(J(θ)·δ)·exp(θ) for small δ, so
 /// ∂(exp(θ)·u)/∂θ = −[exp(θ)·u]× · J(θ).
 /// J = I + (1 − cos φ)/φ² [θ]× + (φ − sin φ)/φ³ [θ]×², φ = ‖θ‖ (Taylor series near 0).
 pub fn left_jacobian(rotation_vector: &Vector3<f64>) -> Matrix3<f64> {
     let angle = rotation_vector.norm();
-    let k = skew(rotation_vector);
+    let k = rotation_vector.cross_matrix();
     let (a, b) = if angle < 1e-4 {
         let a2 = angle * angle;
         (0.5 - a2 / 24.0, 1.0 / 6.0 - a2 / 120.0)

@@ -93,7 +93,7 @@ pub fn swap_knee(document: &OsimDocument, joint: &str, axis: &JointAxis, referen
 
 fn checked_axis(axis: &JointAxis) -> Result<JointAxis, SwapError> {
     let norm = axis.direction.norm();
-    if !(norm > 1e-12 && norm.is_finite()) || !axis.point.iter().all(|v| v.is_finite()) {
+    if !(norm > 1e-12 && norm.is_finite() && axis.point.iter().all(|v| v.is_finite())) {
         let problem = format!("must have a finite point and a non-zero direction (point {:?}, direction {:?})", axis.point.as_slice(), axis.direction.as_slice());
         return Err(SwapError::BadAxis { problem });
     }
@@ -173,8 +173,9 @@ fn rewrite_joint(document: &mut OsimDocument, joint: ElementId, parent: &Offset,
     let frames = [("socket_parent_frame", parent), ("socket_child_frame", child)];
     let mut values = Vec::new();
     for (socket, offset) in frames {
-        let frame = owned_frame(document, joint, socket).expect("checked by hinge()");
-        let reader = ComponentReader::new(document, frame);
+        let reader = ComponentReader::new(document, joint);
+        let frame = owned_frame(document, joint, socket).ok_or_else(|| reader.missing(socket))?;
+        let reader = reader.at(frame);
         for (property, numbers) in [("translation", offset.translation), ("orientation", offset.orientation)] {
             let element = reader.child(property).ok_or_else(|| reader.missing(property))?;
             values.push((element, format_numbers(&numbers)));
