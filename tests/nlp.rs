@@ -687,3 +687,29 @@ fn a_problem_of_the_functional_scaling_size_is_solved_quickly() {
     assert!(problem.evaluations >= 10 * solution.evaluations);
     assert!(elapsed.as_secs_f64() < 10.0, "{elapsed:?}");
 }
+
+/// min t² with |x_i − y_i| ≤ t (an exact fit, optimum f = 0): with `objective_target` 0.1
+/// the solve stops at the first feasible iterate with t ≤ 0.32, before the KKT test would.
+#[test]
+fn objective_target_stops_at_a_small_enough_objective() {
+    let data = [0.3, -1.2, 2.5];
+    let inf = f64::INFINITY;
+    let rows = (vec![-inf, -inf, -inf, data[0], data[1], data[2]], vec![data[0], data[1], data[2], inf, inf, inf]);
+    let fit = move || {
+        Closure::new(4, rows.clone(), move |x, c| {
+            for i in 0..3 {
+                c[i] = x[i] - x[3];
+                c[i + 3] = x[i] + x[3];
+            }
+            x[3] * x[3]
+        })
+    };
+    let start = [0.0, 0.0, 0.0, 3.0];
+    let full = solve(&mut fit(), &start);
+    assert_eq!(full.status, NlpStatus::Converged);
+    let settings = NlpSettings { objective_target: 0.1, ..NlpSettings::default() };
+    let stopped = solve_with(&mut fit(), &start, settings);
+    assert_eq!(stopped.status, NlpStatus::ObjectiveTarget, "{stopped:#?}");
+    assert!(stopped.objective <= 0.1 && stopped.objective > full.objective, "{} vs {}", stopped.objective, full.objective);
+    assert!(stopped.constraint_violation <= 1e-8 && stopped.iterations < full.iterations);
+}

@@ -64,11 +64,44 @@ pub enum Command {
     /// replaced by MODEL and its output file names are ignored — use the options below), or a
     /// TRIALS folder with --linear (see README: subject.json with the mass and static trial,
     /// and the built-in gait2392 measurement set unless the folder names a setup).
+    ///
+    /// Functional scaling: a TRIALS folder of isometric dynamometry (subject.json with
+    /// "trial_files", one .mot per set and direction; see README) fits L_opt and L_ts of the
+    /// estimated knee muscles to the measured knee moments (thesis ch. 6) and writes the model
+    /// with only those values changed, plus a report. Exit 1 (and no model unless --force)
+    /// when the fit does not converge.
     Scale {
         /// The generic model (.osim, OpenSim 4).
         model: PathBuf,
-        /// Trials folder (with --linear).
+        /// Trials folder: dynamometry trials (functional scaling) or, with --linear, a static trial.
         trials: Option<PathBuf>,
+        /// Functional scaling estimator.
+        #[arg(long, value_enum, default_value_t = ScaleMethodArgument::Functional)]
+        method: ScaleMethodArgument,
+        /// Functional: trial sets to use, comma-separated (e.g. set5,set10); default all.
+        #[arg(long, value_delimiter = ',')]
+        sets: Option<Vec<String>>,
+        /// Functional: accepted rest fiber length deviation in Phase I, relative (thesis Δ; default 0.1).
+        #[arg(long)]
+        rest_tolerance: Option<f64>,
+        /// Functional: also constrain the rest fiber length in Phase II to ± this fraction.
+        #[arg(long)]
+        rest_constraint: Option<f64>,
+        /// Functional: tie the vasti's and gastrocnemii's L_opt within 0.9–1.1 of each other (eq. 6.23–6.24).
+        #[arg(long)]
+        group_ratios: bool,
+        /// Functional: moment noise σ in N·m for the uncertainty (default: subject.json's, else the residuals').
+        #[arg(long)]
+        noise_sd: Option<f64>,
+        /// Functional: propagate the noise through the fit at the 2n²+1 sigma points (slow: one Phase II per point).
+        #[arg(long)]
+        sigma_points: bool,
+        /// Functional: write the model even when the fit did not converge.
+        #[arg(long)]
+        force: bool,
+        /// Functional: also write the report as JSON to this file.
+        #[arg(long)]
+        report: Option<PathBuf>,
         /// ScaleTool setup file.
         #[arg(long)]
         setup: Option<PathBuf>,
@@ -201,6 +234,15 @@ pub enum Command {
     Flatten {
         document: PathBuf,
     },
+}
+
+/// `--method` of `scale` (functional scaling).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ScaleMethodArgument {
+    /// The thesis' method: feasible sets, hot start, constrained NLP.
+    Functional,
+    /// Garner & Pandy (2003): least squares over [L̃m_min, L̃m_max].
+    GarnerPandy,
 }
 
 /// `--method` of `axis`.

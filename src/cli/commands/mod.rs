@@ -7,6 +7,7 @@ mod flatten;
 mod ik;
 mod info;
 mod scale;
+mod scale_functional;
 mod set;
 
 use super::{Command, Failure, Outcome};
@@ -34,9 +35,35 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let time = time.map(|t| [t[0], t[1]]);
             ik::run(&model, &trial, setup.as_deref(), time, &weights, &ik::Outputs { motion: output, errors })
         }
-        Command::Scale { model, trials, setup, linear, output, scaled_only, scale_set, static_pose, json } => {
-            let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose };
-            scale::run(&model, trials.as_deref(), setup.as_deref(), linear, &outputs, json)
-        }
+        Command::Scale {
+            model,
+            trials,
+            method,
+            sets,
+            rest_tolerance,
+            rest_constraint,
+            group_ratios,
+            noise_sd,
+            sigma_points,
+            force,
+            report,
+            setup,
+            linear,
+            output,
+            scaled_only,
+            scale_set,
+            static_pose,
+            json,
+        } => match trials.as_deref().filter(|folder| !linear && setup.is_none() && scale_functional::is_dynamometry(folder)) {
+            Some(folder) => {
+                let settings = scale_functional::settings(method, rest_tolerance, rest_constraint, group_ratios, noise_sd, sigma_points);
+                let request = scale_functional::Request { sets, settings, force, report, json };
+                scale_functional::run(&model, folder, &output, &request)
+            }
+            None => {
+                let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose };
+                scale::run(&model, trials.as_deref(), setup.as_deref(), linear, &outputs, json)
+            }
+        },
     }
 }

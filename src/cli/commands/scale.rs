@@ -25,7 +25,10 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
     let setup = match (setup, trials) {
         (Some(file), None) => ScaleSetup::read(file)?,
         (None, Some(folder)) if linear => trials_setup(folder)?,
-        (None, Some(_)) => return Err("functional scaling from dynamometry trials is not available yet; pass --linear for OpenSim's linear scaling".into()),
+        (None, Some(folder)) => {
+            let problem = "expected a dynamometry subject.json (with \"trial_files\") for functional scaling, or --linear for OpenSim's linear scaling of a static trial";
+            return Err(format!("{}: {problem}", folder.join("subject.json").display()).into());
+        }
         (Some(_), Some(_)) => return Err("give either --setup or a trials folder, not both".into()),
         (None, None) => return Err("give --setup SETUP.xml or a trials folder with --linear".into()),
     };

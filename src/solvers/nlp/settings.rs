@@ -47,6 +47,10 @@ pub struct NlpSettings {
     pub max_backtracks: usize,
     /// Try a second-order correction when the full step is rejected (Maratos effect).
     pub second_order_correction: bool,
+    /// A feasible iterate with f ≤ this ends the solve as `ObjectiveTarget` (KNITRO's
+    /// `fstopval`): for problems whose optimal value is known, e.g. 0 for a fit to exact data,
+    /// where the KKT test degenerates. −∞: never.
+    pub objective_target: f64,
     /// clarabel's gap and feasibility tolerance for the QP subproblems.
     pub qp_tolerance: f64,
     /// clarabel's iteration limit per QP.
@@ -67,6 +71,7 @@ impl Default for NlpSettings {
             armijo: 1e-4,
             max_backtracks: 40,
             second_order_correction: true,
+            objective_target: f64::NEG_INFINITY,
             qp_tolerance: 1e-10,
             qp_max_iterations: 200,
         }
@@ -86,6 +91,7 @@ impl NlpSettings {
             (positive(self.max_penalty) && self.max_penalty >= self.initial_penalty, "max_penalty"),
             (self.armijo > 0.0 && self.armijo < 0.5, "armijo"),
             (self.max_backtracks > 0, "max_backtracks"),
+            (!self.objective_target.is_nan() && self.objective_target != f64::INFINITY, "objective_target"),
             (positive(self.qp_tolerance), "qp_tolerance"),
             (self.qp_max_iterations > 0, "qp_max_iterations"),
         ]

@@ -1,10 +1,12 @@
 //! What an SQP solve returns.
 
-/// How a solve ended. Only `Converged` meets the tests of [`NlpSettings`](super::NlpSettings).
+/// How a solve ended. Only `Converged` (and `ObjectiveTarget`, by the caller's standard) meets the tests of [`NlpSettings`](super::NlpSettings).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NlpStatus {
     /// Scaled KKT conditions and feasibility met.
     Converged,
+    /// A feasible iterate reached `objective_target`.
+    ObjectiveTarget,
     /// Feasible, and the QP step is below `step_tolerance`, but the KKT test is not met.
     AcceptableStep,
     /// `max_iterations` steps taken.

@@ -234,6 +234,9 @@ impl Sqp {
         if feasible && kkt.stationarity <= settings.tolerance && kkt.complementarity <= settings.tolerance {
             return Some(NlpStatus::Converged);
         }
+        if feasible && self.current.objective <= settings.objective_target {
+            return Some(NlpStatus::ObjectiveTarget);
+        }
         if feasible && step.d.amax() <= settings.step_tolerance * self.current.x.amax().max(1.0) {
             return Some(NlpStatus::AcceptableStep);
         }

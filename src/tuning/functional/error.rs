@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use crate::io::table::TableError;
 use crate::mechanics::muscle::MuscleError;
 use crate::mechanics::MechanicsError;
+use crate::solvers::nlp::NlpError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum FunctionalError {
@@ -47,6 +48,16 @@ pub enum FunctionalError {
     /// Parameters given for evaluation do not fit the model's estimated muscles.
     #[error("parameters of muscle {muscle:?}: {problem}")]
     Parameters { muscle: String, problem: String },
+    /// Too few trials for the parameters of one direction's agonists.
+    #[error("{}: the {direction} trials give {observations} observation(s) (distinct knee angles + rest fiber lengths) for {parameters} parameters; not identifiable: {unidentifiable}; add trials at more knee angles", folder.display())]
+    NotIdentifiable { folder: PathBuf, direction: &'static str, observations: usize, parameters: usize, unidentifiable: String },
+    /// The measured moments have the opposite sign of the model's in both directions.
+    #[error("{}: column {column:?} has the opposite sign of the model's knee moments in both the extension and the flexion trials; expected positive {column} = positive generalized force of {coordinate} (OpenSim's convention; negate the column if the dynamometer reports the other sign)", folder.display())]
+    SignConvention { folder: PathBuf, column: String, coordinate: String },
+    /// The Phase II NLP is inconsistent (a bound range that is empty, a start point that is
+    /// not finite).
+    #[error("Phase II cannot be set up: {0}")]
+    Nlp(#[from] NlpError),
     /// A muscle has no equilibrium in a trial (`file` the trial file) or at rest, or cannot be
     /// built from the model's properties (`file` the model).
     #[error("{}: {muscle} in {context}: {source}", file.display())]

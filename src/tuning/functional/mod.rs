@@ -11,24 +11,34 @@
 //! - `feasible_set.rs`: Phase I, the feasible (L_opt, L_ts) grid per muscle, the regression line
 //!   1/L_opt ≈ c1·(L_ts/L_opt) + c2 and the δ and L_ts/L_opt bounds ([`feasible_sets`]);
 //!   `hot_start.rs`: the feasible combination closest to the measured moments ([`hot_start`]).
+//! - `phase_two.rs`: Phase II, the constrained NLP of eq. 6.15–6.24 on the SQP solver, in the
+//!   transformed variables (L_ts/L_opt, δ) with the equilibria solved exactly ([`solve_phase_two`]).
 //! - `garner_pandy.rs`: the Garner & Pandy (2003) baseline ([`fit_garner_pandy`]).
 //! - `identifiability.rs`: Fisher information, D- and E-criteria and unidentifiable directions
 //!   per parameterisation ([`fisher_information`]).
 //! - `sigma_points.rs`: the 2n²+1 sigma points of Appendix 6.6 and noise propagation through any
 //!   estimator ([`propagate_noise`]).
+//! - `cause.rs`: the single (muscle, parameter) change that best explains the measured moments
+//!   ([`single_causes`]).
+//! - `fit.rs`: one run ([`fit`]): input checks (coordinate ranges, enough angles, sign
+//!   convention), the estimator, sensitivity, identifiability and uncertainty.
 //! - `error.rs`: [`FunctionalError`].
 
+mod cause;
 mod error;
 mod garner_pandy;
 mod identifiability;
 mod feasible_set;
+mod fit;
 mod hot_start;
 mod knee_moment;
 mod parameters;
+mod phase_two;
 mod sensitivity;
 mod sigma_points;
 mod trials;
 
+pub use cause::{single_causes, SingleCause};
 pub use error::FunctionalError;
 pub use garner_pandy::{
     fit_garner_pandy, GarnerPandyFit, GarnerPandyOptions, JointRange, MusculotendonRange, NormalizedFiberLengthRange, RangeExtreme, RANGE_SAMPLES,
@@ -38,10 +48,12 @@ pub use identifiability::{
     ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };
+pub use fit::{fit, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, TrialFit, Uncertainty};
 pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
 pub use parameters::{MuscleParameters, Parameter};
+pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};
 pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
 pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};
 pub use trials::{DynamometryData, Direction, IsometricTrial, SetSelection, Side, TrialColumns, TrialOptions, ACTIVATION_SUFFIX, SUBJECT_FILE};

@@ -1,0 +1,197 @@
+//! `osim-tune scale MODEL TRIALS/ -o OUT.osim`: functional scaling from a dynamometry folder.
+//! Writes the model with only the fitted L_opt/L_ts changed and prints the report (text, or
+//! JSON with `--json`; `--report FILE` also writes the JSON).
+
+use std::path::{Path, PathBuf};
+
+use crate::cli::{Failure, Outcome};
+use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::io::osim::OsimDocument;
+use crate::model::ModelSpec;
+use crate::tuning::functional::{
+    fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, SetSelection,
+    TrialOptions, SUBJECT_FILE,
+};
+
+use super::super::args::ScaleMethodArgument;
+
+/// What the user asked for besides the files.
+pub struct Request {
+    pub sets: Option<Vec<String>>,
+    pub settings: FitSettings,
+    pub force: bool,
+    pub report: Option<PathBuf>,
+    pub json: bool,
+}
+
+/// Whether `folder` holds a dynamometry subject file (one with `"trial_files"`).
+pub fn is_dynamometry(folder: &Path) -> bool {
+    std::fs::read_to_string(folder.join(SUBJECT_FILE))
+        .ok()
+        .and_then(|text| serde_json::from_str::<serde_json::Value>(&text).ok())
+        .is_some_and(|subject| subject.get("trial_files").is_some())
+}
+
+/// The fit settings from the command-line options.
+pub fn settings(
+    method: ScaleMethodArgument,
+    rest_tolerance: Option<f64>,
+    rest_constraint: Option<f64>,
+    group_ratios: bool,
+    noise_sd: Option<f64>,
+    sigma_points: bool,
+) -> FitSettings {
+    let defaults = PhaseTwoSettings::default();
+    let method = match method {
+        ScaleMethodArgument::Functional => FitMethod::Functional,
+        ScaleMethodArgument::GarnerPandy => FitMethod::GarnerPandy,
+    };
+    let feasible = FeasibleSetSettings { rest_tolerance: rest_tolerance.unwrap_or(FeasibleSetSettings::default().rest_tolerance), ..Default::default() };
+    let phase_two = PhaseTwoSettings { rest_tolerance: rest_constraint, group_ratio: group_ratios.then_some([0.9, 1.1]), ..defaults };
+    FitSettings { method, feasible, phase_two, noise_sd, sigma_points }
+}
+
+pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Result<Outcome, Failure> {
+    check_settings(&request.settings)?;
+    let sets = request.sets.clone().map_or(SetSelection::All, SetSelection::Only);
+    let data = DynamometryData::read(folder, &TrialOptions { sets, ..Default::default() })?;
+    let mut inputs: Vec<PathBuf> = vec![model.to_path_buf(), folder.join(SUBJECT_FILE)];
+    inputs.extend(data.trials.iter().map(|t| t.file.clone()));
+    let input_refs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    for file in std::iter::once(output).chain(request.report.as_deref()) {
+        ensure_not_an_input(file, &input_refs)?;
+    }
+    let mut document = OsimDocument::read(model)?;
+    let spec = ModelSpec::read(&document)?;
+    let knee = KneeMomentModel::new(&spec, &data)?;
+    let result = fit(&spec, &knee, &data, &request.settings, &mut |stage| eprintln!("scale: {stage}"))?;
+    let report = serde_json::to_string_pretty(&result)?;
+    if request.json {
+        println!("{report}");
+    } else {
+        print_report(&result, &data);
+    }
+    create_folders([Some(output), request.report.as_deref()].into_iter().flatten())?;
+    if let Some(file) = &request.report {
+        write_atomically(file, report.as_bytes(), &input_refs)?;
+    }
+    if !result.converged && !request.force {
+        eprintln!("scale: the fit did not converge ({}); no model written (--force writes it anyway)", result.solver_status);
+        return Ok(Outcome::NotConverged);
+    }
+    let changed = result.apply(&mut document)?;
+    write_atomically(output, document.xml.serialize().as_bytes(), &input_refs)?;
+    eprintln!("scale: {changed} values changed; wrote {}", output.display());
+    Ok(if result.converged { Outcome::Success } else { Outcome::NotConverged })
+}
+
+fn check_settings(settings: &FitSettings) -> Result<(), Failure> {
+    let fraction = |name: &str, value: Option<f64>| match value {
+        Some(v) if !(v > 0.0 && v < 1.0) => Err(format!("{name} {v}: expected a fraction in (0, 1)")),
+        _ => Ok(()),
+    };
+    fraction("--rest-tolerance", Some(settings.feasible.rest_tolerance))?;
+    fraction("--rest-constraint", settings.phase_two.rest_tolerance)?;
+    match settings.noise_sd {
+        Some(sd) if !(sd > 0.0 && sd.is_finite()) => Err(format!("--noise-sd {sd}: expected a positive number of N·m").into()),
+        _ => Ok(()),
+    }
+}
+
+fn create_folders<'a>(files: impl Iterator<Item = &'a Path>) -> Result<(), Failure> {
+    for folder in files.filter_map(Path::parent).filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(|e| format!("{}: cannot create the output folder: {e}", folder.display()))?;
+    }
+    Ok(())
+}
+
+fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
+    println!("functional scaling of {} ({} trials, method {:?})", data.folder.display(), fit.trials.len(), fit.method);
+    println!("solver: {} after {} iterations{}", fit.solver_status, fit.iterations, if fit.converged { "" } else { " — NOT CONVERGED" });
+    let initial_error = fit.trials.iter().map(|t| (t.initial - t.measured).abs()).fold(0.0, f64::max);
+    println!("knee moment error: max {:.4} N·m, RMS {:.4} N·m (initial model: max {initial_error:.4} N·m)", fit.max_moment_error(), fit.rms_moment_error());
+    print_parameters(fit);
+    print_causes(fit);
+    print_sets(fit);
+    print_sensitivity(fit);
+    print_identifiability(fit);
+    println!("\nmoments per trial (N·m): measured, initial model, fitted model, fitted − measured");
+    for t in &fit.trials {
+        println!("  {:<24} {:>10.4} {:>10.4} {:>10.4} {:>+9.4}", t.trial, t.measured, t.initial, t.fitted, t.fitted - t.measured);
+    }
+}
+
+fn print_parameters(fit: &FunctionalFit) {
+    let u = &fit.uncertainty;
+    println!("\nparameters (m): old → new (change), ± Cramér–Rao sd at σ = {:.3} N·m ({}){}", u.noise_sd, u.noise_source, if u.sigma_points.is_some() { ", sigma-point sd" } else { "" });
+    for (e, (old, new)) in fit.initial.iter().zip(&fit.fitted).enumerate() {
+        for (i, parameter) in [Parameter::OptimalFiberLength, Parameter::TendonSlackLength].into_iter().enumerate() {
+            let (a, b) = (old.get(parameter), new.get(parameter));
+            let bound = u.cramer_rao[e][i].map_or("not identifiable".to_string(), |sd| format!("± {sd:.5}"));
+            let sigma = u.sigma_points.as_ref().map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
+            println!("  {:<12} {:<5} {a:.6} → {b:.6} ({:+.2} %) {bound}{sigma}", new.name, parameter.symbol(), 100.0 * (b / a - 1.0));
+        }
+    }
+}
+
+fn print_causes(fit: &FunctionalFit) {
+    println!("\nsingle causes (one parameter changed alone from the initial model; RMS error left):");
+    for cause in fit.single_causes.iter().take(3) {
+        println!(
+            "  {:<12} {:<5} {:.6} → {:.6} ({:+.2} %): RMS {:.4} → {:.4} N·m",
+            cause.muscle,
+            cause.parameter.symbol(),
+            cause.initial,
+            cause.fitted,
+            100.0 * cause.relative_change(),
+            cause.rms_before,
+            cause.rms_after
+        );
+    }
+}
+
+fn print_sets(fit: &FunctionalFit) {
+    if fit.feasible_sets.is_empty() {
+        return;
+    }
+    println!("\nPhase I feasible sets: points kept of evaluated, L_ts/L_opt bounds, δ_max (1/m)");
+    for set in &fit.feasible_sets {
+        let [low, high] = set.ratio_bounds;
+        println!("  {:<12} {:>4} of {:<5} ρ ∈ [{low:.3}, {high:.3}]  δ_max {:.4}", set.muscle, set.feasible.len(), set.evaluated, set.delta_max);
+    }
+    if let Some(start) = &fit.hot_start {
+        println!("hot start: largest moment error {:.4} N·m", start.max_moment_error);
+    }
+    for constraint in &fit.active_constraints {
+        println!("active at the solution: {constraint}");
+    }
+}
+
+fn print_sensitivity(fit: &FunctionalFit) {
+    println!("\nsensitivity (eq. 3.3–3.4, ±5 %): max over trials, N·m, and class");
+    for muscle in &fit.fitted {
+        let cells: Vec<String> = Parameter::ALL
+            .iter()
+            .filter_map(|&p| fit.sensitivity.entry(&muscle.name, p))
+            .map(|e| match (e.maximum, e.class) {
+                (Some(value), Some(class)) => format!("{} {value:.0} {class:?}", e.parameter.symbol()),
+                _ => format!("{} n/a", e.parameter.symbol()),
+            })
+            .collect();
+        println!("  {:<12} {}", muscle.name, cells.join(", "));
+    }
+}
+
+fn print_identifiability(fit: &FunctionalFit) {
+    println!("\nidentifiability (Fisher information at the fit; relative criteria)");
+    for report in &fit.identifiability {
+        let id = &report.identifiability;
+        println!(
+            "  {:<18} rank {}/{}  log10 det {:.2}  λ_min {:.3e}  condition {:.3e}",
+            report.parameterisation, id.rank, id.parameters, report.relative.log10_determinant, report.relative.min_eigenvalue, report.relative.condition_number
+        );
+        for p in &id.unidentifiable {
+            println!("    not identifiable: {} {} ({:.0} % in the null space)", p.muscle, p.parameter.symbol(), 100.0 * p.null_space_share);
+        }
+    }
+}

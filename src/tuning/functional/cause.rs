@@ -1,0 +1,131 @@
+//! Single causes: which one parameter of one estimated muscle, changed alone, best explains
+//! the difference between the initial model's and the measured knee moments. Each candidate
+//! (L_opt or L_ts of each muscle) is fitted by one-dimensional least squares on the moments
+//! (factor within [0.5, 1.5] of the model's value) and the candidates are ranked by the RMS
+//! error left. A candidate that leaves almost nothing names the model deficiency; when none
+//! does, the difference has more than one cause.
+
+use nalgebra::DMatrix;
+use serde::Serialize;
+
+use super::error::FunctionalError;
+use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
+use super::parameters::{MuscleParameters, Parameter};
+use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem};
+
+/// One candidate cause after its fit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SingleCause {
+    pub muscle: String,
+    pub parameter: Parameter,
+    /// The model's value and the fitted one (m).
+    pub initial: f64,
+    pub fitted: f64,
+    /// RMS of M_mod − M_meas before and after, N·m.
+    pub rms_before: f64,
+    pub rms_after: f64,
+}
+
+impl SingleCause {
+    /// fitted / initial − 1.
+    pub fn relative_change(&self) -> f64 {
+        self.fitted / self.initial - 1.0
+    }
+}
+
+/// Every (muscle, L_opt | L_ts) candidate fitted alone from `initial`, best first.
+pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
+    let moments = model.moments(initial)?;
+    let rms_before = rms(moments.iter().zip(measured).map(|(m, y)| m - y));
+    let mut causes = Vec::new();
+    for e in 0..initial.len() {
+        for parameter in [Parameter::TendonSlackLength, Parameter::OptimalFiberLength] {
+            let mut problem = Candidate::new(model, initial, e, parameter, &moments, measured)?;
+            let mut x = [0.0];
+            let bounds = Bounds { lower: vec![0.5f64.ln()], upper: vec![1.5f64.ln()] };
+            LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &LeastSquaresOptions::default());
+            let mut residuals = vec![0.0; measured.len()];
+            problem.residuals(x[0], &mut residuals).map_err(|e| *e)?;
+            causes.push(SingleCause {
+                muscle: initial[e].name.clone(),
+                parameter,
+                initial: initial[e].get(parameter),
+                fitted: initial[e].get(parameter) * x[0].exp(),
+                rms_before,
+                rms_after: rms(residuals.iter().copied()),
+            });
+        }
+    }
+    causes.sort_by(|a, b| a.rms_after.total_cmp(&b.rms_after));
+    Ok(causes)
+}
+
+fn rms(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v * v, n + 1));
+    (sum / n.max(1) as f64).sqrt()
+}
+
+/// One muscle's parameter as ln(factor); the other muscles' contributions stay fixed.
+struct Candidate<'a> {
+    model: &'a KneeMomentModel,
+    workspace: EstimatedMuscles,
+    muscle: usize,
+    parameter: Parameter,
+    base: MuscleParameters,
+    /// M_mod − M_meas without this muscle's contribution, N·m.
+    others: Vec<f64>,
+}
+
+impl<'a> Candidate<'a> {
+    fn new(
+        model: &'a KneeMomentModel,
+        initial: &[MuscleParameters],
+        muscle: usize,
+        parameter: Parameter,
+        moments: &[f64],
+        measured: &[f64],
+    ) -> Result<Candidate<'a>, FunctionalError> {
+        let workspace = model.estimated_muscles(initial)?;
+        let k = model.estimated_knee_index(muscle);
+        let mut others = Vec::with_capacity(measured.len());
+        for (t, (m, y)) in moments.iter().zip(measured).enumerate() {
+            others.push(m - y - model.contribution(k, workspace.muscle(muscle), t)?);
+        }
+        Ok(Candidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others })
+    }
+
+    fn residuals(&mut self, log_factor: f64, out: &mut [f64]) -> Result<(), Box<FunctionalError>> {
+        let changed = self.base.with(self.parameter, self.base.get(self.parameter) * log_factor.exp());
+        self.workspace.set(self.model, self.muscle, &changed)?;
+        let k = self.model.estimated_knee_index(self.muscle);
+        for (t, r) in out.iter_mut().enumerate() {
+            *r = self.others[t] + self.model.contribution(k, self.workspace.muscle(self.muscle), t)?;
+        }
+        Ok(())
+    }
+}
+
+impl LeastSquaresProblem for Candidate<'_> {
+    fn variable_count(&self) -> usize {
+        1
+    }
+
+    fn residual_count(&self) -> usize {
+        self.others.len()
+    }
+
+    /// A parameter without equilibrium somewhere gives infinite residuals (the step is refused).
+    fn evaluate(&mut self, x: &[f64], residuals: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
+        if self.residuals(x[0], residuals).is_err() {
+            residuals.fill(f64::INFINITY);
+        }
+        if let Some(jacobian) = jacobian {
+            let h = 1e-6;
+            let (mut plus, mut minus) = (vec![0.0; residuals.len()], vec![0.0; residuals.len()]);
+            let ok = self.residuals(x[0] + h, &mut plus).is_ok() && self.residuals(x[0] - h, &mut minus).is_ok();
+            for (t, (p, m)) in plus.iter().zip(&minus).enumerate() {
+                jacobian[(t, 0)] = if ok { (p - m) / (2.0 * h) } else { 0.0 };
+            }
+        }
+    }
+}

@@ -1,0 +1,376 @@
+//! One functional-scaling run, as `osim-tune scale MODEL TRIALS/` does it: the input checks,
+//! the fit (Phase I, hot start and Phase II; or the Garner & Pandy baseline), and the analyses
+//! every fit reports — the single parameter that best explains the initial model's error,
+//! sensitivity classes, identifiability of three parameterisations (thesis
+//! table 6.4) and the parameters' uncertainty (Cramér–Rao bounds from the Fisher information;
+//! optionally the sigma-point propagation of Appendix 6.6).
+
+use serde::Serialize;
+
+use super::cause::{single_causes, SingleCause};
+use super::error::FunctionalError;
+use super::feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet};
+use super::garner_pandy::{fit_garner_pandy, GarnerPandyOptions, JointRange};
+use super::hot_start::{hot_start, HotStart};
+use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation};
+use super::knee_moment::KneeMomentModel;
+use super::parameters::{MuscleParameters, Parameter};
+use super::phase_two::{solve_phase_two, PhaseTwoSettings};
+use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
+use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
+use super::trials::{DynamometryData, Direction};
+use crate::io::osim::{format_numbers, OsimDocument, OsimError};
+use crate::model::ModelSpec;
+use crate::solvers::LeastSquaresStatus;
+
+/// Which estimator runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum FitMethod {
+    /// The thesis' method: Phase I feasible sets, hot start, Phase II NLP.
+    Functional,
+    /// Garner & Pandy (2003): least squares on moments over [L̃m_min, L̃m_max].
+    GarnerPandy,
+}
+
+/// Settings of [`fit`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FitSettings {
+    pub method: FitMethod,
+    pub feasible: FeasibleSetSettings,
+    pub phase_two: PhaseTwoSettings,
+    /// σ of the moment noise, N·m; `None`: the subject file's, else estimated from the residuals.
+    pub noise_sd: Option<f64>,
+    /// Propagate the noise through the whole fit at the 2n²+1 sigma points (n trials).
+    pub sigma_points: bool,
+}
+
+impl Default for FitSettings {
+    fn default() -> Self {
+        FitSettings { method: FitMethod::Functional, feasible: FeasibleSetSettings::default(), phase_two: PhaseTwoSettings::default(), noise_sd: None, sigma_points: false }
+    }
+}
+
+/// The outcome of one fit and its analyses.
+#[derive(Debug, Clone, Serialize)]
+pub struct FunctionalFit {
+    pub method: FitMethod,
+    pub initial: Vec<MuscleParameters>,
+    pub fitted: Vec<MuscleParameters>,
+    /// Whether the solver met its convergence test; a fit that did not is reported, not used.
+    pub converged: bool,
+    /// The solver's own status word.
+    pub solver_status: String,
+    pub iterations: usize,
+    /// Per trial: label, measured, initial-model and fitted-model moment (N·m).
+    pub trials: Vec<TrialFit>,
+    pub feasible_sets: Vec<MuscleFeasibleSet>,
+    pub hot_start: Option<HotStart>,
+    /// Phase II constraints active at the solution (e.g. a rest length at its tolerance).
+    pub active_constraints: Vec<String>,
+    /// Each single parameter fitted alone from the initial model, best explanation first.
+    pub single_causes: Vec<SingleCause>,
+    pub sensitivity: SensitivityTable,
+    pub identifiability: Vec<ParameterisationReport>,
+    pub uncertainty: Uncertainty,
+}
+
+/// One trial's moments.
+#[derive(Debug, Clone, Serialize)]
+pub struct TrialFit {
+    pub trial: String,
+    pub measured: f64,
+    pub initial: f64,
+    pub fitted: f64,
+}
+
+/// The Fisher information of one parameterisation at the fit (thesis table 6.4).
+#[derive(Debug, Clone, Serialize)]
+pub struct ParameterisationReport {
+    /// e.g. "[L_opt, L_ts]".
+    pub parameterisation: &'static str,
+    /// D- and E-criteria of F in the parameters' units and relative to their values.
+    pub absolute: FisherCriteria,
+    pub relative: FisherCriteria,
+    pub identifiability: Identifiability,
+}
+
+impl ParameterisationReport {
+    fn of(fisher: &FisherInformation) -> ParameterisationReport {
+        ParameterisationReport {
+            parameterisation: fisher.parameterisation,
+            absolute: fisher.absolute,
+            relative: fisher.relative,
+            identifiability: fisher.identifiability.clone(),
+        }
+    }
+}
+
+/// Standard deviations of the fitted (L_opt, L_ts), m.
+#[derive(Debug, Clone, Serialize)]
+pub struct Uncertainty {
+    /// σ of the moment noise used, N·m.
+    pub noise_sd: f64,
+    /// Where σ came from: "given", "subject file" or "residuals".
+    pub noise_source: &'static str,
+    /// Cramér–Rao bound per muscle [sd L_opt, sd L_ts]; `None` where not identifiable.
+    pub cramer_rao: Vec<[Option<f64>; 2]>,
+    /// Sigma-point propagation per muscle [sd L_opt, sd L_ts], when run.
+    pub sigma_points: Option<Vec<[f64; 2]>>,
+}
+
+impl FunctionalFit {
+    pub fn max_moment_error(&self) -> f64 {
+        self.trials.iter().map(|t| (t.fitted - t.measured).abs()).fold(0.0, f64::max)
+    }
+
+    pub fn rms_moment_error(&self) -> f64 {
+        (self.trials.iter().map(|t| (t.fitted - t.measured).powi(2)).sum::<f64>() / self.trials.len().max(1) as f64).sqrt()
+    }
+
+    /// Writes the fitted L_opt and L_ts into `document` (the model the fit started from, muscles
+    /// under `/forceset`); values equal to the model's stay as written. Returns the number of
+    /// values changed.
+    pub fn apply(&self, document: &mut OsimDocument) -> Result<usize, OsimError> {
+        let mut changed = 0;
+        for (fitted, initial) in self.fitted.iter().zip(&self.initial) {
+            for parameter in [Parameter::OptimalFiberLength, Parameter::TendonSlackLength] {
+                if fitted.get(parameter) != initial.get(parameter) {
+                    let path = format!("/forceset/{}/{}", fitted.name, parameter.property());
+                    document.set_property(&path, &format_numbers(&[fitted.get(parameter)]))?;
+                    changed += 1;
+                }
+            }
+        }
+        Ok(changed)
+    }
+}
+
+/// The fit's intermediate result before the analyses.
+struct Estimate {
+    fitted: Vec<MuscleParameters>,
+    converged: bool,
+    status: String,
+    iterations: usize,
+    feasible_sets: Vec<MuscleFeasibleSet>,
+    hot_start: Option<HotStart>,
+    active_constraints: Vec<String>,
+}
+
+/// Checks the trials against the model, fits and analyses. `progress` hears each stage.
+pub fn fit(
+    spec: &ModelSpec,
+    knee: &KneeMomentModel,
+    data: &DynamometryData,
+    settings: &FitSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<FunctionalFit, FunctionalError> {
+    check_coordinate_ranges(spec, data)?;
+    check_observations(knee, data)?;
+    let initial = knee.nominal_parameters();
+    let measured = data.measured_moments();
+    let initial_moments = knee.moments(&initial)?;
+    check_sign_convention(data, &measured, &initial_moments)?;
+    let rest = rest_references(knee, data);
+    progress("single causes");
+    let single_causes = single_causes(knee, &initial, &measured)?;
+    let estimate = match settings.method {
+        FitMethod::Functional => functional(knee, &initial, &rest, &measured, settings, progress)?,
+        FitMethod::GarnerPandy => garner_pandy(spec, knee, data, &initial, &measured, progress)?,
+    };
+    let moments = knee.moments(&estimate.fitted)?;
+    progress("sensitivity and identifiability");
+    let sensitivity = SensitivityTable::compute(knee, &estimate.fitted, DEFAULT_RELATIVE_STEP)?;
+    let residuals: Vec<f64> = moments.iter().zip(&measured).map(|(m, y)| m - y).collect();
+    let (noise_sd, noise_source) = noise_level(settings, data, &residuals, 2 * initial.len());
+    let fishers = identifiability(spec, knee, data, &estimate, noise_sd)?;
+    let cramer_rao = fishers[0].standard_deviations.chunks(2).map(|c| [c[0], c[1]]).collect();
+    let identifiability = fishers.iter().map(ParameterisationReport::of).collect();
+    let sigma_points = match (settings.sigma_points, settings.method) {
+        (true, FitMethod::Functional) => Some(sigma_point_spread(knee, &estimate, &rest, &measured, noise_sd, settings, progress)?),
+        _ => None,
+    };
+    let trials = knee
+        .trials()
+        .iter()
+        .enumerate()
+        .map(|(t, trial)| TrialFit { trial: trial.label(), measured: measured[t], initial: initial_moments[t], fitted: moments[t] })
+        .collect();
+    Ok(FunctionalFit {
+        method: settings.method,
+        initial,
+        fitted: estimate.fitted,
+        converged: estimate.converged,
+        solver_status: estimate.status,
+        iterations: estimate.iterations,
+        trials,
+        feasible_sets: estimate.feasible_sets,
+        hot_start: estimate.hot_start,
+        active_constraints: estimate.active_constraints,
+        single_causes,
+        sensitivity,
+        identifiability,
+        uncertainty: Uncertainty { noise_sd, noise_source, cramer_rao, sigma_points },
+    })
+}
+
+fn rest_references(knee: &KneeMomentModel, data: &DynamometryData) -> Vec<Option<f64>> {
+    knee.estimated_names().map(|name| data.reference_rest_fiber_length(name)).collect()
+}
+
+fn functional(
+    knee: &KneeMomentModel,
+    initial: &[MuscleParameters],
+    rest: &[Option<f64>],
+    measured: &[f64],
+    settings: &FitSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Estimate, FunctionalError> {
+    progress("Phase I: feasible sets");
+    let sets = feasible_sets(knee, rest, initial, &settings.feasible)?;
+    let start = hot_start(knee, &sets, initial, measured)?;
+    progress(&format!("hot start: largest moment error {:.3} N·m; Phase II", start.max_moment_error));
+    let solution = solve_phase_two(knee, &sets, &start.parameters, rest, measured, &settings.phase_two)?;
+    progress(&format!("Phase II: {:?} after {} iterations, largest moment error {:.3e} N·m", solution.status, solution.iterations, solution.max_moment_error));
+    Ok(Estimate {
+        converged: solution.converged(),
+        status: format!("{:?}", solution.status),
+        iterations: solution.iterations,
+        fitted: solution.parameters,
+        feasible_sets: sets,
+        hot_start: Some(start),
+        active_constraints: solution.active_constraints,
+    })
+}
+
+fn garner_pandy(
+    spec: &ModelSpec,
+    knee: &KneeMomentModel,
+    data: &DynamometryData,
+    initial: &[MuscleParameters],
+    measured: &[f64],
+    progress: &mut dyn FnMut(&str),
+) -> Result<Estimate, FunctionalError> {
+    progress("Garner & Pandy: least squares over [L̃m_min, L̃m_max]");
+    let range = JointRange::compute(spec, data)?;
+    let result = fit_garner_pandy(knee, &range, measured, initial, &GarnerPandyOptions::default())?;
+    Ok(Estimate {
+        fitted: result.parameters,
+        converged: result.status == LeastSquaresStatus::Converged,
+        status: format!("{:?}", result.status),
+        iterations: result.iterations,
+        feasible_sets: Vec::new(),
+        hot_start: None,
+        active_constraints: Vec::new(),
+    })
+}
+
+/// σ: given, else the subject file's (when positive), else √(RSS/(n − p)) of the fit (0 when
+/// the fit is exact or has no degrees of freedom: then a nominal 1 N·m scales the criteria).
+fn noise_level(settings: &FitSettings, data: &DynamometryData, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
+    if let Some(sd) = settings.noise_sd {
+        return (sd, "given");
+    }
+    if let Some(sd) = data.noise_sd.filter(|sd| *sd > 0.0) {
+        return (sd, "subject file");
+    }
+    match noise_from_residuals(residuals, parameters) {
+        Ok(sd) if sd > 1e-6 => (sd, "residuals"),
+        _ => (1.0, "nominal (exact fit: 1 N·m)"),
+    }
+}
+
+/// The Fisher information at the fit of [L_opt, L_ts] (first, the uncertainty's basis),
+/// [L_ts/L_opt, δ] (when Phase I gave the lines) and [L̃m_min, L̃m_max].
+fn identifiability(spec: &ModelSpec, knee: &KneeMomentModel, data: &DynamometryData, estimate: &Estimate, noise_sd: f64) -> Result<Vec<FisherInformation>, FunctionalError> {
+    let options = FisherOptions::new(noise_sd);
+    let mut all = vec![fisher_information(knee, &estimate.fitted, &Parameterisation::Hill, &options)?];
+    let lines: Vec<(f64, f64)> = estimate.feasible_sets.iter().map(|s| (s.line.c1, s.line.c2)).collect();
+    if !lines.is_empty() {
+        all.push(fisher_information(knee, &estimate.fitted, &Parameterisation::SlackRatioDelta(&lines), &options)?);
+    }
+    let range = JointRange::compute(spec, data)?;
+    all.push(fisher_information(knee, &estimate.fitted, &Parameterisation::GarnerPandy(&range), &options)?);
+    Ok(all)
+}
+
+/// Phase II re-solved from the fit at each sigma point of the moments; sd of (L_opt, L_ts).
+fn sigma_point_spread(
+    knee: &KneeMomentModel,
+    estimate: &Estimate,
+    rest: &[Option<f64>],
+    measured: &[f64],
+    noise_sd: f64,
+    settings: &FitSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Vec<[f64; 2]>, FunctionalError> {
+    let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::Parameters { muscle: "(all)".into(), problem: e.to_string() })?;
+    progress(&format!("sigma points: {} Phase II solves at σ = {noise_sd:.3} N·m", points.len()));
+    let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
+        let solution = solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?;
+        Ok(solution.parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())
+    };
+    let propagation = propagate_noise(&points, measured, noise_sd, refit).map_err(|e| FunctionalError::Parameters { muscle: "(all)".into(), problem: e.to_string() })?;
+    let sd = propagation.standard_deviations().ok_or_else(|| FunctionalError::Parameters {
+        muscle: "(all)".into(),
+        problem: format!("every one of the {} sigma-point fits failed", propagation.evaluated),
+    })?;
+    Ok(sd.chunks(2).map(|c| [c[0], c[1]]).collect())
+}
+
+/// Every trial angle within its model coordinate's range.
+fn check_coordinate_ranges(spec: &ModelSpec, data: &DynamometryData) -> Result<(), FunctionalError> {
+    for trial in &data.trials {
+        let angles = [(&data.columns.knee_angle, trial.knee_angle), (&data.columns.hip_flexion, trial.hip_flexion), (&data.columns.ankle_angle, trial.ankle_angle)];
+        for (name, value) in angles {
+            let Some(coordinate) = spec.coordinates().find(|c| &c.name == name) else { continue };
+            let [low, high] = coordinate.range;
+            if !(low - 1e-9..=high + 1e-9).contains(&value) {
+                return Err(FunctionalError::TrialValue {
+                    file: trial.file.clone(),
+                    line: trial.line,
+                    column: name.clone(),
+                    value: value.to_degrees(),
+                    expected: format!("an angle within the model's range of {name}, [{:.1}, {:.1}]°", low.to_degrees(), high.to_degrees()),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Per direction, distinct knee angles plus known rest lengths must reach the agonists'
+/// parameter count (2 each); otherwise those parameters are not identifiable.
+fn check_observations(knee: &KneeMomentModel, data: &DynamometryData) -> Result<(), FunctionalError> {
+    let estimated: Vec<&str> = knee.estimated_names().collect();
+    for direction in [Direction::Extension, Direction::Flexion] {
+        let agonists: Vec<&String> = data.agonists(direction).iter().filter(|a| estimated.contains(&a.as_str())).collect();
+        let mut angles: Vec<f64> = data.trials.iter().filter(|t| t.direction == direction).map(|t| t.knee_angle).collect();
+        angles.sort_by(f64::total_cmp);
+        angles.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        let rest = agonists.iter().filter(|a| data.reference_rest_fiber_length(a).is_some()).count();
+        let (observations, parameters) = (angles.len() + rest, 2 * agonists.len());
+        if observations < parameters {
+            let names: Vec<String> = agonists.iter().map(|a| format!("{a} (L_opt, L_ts)")).collect();
+            return Err(FunctionalError::NotIdentifiable {
+                folder: data.folder.clone(),
+                direction: direction.key(),
+                observations,
+                parameters,
+                unidentifiable: names.join(", "),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The measured moments must have the model's sign: Σ M_meas·M_model > 0 over the trials of
+/// each direction. Opposite signs in both directions mean the other sign convention.
+fn check_sign_convention(data: &DynamometryData, measured: &[f64], model: &[f64]) -> Result<(), FunctionalError> {
+    let agreement = |direction: Direction| -> f64 {
+        data.trials.iter().enumerate().filter(|(_, t)| t.direction == direction).map(|(k, _)| measured[k] * model[k]).sum()
+    };
+    if agreement(Direction::Extension) < 0.0 && agreement(Direction::Flexion) < 0.0 {
+        return Err(FunctionalError::SignConvention { folder: data.folder.clone(), column: data.columns.moment.clone(), coordinate: data.columns.knee_angle.clone() });
+    }
+    Ok(())
+}

@@ -1,0 +1,444 @@
+//! Phase II of functional scaling (thesis §6.2.3, eq. 6.15–6.24): the constrained NLP that
+//! moves the hot start to the (L_opt, L_ts) of every estimated muscle whose knee moments come
+//! closest to the measured ones in the ∞-norm, inside the feasible sets of Phase I.
+//!
+//! Variables, per estimated muscle j, ρ_j = L_ts/L_opt and δ_j (eq. 6.14, 1/m), so that
+//! 1/L_opt = c1·ρ + c2 + δ on the muscle's regression line; plus the epigraph t ≥ 0 of the
+//! ∞-norm (N·m). Objective t² = ‖M_mod − M_meas‖²_∞ (6.16 b), the ∞-norm written as the rows
+//! −t ≤ M_mod,k − M_meas,k ≤ t.
+//!
+//! Where the thesis keeps the normalised fiber lengths L̃m_jk as variables and relaxes the
+//! equilibrium by a slack s (6.15–6.17, for KNITRO in full space), we eliminate them: every
+//! evaluation solves each muscle's static equilibrium exactly (the same solver as the
+//! knee-moment model, so s = 0 and the clamped slack-fiber case of OpenSim is reproduced), and
+//! the constraints on L̃m become constraints on the solved states. That leaves 2n + 1
+//! variables, and each muscle's rows depend only on its own two, so a derivative costs one
+//! muscle's equilibria, not the whole model's. The constraints, on each muscle's agonist trials:
+//! - (6.18) tendon strain within [`PhaseTwoSettings::strain_range`];
+//! - (6.19) L̃m within [`PhaseTwoSettings::operating_range`];
+//! - (6.20) L̃m larger by [`PhaseTwoSettings::monotonic_gap`] where the path is longer, along a
+//!   chain of trials whose path lengths differ by at least 4 gaps × L_opt (closer trials would
+//!   make the gap a false claim);
+//! - (6.21–6.22) ρ and δ within the feasible set's bounds (variable bounds);
+//! - (6.23–6.24) optionally, the L_opt ratios of the vasti and of the gastrocnemii within
+//!   [`PhaseTwoSettings::group_ratio`]; off by default, since real subjects need not obey them;
+//! - optionally, the rest fiber length within ±[`PhaseTwoSettings::rest_tolerance`] of its
+//!   reference (the thesis uses the reference only in Phase I).
+
+use serde::Serialize;
+
+use super::error::FunctionalError;
+use super::feasible_set::MuscleFeasibleSet;
+use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
+use super::parameters::MuscleParameters;
+use crate::mechanics::muscle::FiberEquilibrium;
+use crate::solvers::nlp::{EvaluationError, NlpProblem, NlpSettings, NlpSolution, NlpStatus, Sqp};
+use nalgebra::DMatrix;
+
+/// Settings of the Phase II NLP.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhaseTwoSettings {
+    /// (6.19) normalised fiber length range in the agonist trials (thesis: 0.4–1.6).
+    pub operating_range: [f64; 2],
+    /// (6.18) tendon strain range in the agonist trials: the tendon at least slack and at most
+    /// twice the strain Millard's tendon has at F_max (0.049).
+    pub strain_range: [f64; 2],
+    /// (6.20) least L̃m difference between chained trials (thesis: 0.005).
+    pub monotonic_gap: f64,
+    /// (6.23–6.24) range of the vasti's and gastrocnemii's L_opt ratios (thesis: 0.9–1.1), or none.
+    pub group_ratio: Option<[f64; 2]>,
+    /// Rest fiber length within ± this fraction of its reference, or not constrained.
+    pub rest_tolerance: Option<f64>,
+    /// A fit whose largest moment error is below this (N·m) is exact: the solve stops there
+    /// (the data's printed precision is 10⁻⁶ N·m).
+    pub exact_fit: f64,
+    pub nlp: NlpSettings,
+}
+
+impl Default for PhaseTwoSettings {
+    fn default() -> Self {
+        PhaseTwoSettings {
+            operating_range: [0.4, 1.6],
+            strain_range: [0.0, 0.1],
+            monotonic_gap: 0.005,
+            group_ratio: None,
+            rest_tolerance: None,
+            exact_fit: 1e-5,
+            nlp: NlpSettings { tolerance: 1e-9, feasibility_tolerance: 1e-9, max_iterations: 300, ..NlpSettings::default() },
+        }
+    }
+}
+
+/// Muscles whose L_opt the thesis ties together (eq. 6.23–6.24), by OpenSim name without side.
+pub const RATIO_GROUPS: [&[&str]; 2] = [&["vas_int", "vas_lat", "vas_med"], &["med_gas", "lat_gas"]];
+
+/// The result of Phase II.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PhaseTwo {
+    /// How the SQP ended; only `Converged` (or `AcceptableStep`) is a fit to report as such.
+    #[serde(serialize_with = "status_name")]
+    pub status: NlpStatus,
+    pub parameters: Vec<MuscleParameters>,
+    /// (ρ, δ) per muscle at the solution.
+    pub transformed: Vec<(f64, f64)>,
+    /// Model moments at the solution, one per trial, N·m.
+    pub moments: Vec<f64>,
+    /// max_k |M_mod,k − M_meas,k|, N·m.
+    pub max_moment_error: f64,
+    pub iterations: usize,
+    /// The constraints (other than the ∞-norm rows) active at the solution, described.
+    pub active_constraints: Vec<String>,
+}
+
+impl PhaseTwo {
+    /// Whether the SQP reached a point it can vouch for.
+    pub fn converged(&self) -> bool {
+        matches!(self.status, NlpStatus::Converged | NlpStatus::ObjectiveTarget | NlpStatus::AcceptableStep)
+    }
+}
+
+fn status_name<S: serde::Serializer>(status: &NlpStatus, serializer: S) -> Result<S::Ok, S::Error> {
+    serializer.serialize_str(&format!("{status:?}"))
+}
+
+/// Solves Phase II from `start` (one per estimated muscle, e.g. the hot start) inside `sets`.
+/// `rest_references` gives each muscle's reference rest fiber length (m) if known.
+pub fn solve_phase_two(
+    model: &KneeMomentModel,
+    sets: &[MuscleFeasibleSet],
+    start: &[MuscleParameters],
+    rest_references: &[Option<f64>],
+    measured: &[f64],
+    settings: &PhaseTwoSettings,
+) -> Result<PhaseTwo, FunctionalError> {
+    let mut problem = PhaseTwoProblem::new(model, sets, start, rest_references, measured, settings)?;
+    let x0 = problem.start_point(start);
+    let nlp = NlpSettings { objective_target: settings.exact_fit.powi(2), ..settings.nlp };
+    let solution = Sqp::new(&problem, nlp)?.solve(&mut problem, &x0)?;
+    problem.result(&solution)
+}
+
+/// One muscle evaluated at its (ρ, δ): what its rows need.
+#[derive(Debug, Clone, Default)]
+struct MuscleEvaluation {
+    /// L_opt, m.
+    optimal: f64,
+    /// F_t·r per trial, N·m.
+    contributions: Vec<f64>,
+    /// L̃m per trial.
+    normalized: Vec<f64>,
+    /// Tendon strain per trial.
+    strain: Vec<f64>,
+    /// Rest fiber length, m (NaN when no reference constrains it).
+    rest: f64,
+}
+
+/// One constraint row.
+#[derive(Debug, Clone, Copy)]
+enum Row {
+    /// M_k − t ≤ M_meas,k.
+    Above(usize),
+    /// M_k + t ≥ M_meas,k.
+    Below(usize),
+    Operating { muscle: usize, trial: usize },
+    Strain { muscle: usize, trial: usize },
+    Monotonic { muscle: usize, longer: usize, shorter: usize },
+    Ratio { numerator: usize, denominator: usize },
+    Rest { muscle: usize, reference: f64 },
+}
+
+struct PhaseTwoProblem<'a> {
+    model: &'a KneeMomentModel,
+    sets: &'a [MuscleFeasibleSet],
+    template: Vec<MuscleParameters>,
+    workspace: EstimatedMuscles,
+    measured: &'a [f64],
+    rows: Vec<Row>,
+    bounds: (Vec<f64>, Vec<f64>),
+    settings: PhaseTwoSettings,
+    /// The evaluation at the last x (reused by the derivatives).
+    evaluations: Vec<MuscleEvaluation>,
+}
+
+impl<'a> PhaseTwoProblem<'a> {
+    fn new(
+        model: &'a KneeMomentModel,
+        sets: &'a [MuscleFeasibleSet],
+        start: &[MuscleParameters],
+        rest_references: &[Option<f64>],
+        measured: &'a [f64],
+        settings: &PhaseTwoSettings,
+    ) -> Result<PhaseTwoProblem<'a>, FunctionalError> {
+        let workspace = model.estimated_muscles(start)?;
+        let mut problem = PhaseTwoProblem {
+            model,
+            sets,
+            template: start.to_vec(),
+            workspace,
+            measured,
+            rows: Vec::new(),
+            bounds: (Vec::new(), Vec::new()),
+            settings: *settings,
+            evaluations: vec![MuscleEvaluation::default(); start.len()],
+        };
+        problem.build_rows(rest_references);
+        Ok(problem)
+    }
+
+    fn build_rows(&mut self, rest_references: &[Option<f64>]) {
+        let s = self.settings;
+        let mut rows = Vec::new();
+        let mut bounds = (Vec::new(), Vec::new());
+        let mut push = |row: Row, low: f64, high: f64| {
+            rows.push(row);
+            bounds.0.push(low);
+            bounds.1.push(high);
+        };
+        for (k, &y) in self.measured.iter().enumerate() {
+            push(Row::Above(k), f64::NEG_INFINITY, y);
+            push(Row::Below(k), y, f64::INFINITY);
+        }
+        for (e, &rest_reference) in rest_references.iter().enumerate() {
+            let chain = self.monotonic_chain(e);
+            for trial in chain.first().into_iter().chain(chain.last()).copied() {
+                push(Row::Operating { muscle: e, trial }, s.operating_range[0], s.operating_range[1]);
+                push(Row::Strain { muscle: e, trial }, s.strain_range[0], s.strain_range[1]);
+            }
+            for pair in chain.windows(2) {
+                push(Row::Monotonic { muscle: e, longer: pair[0], shorter: pair[1] }, s.monotonic_gap, f64::INFINITY);
+            }
+            if let (Some(tolerance), Some(reference)) = (s.rest_tolerance, rest_reference) {
+                push(Row::Rest { muscle: e, reference }, -tolerance, tolerance);
+            }
+        }
+        if let Some([low, high]) = s.group_ratio {
+            for (numerator, denominator) in self.ratio_pairs() {
+                push(Row::Ratio { numerator, denominator }, low, high);
+            }
+        }
+        self.rows = rows;
+        self.bounds = bounds;
+    }
+
+    /// The agonist trials of muscle `e` from the longest path to the shortest, keeping each
+    /// next one only when its path is at least 4 gaps × L_opt shorter than the last kept. The
+    /// first and last are the extremes of the muscle's working range.
+    fn monotonic_chain(&self, e: usize) -> Vec<usize> {
+        let muscle = self.model.estimated_knee_muscle(e);
+        let lengths = &muscle.mt_lengths;
+        let mut agonist: Vec<usize> = (0..self.model.trials().len()).filter(|&t| self.model.trials()[t].activation(&muscle.name).is_some()).collect();
+        agonist.sort_by(|&a, &b| lengths[b].total_cmp(&lengths[a]));
+        let spacing = 4.0 * self.settings.monotonic_gap * self.template[e].optimal_fiber_length;
+        let mut chain: Vec<usize> = agonist.first().copied().into_iter().collect();
+        for &t in agonist.iter().skip(1) {
+            if chain.last().is_some_and(|&last| lengths[last] - lengths[t] >= spacing) {
+                chain.push(t);
+            }
+        }
+        chain
+    }
+
+    /// Pairs of estimated muscles in one of [`RATIO_GROUPS`].
+    fn ratio_pairs(&self) -> Vec<(usize, usize)> {
+        let base = |name: &str| name.trim_end_matches("_r").trim_end_matches("_l").to_string();
+        let names: Vec<String> = self.model.estimated_names().map(base).collect();
+        let mut pairs = Vec::new();
+        for group in RATIO_GROUPS {
+            let members: Vec<usize> = group.iter().filter_map(|g| names.iter().position(|n| n == g)).collect();
+            for (i, &a) in members.iter().enumerate() {
+                pairs.extend(members[i + 1..].iter().map(|&b| (a, b)));
+            }
+        }
+        pairs
+    }
+
+    fn start_point(&self, start: &[MuscleParameters]) -> Vec<f64> {
+        let (lower, upper) = self.bounds();
+        let mut x: Vec<f64> = start
+            .iter()
+            .zip(self.sets)
+            .flat_map(|(p, set)| [p.tendon_slack_length / p.optimal_fiber_length, set.line.delta(p.optimal_fiber_length, p.tendon_slack_length)])
+            .collect();
+        x.push(0.0);
+        for ((v, l), u) in x.iter_mut().zip(&lower).zip(&upper) {
+            *v = v.clamp(*l, *u);
+        }
+        if let Ok(moments) = self.model.moments(&self.parameters(&x)) {
+            x[self.t_index()] = max_error(&moments, self.measured);
+        }
+        x
+    }
+
+    fn t_index(&self) -> usize {
+        2 * self.template.len()
+    }
+
+    /// The muscles' parameters at x.
+    fn parameters(&self, x: &[f64]) -> Vec<MuscleParameters> {
+        (0..self.template.len()).map(|e| self.muscle_parameters(e, x[2 * e], x[2 * e + 1])).collect()
+    }
+
+    fn muscle_parameters(&self, e: usize, ratio: f64, delta: f64) -> MuscleParameters {
+        let (optimal, slack) = self.sets[e].line.lengths(ratio, delta);
+        MuscleParameters { optimal_fiber_length: optimal, tendon_slack_length: slack, ..self.template[e].clone() }
+    }
+
+    fn evaluate_muscle(&mut self, e: usize, ratio: f64, delta: f64) -> Result<MuscleEvaluation, FunctionalError> {
+        let parameters = self.muscle_parameters(e, ratio, delta);
+        self.workspace.set(self.model, e, &parameters)?;
+        let k = self.model.estimated_knee_index(e);
+        let arms = &self.model.estimated_knee_muscle(e).moment_arms;
+        let states: Vec<FiberEquilibrium> =
+            (0..self.model.trials().len()).map(|t| self.model.state(k, self.workspace.muscle(e), t)).collect::<Result<_, _>>()?;
+        let needs_rest = self.rows.iter().any(|r| matches!(r, Row::Rest { muscle, .. } if *muscle == e));
+        let rest = if needs_rest { self.model.rest_state(e, &self.workspace)?.fiber_length } else { f64::NAN };
+        Ok(MuscleEvaluation {
+            optimal: parameters.optimal_fiber_length,
+            contributions: states.iter().zip(arms).map(|(s, r)| s.tendon_force * r).collect(),
+            normalized: states.iter().map(|s| s.normalized_fiber_length).collect(),
+            strain: states.iter().map(|s| s.tendon_strain).collect(),
+            rest,
+        })
+    }
+
+    fn moment(&self, trial: usize) -> f64 {
+        self.model.fixed_moments()[trial] + self.evaluations.iter().map(|m| m.contributions[trial]).sum::<f64>()
+    }
+
+    fn row_value(&self, row: Row, t: f64) -> f64 {
+        let m = &self.evaluations;
+        match row {
+            Row::Above(k) => self.moment(k) - t,
+            Row::Below(k) => self.moment(k) + t,
+            Row::Operating { muscle, trial } => m[muscle].normalized[trial],
+            Row::Strain { muscle, trial } => m[muscle].strain[trial],
+            Row::Monotonic { muscle, longer, shorter } => m[muscle].normalized[longer] - m[muscle].normalized[shorter],
+            Row::Ratio { numerator, denominator } => m[numerator].optimal / m[denominator].optimal,
+            Row::Rest { muscle, reference } => m[muscle].rest / reference - 1.0,
+        }
+    }
+
+    fn fill_rows(&self, t: f64, constraints: &mut [f64]) {
+        for (c, &row) in constraints.iter_mut().zip(&self.rows) {
+            *c = self.row_value(row, t);
+        }
+    }
+
+    fn describe(&self, row: Row, value: f64) -> Option<String> {
+        let name = |e: usize| self.model.estimated_knee_muscle(e).name.clone();
+        let trial = |t: usize| self.model.trials()[t].label();
+        Some(match row {
+            Row::Above(_) | Row::Below(_) => return None,
+            Row::Operating { muscle, trial: k } => format!("{} normalised fiber length {value:.4} in {} (eq. 6.19)", name(muscle), trial(k)),
+            Row::Strain { muscle, trial: k } => format!("{} tendon strain {value:.4} in {} (eq. 6.18)", name(muscle), trial(k)),
+            Row::Monotonic { muscle, longer, shorter } => {
+                format!("{} fiber length step {value:.4} from {} to {} (eq. 6.20)", name(muscle), trial(longer), trial(shorter))
+            }
+            Row::Ratio { numerator, denominator } => format!("L_opt ratio {}/{} = {value:.4} (eq. 6.23–6.24)", name(numerator), name(denominator)),
+            Row::Rest { muscle, .. } => format!("{} rest fiber length off its reference by {:.2} %", name(muscle), 100.0 * value),
+        })
+    }
+
+    fn result(&mut self, solution: &NlpSolution) -> Result<PhaseTwo, FunctionalError> {
+        let parameters = self.parameters(&solution.x);
+        let moments = self.model.moments(&parameters)?;
+        let mut constraints = vec![0.0; self.rows.len()];
+        let evaluated = self.evaluate(&solution.x, &mut constraints).is_ok();
+        let active_constraints = if evaluated {
+            self.rows
+                .iter()
+                .zip(&constraints)
+                .zip(&solution.multipliers.constraints)
+                .filter(|(_, &lambda)| lambda.abs() > 1e-9)
+                .filter_map(|((&row, &value), _)| self.describe(row, value))
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Ok(PhaseTwo {
+            status: solution.status,
+            transformed: (0..self.template.len()).map(|e| (solution.x[2 * e], solution.x[2 * e + 1])).collect(),
+            max_moment_error: max_error(&moments, self.measured),
+            moments,
+            parameters,
+            iterations: solution.iterations,
+            active_constraints,
+        })
+    }
+}
+
+fn max_error(moments: &[f64], measured: &[f64]) -> f64 {
+    moments.iter().zip(measured).map(|(m, y)| (m - y).abs()).fold(0.0, f64::max)
+}
+
+fn evaluation_error(error: FunctionalError) -> EvaluationError {
+    EvaluationError::new(error.to_string())
+}
+
+impl NlpProblem for PhaseTwoProblem<'_> {
+    fn dimension(&self) -> usize {
+        2 * self.template.len() + 1
+    }
+
+    fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        let mut lower = Vec::with_capacity(self.dimension());
+        let mut upper = Vec::with_capacity(self.dimension());
+        for set in self.sets {
+            lower.extend([set.ratio_bounds[0], -set.delta_max]);
+            upper.extend([set.ratio_bounds[1], set.delta_max]);
+        }
+        lower.push(0.0);
+        upper.push(f64::INFINITY);
+        (lower, upper)
+    }
+
+    fn constraint_bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        self.bounds.clone()
+    }
+
+    fn evaluate(&mut self, x: &[f64], constraints: &mut [f64]) -> Result<f64, EvaluationError> {
+        for e in 0..self.template.len() {
+            self.evaluations[e] = self.evaluate_muscle(e, x[2 * e], x[2 * e + 1]).map_err(evaluation_error)?;
+        }
+        let t = x[self.t_index()];
+        self.fill_rows(t, constraints);
+        Ok(t * t)
+    }
+
+    /// Central differences per muscle: each of its two variables moves only its own rows'
+    /// inputs, so only its equilibria are recomputed; t enters linearly (exact).
+    fn derivatives(&mut self, x: &[f64], gradient: &mut [f64], jacobian: &mut DMatrix<f64>) -> Result<(), EvaluationError> {
+        let mut base = vec![0.0; self.rows.len()];
+        self.evaluate(x, &mut base)?;
+        let t = x[self.t_index()];
+        let (mut plus, mut minus) = (vec![0.0; self.rows.len()], vec![0.0; self.rows.len()]);
+        for i in 0..self.t_index() {
+            let (e, h) = (i / 2, 1e-6 * x[i].abs().max(1.0));
+            let kept = self.evaluations[e].clone();
+            let shifted = |sign: f64, out: &mut [f64], this: &mut Self| -> Result<(), EvaluationError> {
+                let (mut ratio, mut delta) = (x[2 * e], x[2 * e + 1]);
+                if i % 2 == 0 { ratio += sign * h } else { delta += sign * h }
+                this.evaluations[e] = this.evaluate_muscle(e, ratio, delta).map_err(evaluation_error)?;
+                this.fill_rows(t, out);
+                Ok(())
+            };
+            shifted(1.0, &mut plus, self)?;
+            shifted(-1.0, &mut minus, self)?;
+            self.evaluations[e] = kept;
+            for (r, (p, m)) in plus.iter().zip(&minus).enumerate() {
+                jacobian[(r, i)] = (p - m) / (2.0 * h);
+            }
+        }
+        let ti = self.t_index();
+        for (r, row) in self.rows.iter().enumerate() {
+            jacobian[(r, ti)] = match row {
+                Row::Above(_) => -1.0,
+                Row::Below(_) => 1.0,
+                _ => 0.0,
+            };
+        }
+        gradient.fill(0.0);
+        gradient[ti] = 2.0 * t;
+        Ok(())
+    }
+}

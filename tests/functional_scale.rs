@@ -1,0 +1,186 @@
+//! `osim-tune scale MODEL TRIALS/` with a dynamometry folder (functional scaling): the written
+//! model differs from the input only in the fitted L_opt/L_ts and reproduces the measured
+//! moments; a hidden single-muscle change is named and recovered; bad input is refused.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{fixture, osim_tune};
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{DynamometryData, KneeMomentModel, MuscleParameters, TrialOptions};
+use rand::{Rng, SeedableRng};
+use serde_json::Value;
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+fn base_model() -> PathBuf {
+    fixture("golden/scale/subject01_simbody.osim")
+}
+
+fn read_knee(model: &Path, folder: &Path) -> (DynamometryData, KneeMomentModel) {
+    let data = DynamometryData::read(folder, &TrialOptions::default()).unwrap();
+    let spec = ModelSpec::read(&OsimDocument::read(model).unwrap()).unwrap();
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    (data, knee)
+}
+
+/// train01's set5 trials copied to `dir` (subject.json listing only set5), with `edit` applied
+/// to each data row's cells (column names given) and to the subject JSON.
+fn set5_copy(dir: &Path, edit_row: impl Fn(&[String], &mut [String], &str, usize), edit_subject: impl Fn(&mut Value)) {
+    let source = fixture("dynamometry/train01");
+    let mut subject: Value = serde_json::from_str(&std::fs::read_to_string(source.join("subject.json")).unwrap()).unwrap();
+    subject["trial_files"] = serde_json::json!({"set5": subject["trial_files"]["set5"].clone()});
+    edit_subject(&mut subject);
+    std::fs::write(dir.join("subject.json"), serde_json::to_string_pretty(&subject).unwrap()).unwrap();
+    for file in ["set5_extension.mot", "set5_flexion.mot"] {
+        let text = std::fs::read_to_string(source.join(file)).unwrap();
+        let mut lines: Vec<String> = text.lines().map(String::from).collect();
+        let header = lines.iter().position(|l| l.trim() == "endheader").unwrap() + 1;
+        let columns: Vec<String> = lines[header].split('\t').map(|c| c.trim().to_string()).collect();
+        for (row, line) in lines[header + 1..].iter_mut().enumerate() {
+            let mut cells: Vec<String> = line.split('\t').map(String::from).collect();
+            edit_row(&columns, &mut cells, file, row);
+            *line = cells.join("\t");
+        }
+        std::fs::write(dir.join(file), lines.join("\n") + "\n").unwrap();
+    }
+}
+
+/// A subject whose moments and rest fiber lengths come from the base model with `truth`
+/// parameters (our engine), angles and activations those of train01 set5.
+fn synthetic_subject(dir: &Path, truth: &[MuscleParameters]) {
+    let (data, knee) = read_knee(&base_model(), &fixture("dynamometry/train01"));
+    let set5: Vec<usize> = (0..data.trials.len()).filter(|&t| data.trials[t].set == "set5").collect();
+    let moments = knee.moments(truth).unwrap();
+    let rest = knee.rest_states(&knee.estimated_muscles(truth).unwrap()).unwrap();
+    let moment_of = |file: &str, row: usize| {
+        let t = set5.iter().copied().filter(|&t| data.trials[t].file.ends_with(file)).nth(row).unwrap();
+        moments[t]
+    };
+    set5_copy(
+        dir,
+        |columns, cells, file, row| {
+            let k = columns.iter().position(|c| c == "knee_moment").unwrap();
+            cells[k] = format!("{:.6}", moment_of(file, row));
+        },
+        |subject| {
+            for (p, state) in truth.iter().zip(&rest) {
+                subject["reference_rest_fiber_length_m"][&p.name] = state.fiber_length.into();
+            }
+        },
+    );
+}
+
+fn run_scale(folder: &Path, output: &Path, extra: &[&str]) -> (i32, String, String) {
+    let model = base_model();
+    let mut arguments = vec!["scale", s(&model), s(folder), "-o", s(output)];
+    arguments.extend_from_slice(extra);
+    osim_tune(&arguments)
+}
+
+#[test]
+fn writes_only_the_fitted_lengths_and_reproduces_the_moments() {
+    let dir = tempfile::tempdir().unwrap();
+    let (output, report) = (dir.path().join("out/train01.osim"), dir.path().join("out/report.json"));
+    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &["--sets", "set5", "--report", s(&report)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("Phase I feasible sets") && stdout.contains("identifiability"), "{stdout}");
+    let model = base_model();
+    let (code, differences, _) = osim_tune(&["diff", s(&model), s(&output), "--json"]);
+    assert_eq!(code, 1);
+    let differences: Value = serde_json::from_str(&differences).unwrap();
+    let estimated = ["rect_fem_r", "vas_int_r", "vas_lat_r", "vas_med_r", "bifemlh_r", "lat_gas_r", "med_gas_r", "semimem_r"];
+    let differences = differences["differences"].as_array().unwrap();
+    assert!(differences.len() >= 8, "{differences:?}");
+    for difference in differences {
+        let path = difference["path"].as_str().unwrap();
+        let parts: Vec<&str> = path.split('/').collect();
+        assert!(parts.len() == 4 && parts[1] == "forceset" && estimated.contains(&parts[2]), "{path}");
+        assert!(["optimal_fiber_length", "tendon_slack_length"].contains(&parts[3]), "{path}");
+    }
+    // The written model, evaluated afresh, reproduces the measured moments (noise-free data).
+    let folder = tempfile::tempdir().unwrap();
+    set5_copy(folder.path(), |_, _, _, _| {}, |_| {});
+    let (data, knee) = read_knee(&output, folder.path());
+    let moments = knee.moments(&knee.nominal_parameters()).unwrap();
+    let worst = moments.iter().zip(data.measured_moments()).map(|(m, y)| (m - y).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-4, "largest moment error of the written model {worst} N·m");
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(report["converged"], true);
+    assert_eq!(report["trials"].as_array().unwrap().len(), 10);
+}
+
+#[test]
+fn names_and_recovers_a_hidden_tendon_slack_change() {
+    let (_, knee) = read_knee(&base_model(), &fixture("dynamometry/train01"));
+    let mut truth = knee.nominal_parameters();
+    let mut rng = rand::rngs::StdRng::seed_from_u64(0x05ca1e);
+    let hidden = rng.random_range(0..truth.len());
+    let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    truth[hidden].tendon_slack_length *= 1.0 + sign * rng.random_range(0.02..0.06);
+    let dir = tempfile::tempdir().unwrap();
+    synthetic_subject(dir.path(), &truth);
+    let output = dir.path().join("fitted.osim");
+    let (code, stdout, stderr) = run_scale(dir.path(), &output, &["--json"]);
+    assert!(code == 0 || code == 1, "{stderr}");
+    let report: Value = serde_json::from_str(&stdout).unwrap();
+    let best = &report["single_causes"][0];
+    assert_eq!(best["muscle"], truth[hidden].name.as_str(), "{best}");
+    assert_eq!(best["parameter"], "TendonSlackLength");
+    let recovered = best["fitted"].as_f64().unwrap() / truth[hidden].tendon_slack_length - 1.0;
+    assert!(recovered.abs() < 0.01, "recovered L_ts off by {:.3} %", 100.0 * recovered);
+    let runner_up = report["single_causes"][1]["rms_after"].as_f64().unwrap();
+    assert!(best["rms_after"].as_f64().unwrap() < 0.01 * runner_up, "the named cause must explain far more than the next: {best} vs {runner_up}");
+}
+
+fn refused(edit_row: impl Fn(&[String], &mut [String], &str, usize), edit_subject: impl Fn(&mut Value)) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    set5_copy(dir.path(), edit_row, edit_subject);
+    let output = dir.path().join("out.osim");
+    let (code, _, stderr) = run_scale(dir.path(), &output, &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(!output.exists(), "no model may be written");
+    stderr
+}
+
+fn set_cell(columns: &[String], cells: &mut [String], column: &str, value: impl Fn(f64) -> f64) {
+    let k = columns.iter().position(|c| c == column).unwrap();
+    cells[k] = format!("{:.6}", value(cells[k].trim().parse::<f64>().unwrap()));
+}
+
+#[test]
+fn refuses_moments_with_the_other_sign_convention() {
+    let stderr = refused(|columns, cells, _, _| set_cell(columns, cells, "knee_moment", |m| -m), |_| {});
+    assert!(stderr.contains("opposite sign") && stderr.contains("knee_moment"), "{stderr}");
+}
+
+#[test]
+fn refuses_angles_outside_the_coordinate_range() {
+    let stderr = refused(|columns, cells, file, row| if file == "set5_flexion.mot" && row == 2 { set_cell(columns, cells, "knee_angle_r", |_| -150.0) }, |_| {});
+    assert!(stderr.contains("set5_flexion.mot:") && stderr.contains("knee_angle_r") && stderr.contains("range"), "{stderr}");
+}
+
+#[test]
+fn refuses_too_few_angles_and_says_what_is_not_identifiable() {
+    let stderr = refused(|columns, cells, _, row| set_cell(columns, cells, "knee_angle_r", |a| if row < 3 { -90.0 } else { a }), |subject| {
+        subject["reference_rest_fiber_length_m"] = serde_json::json!({});
+    });
+    assert!(stderr.contains("not identifiable") && stderr.contains("rect_fem_r (L_opt, L_ts)"), "{stderr}");
+}
+
+#[test]
+fn refuses_a_model_that_lacks_an_estimated_muscle() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(base_model()).unwrap().replace("name=\"rect_fem_r\"", "name=\"rect_fem_x\"");
+    let model = dir.path().join("renamed.osim");
+    std::fs::write(&model, text).unwrap();
+    let output = dir.path().join("out.osim");
+    let (code, _, stderr) = osim_tune(&["scale", s(&model), s(&fixture("dynamometry/train01")), "-o", s(&output)]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("renamed.osim") && stderr.contains("rect_fem_r"), "{stderr}");
+    assert!(!output.exists());
+}
