@@ -184,3 +184,48 @@ fn refuses_a_model_that_lacks_an_estimated_muscle() {
     assert!(stderr.contains("renamed.osim") && stderr.contains("rect_fem_r"), "{stderr}");
     assert!(!output.exists());
 }
+
+/// train03 carries σ = 5 N·m noise: the min–max fit cannot be exact, and its solve ends where the
+/// largest error stops changing (ObjectiveStalled) or at a KKT point — a converged fit, written.
+#[test]
+fn fits_noisy_moments_and_reports_the_noise_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("train03.osim");
+    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train03"), &output, &["--sets", "set5", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let report: Value = serde_json::from_str(&stdout).unwrap();
+    assert!(["Converged", "ObjectiveStalled"].contains(&report["solver_status"].as_str().unwrap()), "{}", report["solver_status"]);
+    assert_eq!(report["uncertainty"]["noise_source"], "subject file");
+    assert_eq!(report["uncertainty"]["noise_sd"], 5.0);
+    let worst = report["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).abs()).fold(0.0, f64::max);
+    let hot = report["hot_start"]["max_moment_error"].as_f64().unwrap();
+    assert!(worst < hot && worst < 3.0 * 5.0, "fitted max error {worst} N·m, hot start {hot} N·m");
+    assert!(output.exists());
+}
+
+/// A slice of the xtask initial-guess study: three of the thesis' 81 guesses, each fitted
+/// without failure (the full study and its accuracy table are in `cargo xtask validate`).
+#[test]
+fn initial_guess_study_slice_fits_every_guess() {
+    use osim_tune::validation::functional::{initial_guess_study, thesis_initial_guesses, StudySubject};
+    use osim_tune::tuning::functional::{FitSettings, SetSelection};
+    let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() };
+    let data = DynamometryData::read(&fixture("dynamometry/train01"), &options).unwrap();
+    let spec = ModelSpec::read(&OsimDocument::read(&base_model()).unwrap()).unwrap();
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    let truth_file: Value = serde_json::from_str(&std::fs::read_to_string(fixture("dynamometry/train01/ground_truth.json")).unwrap()).unwrap();
+    let truth: Vec<MuscleParameters> = knee
+        .nominal_parameters()
+        .into_iter()
+        .map(|p| {
+            let t = &truth_file["true_parameters"][&p.name];
+            MuscleParameters { optimal_fiber_length: t["optimal_fiber_length"].as_f64().unwrap(), tendon_slack_length: t["tendon_slack_length"].as_f64().unwrap(), ..p }
+        })
+        .collect();
+    let guesses = thesis_initial_guesses(&truth, &data, 6);
+    assert_eq!(guesses.len(), 81);
+    let subject = StudySubject { spec: &spec, knee: &knee, data: &data, truth: &truth };
+    let slice: Vec<Vec<MuscleParameters>> = guesses.into_iter().step_by(40).collect();
+    let result = initial_guess_study(&subject, &slice, &FitSettings::default());
+    assert_eq!((result.failed, result.errors.len()), (0, slice.len()), "{:?}", result.first_failure);
+}

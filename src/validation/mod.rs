@@ -1,6 +1,7 @@
 //! Agreement with OpenSim: comparisons of our mechanics against golden tables that OpenSim 4.6
 //! produced, used by the conformance tests and `cargo xtask validate`.
 
+pub mod functional;
 mod geometry;
 mod golden;
 pub mod ik;

@@ -33,7 +33,8 @@ pub fn run() -> ExitCode {
     });
     let ik = crate::bench_ik::run();
     let scale = crate::bench_scale::run();
-    match geometry.and(equilibrium).and(ik).and(scale) {
+    let functional = crate::bench_functional::run();
+    match geometry.and(equilibrium).and(ik).and(scale).and(functional) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

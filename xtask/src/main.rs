@@ -5,7 +5,9 @@
 
 mod bench;
 mod bench_scale;
+mod bench_functional;
 mod bench_ik;
+mod functional;
 mod fuzz;
 mod geometry;
 mod ik;

@@ -51,6 +51,13 @@ pub struct NlpSettings {
     /// `fstopval`): for problems whose optimal value is known, e.g. 0 for a fit to exact data,
     /// where the KKT test degenerates. −∞: never.
     pub objective_target: f64,
+    /// A feasible iterate whose objective changed by at most `stall_tolerance` · max(1, |f|)
+    /// over the last `stall_iterations` iterations ends the solve as `ObjectiveStalled`
+    /// (KNITRO's `ftol`/`ftol_iters`): for degenerate problems (non-unique minimisers, e.g. a
+    /// min–max fit whose parameters are not all identifiable) where the KKT test is never met.
+    /// 0: never.
+    pub stall_iterations: usize,
+    pub stall_tolerance: f64,
     /// clarabel's gap and feasibility tolerance for the QP subproblems.
     pub qp_tolerance: f64,
     /// clarabel's iteration limit per QP.
@@ -72,6 +79,8 @@ impl Default for NlpSettings {
             max_backtracks: 40,
             second_order_correction: true,
             objective_target: f64::NEG_INFINITY,
+            stall_iterations: 0,
+            stall_tolerance: 1e-10,
             qp_tolerance: 1e-10,
             qp_max_iterations: 200,
         }
@@ -92,6 +101,7 @@ impl NlpSettings {
             (self.armijo > 0.0 && self.armijo < 0.5, "armijo"),
             (self.max_backtracks > 0, "max_backtracks"),
             (!self.objective_target.is_nan() && self.objective_target != f64::INFINITY, "objective_target"),
+            (positive(self.stall_tolerance), "stall_tolerance"),
             (positive(self.qp_tolerance), "qp_tolerance"),
             (self.qp_max_iterations > 0, "qp_max_iterations"),
         ]

@@ -7,6 +7,8 @@ pub enum NlpStatus {
     Converged,
     /// A feasible iterate reached `objective_target`.
     ObjectiveTarget,
+    /// Feasible, and the objective stalled over `stall_iterations` iterations.
+    ObjectiveStalled,
     /// Feasible, and the QP step is below `step_tolerance`, but the KKT test is not met.
     AcceptableStep,
     /// `max_iterations` steps taken.

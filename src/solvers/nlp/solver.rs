@@ -237,10 +237,20 @@ impl Sqp {
         if feasible && self.current.objective <= settings.objective_target {
             return Some(NlpStatus::ObjectiveTarget);
         }
+        if feasible && self.stalled(progress) {
+            return Some(NlpStatus::ObjectiveStalled);
+        }
         if feasible && step.d.amax() <= settings.step_tolerance * self.current.x.amax().max(1.0) {
             return Some(NlpStatus::AcceptableStep);
         }
         (progress.iterations >= settings.max_iterations).then_some(NlpStatus::MaxIterations)
+    }
+
+    /// Whether f moved by at most `stall_tolerance` · max(1, |f|) over `stall_iterations` steps.
+    fn stalled(&self, progress: &Progress) -> bool {
+        let n = self.settings.stall_iterations;
+        let f = self.current.objective;
+        n > 0 && progress.history.len() > n && (progress.history[progress.history.len() - 1 - n].objective - f).abs() <= self.settings.stall_tolerance * f.abs().max(1.0)
     }
 
     /// The line search along `search.step` (second-order correction only for an optimality

@@ -145,15 +145,34 @@ impl FunctionalFit {
     }
 }
 
-/// The fit's intermediate result before the analyses.
-struct Estimate {
-    fitted: Vec<MuscleParameters>,
-    converged: bool,
-    status: String,
-    iterations: usize,
-    feasible_sets: Vec<MuscleFeasibleSet>,
-    hot_start: Option<HotStart>,
-    active_constraints: Vec<String>,
+/// The estimator's result, before the analyses.
+#[derive(Debug, Clone)]
+pub struct Estimate {
+    pub fitted: Vec<MuscleParameters>,
+    pub converged: bool,
+    pub status: String,
+    pub iterations: usize,
+    /// Phase I's sets (empty for Garner & Pandy).
+    pub feasible_sets: Vec<MuscleFeasibleSet>,
+    pub hot_start: Option<HotStart>,
+    pub active_constraints: Vec<String>,
+}
+
+/// The estimator of `settings.method` alone, from `initial` (one per estimated muscle) on
+/// `measured` (one per trial), without the input checks and analyses of [`fit`].
+pub fn estimate(
+    spec: &ModelSpec,
+    knee: &KneeMomentModel,
+    data: &DynamometryData,
+    initial: &[MuscleParameters],
+    measured: &[f64],
+    settings: &FitSettings,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Estimate, FunctionalError> {
+    match settings.method {
+        FitMethod::Functional => functional(knee, initial, &rest_references(knee, data), measured, settings, progress),
+        FitMethod::GarnerPandy => garner_pandy(spec, knee, data, initial, measured, progress),
+    }
 }
 
 /// Checks the trials against the model, fits and analyses. `progress` hears each stage.
@@ -173,10 +192,7 @@ pub fn fit(
     let rest = rest_references(knee, data);
     progress("single causes");
     let single_causes = single_causes(knee, &initial, &measured)?;
-    let estimate = match settings.method {
-        FitMethod::Functional => functional(knee, &initial, &rest, &measured, settings, progress)?,
-        FitMethod::GarnerPandy => garner_pandy(spec, knee, data, &initial, &measured, progress)?,
-    };
+    let estimate = estimate(spec, knee, data, &initial, &measured, settings, progress)?;
     let moments = knee.moments(&estimate.fitted)?;
     progress("sensitivity and identifiability");
     let sensitivity = SensitivityTable::compute(knee, &estimate.fitted, DEFAULT_RELATIVE_STEP)?;

@@ -64,7 +64,7 @@ impl Default for PhaseTwoSettings {
             group_ratio: None,
             rest_tolerance: None,
             exact_fit: 1e-5,
-            nlp: NlpSettings { tolerance: 1e-9, feasibility_tolerance: 1e-9, max_iterations: 300, ..NlpSettings::default() },
+            nlp: NlpSettings { tolerance: 1e-9, feasibility_tolerance: 1e-9, max_iterations: 300, stall_iterations: 20, stall_tolerance: 1e-9, ..NlpSettings::default() },
         }
     }
 }
@@ -91,9 +91,11 @@ pub struct PhaseTwo {
 }
 
 impl PhaseTwo {
-    /// Whether the SQP reached a point it can vouch for.
+    /// Whether the SQP reached a point it can vouch for: KKT met, an exact fit, or a max error
+    /// that stopped changing (the min–max optimum of a fit whose parameters are not unique —
+    /// the report's identifiability says which).
     pub fn converged(&self) -> bool {
-        matches!(self.status, NlpStatus::Converged | NlpStatus::ObjectiveTarget | NlpStatus::AcceptableStep)
+        matches!(self.status, NlpStatus::Converged | NlpStatus::ObjectiveTarget | NlpStatus::ObjectiveStalled | NlpStatus::AcceptableStep)
     }
 }
 

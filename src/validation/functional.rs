@@ -1,0 +1,138 @@
+//! Accuracy studies of functional scaling (issue 6, thesis §6.2.4) on a dynamometry subject
+//! whose true parameters are known: the thesis' 81 initial-guess combinations on noise-free
+//! moments, and repeated fits to moments with Gaussian noise, for our method and for Garner &
+//! Pandy. Used by `cargo xtask validate` (full) and the tests (a slice).
+
+use rand::{Rng, SeedableRng};
+use rand_distr::{Distribution, Normal};
+
+use crate::model::ModelSpec;
+use crate::tuning::functional::{estimate, Direction, DynamometryData, FitSettings, FunctionalError, KneeMomentModel, MuscleParameters};
+
+/// A subject: model, trials and the truth the data were generated with.
+pub struct StudySubject<'a> {
+    pub spec: &'a ModelSpec,
+    pub knee: &'a KneeMomentModel,
+    pub data: &'a DynamometryData,
+    /// One per estimated muscle, in order.
+    pub truth: &'a [MuscleParameters],
+}
+
+/// Relative errors (fitted/true − 1) of one fit, per muscle [L_opt, L_ts].
+pub type FitErrors = Vec<[f64; 2]>;
+
+/// The outcome of a series of fits.
+#[derive(Debug, Clone, Default)]
+pub struct StudyResult {
+    /// One entry per fit that returned parameters.
+    pub errors: Vec<FitErrors>,
+    /// Fits that did not converge (their parameters are still in `errors`).
+    pub not_converged: usize,
+    /// Fits that failed outright, with the first message.
+    pub failed: usize,
+    pub first_failure: Option<String>,
+}
+
+/// Per-muscle statistics of a [`StudyResult`]: [L_opt, L_ts] each.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MuscleStatistics {
+    pub mean: [f64; 2],
+    pub sd: [f64; 2],
+    pub max_abs: [f64; 2],
+    /// Share of fits within 1 % and within 2 % of the truth.
+    pub within_1: [f64; 2],
+    pub within_2: [f64; 2],
+}
+
+impl StudyResult {
+    /// Statistics of muscle `e` over the fits.
+    pub fn statistics(&self, e: usize) -> MuscleStatistics {
+        let n = self.errors.len().max(1) as f64;
+        let column = |i: usize| self.errors.iter().map(move |f| f[e][i]);
+        let mean = [0, 1].map(|i| column(i).sum::<f64>() / n);
+        let sd = [0, 1].map(|i| (column(i).map(|v| (v - mean[i]).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt());
+        let max_abs = [0, 1].map(|i| column(i).fold(0.0, |m, v| f64::max(m, v.abs())));
+        let share = |limit: f64| [0, 1].map(|i| column(i).filter(|v| v.abs() <= limit).count() as f64 / n);
+        MuscleStatistics { mean, sd, max_abs, within_1: share(0.01), within_2: share(0.02) }
+    }
+
+    fn record(&mut self, outcome: Result<(FitErrors, bool), FunctionalError>) {
+        match outcome {
+            Ok((errors, converged)) => {
+                self.errors.push(errors);
+                self.not_converged += usize::from(!converged);
+            }
+            Err(error) => {
+                self.failed += 1;
+                self.first_failure.get_or_insert_with(|| error.to_string());
+            }
+        }
+    }
+}
+
+/// The thesis' initial guesses: per muscle group (the extension and the flexion agonists) each
+/// muscle takes one of [truth, (75 % L_opt, 125 % L_ts), (125 % L_opt, 75 % L_ts)] — 3⁴ = 81
+/// combinations for groups of four, the same digits for both groups — and every value gets
+/// ±5 % uniform jitter (seeded).
+pub fn thesis_initial_guesses(truth: &[MuscleParameters], data: &DynamometryData, seed: u64) -> Vec<Vec<MuscleParameters>> {
+    const FACTORS: [(f64, f64); 3] = [(1.0, 1.0), (0.75, 1.25), (1.25, 0.75)];
+    let position = |name: &str| {
+        [Direction::Extension, Direction::Flexion].iter().find_map(|&d| data.agonists(d).iter().filter(|a| truth.iter().any(|t| &t.name == *a)).position(|a| a == name))
+    };
+    let digits: Vec<usize> = truth.iter().map(|t| position(&t.name).unwrap_or(0)).collect();
+    let combinations = 3usize.pow(digits.iter().map(|d| d + 1).max().unwrap_or(1) as u32);
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    (0..combinations)
+        .map(|c| {
+            truth
+                .iter()
+                .zip(&digits)
+                .map(|(p, &digit)| {
+                    let (optimal, slack) = FACTORS[(c / 3usize.pow(digit as u32)) % 3];
+                    let mut guess = p.clone();
+                    guess.optimal_fiber_length *= optimal * (1.0 + rng.random_range(-0.05..=0.05));
+                    guess.tendon_slack_length *= slack * (1.0 + rng.random_range(-0.05..=0.05));
+                    guess
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// One fit from `initial` on `measured`: relative errors against the truth and convergence.
+pub fn fit_errors(subject: &StudySubject, initial: &[MuscleParameters], measured: &[f64], settings: &FitSettings) -> Result<(FitErrors, bool), FunctionalError> {
+    let result = estimate(subject.spec, subject.knee, subject.data, initial, measured, settings, &mut |_| {})?;
+    Ok((relative_errors(&result.fitted, subject.truth), result.converged))
+}
+
+/// fitted/true − 1 per muscle, [L_opt, L_ts].
+pub fn relative_errors(fitted: &[MuscleParameters], truth: &[MuscleParameters]) -> FitErrors {
+    fitted
+        .iter()
+        .zip(truth)
+        .map(|(f, t)| [f.optimal_fiber_length / t.optimal_fiber_length - 1.0, f.tendon_slack_length / t.tendon_slack_length - 1.0])
+        .collect()
+}
+
+/// Fits from each of `guesses` to the subject's own (noise-free) moments.
+pub fn initial_guess_study(subject: &StudySubject, guesses: &[Vec<MuscleParameters>], settings: &FitSettings) -> StudyResult {
+    let measured = subject.data.measured_moments();
+    let mut result = StudyResult::default();
+    for guess in guesses {
+        result.record(fit_errors(subject, guess, &measured, settings));
+    }
+    result
+}
+
+/// Fits from the truth to the subject's moments plus N(0, σ²) noise, `draws` times (seeded).
+pub fn noise_study(subject: &StudySubject, noise_sd: f64, draws: usize, seed: u64, settings: &FitSettings) -> StudyResult {
+    let measured = subject.data.measured_moments();
+    let normal = Normal::new(0.0, noise_sd).expect("a finite, non-negative σ");
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let mut result = StudyResult::default();
+    for _ in 0..draws {
+        let noisy: Vec<f64> = measured.iter().map(|m| m + normal.sample(&mut rng)).collect();
+        result.record(fit_errors(subject, subject.truth, &noisy, settings));
+    }
+    result
+}

@@ -1,0 +1,62 @@
+//! `cargo xtask bench`, functional scaling (issue 6) on train01 set5 (8 muscles, five angles per
+//! direction): one fit (Phase I, hot start, Phase II), the same with the report's analyses, and
+//! the thesis' 81-guess study; goals < 1 s and < 60 s. Memory: the process's peak resident set
+//! (VmHWM) after the study.
+
+use std::time::Instant;
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{estimate, fit, DynamometryData, FitSettings, KneeMomentModel, SetSelection, TrialOptions};
+use osim_tune::validation::functional::thesis_initial_guesses;
+
+use crate::root;
+
+const REPEATS: usize = 5;
+
+pub fn run() -> Result<(), Box<dyn std::error::Error>> {
+    let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() };
+    let data = DynamometryData::read(&root().join("fixtures/dynamometry/train01"), &options)?;
+    let spec = ModelSpec::read(&OsimDocument::read(&root().join("fixtures/golden/scale/subject01_simbody.osim"))?)?;
+    let knee = KneeMomentModel::new(&spec, &data)?;
+    let settings = FitSettings::default();
+    let (initial, measured) = (knee.nominal_parameters(), data.measured_moments());
+    let one = median(|| estimate(&spec, &knee, &data, &initial, &measured, &settings, &mut |_| {}).map(|_| ()))?;
+    let reported = median(|| fit(&spec, &knee, &data, &settings, &mut |_| {}).map(|_| ()))?;
+    let guesses = thesis_initial_guesses(&initial, &data, 6);
+    let start = Instant::now();
+    for guess in &guesses {
+        estimate(&spec, &knee, &data, guess, &measured, &settings, &mut |_| {})?;
+    }
+    let study = start.elapsed().as_secs_f64();
+    println!("functional scaling: train01 set5 (8 muscles, {} trials)", data.trials.len());
+    println!("  one fit (Phase I + hot start + Phase II) {:>8.1} ms  (goal < 1 s: {})", one * 1e3, verdict(one < 1.0));
+    println!("  with the report's analyses               {:>8.1} ms", reported * 1e3);
+    println!("  {} initial guesses                        {:>8.1} s   (goal < 60 s: {})", guesses.len(), study, verdict(study < 60.0));
+    match peak_resident_kib() {
+        Some(kib) => println!("  peak resident memory of the process      {:>8.1} MiB", kib as f64 / 1024.0),
+        None => println!("  peak resident memory: /proc/self/status not readable"),
+    }
+    Ok(())
+}
+
+fn median(mut run: impl FnMut() -> Result<(), osim_tune::tuning::functional::FunctionalError>) -> Result<f64, Box<dyn std::error::Error>> {
+    let mut samples = Vec::with_capacity(REPEATS);
+    for _ in 0..REPEATS {
+        let start = Instant::now();
+        run()?;
+        samples.push(start.elapsed().as_secs_f64());
+    }
+    samples.sort_by(f64::total_cmp);
+    Ok(samples[REPEATS / 2])
+}
+
+fn verdict(met: bool) -> &'static str {
+    if met { "met" } else { "NOT met" }
+}
+
+/// VmHWM from /proc/self/status, KiB.
+fn peak_resident_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status.lines().find_map(|l| l.strip_prefix("VmHWM:")?.trim().strip_suffix("kB")?.trim().parse().ok())
+}

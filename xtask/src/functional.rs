@@ -1,0 +1,169 @@
+//! Functional scaling rows of the validation table (issue 6): on the public subject train01
+//! (OpenSim 4.6 data, ground truth beside it) the thesis' 81 initial guesses without noise and
+//! 20 noise draws at σ = 5 and 10 N·m, ours beside Garner & Pandy and the thesis' numbers;
+//! and hidden single-muscle L_ts changes in engine-generated data, which must be named.
+//! The issue's accuracy goals are printed as open goals; conformance rows are the checks.
+
+use std::path::Path;
+use std::time::Instant;
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{
+    single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, PhaseTwoSettings, SetSelection, TrialOptions,
+};
+use osim_tune::validation::functional::{initial_guess_study, noise_study, thesis_initial_guesses, StudyResult, StudySubject};
+use rand::{Rng, SeedableRng};
+use serde_json::Value;
+
+use crate::root;
+use crate::validate::Row;
+
+const SUBJECT: &str = "fixtures/dynamometry/train01";
+const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
+const NOISE_DRAWS: usize = 20;
+
+/// Thesis §6.3 (noise-free, 81 guesses): share within 2 % of the truth, [L_opt, L_ts], for the
+/// extensors and the flexors.
+const THESIS_WITHIN_2: [[f64; 2]; 2] = [[0.89, 0.975], [0.90, 0.63]];
+
+pub fn rows() -> Vec<Row> {
+    let root = root();
+    let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() };
+    let data = DynamometryData::read(&root.join(SUBJECT), &options).expect("the train01 fixture");
+    let spec = ModelSpec::read(&OsimDocument::read(&root.join(MODEL)).expect("the base model")).expect("the base model");
+    let knee = KneeMomentModel::new(&spec, &data).expect("the knee-moment model");
+    let truth = truth(&root.join(SUBJECT), &knee.nominal_parameters());
+    let subject = StudySubject { spec: &spec, knee: &knee, data: &data, truth: &truth };
+    let ours = FitSettings::default();
+    let garner_pandy = FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() };
+    let guesses = thesis_initial_guesses(&truth, &data, 6);
+    let mut rows = Vec::new();
+    let started = Instant::now();
+    let noise_free = initial_guess_study(&subject, &guesses, &ours);
+    let seconds = started.elapsed().as_secs_f64();
+    let noise_free_gp = initial_guess_study(&subject, &guesses, &garner_pandy);
+    println!("functional scaling, train01 set5 ({} trials), noise-free, {} initial guesses ({seconds:.1} s for ours):", data.trials.len(), guesses.len());
+    print_guess_table(&truth, &data, &noise_free, &noise_free_gp);
+    rows.push(failure_row("81 guesses, noise-free", &noise_free));
+    open_goal("every L_opt and L_ts within 1 % from every guess, noise-free", worst(&noise_free), 0.01);
+    for sd in [5.0, 10.0] {
+        let noisy = noise_study(&subject, sd, NOISE_DRAWS, 20 + sd as u64, &ours);
+        let noisy_gp = noise_study(&subject, sd, NOISE_DRAWS, 20 + sd as u64, &garner_pandy);
+        println!("σ = {sd} N·m, {NOISE_DRAWS} draws from the truth: mean ± sd of the relative error, %");
+        print_noise_table(&truth, &noisy, &noisy_gp);
+        rows.push(failure_row(&format!("σ = {sd} N·m"), &noisy));
+        let means = |i: usize| (0..truth.len()).map(|e| noisy.statistics(e).mean[i].abs()).fold(0.0, f64::max);
+        open_goal(&format!("σ = {sd} N·m: mean |error| of L_ts"), means(1), 0.01);
+        open_goal(&format!("σ = {sd} N·m: mean |error| of L_opt"), means(0), 0.02);
+    }
+    let more = FitSettings { phase_two: PhaseTwoSettings { rest_tolerance: Some(0.005), ..PhaseTwoSettings::default() }, ..FitSettings::default() };
+    let all_sets = DynamometryData::read(&root.join(SUBJECT), &TrialOptions::default()).expect("the train01 fixture");
+    let all_knee = KneeMomentModel::new(&spec, &all_sets).expect("the knee-moment model");
+    let all_subject = StudySubject { spec: &spec, knee: &all_knee, data: &all_sets, truth: &truth };
+    let some: Vec<Vec<MuscleParameters>> = guesses.iter().step_by(9).cloned().collect();
+    let richer = initial_guess_study(&all_subject, &some, &more);
+    println!("with more information — set5+set10+set20 ({} trials) and the rest fiber length within ±0.5 % in Phase II, {} of the guesses:", all_sets.trials.len(), some.len());
+    print_guess_table(&truth, &all_sets, &richer, &StudyResult::default());
+    rows.push(hidden_change_row(&knee));
+    rows
+}
+
+fn truth(folder: &Path, nominal: &[MuscleParameters]) -> Vec<MuscleParameters> {
+    let text = std::fs::read_to_string(folder.join("ground_truth.json")).expect("ground_truth.json");
+    let truth: Value = serde_json::from_str(&text).expect("ground_truth.json is JSON");
+    nominal
+        .iter()
+        .map(|p| {
+            let t = &truth["true_parameters"][&p.name];
+            let value = |key: &str| t[key].as_f64().unwrap_or_else(|| panic!("ground truth lacks {}.{key}", p.name));
+            MuscleParameters { optimal_fiber_length: value("optimal_fiber_length"), tendon_slack_length: value("tendon_slack_length"), ..p.clone() }
+        })
+        .collect()
+}
+
+fn worst(result: &StudyResult) -> f64 {
+    result.errors.iter().flatten().flat_map(|e| [e[0].abs(), e[1].abs()]).fold(0.0, f64::max)
+}
+
+fn open_goal(what: &str, value: f64, goal: f64) {
+    println!("open goal (issue 6, not a conformance check): {what} = {:.2} %, goal ≤ {:.0} %: {}", 100.0 * value, 100.0 * goal, if value <= goal { "met" } else { "MISSED" });
+}
+
+fn failure_row(what: &str, result: &StudyResult) -> Row {
+    Row {
+        what: format!("functional scaling {what}: fits failed ({} not converged of {})", result.not_converged, result.errors.len() + result.failed),
+        reference: "train01 (OpenSim 4.6)".into(),
+        worst: result.failed as f64,
+        tolerance: 0.0,
+        at: result.first_failure.clone().unwrap_or_default(),
+    }
+}
+
+fn group(data: &DynamometryData, muscle: &str) -> usize {
+    usize::from(!data.extension_agonists.iter().any(|a| a == muscle))
+}
+
+fn print_guess_table(truth: &[MuscleParameters], data: &DynamometryData, ours: &StudyResult, gp: &StudyResult) {
+    println!("{:<12} {:>22} {:>22} {:>22} {:>16}", "muscle", "ours ≤2 % Lopt/Lts", "ours max |err| %", "G&P ≤2 % Lopt/Lts", "thesis ≤2 %");
+    for (e, p) in truth.iter().enumerate() {
+        let s = ours.statistics(e);
+        let gp_cell = if gp.errors.is_empty() { "-".to_string() } else { format!("{:.0} / {:.0} %", 100.0 * gp.statistics(e).within_2[0], 100.0 * gp.statistics(e).within_2[1]) };
+        let thesis = THESIS_WITHIN_2[group(data, &p.name)];
+        println!(
+            "{:<12} {:>15.0} / {:.0} % {:>13.1} / {:.1} {:>22} {:>9.0} / {:.0} %",
+            p.name,
+            100.0 * s.within_2[0],
+            100.0 * s.within_2[1],
+            100.0 * s.max_abs[0],
+            100.0 * s.max_abs[1],
+            gp_cell,
+            100.0 * thesis[0],
+            100.0 * thesis[1]
+        );
+    }
+    println!("  ({} fits, {} not converged, {} failed)\n", ours.errors.len(), ours.not_converged, ours.failed);
+}
+
+fn print_noise_table(truth: &[MuscleParameters], ours: &StudyResult, gp: &StudyResult) {
+    println!("{:<12} {:>20} {:>20} {:>20} {:>20}", "muscle", "ours L_opt", "ours L_ts", "G&P L_opt", "G&P L_ts");
+    for (e, p) in truth.iter().enumerate() {
+        let (s, g) = (ours.statistics(e), gp.statistics(e));
+        let cell = |mean: f64, sd: f64| format!("{:+.2} ± {:.2}", 100.0 * mean, 100.0 * sd);
+        println!("{:<12} {:>20} {:>20} {:>20} {:>20}", p.name, cell(s.mean[0], s.sd[0]), cell(s.mean[1], s.sd[1]), cell(g.mean[0], g.sd[0]), cell(g.mean[1], g.sd[1]));
+    }
+    println!("  thesis (σ = 10): mean ≤ 4.3 / 3.0 % (L_opt ext/flex), ≤ 1.9 / 1.6 % (L_ts); sd up to 10.2 / 15.5 % and 5.1 / 3.9 %\n");
+}
+
+/// Hidden effect: for 8 seeds, one estimated muscle's L_ts changed by 2–6 % in engine-generated
+/// moments; the single-cause ranking must name it and recover the value within 1 %.
+fn hidden_change_row(knee: &KneeMomentModel) -> Row {
+    let nominal = knee.nominal_parameters();
+    let (mut worst, mut at) = (0.0f64, String::new());
+    for seed in 0..8u64 {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+        let hidden = rng.random_range(0..nominal.len());
+        let mut truth = nominal.clone();
+        let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        truth[hidden].tendon_slack_length *= 1.0 + sign * rng.random_range(0.02..0.06);
+        let measured = knee.moments(&truth).expect("moments of the changed model");
+        let error = match single_causes(knee, &nominal, &measured) {
+            Ok(causes) if causes[0].muscle == truth[hidden].name && causes[0].parameter == osim_tune::tuning::functional::Parameter::TendonSlackLength => {
+                (causes[0].fitted / truth[hidden].tendon_slack_length - 1.0).abs()
+            }
+            Ok(causes) => {
+                at = format!("seed {seed}: named {} {}, hidden {}", causes[0].muscle, causes[0].parameter.symbol(), truth[hidden].name);
+                f64::INFINITY
+            }
+            Err(e) => {
+                at = format!("seed {seed}: {e}");
+                f64::INFINITY
+            }
+        };
+        if error > worst && at.is_empty() {
+            at = format!("seed {seed} ({})", truth[hidden].name);
+        }
+        worst = worst.max(error);
+    }
+    Row { what: "hidden L_ts change (8 seeds): named, relative error of the recovered value".into(), reference: "engine-generated set5".into(), worst, tolerance: 0.01, at }
+}
