@@ -125,3 +125,29 @@ fn output_equal_to_input_is_refused() {
     assert!(stderr.contains("refusing to overwrite an input"), "{stderr}");
     assert_eq!(std::fs::read(&input).unwrap(), before);
 }
+
+/// `osim-tune diff A B --json | head -1`: the reader closes the pipe after one line while the
+/// command still has output (164 kB here, more than a pipe holds). The process must end quietly,
+/// by SIGPIPE as other Unix tools do, not panic on the failed write.
+#[cfg(unix)]
+#[test]
+fn a_reader_closing_the_pipe_early_ends_diff_quietly() {
+    use std::io::BufRead;
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::{Command, Stdio};
+    let (a, b) = (common::root().join("models/gait2392_millard2012muscle.osim"), common::root().join("models/gait2392_thelen2003muscle.osim"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_osim-tune"))
+        .args(["diff", s(&a), s(&b), "--json"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first_line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap()).read_line(&mut first_line).unwrap();
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(first_line, "{\n");
+    assert!(stderr.is_empty(), "{stderr}");
+    const SIGPIPE: i32 = 13;
+    assert_eq!(output.status.signal(), Some(SIGPIPE), "{:?}", output.status);
+}

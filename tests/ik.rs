@@ -389,6 +389,24 @@ fn cli_writes_the_motion_and_the_errors() {
     assert_eq!(StorageTable::read(&errors).unwrap().labels()[2], "marker_error_RMS");
 }
 
+/// `-o` and `--errors` in folders that do not exist yet: the folders are created, as `scale`
+/// creates its output folders; a refused request creates none.
+#[test]
+fn cli_creates_missing_output_folders_but_not_for_a_refused_request() {
+    let directory = tempfile::tempdir().unwrap();
+    let (model, trial) = (common::fixture("golden/scale/subject01_simbody.osim"), common::fixture("subject01/subject01_walk1.trc"));
+    let (motion, errors) = (directory.path().join("new/motion/q.mot"), directory.path().join("other/err.sto"));
+    let (model, trial, motion_path, errors_path) = (model.to_str().unwrap(), trial.to_str().unwrap(), motion.to_str().unwrap(), errors.to_str().unwrap());
+    let (code, _, stderr) = common::osim_tune(&["ik", model, trial, "--time", "0.5", "0.52", "--weights", "R.ASIS=heavy", "-o", motion_path, "--errors", errors_path]);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(std::fs::read_dir(directory.path()).unwrap().count(), 0, "a refused request created folders");
+    let (code, stdout, stderr) = common::osim_tune(&["ik", model, trial, "--time", "0.5", "0.52", "-o", motion_path, "--errors", errors_path]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    // The trial has two frames in 0.5–0.52 s (at 0.500 and 0.517 s).
+    assert_eq!(StorageTable::read(&motion).unwrap().n_rows(), 2);
+    assert_eq!(StorageTable::read(&errors).unwrap().n_rows(), 2);
+}
+
 /// With OpenSim's setup (tasks, weights, 0–2.5 s) the command's .mot matches OpenSim run to
 /// convergence within 0.05° and 0.1 mm.
 #[test]

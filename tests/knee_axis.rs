@@ -343,16 +343,38 @@ fn with_marker_noise_both_methods_meet_the_issue_goals_in_every_trial() {
     }
 }
 
-/// With soft-tissue artefact SARA meets the goals the issue set for GaL; GaL, whose circles
-/// are deformed by every knee-angle-dependent error of the femur pose, is less accurate (the
-/// 50-seed numbers are in `cargo xtask validate`).
+/// With soft-tissue artefact GaL (fitted both ways, see `gal.rs`) meets the issue's artefact
+/// goals, and so does SARA (the 50-seed numbers are in `cargo xtask validate`).
 #[test]
-fn with_soft_tissue_artefact_sara_meets_the_artefact_goals_and_is_more_accurate_than_gal() {
+fn with_soft_tissue_artefact_both_methods_meet_the_artefact_goals() {
     let summaries = axis_study(&SyntheticKneeSettings::new(0, Condition::SoftTissue), &PoseMethod::LeastSquares, 0..5);
     let (gal, sara) = (&summaries[0], &summaries[1]);
     assert_eq!((gal.method, sara.method), (AxisMethod::Gal, AxisMethod::Sara));
     assert_eq!(gal.failures + sara.failures, 0);
+    assert!(gal.passes(), "{gal:?}");
+    assert!(gal.mean.transversal <= ARTEFACT_GAL_ORIENTATION_MEAN_GOAL && gal.mean.frontal <= ARTEFACT_GAL_ORIENTATION_MEAN_GOAL, "{gal:?}");
+    assert!(gal.mean.sagittal <= ARTEFACT_GAL_LOCATION_MEAN_GOAL, "{gal:?}");
     assert!(sara.mean.transversal <= ARTEFACT_GAL_ORIENTATION_MEAN_GOAL && sara.mean.frontal <= ARTEFACT_GAL_ORIENTATION_MEAN_GOAL, "{sara:?}");
     assert!(sara.mean.sagittal <= ARTEFACT_GAL_LOCATION_MEAN_GOAL, "{sara:?}");
-    assert!(sara.mean.transversal < gal.mean.transversal && sara.mean.sagittal < gal.mean.sagittal, "{gal:?}\n{sara:?}");
+}
+
+/// The artefact the study applies is the issue's: every marker's largest displacement from
+/// where the bone carries it is within the segment's range (10–20 mm femur, 5–10 mm tibia),
+/// and it is zero at the smallest flexion.
+#[test]
+fn soft_tissue_artefact_peaks_within_the_issue_ranges_and_vanishes_at_the_smallest_flexion() {
+    for seed in 0..3 {
+        let settings = SyntheticKneeSettings { marker_noise: 0.0, missing_fraction: 0.0, ..SyntheticKneeSettings::new(seed, Condition::SoftTissue) };
+        let knee = synthetic_knee(&settings).unwrap();
+        let segments = [(&knee.femur_cluster, &knee.femur_poses, settings.femur_artefact), (&knee.tibia_cluster, &knee.tibia_poses, settings.tibia_artefact)];
+        for (cluster, poses, (low, high)) in segments {
+            let measured = cluster.trial_positions(&knee.trial).unwrap();
+            for (marker, local) in cluster.local.iter().enumerate() {
+                let displacement = |frame: usize| (measured[frame][marker].unwrap() - poses[frame].to_lab(local)).norm();
+                let peak = (0..poses.len()).map(displacement).fold(0.0, f64::max);
+                assert!(low - 1e-6 <= peak && peak <= high + 1e-9, "seed {seed} {}: peak {peak} m outside [{low}, {high}]", cluster.markers[marker]);
+                assert!(displacement(0) < 1e-9, "seed {seed}: {} m at the smallest flexion", displacement(0));
+            }
+        }
+    }
 }

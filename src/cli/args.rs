@@ -248,7 +248,8 @@ pub enum ScaleMethodArgument {
 /// `--method` of `axis`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum AxisMethodArgument {
-    /// Gamage & Lasenby: circles of the tibia markers in the femur frame.
+    /// Gamage & Lasenby: circles of the tibia markers in the femur frame and of the femur markers in
+    /// the tibia frame, combined.
     Gal,
     /// Ehrig's symmetrical axis of rotation approach.
     Sara,

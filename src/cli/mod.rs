@@ -5,6 +5,7 @@
 mod args;
 mod commands;
 
+use std::path::Path;
 use std::process::ExitCode;
 
 use clap::Parser;
@@ -34,4 +35,13 @@ pub fn run() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// Creates the missing parent folders of the output `files`, so `-o out/new/q.mot` works; called
+/// after a command's checks, just before it writes, so a refused request creates nothing.
+pub(crate) fn create_output_folders<'a>(files: impl IntoIterator<Item = &'a Path>) -> Result<(), Failure> {
+    for folder in files.into_iter().filter_map(Path::parent).filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(folder).map_err(|e| format!("{}: cannot create the output folder: {e}", folder.display()))?;
+    }
+    Ok(())
 }

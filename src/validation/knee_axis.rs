@@ -236,16 +236,31 @@ fn random_cluster(rng: &mut StdRng, top: f64, anterior: Range<f64>) -> Vec<Vecto
 /// function of the flexion stage s ∈ [0, 1] (0 at the smallest flexion).
 #[derive(Debug, Clone, Copy)]
 struct Artefact {
+    /// Unit direction (segment frame).
     direction: Vector3<f64>,
+    /// The largest displacement over the flexion range (m).
     amplitude: f64,
     /// Mix of a linear (0) and a half-sine (1) profile in s.
     bulge: f64,
 }
 
 impl Artefact {
+    /// The displacement (m) at flexion stage `stage` ∈ [0, 1]: `amplitude` times the profile
+    /// scaled to peak at 1.
     fn displacement(&self, stage: f64) -> Vector3<f64> {
-        let profile = (1.0 - self.bulge) * stage + self.bulge * (std::f64::consts::PI * stage).sin();
-        self.direction * (self.amplitude * profile)
+        self.direction * (self.amplitude * self.profile(stage) / self.profile_peak())
+    }
+
+    /// (1 − b)·s + b·sin(πs), b = `bulge`: 0 at s = 0, peak in (0, 1].
+    fn profile(&self, stage: f64) -> f64 {
+        (1.0 - self.bulge) * stage + self.bulge * (std::f64::consts::PI * stage).sin()
+    }
+
+    /// The profile's largest value over s ∈ [0, 1]: where its derivative (1 − b) + bπ·cos(πs)
+    /// vanishes, or at s = 1 if it does not (b ≤ 1/(1 + π)).
+    fn profile_peak(&self) -> f64 {
+        let cosine = -(1.0 - self.bulge) / (self.bulge * std::f64::consts::PI);
+        self.profile(if cosine <= -1.0 { 1.0 } else { cosine.acos() / std::f64::consts::PI })
     }
 }
 
@@ -255,8 +270,8 @@ impl Artefact {
 /// can remove), the rest deforms the cluster.
 const COMMON_SHARE: f64 = 0.75;
 
-/// Artefacts of `count` markers with peak amplitudes in `amplitude` (m); half of each direction
-/// is shared by all markers of the segment.
+/// Artefacts of `count` markers with peak amplitudes in `amplitude` (m); [`COMMON_SHARE`] of
+/// each direction is shared by all markers of the segment.
 fn random_artefacts(rng: &mut StdRng, count: usize, (low, high): (f64, f64)) -> Vec<Artefact> {
     let common = Vector3::from(UnitSphere.sample(rng));
     (0..count)

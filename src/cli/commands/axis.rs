@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::Vector3;
 use serde_json::{json, Value};
 
-use crate::cli::{AxisMethodArgument, Failure, Outcome, PoseArgument};
+use crate::cli::{create_output_folders, AxisMethodArgument, Failure, Outcome, PoseArgument};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
@@ -126,9 +126,7 @@ fn swap_and_write(document: &OsimDocument, femur_body: &str, fit: &AxisFit, swap
     }
     let axis = JointAxis { point: fit.femur.point, direction: fit.femur.direction };
     let swapped = swap_knee(document, &swap.joint, &axis, swap.reference_angle)?;
-    if let Some(folder) = swap.output.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(|e| format!("{}: cannot create the output folder: {e}", folder.display()))?;
-    }
+    create_output_folders([swap.output.as_path()])?;
     write_atomically(&swap.output, swapped.document.xml.serialize().as_bytes(), inputs)?;
     Ok(swapped)
 }

@@ -7,7 +7,7 @@ use crate::io::osim::OsimDocument;
 use crate::review::{diff, Change, DocumentDiff};
 
 pub fn run(a: &Path, b: &Path, json: bool, relative_tolerance: f64) -> Result<Outcome, Failure> {
-    if !(relative_tolerance >= 0.0) {
+    if relative_tolerance.is_nan() || relative_tolerance < 0.0 {
         return Err(format!("--rtol must be ≥ 0, got {relative_tolerance}").into());
     }
     let (document_a, document_b) = (OsimDocument::read(a)?, OsimDocument::read(b)?);

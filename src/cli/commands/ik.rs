@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::{Failure, Outcome};
+use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
@@ -37,6 +37,7 @@ pub fn run(model: &Path, trial_file: &Path, setup: Option<&Path>, time: Option<[
     let solution = ik.solve(time)?;
     let motion = solution.motion_table(&multibody)?;
     let errors = solution.marker_errors_table()?;
+    create_output_folders(std::iter::once(&outputs.motion).chain(&outputs.errors).map(PathBuf::as_path))?;
     write_atomically(&outputs.motion, motion.to_text().as_bytes(), inputs)?;
     if let Some(file) = &outputs.errors {
         write_atomically(file, errors.to_text().as_bytes(), inputs)?;

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::json;
 
-use crate::cli::{Failure, Outcome};
+use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::mechanics::Multibody;
@@ -52,9 +52,7 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
         }
         (None, _) => None,
     };
-    for folder in outputs.files().filter_map(|f| f.parent()).filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(|e| format!("{}: cannot create the output folder: {e}", folder.display()))?;
-    }
+    create_output_folders(outputs.files().map(PathBuf::as_path))?;
     write_atomically(&outputs.model, outcome.document.xml.serialize().as_bytes(), &input_refs)?;
     if let (Some(file), Some(text)) = (&outputs.scaled_only, scaled_only) {
         write_atomically(file, text.as_bytes(), &input_refs)?;

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::{Failure, Outcome};
+use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
@@ -71,7 +71,7 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     } else {
         print_report(&result, &data);
     }
-    create_folders([Some(output), request.report.as_deref()].into_iter().flatten())?;
+    create_output_folders([Some(output), request.report.as_deref()].into_iter().flatten())?;
     if let Some(file) = &request.report {
         write_atomically(file, report.as_bytes(), &input_refs)?;
     }
@@ -96,13 +96,6 @@ fn check_settings(settings: &FitSettings) -> Result<(), Failure> {
         Some(sd) if !(sd > 0.0 && sd.is_finite()) => Err(format!("--noise-sd {sd}: expected a positive number of N·m").into()),
         _ => Ok(()),
     }
-}
-
-fn create_folders<'a>(files: impl Iterator<Item = &'a Path>) -> Result<(), Failure> {
-    for folder in files.filter_map(Path::parent).filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(folder).map_err(|e| format!("{}: cannot create the output folder: {e}", folder.display()))?;
-    }
-    Ok(())
 }
 
 fn print_report(fit: &FunctionalFit, data: &DynamometryData) {

@@ -19,9 +19,9 @@ pub struct AxisFit {
     pub femur: Axis,
     /// The same axis in the tibia frame (the frame of the tibia cluster's local coordinates).
     pub tibia: Axis,
-    /// RMS misfit of the method's model (m): for GaL the tibia markers' distance from their
-    /// fitted circles, for SARA the distance between the axis point carried by the femur and by
-    /// the tibia.
+    /// RMS misfit of the method's model (m): for GaL the markers' distance from their fitted
+    /// circles (tibia markers in the femur frame, femur markers in the tibia frame), for SARA
+    /// the distance between the axis point carried by the femur and by the tibia.
     pub residual_rms: f64,
     /// Range of the tibia's rotation about the axis relative to the femur (rad).
     pub rotation_range: f64,

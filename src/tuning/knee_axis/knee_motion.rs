@@ -1,5 +1,5 @@
-//! The tracked motion of femur and tibia in one trial: both segments' poses and the tibia
-//! markers' measured positions, the input of both axis fits.
+//! The tracked motion of femur and tibia in one trial: both segments' poses and both clusters'
+//! measured marker positions, the input of both axis fits.
 
 use nalgebra::Vector3;
 
@@ -20,6 +20,8 @@ pub struct KneeMotion {
     pub femur: SegmentTrajectory,
     /// Tibia → lab pose per frame.
     pub tibia: SegmentTrajectory,
+    /// The femur cluster markers' measured lab positions (m), `[frame][femur cluster marker]`.
+    pub femur_markers: Vec<Vec<Option<Vector3<f64>>>>,
     /// The tibia cluster markers' measured lab positions (m), `[frame][tibia cluster marker]`.
     pub tibia_markers: Vec<Vec<Option<Vector3<f64>>>>,
 }
@@ -32,6 +34,7 @@ impl KneeMotion {
             tibia_cluster: tibia.clone(),
             femur: track_segment(femur, trial, method)?,
             tibia: track_segment(tibia, trial, method)?,
+            femur_markers: femur.trial_positions(trial)?,
             tibia_markers: tibia.trial_positions(trial)?,
         })
     }
@@ -55,8 +58,13 @@ impl KneeMotion {
     /// The visible tibia cluster markers of `frame` in the femur frame (m), as
     /// (cluster marker index, position); empty if the femur has no pose there.
     pub fn tibia_markers_in_femur(&self, frame: usize) -> Vec<(usize, Vector3<f64>)> {
-        let Some(femur) = self.femur.pose(frame) else { return Vec::new() };
-        self.tibia_markers[frame].iter().enumerate().filter_map(|(marker, p)| p.map(|p| (marker, femur.to_segment(&p)))).collect()
+        in_segment_frame(self.femur.pose(frame), &self.tibia_markers[frame])
+    }
+
+    /// The visible femur cluster markers of `frame` in the tibia frame (m), as
+    /// (cluster marker index, position); empty if the tibia has no pose there.
+    pub fn femur_markers_in_tibia(&self, frame: usize) -> Vec<(usize, Vector3<f64>)> {
+        in_segment_frame(self.tibia.pose(frame), &self.femur_markers[frame])
     }
 
     /// The tibia cluster's centroid in the femur frame averaged over the frames with both poses
@@ -77,3 +85,10 @@ impl KneeMotion {
     }
 }
 
+
+/// The visible `markers` (lab, m) in the frame of a segment at `pose`, as (marker index,
+/// position); empty without a pose.
+fn in_segment_frame(pose: Option<&SegmentPose>, markers: &[Option<Vector3<f64>>]) -> Vec<(usize, Vector3<f64>)> {
+    let Some(pose) = pose else { return Vec::new() };
+    markers.iter().enumerate().filter_map(|(marker, p)| p.map(|p| (marker, pose.to_segment(&p)))).collect()
+}
