@@ -10,7 +10,7 @@ use common::{fixture, osim_tune};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{DynamometryData, KneeMomentModel, MuscleParameters, TrialOptions};
-use rand::{Rng, SeedableRng};
+use osim_tune::validation::functional::hidden_slack_change;
 use serde_json::Value;
 
 fn s(path: &Path) -> &str {
@@ -117,11 +117,7 @@ fn writes_only_the_fitted_lengths_and_reproduces_the_moments() {
 #[test]
 fn names_and_recovers_a_hidden_tendon_slack_change() {
     let (_, knee) = read_knee(&base_model(), &fixture("dynamometry/train01"));
-    let mut truth = knee.nominal_parameters();
-    let mut rng = rand::rngs::StdRng::seed_from_u64(0x05ca1e);
-    let hidden = rng.random_range(0..truth.len());
-    let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-    truth[hidden].tendon_slack_length *= 1.0 + sign * rng.random_range(0.02..0.06);
+    let (hidden, truth) = hidden_slack_change(&knee.nominal_parameters(), 0x05ca1e);
     let dir = tempfile::tempdir().unwrap();
     synthetic_subject(dir.path(), &truth);
     let output = dir.path().join("fitted.osim");

@@ -18,6 +18,8 @@ pub enum OutputError {
 
 /// Writes `contents` to `output` atomically, after checking that `output` is none of `inputs`
 /// (compared after resolving links and `..`, so `./a.osim` and `a.osim` are the same file).
+/// The file gets the mode any new file gets (0666 less the umask), not the temporary file's
+/// private 0600.
 pub fn write_atomically(output: &Path, contents: &[u8], inputs: &[&Path]) -> Result<(), OutputError> {
     ensure_not_an_input(output, inputs)?;
     let io_error = |source| OutputError::Io { path: output.to_path_buf(), source };
@@ -25,11 +27,24 @@ pub fn write_atomically(output: &Path, contents: &[u8], inputs: &[&Path]) -> Res
         Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
         _ => PathBuf::from("."),
     };
-    let mut temporary = tempfile::NamedTempFile::new_in(&directory).map_err(io_error)?;
+    let mut temporary = new_file_builder().tempfile_in(&directory).map_err(io_error)?;
     temporary.write_all(contents).map_err(io_error)?;
     temporary.as_file().sync_all().map_err(io_error)?;
     temporary.persist(output).map_err(|error| io_error(error.error))?;
     Ok(())
+}
+
+#[cfg(unix)]
+fn new_file_builder() -> tempfile::Builder<'static, 'static> {
+    use std::os::unix::fs::PermissionsExt;
+    let mut builder = tempfile::Builder::new();
+    builder.permissions(fs::Permissions::from_mode(0o666));
+    builder
+}
+
+#[cfg(not(unix))]
+fn new_file_builder() -> tempfile::Builder<'static, 'static> {
+    tempfile::Builder::new()
 }
 
 /// Fails with [`OutputError::OverwritesInput`] when `output` is the same file as an input.
@@ -56,6 +71,19 @@ fn resolve(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The output's mode is that of a file `std::fs::write` creates (0666 less the umask).
+    #[cfg(unix)]
+    #[test]
+    fn output_gets_the_mode_of_a_new_file() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let (output, plain) = (dir.path().join("out.osim"), dir.path().join("plain.osim"));
+        write_atomically(&output, b"x", &[]).unwrap();
+        fs::write(&plain, b"x").unwrap();
+        let mode = |p: &Path| fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&output), mode(&plain));
+    }
 
     #[test]
     fn refuses_an_input_spelled_differently() {

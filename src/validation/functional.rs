@@ -99,6 +99,17 @@ pub fn thesis_initial_guesses(truth: &[MuscleParameters], data: &DynamometryData
         .collect()
 }
 
+/// The hidden effect of the test: a seeded draw of one estimated muscle whose L_ts is
+/// changed by ±(2–6) %. Returns its index and the changed parameters.
+pub fn hidden_slack_change(nominal: &[MuscleParameters], seed: u64) -> (usize, Vec<MuscleParameters>) {
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let hidden = rng.random_range(0..nominal.len());
+    let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    let mut changed = nominal.to_vec();
+    changed[hidden].tendon_slack_length *= 1.0 + sign * rng.random_range(0.02..0.06);
+    (hidden, changed)
+}
+
 /// One fit from `initial` on `measured`: relative errors against the truth and convergence.
 pub fn fit_errors(subject: &StudySubject, initial: &[MuscleParameters], measured: &[f64], settings: &FitSettings) -> Result<(FitErrors, bool), FunctionalError> {
     let result = estimate(subject.spec, subject.knee, subject.data, initial, measured, settings, &mut |_| {})?;

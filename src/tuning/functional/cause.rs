@@ -45,7 +45,7 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
             let bounds = Bounds { lower: vec![0.5f64.ln()], upper: vec![1.5f64.ln()] };
             LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &LeastSquaresOptions::default());
             let mut residuals = vec![0.0; measured.len()];
-            problem.residuals(x[0], &mut residuals).map_err(|e| *e)?;
+            problem.residuals(x[0], &mut residuals)?;
             causes.push(SingleCause {
                 muscle: initial[e].name.clone(),
                 parameter,
@@ -94,7 +94,7 @@ impl<'a> Candidate<'a> {
         Ok(Candidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others })
     }
 
-    fn residuals(&mut self, log_factor: f64, out: &mut [f64]) -> Result<(), Box<FunctionalError>> {
+    fn residuals(&mut self, log_factor: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
         let changed = self.base.with(self.parameter, self.base.get(self.parameter) * log_factor.exp());
         self.workspace.set(self.model, self.muscle, &changed)?;
         let k = self.model.estimated_knee_index(self.muscle);

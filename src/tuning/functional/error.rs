@@ -63,3 +63,10 @@ pub enum FunctionalError {
     #[error("{}: {muscle} in {context}: {source}", file.display())]
     Muscle { file: PathBuf, muscle: String, context: String, source: Box<MuscleError> },
 }
+
+impl FunctionalError {
+    /// A [`FunctionalError::Parameters`] about the estimated muscles as a whole.
+    pub fn all_muscles(problem: impl Into<String>) -> FunctionalError {
+        FunctionalError::Parameters { muscle: "(all)".into(), problem: problem.into() }
+    }
+}

@@ -319,17 +319,16 @@ fn sigma_point_spread(
     settings: &FitSettings,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<[f64; 2]>, FunctionalError> {
-    let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::Parameters { muscle: "(all)".into(), problem: e.to_string() })?;
+    let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
     progress(&format!("sigma points: {} Phase II solves at σ = {noise_sd:.3} N·m", points.len()));
     let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
         let solution = solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?;
         Ok(solution.parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())
     };
-    let propagation = propagate_noise(&points, measured, noise_sd, refit).map_err(|e| FunctionalError::Parameters { muscle: "(all)".into(), problem: e.to_string() })?;
-    let sd = propagation.standard_deviations().ok_or_else(|| FunctionalError::Parameters {
-        muscle: "(all)".into(),
-        problem: format!("every one of the {} sigma-point fits failed", propagation.evaluated),
-    })?;
+    let propagation = propagate_noise(&points, measured, noise_sd, refit).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
+    let sd = propagation
+        .standard_deviations()
+        .ok_or_else(|| FunctionalError::all_muscles(format!("every one of the {} sigma-point fits failed", propagation.evaluated)))?;
     Ok(sd.chunks(2).map(|c| [c[0], c[1]]).collect())
 }
 

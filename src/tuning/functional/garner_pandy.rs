@@ -291,7 +291,7 @@ pub fn fit_garner_pandy(
     options: &GarnerPandyOptions,
 ) -> Result<GarnerPandyFit, FunctionalError> {
     let n_estimated = knee.estimated_names().count();
-    let all = |problem: String| FunctionalError::Parameters { muscle: "(all)".into(), problem };
+    let all = FunctionalError::all_muscles;
     if measured.len() != knee.trials().len() {
         return Err(all(format!("{} measured moments given; expected one per trial ({})", measured.len(), knee.trials().len())));
     }

@@ -320,7 +320,7 @@ impl FisherInformation {
         noise_sd: f64,
         rank_tolerance: f64,
     ) -> Result<FisherInformation, FunctionalError> {
-        let bad = |problem: String| FunctionalError::Parameters { muscle: "(all)".into(), problem };
+        let bad = FunctionalError::all_muscles;
         if !(noise_sd > 0.0 && noise_sd.is_finite()) {
             return Err(bad(format!("noise standard deviation {noise_sd} N·m; expected a positive finite number")));
         }
@@ -454,7 +454,7 @@ pub fn fisher_information(
 ) -> Result<FisherInformation, FunctionalError> {
     let n_estimated = knee.estimated_names().count();
     let n_trials = knee.trials().len();
-    let bad = |problem: String| FunctionalError::Parameters { muscle: "(all)".into(), problem };
+    let bad = FunctionalError::all_muscles;
     let muscles: Vec<usize> = options.muscles.clone().unwrap_or_else(|| (0..n_estimated).collect());
     let trials: Vec<usize> = options.trials.clone().unwrap_or_else(|| (0..n_trials).collect());
     if let Some(e) = muscles.iter().find(|&&e| e >= n_estimated) {

@@ -25,13 +25,10 @@
 //! - optionally, the rest fiber length within ±[`PhaseTwoSettings::rest_tolerance`] of its
 //!   reference (the thesis uses the reference only in Phase I).
 
-use serde::Serialize;
-
 use super::error::FunctionalError;
 use super::feasible_set::MuscleFeasibleSet;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::MuscleParameters;
-use crate::mechanics::muscle::FiberEquilibrium;
 use crate::solvers::nlp::{EvaluationError, NlpProblem, NlpSettings, NlpSolution, NlpStatus, Sqp};
 use nalgebra::DMatrix;
 
@@ -73,16 +70,11 @@ impl Default for PhaseTwoSettings {
 pub const RATIO_GROUPS: [&[&str]; 2] = [&["vas_int", "vas_lat", "vas_med"], &["med_gas", "lat_gas"]];
 
 /// The result of Phase II.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct PhaseTwo {
-    /// How the SQP ended; only `Converged` (or `AcceptableStep`) is a fit to report as such.
-    #[serde(serialize_with = "status_name")]
+    /// How the SQP ended; see [`PhaseTwo::converged`].
     pub status: NlpStatus,
     pub parameters: Vec<MuscleParameters>,
-    /// (ρ, δ) per muscle at the solution.
-    pub transformed: Vec<(f64, f64)>,
-    /// Model moments at the solution, one per trial, N·m.
-    pub moments: Vec<f64>,
     /// max_k |M_mod,k − M_meas,k|, N·m.
     pub max_moment_error: f64,
     pub iterations: usize,
@@ -97,10 +89,6 @@ impl PhaseTwo {
     pub fn converged(&self) -> bool {
         matches!(self.status, NlpStatus::Converged | NlpStatus::ObjectiveTarget | NlpStatus::ObjectiveStalled | NlpStatus::AcceptableStep)
     }
-}
-
-fn status_name<S: serde::Serializer>(status: &NlpStatus, serializer: S) -> Result<S::Ok, S::Error> {
-    serializer.serialize_str(&format!("{status:?}"))
 }
 
 /// Solves Phase II from `start` (one per estimated muscle, e.g. the hot start) inside `sets`.
@@ -158,8 +146,11 @@ struct PhaseTwoProblem<'a> {
     rows: Vec<Row>,
     bounds: (Vec<f64>, Vec<f64>),
     settings: PhaseTwoSettings,
-    /// The evaluation at the last x (reused by the derivatives).
+    /// Per muscle, whether a rest-length row needs its rest state.
+    has_rest_row: Vec<bool>,
+    /// The evaluation at `evaluated_at`, the last x evaluated (reused by the derivatives).
     evaluations: Vec<MuscleEvaluation>,
+    evaluated_at: Vec<f64>,
 }
 
 impl<'a> PhaseTwoProblem<'a> {
@@ -181,7 +172,9 @@ impl<'a> PhaseTwoProblem<'a> {
             rows: Vec::new(),
             bounds: (Vec::new(), Vec::new()),
             settings: *settings,
+            has_rest_row: rest_references.iter().map(|r| r.is_some() && settings.rest_tolerance.is_some()).collect(),
             evaluations: vec![MuscleEvaluation::default(); start.len()],
+            evaluated_at: Vec::new(),
         };
         problem.build_rows(rest_references);
         Ok(problem)
@@ -285,22 +278,32 @@ impl<'a> PhaseTwoProblem<'a> {
         MuscleParameters { optimal_fiber_length: optimal, tendon_slack_length: slack, ..self.template[e].clone() }
     }
 
-    fn evaluate_muscle(&mut self, e: usize, ratio: f64, delta: f64) -> Result<MuscleEvaluation, FunctionalError> {
+    /// Fills `out` with muscle `e`'s rows' inputs at (ρ, δ), reusing its buffers.
+    fn evaluate_muscle(&mut self, e: usize, ratio: f64, delta: f64, out: &mut MuscleEvaluation) -> Result<(), FunctionalError> {
         let parameters = self.muscle_parameters(e, ratio, delta);
         self.workspace.set(self.model, e, &parameters)?;
         let k = self.model.estimated_knee_index(e);
         let arms = &self.model.estimated_knee_muscle(e).moment_arms;
-        let states: Vec<FiberEquilibrium> =
-            (0..self.model.trials().len()).map(|t| self.model.state(k, self.workspace.muscle(e), t)).collect::<Result<_, _>>()?;
-        let needs_rest = self.rows.iter().any(|r| matches!(r, Row::Rest { muscle, .. } if *muscle == e));
-        let rest = if needs_rest { self.model.rest_state(e, &self.workspace)?.fiber_length } else { f64::NAN };
-        Ok(MuscleEvaluation {
-            optimal: parameters.optimal_fiber_length,
-            contributions: states.iter().zip(arms).map(|(s, r)| s.tendon_force * r).collect(),
-            normalized: states.iter().map(|s| s.normalized_fiber_length).collect(),
-            strain: states.iter().map(|s| s.tendon_strain).collect(),
-            rest,
-        })
+        out.optimal = parameters.optimal_fiber_length;
+        out.contributions.clear();
+        out.normalized.clear();
+        out.strain.clear();
+        for (t, arm) in arms.iter().enumerate() {
+            let state = self.model.state(k, self.workspace.muscle(e), t)?;
+            out.contributions.push(state.tendon_force * arm);
+            out.normalized.push(state.normalized_fiber_length);
+            out.strain.push(state.tendon_strain);
+        }
+        out.rest = if self.has_rest_row[e] { self.model.rest_state(e, &self.workspace)?.fiber_length } else { f64::NAN };
+        Ok(())
+    }
+
+    /// Muscle `e`'s evaluation at (ρ, δ) in place of the cached one.
+    fn reevaluate_muscle(&mut self, e: usize, ratio: f64, delta: f64) -> Result<(), FunctionalError> {
+        let mut evaluation = std::mem::take(&mut self.evaluations[e]);
+        let outcome = self.evaluate_muscle(e, ratio, delta, &mut evaluation);
+        self.evaluations[e] = evaluation;
+        outcome
     }
 
     fn moment(&self, trial: usize) -> f64 {
@@ -342,27 +345,21 @@ impl<'a> PhaseTwoProblem<'a> {
     }
 
     fn result(&mut self, solution: &NlpSolution) -> Result<PhaseTwo, FunctionalError> {
-        let parameters = self.parameters(&solution.x);
-        let moments = self.model.moments(&parameters)?;
         let mut constraints = vec![0.0; self.rows.len()];
-        let evaluated = self.evaluate(&solution.x, &mut constraints).is_ok();
-        let active_constraints = if evaluated {
-            self.rows
-                .iter()
-                .zip(&constraints)
-                .zip(&solution.multipliers.constraints)
-                .filter(|(_, &lambda)| lambda.abs() > 1e-9)
-                .filter_map(|((&row, &value), _)| self.describe(row, value))
-                .collect()
-        } else {
-            Vec::new()
-        };
+        self.evaluate(&solution.x, &mut constraints).map_err(|e| FunctionalError::all_muscles(format!("Phase II solution: {}", e.message)))?;
+        let moments: Vec<f64> = (0..self.measured.len()).map(|k| self.moment(k)).collect();
+        let active_constraints = self
+            .rows
+            .iter()
+            .zip(&constraints)
+            .zip(&solution.multipliers.constraints)
+            .filter(|(_, &lambda)| lambda.abs() > 1e-9)
+            .filter_map(|((&row, &value), _)| self.describe(row, value))
+            .collect();
         Ok(PhaseTwo {
             status: solution.status,
-            transformed: (0..self.template.len()).map(|e| (solution.x[2 * e], solution.x[2 * e + 1])).collect(),
+            parameters: self.parameters(&solution.x),
             max_moment_error: max_error(&moments, self.measured),
-            moments,
-            parameters,
             iterations: solution.iterations,
             active_constraints,
         })
@@ -399,20 +396,27 @@ impl NlpProblem for PhaseTwoProblem<'_> {
     }
 
     fn evaluate(&mut self, x: &[f64], constraints: &mut [f64]) -> Result<f64, EvaluationError> {
+        self.evaluated_at.clear();
         for e in 0..self.template.len() {
-            self.evaluations[e] = self.evaluate_muscle(e, x[2 * e], x[2 * e + 1]).map_err(evaluation_error)?;
+            self.reevaluate_muscle(e, x[2 * e], x[2 * e + 1]).map_err(evaluation_error)?;
         }
+        self.evaluated_at.extend_from_slice(x);
         let t = x[self.t_index()];
         self.fill_rows(t, constraints);
         Ok(t * t)
     }
 
     /// Central differences per muscle: each of its two variables moves only its own rows'
-    /// inputs, so only its equilibria are recomputed; t enters linearly (exact).
+    /// inputs, so only its equilibria are recomputed; t enters linearly (exact). The cached
+    /// evaluation is reused when it is at x (the solver evaluates a point before
+    /// differentiating it).
     fn derivatives(&mut self, x: &[f64], gradient: &mut [f64], jacobian: &mut DMatrix<f64>) -> Result<(), EvaluationError> {
-        let mut base = vec![0.0; self.rows.len()];
-        self.evaluate(x, &mut base)?;
+        if self.evaluated_at != x {
+            self.evaluate(x, &mut vec![0.0; self.rows.len()])?;
+        }
         let t = x[self.t_index()];
+        // Invalid while muscles are shifted; restored once every one is back at x.
+        let evaluated_at = std::mem::take(&mut self.evaluated_at);
         let (mut plus, mut minus) = (vec![0.0; self.rows.len()], vec![0.0; self.rows.len()]);
         for i in 0..self.t_index() {
             let (e, h) = (i / 2, 1e-6 * x[i].abs().max(1.0));
@@ -420,7 +424,7 @@ impl NlpProblem for PhaseTwoProblem<'_> {
             let shifted = |sign: f64, out: &mut [f64], this: &mut Self| -> Result<(), EvaluationError> {
                 let (mut ratio, mut delta) = (x[2 * e], x[2 * e + 1]);
                 if i % 2 == 0 { ratio += sign * h } else { delta += sign * h }
-                this.evaluations[e] = this.evaluate_muscle(e, ratio, delta).map_err(evaluation_error)?;
+                this.reevaluate_muscle(e, ratio, delta).map_err(evaluation_error)?;
                 this.fill_rows(t, out);
                 Ok(())
             };
@@ -431,6 +435,7 @@ impl NlpProblem for PhaseTwoProblem<'_> {
                 jacobian[(r, i)] = (p - m) / (2.0 * h);
             }
         }
+        self.evaluated_at = evaluated_at;
         let ti = self.t_index();
         for (r, row) in self.rows.iter().enumerate() {
             jacobian[(r, ti)] = match row {

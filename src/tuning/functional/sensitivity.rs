@@ -91,10 +91,7 @@ impl SensitivityTable {
     /// muscle, in order) for the model's trials, with Δp = `relative_step` · p (0 < step < 1).
     pub fn compute(model: &KneeMomentModel, parameters: &[MuscleParameters], relative_step: f64) -> Result<SensitivityTable, FunctionalError> {
         if !(relative_step > 0.0 && relative_step < 1.0) {
-            return Err(FunctionalError::Parameters {
-                muscle: "(all)".into(),
-                problem: format!("relative perturbation {relative_step}; expected a fraction in (0, 1)"),
-            });
+            return Err(FunctionalError::all_muscles(format!("relative perturbation {relative_step}; expected a fraction in (0, 1)")));
         }
         let mut muscles = model.estimated_muscles(parameters)?;
         let n_trials = model.trials().len();
