@@ -21,8 +21,6 @@ pub(super) enum Smoothing {
     ErrorVariance(f64),
     /// Generalized cross-validation (a negative `error_variance`).
     CrossValidation,
-    /// A given smoothing parameter p (`SplineFitter::fitForSmoothingParameter`); 0 interpolates.
-    Parameter(f64),
 }
 
 impl Smoothing {
@@ -49,11 +47,7 @@ const LARGEST_P: f64 = 999_999_999_999_999.9;
 /// n ≥ 2m, x strictly increasing.
 pub(super) fn fit(half_order: usize, x: &[f64], y: &[f64], smoothing: Smoothing) -> Vec<f64> {
     let system = System::new(half_order, x, y, smoothing);
-    let p = match smoothing {
-        Smoothing::Parameter(p) => p,
-        _ => system.smoothing_parameter(),
-    };
-    system.solve(p).coefficients
+    system.solve(system.smoothing_parameter()).coefficients
 }
 
 /// A banded matrix with `width` diagonals on each side; `band[(i, k)]` is entry (i, i + k)
@@ -219,7 +213,6 @@ impl<'a> System<'a> {
         let criterion = match self.smoothing {
             Smoothing::ErrorVariance(variance) => residual - variance * (trace * 2.0 - 1.0),
             Smoothing::CrossValidation => residual / trace / trace,
-            Smoothing::Parameter(_) => residual,
         };
         Solution { coefficients, criterion, effective_p, at_ceiling }
     }

@@ -213,7 +213,7 @@ mod tests {
     fn interval_counts_the_knots_at_or_below_t() {
         let x: Vec<f64> = (0..40).map(|i| (i as f64 * 0.37).powi(3) - 20.0).collect();
         let y: Vec<f64> = x.iter().map(|v| v.sin()).collect();
-        let spline = GcvSpline::new(3, &x, &y, Smoothing::Parameter(0.0));
+        let spline = GcvSpline::new(3, &x, &y, Smoothing::ErrorVariance(0.0));
         let mut probes = vec![f64::NAN, f64::NEG_INFINITY, f64::INFINITY, x[0] - 1.0, x[39] + 1.0];
         for w in x.windows(2) {
             probes.extend([w[0], w[0].next_up(), w[0].next_down(), 0.5 * (w[0] + w[1])]);

@@ -63,12 +63,6 @@ impl Function {
         Function { kind }
     }
 
-    /// Simbody's `SplineFitter::fitForSmoothingParameter(degree, x, y, p)` spline (odd degree,
-    /// x strictly increasing, at least degree + 1 points); p = 0 interpolates the data.
-    pub fn spline_for_smoothing_parameter(degree: usize, x: &[f64], y: &[f64], p: f64) -> Function {
-        Function { kind: Kind::GcvSpline(GcvSpline::new(degree, x, y, Smoothing::Parameter(p))) }
-    }
-
     /// y(x).
     pub fn value(&self, x: f64) -> f64 {
         match &self.kind {

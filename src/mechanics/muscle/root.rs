@@ -55,7 +55,7 @@ pub fn bracketed_newton(
 /// (clamped into the bracket): a good first guess saves iterations, a bad one costs
 /// bisections, never convergence.
 pub fn bracketed_newton_from(
-    mut residual: impl FnMut(f64) -> (f64, f64),
+    residual: impl FnMut(f64) -> (f64, f64),
     start: f64,
     lo: BracketEnd,
     hi: BracketEnd,
@@ -79,11 +79,26 @@ pub fn bracketed_newton_from(
     if (r_lo > 0.0) == (r_hi > 0.0) {
         return Err(RootFailure::NoSignChange(r_lo, r_hi));
     }
-    let (lo, hi) = (lo.x, hi.x);
     // Orient so that r(negative_end) < 0 < r(positive_end).
-    let (mut negative_end, mut positive_end) = if r_lo < 0.0 { (lo, hi) } else { (hi, lo) };
-    let mut x = start.clamp(lo.min(hi), lo.max(hi));
-    let mut last_step = (hi - lo).abs();
+    let (negative_end, positive_end) = if r_lo < 0.0 { (lo.x, hi.x) } else { (hi.x, lo.x) };
+    newton_between(residual, start, negative_end, positive_end, x_tolerance, residual_tolerance, max_iterations)
+}
+
+/// The safeguarded iteration of `bracketed_newton` when the caller knows, without evaluating
+/// them, that r < 0 at `negative_end` and r > 0 at `positive_end`. Converging to either end
+/// with a residual above `residual_tolerance` means that end's sign was wrong.
+pub fn newton_between(
+    mut residual: impl FnMut(f64) -> (f64, f64),
+    start: f64,
+    mut negative_end: f64,
+    mut positive_end: f64,
+    x_tolerance: f64,
+    residual_tolerance: f64,
+    max_iterations: usize,
+) -> Result<Root, RootFailure> {
+    let (lo, hi) = (negative_end.min(positive_end), negative_end.max(positive_end));
+    let mut x = start.clamp(lo, hi);
+    let mut last_step = hi - lo;
     let mut best = Root {
         x,
         residual: f64::INFINITY,

@@ -7,8 +7,8 @@ use super::curves::{self, CurveError};
 use super::smooth_function::SmoothSegmentedFunction;
 use crate::mechanics::muscle::pennation::{FixedWidthPennation, SIGNIFICANT_REAL};
 use crate::mechanics::muscle::{
-    bracketed_newton_from, check_inputs, BracketEnd, EquilibriumStatus, FiberEquilibrium, MuscleError,
-    RootFailure,
+    bracketed_newton_from, check_inputs, newton_between, BracketEnd, EquilibriumStatus, FiberEquilibrium,
+    MuscleError, RootFailure,
 };
 use crate::model::{ForceVelocityCurveSpec, MillardSpec, MuscleSpec};
 
@@ -31,6 +31,8 @@ pub struct MillardCurves {
     pub fiber_force_length: SmoothSegmentedFunction,
     /// Normalised tendon length → normalised tendon force f_T.
     pub tendon_force_length: SmoothSegmentedFunction,
+    /// f_T → normalised tendon length: the equilibrium's first guess.
+    pub tendon_length_at_force: SmoothSegmentedFunction,
 }
 
 /// A Millard 2012 muscle with its finalised parameters.
@@ -234,8 +236,9 @@ impl Millard2012Muscle {
     }
 
     /// Static equilibrium at fiber velocity 0: the fiber length in [L_min, L_slack] (L_slack:
-    /// the tendon exactly at slack length) where F_m cos α = F_t, by bracketed Newton to
-    /// 5e-10 N (or to the resolution of the fiber length). At the edges: when even the minimum
+    /// the tendon exactly at slack length) where F_m cos α = F_t, by safeguarded Newton to
+    /// 5e-10 N (or to the resolution of the fiber length), started where the tendon carries the
+    /// force the fiber has at L_slack. At the edges: when even the minimum
     /// fiber length leaves the tendon slack, or the fiber's force at its minimum length exceeds
     /// the tendon's (the pennation/active-length limit), the fiber stays at its minimum length
     /// with zero fiber force, as OpenSim clamps it (`ClampedAtMinimumFiberLength`). A rigid
@@ -266,12 +269,25 @@ impl Millard2012Muscle {
             last = Some(p);
             self.balance(a, &p)
         };
-        let lo = BracketEnd { x: self.minimum_fiber_length, residual: self.balance(a, &shortest).0 };
-        let hi = BracketEnd { x: slack_fiber_length, residual: residual(slack_fiber_length).0 };
-        // OpenSim's first guess: the tendon 1 % beyond slack.
-        let start = self.pennation.fiber_length(mt_length, self.tendon_slack_length * 1.01);
+        // First guess: the tendon stretched by the force the fiber has at the slack fiber length
+        // (OpenSim starts at 1 % strain; this start saves Newton steps).
+        let at_slack = residual(slack_fiber_length).0;
+        let norm_tendon_length = self.curves.tendon_length_at_force.value((at_slack / self.max_isometric_force).max(0.0));
+        let start = self.pennation.fiber_length(mt_length, self.tendon_slack_length * norm_tendon_length);
         let length_resolution = 4.0 * f64::EPSILON * slack_fiber_length;
-        match bracketed_newton_from(&mut residual, start, lo, hi, length_resolution, FORCE_TOLERANCE, 200) {
+        // At the slack fiber the tendon pulls nothing, so the balance is F_m cos α ≥ 0 there; it
+        // is negative at the shortest fiber unless the fiber outpulls the tendon even there.
+        // Assume so first (the root inside is unique) and solve without the shortest end.
+        let quick = newton_between(&mut residual, start, self.minimum_fiber_length, slack_fiber_length, length_resolution, FORCE_TOLERANCE, 60);
+        let solved = match quick {
+            Ok(root) if root.residual.abs() <= FORCE_TOLERANCE => Ok(root),
+            _ => {
+                let lo = BracketEnd { x: self.minimum_fiber_length, residual: self.balance(a, &shortest).0 };
+                let hi = BracketEnd { x: slack_fiber_length, residual: at_slack };
+                bracketed_newton_from(&mut residual, start, lo, hi, length_resolution, FORCE_TOLERANCE, 200)
+            }
+        };
+        match solved {
             Ok(root) => {
                 let p = last.filter(|p| p.fiber.length == root.x).unwrap_or_else(|| at(root.x));
                 Ok(self.report(a, mt_length, &p, 0.0, false))
@@ -441,6 +457,7 @@ fn build_curves(name: &str, class: &MillardSpec, finalised: &Finalised) -> Resul
     let tfl = &class.tendon_force_length;
     let (tfl_k_iso, tfl_f_toe, tfl_curviness) = tendon_force_length_in_use(name, tfl)?;
     let afl_x = [afl.min_norm_active_fiber_length, afl.transition_norm_fiber_length, 1.0, afl.max_norm_active_fiber_length];
+    let tendon_force_length = curves::tendon_force_length(tfl.strain_at_one_norm_force, tfl_k_iso, tfl_f_toe, tfl_curviness).map_err(invalid)?;
     Ok(MillardCurves {
         active_force_length: curves::active_force_length(afl_x, finalised.active_force_length_minimum, afl.shallow_ascending_slope, 1.0)
             .map_err(invalid)?,
@@ -448,7 +465,8 @@ fn build_curves(name: &str, class: &MillardSpec, finalised: &Finalised) -> Resul
         force_velocity_inverse: curves::force_velocity_inverse(&inverse).map_err(invalid)?,
         fiber_force_length: curves::fiber_force_length(fpe.strain_at_zero_force, fpe.strain_at_one_norm_force, fpe_k_low, fpe_k_iso, fpe_curviness)
             .map_err(invalid)?,
-        tendon_force_length: curves::tendon_force_length(tfl.strain_at_one_norm_force, tfl_k_iso, tfl_f_toe, tfl_curviness).map_err(invalid)?,
+        tendon_length_at_force: tendon_force_length.inverse(),
+        tendon_force_length,
     })
 }
 

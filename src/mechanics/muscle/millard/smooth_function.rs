@@ -1,24 +1,26 @@
 //! OpenSim's `SmoothSegmentedFunction`: a curve made of quintic Bézier segments inside its
-//! domain [x0, x1] and straight lines outside it. x → u is found as OpenSim does: a cubic
-//! interpolating spline of u(x) sampled at 100 points per segment gives the first guess, then
-//! Newton's method on x(u) − x = 0 to 100 ε (at most 20 steps).
+//! domain [x0, x1] and straight lines outside it. x → u is found as OpenSim finds it, Newton's
+//! method on x(u) − x = 0 to 100 ε (at most 20 steps), from a first guess that is a cubic
+//! Hermite table of u(x) on a uniform x grid (OpenSim interpolates a spline through 100 samples
+//! uniform in u; both guesses are within ~1e-7 of u, so Newton ends at the same u to 100 ε, and
+//! the table is looked up without a search).
 
 use super::bezier::{derivative_u, BezierSegment, Weights};
-use crate::mechanics::Function;
+use crate::mechanics::muscle::root::bracketed_newton;
 
 /// Newton tolerance on x(u) − x: 100 ε (`UTOL`).
 const U_TOLERANCE: f64 = f64::EPSILON * 1e2;
 /// Newton step limit (`MAXITER`).
 const MAX_U_ITERATIONS: usize = 20;
-/// Samples of u per segment for the first-guess spline (`NUM_SAMPLE_PTS`).
-const SAMPLES_PER_SEGMENT: usize = 100;
+/// Intervals of the first-guess table per segment.
+const GUESS_INTERVALS: usize = 64;
 
 /// A C2 curve of quintic Bézier segments with linear extrapolation.
 #[derive(Debug, Clone)]
 pub struct SmoothSegmentedFunction {
     segments: Vec<BezierSegment>,
-    /// First guesses u(x), one interpolating cubic spline per segment.
-    u_guess: Vec<Function>,
+    /// First guesses u(x), one table per segment.
+    u_guess: Vec<UGuess>,
     /// Domain [x0, x1].
     pub x0: f64,
     pub x1: f64,
@@ -36,7 +38,7 @@ impl SmoothSegmentedFunction {
         (x0, y0, dydx0): (f64, f64, f64),
         (x1, y1, dydx1): (f64, f64, f64),
     ) -> Self {
-        let u_guess = segments.iter().map(u_guess_spline).collect();
+        let u_guess = segments.iter().map(UGuess::new).collect();
         SmoothSegmentedFunction {
             segments,
             u_guess,
@@ -47,6 +49,13 @@ impl SmoothSegmentedFunction {
             dydx0,
             dydx1,
         }
+    }
+
+    /// The inverse relation y → x of a curve increasing throughout, its end slopes inverted (a
+    /// flat end extrapolates vertically: evaluate the inverse only inside [y0, y1]).
+    pub fn inverse(&self) -> SmoothSegmentedFunction {
+        let segments = self.segments.iter().map(BezierSegment::transposed).collect();
+        SmoothSegmentedFunction::new(segments, (self.y0, self.x0, 1.0 / self.dydx0), (self.y1, self.x1, 1.0 / self.dydx1))
     }
 
     pub fn value(&self, x: f64) -> f64 {
@@ -108,7 +117,7 @@ impl SmoothSegmentedFunction {
     /// Newton check computed them; y(u) needs the same).
     fn parameter(&self, x: f64, index: usize) -> (f64, Weights) {
         let points = &self.segments[index].x;
-        let mut u = self.u_guess[index].value(x).clamp(0.0, 1.0);
+        let mut u = self.u_guess[index].at(x).clamp(0.0, 1.0);
         let mut weights = Weights::at(u, 0);
         let mut f = weights.apply(points) - x;
         let mut iterations = 0;
@@ -126,11 +135,61 @@ impl SmoothSegmentedFunction {
     }
 }
 
-/// `SplineFitter::fitForSmoothingParameter(3, x, u, 0)` over 100 evenly spaced u.
-fn u_guess_spline(segment: &BezierSegment) -> Function {
-    let u: Vec<f64> = (0..SAMPLES_PER_SEGMENT)
-        .map(|i| i as f64 / (SAMPLES_PER_SEGMENT - 1) as f64)
-        .collect();
-    let x: Vec<f64> = u.iter().map(|&u| derivative_u(u, &segment.x, 0)).collect();
-    Function::spline_for_smoothing_parameter(3, &x, &u, 0.0)
+/// u(x) of one segment at GUESS_INTERVALS + 1 evenly spaced x, with du/dx there, for cubic
+/// Hermite interpolation.
+#[derive(Debug, Clone)]
+struct UGuess {
+    x_start: f64,
+    /// 1/h, h the grid spacing in x.
+    inverse_step: f64,
+    /// (u, h·du/dx) at each grid x.
+    knots: Vec<(f64, f64)>,
+}
+
+impl UGuess {
+    fn new(segment: &BezierSegment) -> UGuess {
+        let (x_start, x_end) = (segment.x[0], segment.x[5]);
+        let step = (x_end - x_start) / GUESS_INTERVALS as f64;
+        let knots = (0..=GUESS_INTERVALS)
+            .map(|i| {
+                let x = x_start + step * i as f64;
+                let residual = |u: f64| (derivative_u(u, &segment.x, 0) - x, derivative_u(u, &segment.x, 1));
+                let u = bracketed_newton(residual, 0.0, 1.0, 1e-15, U_TOLERANCE, 200).map_or(i as f64 / GUESS_INTERVALS as f64, |r| r.x);
+                let slope = step / derivative_u(u, &segment.x, 1);
+                // Where x(u) is flat (a repeated control point) the table falls back to chords.
+                (u, if slope.is_finite() && slope.abs() < 1.0 { slope } else { f64::NAN })
+            })
+            .collect();
+        UGuess { x_start, inverse_step: if step > 0.0 { 1.0 / step } else { 0.0 }, knots }
+    }
+
+    /// The interpolated u at x.
+    #[inline]
+    fn at(&self, x: f64) -> f64 {
+        let position = ((x - self.x_start) * self.inverse_step).clamp(0.0, GUESS_INTERVALS as f64);
+        let i = (position as usize).min(GUESS_INTERVALS - 1);
+        let t = position - i as f64;
+        let ((u0, m0), (u1, m1)) = (self.knots[i], self.knots[i + 1]);
+        let chord = u1 - u0;
+        let (m0, m1) = (if m0.is_nan() { chord } else { m0 }, if m1.is_nan() { chord } else { m1 });
+        let (t2, t3) = (t * t, t * t * t);
+        (2.0 * t3 - 3.0 * t2 + 1.0) * u0 + (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) * u1 + (t3 - t2) * m1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::curves;
+
+    /// The inverse undoes the curve, across the toe and into the linear extrapolation.
+    #[test]
+    fn the_inverse_of_the_tendon_curve_returns_the_length() {
+        let curve = curves::tendon_force_length(0.049, 1.375 / 0.049, 2.0 / 3.0, 0.5).unwrap();
+        let inverse = curve.inverse();
+        for i in 1..=80 {
+            let length = 1.0 + 0.08 * i as f64 / 80.0;
+            let back = inverse.value(curve.value(length));
+            assert!((back - length).abs() < 1e-13, "{length}: {back}");
+        }
+    }
 }
