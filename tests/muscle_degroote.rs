@@ -17,50 +17,39 @@
 
 mod common;
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 
 use osim_tune::io::osim::OsimDocument;
-use osim_tune::mechanics::muscle::{
-    DeGrooteCurves, DeGrooteFregly2016Muscle, EquilibriumStatus, FiberEquilibrium, HillMuscle,
-    MuscleError,
-};
+use osim_tune::mechanics::muscle::{DeGrooteCurves, DeGrooteFregly2016Muscle, HillMuscle, MuscleError};
 use osim_tune::model::{DeGrooteSpec, ModelSpec, MuscleModelSpec, MuscleSpec};
-use osim_tune::validation::GoldenTable;
+use osim_tune::validation::{compare_degroote_curves, compare_degroote_equilibrium, compare_degroote_fiber_velocity, GoldenTable, DEGROOTE_LENGTH_TOLERANCE};
 use proptest::prelude::*;
 
 fn golden(file: &str) -> GoldenTable {
-    GoldenTable::read(&common::fixture(&format!("golden/muscle/degroote/{file}"))).unwrap()
+    GoldenTable::read(&golden_folder().join(file)).unwrap()
 }
 
-use common::golden_rows::{rows, Row};
+use common::golden_rows::rows;
 
-/// The bench model's muscles, each with its specification, as read from the .osim file.
-fn bench_muscles() -> HashMap<String, (MuscleSpec, DeGrooteSpec, DeGrooteFregly2016Muscle)> {
-    let document = OsimDocument::read(&common::fixture("models/degroote_bench.osim")).unwrap();
-    let spec = ModelSpec::read(&document).unwrap();
-    spec.muscles()
+fn bench_model() -> ModelSpec {
+    ModelSpec::read(&OsimDocument::read(&common::fixture("models/degroote_bench.osim")).unwrap()).unwrap()
+}
+
+/// The bench model's muscle specifications, as read from the .osim file.
+fn bench_muscles() -> HashMap<String, (MuscleSpec, DeGrooteSpec)> {
+    bench_model()
+        .muscles()
         .map(|force| {
             let muscle = force.muscle.clone().unwrap();
-            let MuscleModelSpec::DeGrooteFregly2016(class) = muscle.model.clone() else {
-                panic!("{}", force.name)
-            };
-            let built = DeGrooteFregly2016Muscle::new(&force.name, &muscle, &class).unwrap();
-            assert!(matches!(
-                HillMuscle::from_force(force),
-                Ok(HillMuscle::DeGroote(_))
-            ));
-            (force.name.clone(), (muscle, class, built))
+            let MuscleModelSpec::DeGrooteFregly2016(class) = muscle.model.clone() else { panic!("{}", force.name) };
+            assert!(matches!(HillMuscle::from_force(force), Ok(HillMuscle::DeGroote(_))));
+            (force.name.clone(), (muscle, class))
         })
         .collect()
 }
 
-fn within(ours: f64, theirs: f64, bound: f64, what: &str) -> f64 {
-    let error = (ours - theirs).abs();
-    assert!(
-        error <= bound,
-        "{what}: ours {ours}, OpenSim {theirs}, |Δ| = {error:e} > {bound:e}"
-    );
-    error
+fn golden_folder() -> std::path::PathBuf {
+    common::fixture("golden/muscle/degroote")
 }
 
 #[test]
@@ -69,7 +58,7 @@ fn the_bench_model_reads_as_opensim_wrote_it() {
     let parameters = golden("parameters.csv");
     assert_eq!(muscles.len(), parameters.rows.len());
     for row in rows(&parameters) {
-        let (spec, class, _) = &muscles[row.text("muscle")];
+        let (spec, class) = &muscles[row.text("muscle")];
         let numbers = [
             ("max_isometric_force", spec.max_isometric_force),
             ("optimal_fiber_length", spec.optimal_fiber_length),
@@ -108,218 +97,66 @@ fn the_bench_model_reads_as_opensim_wrote_it() {
     }
 }
 
-/// The value and, where OpenSim has one, the derivative of curve function `function`.
-fn evaluate(curves: &DeGrooteCurves, function: &str, x: f64) -> (f64, Option<f64>) {
-    match function {
-        "calcActiveForceLengthMultiplier" => (
-            curves.calc_active_force_length_multiplier(x),
-            Some(curves.calc_active_force_length_multiplier_derivative(x)),
-        ),
-        "calcPassiveForceMultiplier" => (
-            curves.calc_passive_force_multiplier(x),
-            Some(curves.calc_passive_force_multiplier_derivative(x)),
-        ),
-        "calcPassiveForceMultiplierIntegral" => {
-            (curves.calc_passive_force_multiplier_integral(x), None)
-        }
-        "calcTendonForceMultiplier" => (
-            curves.calc_tendon_force_multiplier(x),
-            Some(curves.calc_tendon_force_multiplier_derivative(x)),
-        ),
-        "calcTendonForceMultiplierIntegral" => {
-            (curves.calc_tendon_force_multiplier_integral(x), None)
-        }
-        "calcTendonForceLengthInverseCurve" => {
-            (curves.calc_tendon_force_length_inverse_curve(x), None)
-        }
-        "calcForceVelocityMultiplier" => (DeGrooteCurves::calc_force_velocity_multiplier(x), None),
-        "calcForceVelocityInverseCurve" => {
-            (DeGrooteCurves::calc_force_velocity_inverse_curve(x), None)
-        }
-        other => panic!("unknown curve function {other}"),
+/// `activation_time_constant` and `deactivation_time_constant` (s): OpenSim's class defaults
+/// 0.015 s and 0.060 s where the bench model leaves them out, the file's values where it gives
+/// them, and an error naming the file, the muscle and the property for a non-positive or
+/// non-numeric one.
+#[test]
+fn time_constants_are_read_with_opensim_defaults() {
+    let path = common::fixture("models/degroote_bench.osim");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let muscle = "<DeGrooteFregly2016Muscle name=\"pennate\">";
+    assert!(text.contains(muscle) && !text.contains("time_constant"));
+    let with = |properties: &str| {
+        let edited = text.replacen(muscle, &format!("{muscle}\n{properties}"), 1);
+        ModelSpec::read(&OsimDocument::parse(edited, &path).unwrap())
+    };
+    let given = "<activation_time_constant> 0.02 </activation_time_constant><deactivation_time_constant>0.075</deactivation_time_constant>";
+    let spec = with(given).unwrap();
+    let time_constants = |name: &str| match HillMuscle::from_force(spec.muscles().find(|f| f.name == name).unwrap()).unwrap() {
+        HillMuscle::DeGroote(m) => (m.activation_time_constant(), m.deactivation_time_constant()),
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(time_constants("pennate"), (0.02, 0.075));
+    assert_eq!(time_constants("default"), (0.015, 0.060));
+    for (bad, property) in [
+        ("<activation_time_constant>0</activation_time_constant>", "activation_time_constant"),
+        ("<deactivation_time_constant>-0.06</deactivation_time_constant>", "deactivation_time_constant"),
+        ("<deactivation_time_constant>fast</deactivation_time_constant>", "deactivation_time_constant"),
+    ] {
+        let message = with(bad).unwrap_err().to_string();
+        assert!(message.contains("degroote_bench.osim:") && message.contains("pennate") && message.contains(&format!("<{property}>")), "{message}");
     }
 }
 
 #[test]
 fn curves_agree_with_opensim() {
-    let sets: HashMap<String, DeGrooteCurves> = rows(&golden("curve_sets.csv"))
-        .map(|row| {
-            let curves = DeGrooteCurves::new(
-                row.number("active_force_width_scale"),
-                row.number("passive_fiber_strain_at_one_norm_force"),
-                row.number("tendon_strain_at_one_norm_force"),
-                false,
-            );
-            (row.text("set_id").to_string(), curves)
-        })
-        .collect();
-    let table = golden("curves.csv");
-    let mut worst = 0.0f64;
-    for row in rows(&table) {
-        let (function, x) = (row.text("function"), row.number("x"));
-        let (value, derivative) = evaluate(&sets[row.text("set_id")], function, x);
-        let what = format!("{function} set {} at {x}", row.text("set_id"));
-        let expected = row.number("value");
-        worst = worst.max(within(
-            value,
-            expected,
-            1e-12 * expected.abs().max(1.0),
-            &what,
-        ));
-        match derivative {
-            Some(derivative) => {
-                let expected = row.number("derivative");
-                worst = worst.max(within(
-                    derivative,
-                    expected,
-                    1e-12 * expected.abs().max(1.0),
-                    &format!("d/dx {what}"),
-                ));
-            }
-            None => assert!(
-                row.number("derivative").is_nan(),
-                "{what}: OpenSim exposes a derivative"
-            ),
-        }
+    let c = compare_degroote_curves(&golden_folder()).unwrap_or_else(|e| panic!("{e}"));
+    for (what, worst) in [("value", &c.value), ("derivative", &c.derivative)] {
+        assert!(worst.error <= 1e-12, "{what}: |Δ| / max(1, |y|) = {:e} at {}", worst.error, worst.at);
     }
-    assert_eq!(table.rows.len(), 772);
-    println!("curves: worst |Δ| {worst:e}");
-}
-
-/// F_max (a f_L |f_V(ṽ) − f_V(0)| + β |ṽ|) (N): the fiber force OpenSim's explicit getters
-/// attribute to the velocity its bisection leaves.
-fn opensim_imbalance(row: &Row, spec: &MuscleSpec, class: &DeGrooteSpec) -> f64 {
-    let f_max = spec.max_isometric_force;
-    let at_rest = f_max
-        * (row.number("activation")
-            * row.number("active_force_length_multiplier")
-            * DeGrooteCurves::calc_force_velocity_multiplier(0.0));
-    (row.number("active_fiber_force") - at_rest).abs()
-        + f_max * class.fiber_damping * row.number("normalized_fiber_velocity").abs()
-}
-
-/// Worst |Δ| per quantity over the rows compared.
-#[derive(Debug, Default)]
-struct Worst(BTreeMap<&'static str, f64>);
-
-impl Worst {
-    fn check(&mut self, what: &'static str, ours: f64, row: &Row, bound: f64) {
-        let context = format!(
-            "{} {} a={} {what}",
-            row.text("muscle"),
-            row.text("pose_id"),
-            row.text("activation")
-        );
-        let error = within(ours, row.number(what), bound, &context);
-        let entry = self.0.entry(what).or_default();
-        *entry = entry.max(error);
-    }
-}
-
-fn compare_equilibrium(ours: &FiberEquilibrium, row: &Row, imbalance: f64, worst: &mut Worst) {
-    let lengths = [
-        ("fiber_length", ours.fiber_length),
-        ("fiber_length_along_tendon", ours.fiber_length_along_tendon),
-        ("tendon_length", ours.tendon_length),
-        ("normalized_fiber_length", ours.normalized_fiber_length),
-        ("tendon_strain", ours.tendon_strain),
-        ("pennation_angle", ours.pennation_angle),
-        ("cos_pennation_angle", ours.cos_pennation_angle),
-        (
-            "active_force_length_multiplier",
-            ours.active_force_length_multiplier,
-        ),
-        ("passive_force_multiplier", ours.passive_force_multiplier),
-    ];
-    for (what, value) in lengths {
-        worst.check(what, value, row, 1e-8);
-    }
-    let tendon_force = row.number("tendon_force");
-    let force_bound = 1e-6f64.max(1e-8 * tendon_force.abs());
-    worst.check("tendon_force", ours.tendon_force, row, force_bound);
-    for (what, value) in [
-        ("active_fiber_force", ours.active_fiber_force),
-        ("passive_fiber_force", ours.passive_fiber_force),
-        ("fiber_force", ours.fiber_force),
-        ("fiber_force_along_tendon", ours.fiber_force_along_tendon),
-    ] {
-        worst.check(what, value, row, force_bound + imbalance);
-    }
-    assert!(
-        row.number("normalized_fiber_velocity").abs() <= 1e-6,
-        "OpenSim left |ṽ| > 1e-6"
-    );
-    assert_eq!(ours.normalized_fiber_velocity, 0.0);
-    assert_eq!(
-        ours.force_velocity_multiplier,
-        DeGrooteCurves::calc_force_velocity_multiplier(0.0)
-    );
-    assert_eq!(ours.status, EquilibriumStatus::Converged);
+    assert_eq!(c.value.count, 772);
+    println!("curves: worst |Δ| / max(1, |y|) {:e}, derivatives {:e}", c.value.error, c.derivative.error);
 }
 
 #[test]
 fn equilibrium_agrees_with_opensim() {
-    let muscles = bench_muscles();
-    let table = golden("equilibrium.csv");
-    let mut worst = Worst::default();
-    let (mut compared, mut refused) = (0, 0);
-    for row in rows(&table) {
-        let (spec, class, muscle) = &muscles[row.text("muscle")];
-        let (activation, mt_length) = (row.number("activation"), row.number("mt_length"));
-        assert_eq!(row.number("activation_readback"), activation);
-        let ours = muscle.equilibrium(activation, mt_length);
-        let shorter_than_tendon = mt_length <= spec.tendon_slack_length;
-        if row.text("status") == "ok" && !shorter_than_tendon {
-            let ours = ours.unwrap_or_else(|e| panic!("{e}"));
-            compare_equilibrium(
-                &ours,
-                &row,
-                opensim_imbalance(&row, spec, class),
-                &mut worst,
-            );
-            compared += 1;
-        } else {
-            // OpenSim threw, or (rigid tendon, L_mt < L_ts) reported a fiber pointing backwards.
-            assert!(
-                matches!(ours, Err(MuscleError::Infeasible { .. })),
-                "{} {}: {ours:?}",
-                row.text("muscle"),
-                row.text("pose_id")
-            );
-            refused += 1;
-        }
+    let c = compare_degroote_equilibrium(&bench_model(), &golden_folder()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(c.mismatches.is_empty(), "{:#?}", c.mismatches);
+    assert!(c.lengths.error <= DEGROOTE_LENGTH_TOLERANCE, "lengths: |Δ| = {:e} at {}", c.lengths.error, c.lengths.at);
+    for (what, worst) in [("tendon force", &c.tendon_force), ("fiber forces", &c.fiber_forces)] {
+        assert!(worst.error <= 1.0, "{what}: {:e} of the allowance at {}", worst.error, worst.at);
     }
-    assert_eq!((compared, refused), (404, 76));
-    println!("equilibrium worst |Δ|: {:#?}", worst.0);
+    assert_eq!((c.compared, c.refused), (404, 76));
+    println!("equilibrium worst: {c:#?}");
 }
 
 #[test]
 fn fiber_velocity_agrees_with_opensim() {
-    let muscles = bench_muscles();
-    let table = golden("fiber_velocity.csv");
-    let mut worst = 0.0f64;
-    for row in rows(&table) {
-        let (_, _, muscle) = &muscles[row.text("muscle")];
-        let (activation, fiber_length, mt_length) = (
-            row.number("activation"),
-            row.number("fiber_length"),
-            row.number("mt_length"),
-        );
-        let ours = muscle
-            .fiber_velocity(activation, fiber_length, mt_length)
-            .unwrap();
-        let expected = row.number("fiber_velocity");
-        let what = format!(
-            "{} a={activation} L_mt={mt_length} f_T={}",
-            row.text("muscle"),
-            row.text("normalized_tendon_force")
-        );
-        worst = worst.max(
-            within(ours, expected, 1e-9 * expected.abs().max(1.0), &what) / expected.abs().max(1.0),
-        );
-    }
-    assert_eq!(table.rows.len(), 243);
-    println!("fiber velocity: worst |Δ| / max(1, |v|) {worst:e}");
+    let worst = compare_degroote_fiber_velocity(&bench_model(), &golden_folder()).unwrap_or_else(|e| panic!("{e}"));
+    assert!(worst.error <= 1e-9, "fiber velocity: |Δ| / max(1, |v|) = {:e} at {}", worst.error, worst.at);
+    assert_eq!(worst.count, 243);
+    println!("fiber velocity: worst |Δ| / max(1, |v|) {:e}", worst.error);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -357,6 +194,8 @@ fn class(active_force_width_scale: f64, passive_strain: f64, tendon_strain: f64)
         default_activation: 0.5,
         default_normalized_tendon_force: 0.5,
         tendon_compliance_dynamics_mode: "explicit".into(),
+        activation_time_constant: 0.015,
+        deactivation_time_constant: 0.060,
     }
 }
 
@@ -524,6 +363,8 @@ fn parameters_opensim_rejects_are_invalid_parameter() {
         c.tendon_strain_at_one_norm_force = -0.049
     });
     rejects("default_activation", &|_, c| c.default_activation = 0.0);
+    rejects("activation_time_constant", &|_, c| c.activation_time_constant = 0.0);
+    rejects("deactivation_time_constant", &|_, c| c.deactivation_time_constant = f64::NAN);
     rejects("default_normalized_tendon_force", &|_, c| {
         c.default_normalized_tendon_force = 5.01
     });

@@ -11,10 +11,10 @@ use std::collections::HashMap;
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::muscle::{
-    EquilibriumStatus, FiberEquilibrium, HillMuscle, MuscleError, Thelen2003Muscle, ThelenCurves,
+    EquilibriumStatus, FiberEquilibrium, HillMuscle, MuscleError, Thelen2003Muscle,
 };
 use osim_tune::model::{ModelSpec, MuscleModelSpec, MuscleSpec, ThelenSpec};
-use osim_tune::validation::GoldenTable;
+use osim_tune::validation::{compare_thelen_curves, compare_thelen_fiber_velocity, GoldenTable};
 use proptest::prelude::*;
 
 const MODELS: [(&str, &str); 2] = [
@@ -81,71 +81,17 @@ impl Worst {
     }
 }
 
-/// The curve parameters of a `curve_sets.csv` row (`name=value;…`).
-fn curve_set(params: &str) -> ThelenCurves {
-    let values: HashMap<&str, f64> = params
-        .split(';')
-        .map(|pair| pair.split_once('=').unwrap())
-        .map(|(k, v)| (k, v.parse().unwrap()))
-        .collect();
-    let spec = ThelenSpec {
-        fmax_tendon_strain: values["FmaxTendonStrain"],
-        fmax_muscle_strain: values["FmaxMuscleStrain"],
-        kshape_active: values["KshapeActive"],
-        kshape_passive: values["KshapePassive"],
-        af: values["Af"],
-        flen: values["Flen"],
-        fv_linear_extrap_threshold: values["fv_linear_extrap_threshold"],
-        maximum_pennation_angle: 0.1f64.acos(),
-        default_activation: 0.05,
-        minimum_activation: 0.01,
-    };
-    ThelenCurves::new("curve set", &spec).unwrap()
-}
-
 /// Every curve sample ≤ 1e-10 absolute (OpenSim's closed-form Thelen formulas sampled through
 /// a bench muscle). f_V is checked both ways: f_V(ṽ) against OpenSim's multiplier, and
 /// OpenSim's velocity ṽ against ours at its force.
 #[test]
 fn curves_match_opensim() {
     for (stem, _) in MODELS {
-        let sets = golden(stem, "curve_sets.csv");
-        let curves: Vec<ThelenCurves> = rows(&sets)
-            .map(|row| curve_set(row.text("params")))
-            .collect();
-        let table = golden(stem, "curves.csv");
-        let mut worst: HashMap<String, Worst> = HashMap::new();
-        for row in rows(&table) {
-            let c = &curves[row.number("set_id") as usize];
-            let (curve, a, x, value) = (
-                row.text("curve"),
-                row.number("activation"),
-                row.number("x"),
-                row.number("value"),
-            );
-            let at = || format!("{stem} {curve} a = {a} x = {x}");
-            let ours = match curve {
-                "ThelenActiveForceLength" => c.active_force_length(x),
-                "ThelenPassiveForceLength" => c.passive_force_length(x),
-                "ThelenTendonForceLength" => c.tendon_force_length(x),
-                "ThelenForceVelocity" => {
-                    let velocity = c.normalized_fiber_velocity(a, 1.0, a * value);
-                    worst
-                        .entry("ThelenForceVelocity velocity".into())
-                        .or_default()
-                        .record(velocity, x, 1e-10, at);
-                    c.force_velocity(a, x)
-                }
-                other => panic!("unknown curve {other}"),
-            };
-            worst
-                .entry(curve.into())
-                .or_default()
-                .record(ours, value, 1e-10, at);
-        }
-        assert_eq!(worst.len(), 5, "{stem}: all four curves and the velocity");
-        for (what, w) in &worst {
-            w.assert_within(what);
+        let c = compare_thelen_curves(&common::fixture(&format!("golden/muscle/{stem}"))).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(c.curves.len(), 4, "{stem}: all four curves");
+        assert!(c.velocity.count > 0, "{stem}: the velocity");
+        for (what, worst) in [("curve values", &c.value), ("force–velocity inverse", &c.velocity)] {
+            assert!(worst.error <= 1e-10, "{stem} {what}: off by {:e} at {}", worst.error, worst.at);
         }
     }
 }
@@ -167,6 +113,44 @@ fn minimum_fiber_lengths_match_opensim() {
         }
         assert_eq!(muscles.len(), table.rows.len());
     }
+}
+
+/// `activation_time_constant` and `deactivation_time_constant` (s) as the file writes them and
+/// OpenSim reads them (`parameters.csv`); absent, OpenSim's class defaults 0.015 s and 0.050 s;
+/// non-positive, an error naming the file, the muscle and the property.
+#[test]
+fn time_constants_are_read_as_opensim_reads_them() {
+    for (stem, file) in MODELS {
+        let text = std::fs::read_to_string(common::root().join(file)).unwrap();
+        let muscles = thelen_muscles(file);
+        for row in rows(&golden(stem, "parameters.csv")) {
+            let muscle = &muscles[row.text("muscle")];
+            for (property, ours) in [("activation_time_constant", muscle.activation_time_constant()), ("deactivation_time_constant", muscle.deactivation_time_constant())] {
+                assert_eq!(ours, row.number(property), "{stem} {} {property}", muscle.name());
+                assert_eq!(ours, property_in_file(&text, muscle.name(), property), "{stem} {} {property}", muscle.name());
+            }
+        }
+    }
+    let path = common::root().join("fixtures/models/arm26.osim");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let read = |edited: String| ModelSpec::read(&OsimDocument::parse(edited, &path).unwrap());
+    let first = "<activation_time_constant>0.01</activation_time_constant>";
+    let absent = read(text.replacen(first, "", 1).replacen("<deactivation_time_constant>0.040000000000000001</deactivation_time_constant>", "", 1)).unwrap();
+    let muscle = |spec: &ModelSpec| match HillMuscle::from_force(spec.muscles().next().unwrap()).unwrap() {
+        HillMuscle::Thelen(m) => m,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!((muscle(&absent).activation_time_constant(), muscle(&absent).deactivation_time_constant()), (0.015, 0.050));
+    let message = read(text.replacen(first, "<activation_time_constant>0</activation_time_constant>", 1)).unwrap_err().to_string();
+    assert!(message.contains("arm26.osim:") && message.contains("TRIlong") && message.contains("<activation_time_constant>"), "{message}");
+}
+
+/// The number of property `property` of the Thelen muscle `name` in an .osim file's text.
+fn property_in_file(text: &str, name: &str, property: &str) -> f64 {
+    let muscle = &text[text.find(&format!("<Thelen2003Muscle name=\"{name}\">")).unwrap()..];
+    let muscle = &muscle[..muscle.find("</Thelen2003Muscle>").unwrap()];
+    let value = &muscle[muscle.find(&format!("<{property}>")).unwrap() + property.len() + 2..];
+    value[..value.find('<').unwrap()].trim().parse().unwrap()
 }
 
 /// Worst errors of the equilibrium quantities over a golden table.
@@ -513,32 +497,11 @@ fn assert_all_finite(e: &FiberEquilibrium) {
 /// and tendon strains (slack to linear region): ≤ 1e-9 relative, 1e-12 m/s absolute.
 #[test]
 fn fiber_velocity_matches_opensim() {
-    let table = golden("thelen_velocity", "fiber_velocity.csv");
-    let mut muscles: HashMap<String, HashMap<String, Thelen2003Muscle>> = HashMap::new();
-    for (stem, file) in MODELS {
-        muscles.insert(stem.into(), thelen_muscles(file));
-    }
-    let mut worst = Worst::default();
-    for row in rows(&table) {
-        let muscle = &muscles[row.text("model")][row.text("muscle")];
-        let (a, fiber_length, mt_length) = (
-            row.number("activation"),
-            row.number("fiber_length"),
-            row.number("mt_length"),
-        );
-        let theirs = row.number("fiber_length_derivative");
-        assert_eq!(theirs, row.number("fiber_velocity"));
-        let ours = muscle.fiber_velocity(a, fiber_length, mt_length).unwrap();
-        let at = || {
-            format!(
-                "{} a = {a} L_m = {fiber_length} L_mt = {mt_length}",
-                row.text("muscle")
-            )
-        };
-        worst.record(ours, theirs, (1e-9 * theirs.abs()).max(1e-12), at);
-    }
-    worst.assert_within("fiber velocity");
-    assert_eq!(table.rows.len(), 396);
+    let specs: Vec<(&str, ModelSpec)> = MODELS.iter().map(|(stem, file)| (*stem, model_spec(file))).collect();
+    let models: Vec<(&str, &ModelSpec)> = specs.iter().map(|(stem, spec)| (*stem, spec)).collect();
+    let worst = compare_thelen_fiber_velocity(&models, &common::fixture("golden/muscle/thelen_velocity")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(worst.error <= 1e-9, "fiber velocity: off by {:e} relative at {}", worst.error, worst.at);
+    assert_eq!(worst.count, 396);
 }
 
 /// At the static equilibrium the state derivative vanishes (|dL_m/dt| ≤ 1e-8 m/s: the residual
@@ -677,7 +640,7 @@ type SpecInvalidation = (&'static str, fn(&mut MuscleSpec));
 /// models throw on, plus the two flags OpenSim does not implement for this class.
 #[test]
 fn parameters_opensim_rejects_are_refused() {
-    let class_edits: [ClassInvalidation; 10] = [
+    let class_edits: [ClassInvalidation; 12] = [
         ("FmaxTendonStrain", |c| c.fmax_tendon_strain = 0.0),
         ("FmaxMuscleStrain", |c| c.fmax_muscle_strain = -1.0),
         ("KshapeActive", |c| c.kshape_active = 0.0),
@@ -692,6 +655,8 @@ fn parameters_opensim_rejects_are_refused() {
         }),
         ("minimum_activation", |c| c.minimum_activation = 0.005),
         ("minimum_activation", |c| c.minimum_activation = 1.0),
+        ("activation_time_constant", |c| c.activation_time_constant = 0.0),
+        ("deactivation_time_constant", |c| c.deactivation_time_constant = -0.05),
     ];
     let spec_edits: [SpecInvalidation; 4] = [
         ("ignore_tendon_compliance", |s| {

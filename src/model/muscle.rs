@@ -107,6 +107,10 @@ pub struct ThelenSpec {
     pub maximum_pennation_angle: f64,
     pub default_activation: f64,
     pub minimum_activation: f64,
+    /// τ_a, `activation_time_constant`, s.
+    pub activation_time_constant: f64,
+    /// τ_d, `deactivation_time_constant`, s.
+    pub deactivation_time_constant: f64,
 }
 
 /// `DeGrooteFregly2016Muscle` properties (the class OpenSim Moco models use).
@@ -120,6 +124,10 @@ pub struct DeGrooteSpec {
     pub default_activation: f64,
     pub default_normalized_tendon_force: f64,
     pub tendon_compliance_dynamics_mode: String,
+    /// τ_a, `activation_time_constant`, s.
+    pub activation_time_constant: f64,
+    /// τ_d, `deactivation_time_constant`, s.
+    pub deactivation_time_constant: f64,
 }
 
 /// The muscle classes with mechanics in osim-tune.
@@ -245,6 +253,7 @@ impl MillardSpec {
 
 impl ThelenSpec {
     fn read(reader: ComponentReader) -> Result<ThelenSpec, ModelError> {
+        let (activation_time_constant, deactivation_time_constant) = time_constants(reader, (0.015, 0.050))?;
         Ok(ThelenSpec {
             fmax_tendon_strain: reader.number_or("FmaxTendonStrain", 0.04)?,
             fmax_muscle_strain: reader.number_or("FmaxMuscleStrain", 0.6)?,
@@ -257,12 +266,15 @@ impl ThelenSpec {
                 .number_or("maximum_pennation_angle", DEFAULT_MAXIMUM_PENNATION)?,
             default_activation: reader.number_or("default_activation", 0.05)?,
             minimum_activation: reader.number_or("minimum_activation", 0.01)?,
+            activation_time_constant,
+            deactivation_time_constant,
         })
     }
 }
 
 impl DeGrooteSpec {
     fn read(reader: ComponentReader) -> Result<DeGrooteSpec, ModelError> {
+        let (activation_time_constant, deactivation_time_constant) = time_constants(reader, (0.015, 0.060))?;
         Ok(DeGrooteSpec {
             active_force_width_scale: reader.number_or("active_force_width_scale", 1.0)?,
             fiber_damping: reader.number_or("fiber_damping", 0.0)?,
@@ -277,8 +289,20 @@ impl DeGrooteSpec {
             tendon_compliance_dynamics_mode: reader
                 .optional_text("tendon_compliance_dynamics_mode")
                 .unwrap_or_else(|| "explicit".into()),
+            activation_time_constant,
+            deactivation_time_constant,
         })
     }
+}
+
+/// `activation_time_constant` and `deactivation_time_constant` (s), the class's `defaults` when
+/// absent; each must be a positive number, as OpenSim requires.
+fn time_constants(reader: ComponentReader, defaults: (f64, f64)) -> Result<(f64, f64), ModelError> {
+    let read = |property: &str, default: f64| {
+        let value = reader.number_or(property, default)?;
+        if value > 0.0 && value.is_finite() { Ok(value) } else { Err(reader.bad(property, "a positive time in s", &value.to_string())) }
+    };
+    Ok((read("activation_time_constant", defaults.0)?, read("deactivation_time_constant", defaults.1)?))
 }
 
 /// A number of an optional curve object, defaulted when the object or the property is absent.

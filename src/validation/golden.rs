@@ -51,6 +51,21 @@ impl GoldenTable {
         text.parse().map_err(|_| GoldenError::Format { file: self.file.clone(), line: row + 2, problem: format!("{:?} is not a number", text) })
     }
 
+    /// Field `name` of row `row` as a number.
+    pub fn number_at(&self, row: usize, name: &str) -> Result<f64, GoldenError> {
+        self.number(row, self.column(name)?)
+    }
+
+    /// Field `name` of row `row` as text.
+    pub fn text_at(&self, row: usize, name: &str) -> Result<&str, GoldenError> {
+        Ok(&self.rows[row][self.column(name)?])
+    }
+
+    /// An error at row `row` (0-based, after the header).
+    pub fn error_at(&self, row: usize, problem: String) -> GoldenError {
+        GoldenError::Format { file: self.file.clone(), line: row + 2, problem }
+    }
+
     pub fn column(&self, name: &str) -> Result<usize, GoldenError> {
         self.header.iter().position(|h| h == name).ok_or_else(|| GoldenError::Format { file: self.file.clone(), line: 1, problem: format!("no column {name:?}") })
     }

@@ -7,6 +7,8 @@ mod golden;
 pub mod ik;
 pub mod knee_axis;
 mod muscle;
+mod muscle_degroote;
+mod muscle_thelen;
 mod scale;
 
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
@@ -15,4 +17,9 @@ pub use muscle::{
     compare_equilibrium, compare_millard_curves, default_force_velocity_inverse, CurveComparison, EquilibriumComparison,
     EquilibriumSolution, EquilibriumValidationError, FIBER_LENGTH_TOLERANCE, STATIC_FIBER_LENGTH_TOLERANCE,
 };
+pub use muscle_degroote::{
+    compare_degroote_curves, compare_degroote_equilibrium, compare_degroote_fiber_velocity, DeGrooteCurveComparison, DeGrooteEquilibriumComparison,
+    DEGROOTE_LENGTH_TOLERANCE,
+};
+pub use muscle_thelen::{compare_thelen_curves, compare_thelen_fiber_velocity, ThelenCurveComparison};
 pub use scale::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};

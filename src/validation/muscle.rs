@@ -58,7 +58,7 @@ pub fn compare_millard_curves(
             "TendonForceLengthCurve" => &muscle.curves.tendon_force_length,
             "ForceVelocityCurve" => &muscle.curves.force_velocity,
             "ForceVelocityInverseCurve" => &inverse,
-            other => return Err(format_error(&table, r, format!("unknown curve {other:?}"))),
+            other => return Err(table.error_at(r, format!("unknown curve {other:?}"))),
         };
         let at = table.number(r, x)?;
         let here = || format!("{name} at {at}");
@@ -81,14 +81,6 @@ pub fn compare_millard_curves(
             .update((ours[2] - golden[2]).abs() / golden[2].abs().max(1.0), here);
     }
     Ok(comparison)
-}
-
-fn format_error(table: &GoldenTable, row: usize, problem: String) -> GoldenError {
-    GoldenError::Format {
-        file: table.file.clone(),
-        line: row + 2,
-        problem,
-    }
 }
 
 /// Which of our solutions is compared with OpenSim's `equilibrateMuscles` state.
@@ -170,13 +162,9 @@ pub fn compare_equilibrium(
     for r in 0..table.rows.len() {
         let row = golden_row(&table, r)?;
         let muscle_name = table.rows[r][table.column("muscle")?].clone();
-        let (max_force, muscle) = muscles.get(&muscle_name).ok_or_else(|| {
-            format_error(
-                &table,
-                r,
-                format!("muscle {muscle_name:?} is not in the model"),
-            )
-        })?;
+        let (max_force, muscle) = muscles
+            .get(&muscle_name)
+            .ok_or_else(|| table.error_at(r, format!("muscle {muscle_name:?} is not in the model")))?;
         let ours = solve(muscle, solution, row.activation, row.mt_length)?;
         let length_allowance = length_allowance(muscle, solution, &row, &ours, *max_force);
         compare_row(

@@ -1,6 +1,8 @@
-//! Muscle rows of the validation table: Millard curves and the equilibrium rows against
-//! OpenSim 4.6, over the full goldens when `../shared/reference` (or `$OSIM_TUNE_REFERENCE`) is
-//! present, else over the slice in `fixtures/golden/muscle/`.
+//! Muscle rows of the validation table: Millard and Thelen curves, the equilibrium rows, the
+//! Thelen fiber velocity and DeGrooteFregly2016 curves, equilibrium and fiber velocity against
+//! OpenSim 4.6, over the full goldens when `../shared/reference` (or `$OSIM_TUNE_REFERENCE`) has
+//! them, else over `fixtures/golden/muscle/` (a slice for the models of [`MUSCLE_MODELS`]; the
+//! Thelen velocity and DeGroote goldens exist only there, complete).
 
 use std::path::{Path, PathBuf};
 
@@ -8,7 +10,8 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::muscle::HillMuscle;
 use osim_tune::model::{ModelSpec, MuscleModelSpec};
 use osim_tune::validation::{
-    compare_equilibrium, compare_millard_curves, EquilibriumSolution, FIBER_LENGTH_TOLERANCE,
+    compare_degroote_curves, compare_degroote_equilibrium, compare_degroote_fiber_velocity, compare_equilibrium, compare_millard_curves,
+    compare_thelen_curves, compare_thelen_fiber_velocity, EquilibriumSolution, Worst, DEGROOTE_LENGTH_TOLERANCE, FIBER_LENGTH_TOLERANCE,
 };
 
 use crate::root;
@@ -28,23 +31,27 @@ pub const MUSCLE_MODELS: [(&str, &str); 4] = [
     ("arm26", "fixtures/models/arm26.osim"),
 ];
 
-fn golden_folder(stem: &str) -> (PathBuf, String) {
+/// The golden folder of `stem` that holds `file`, and how to name it.
+fn golden_folder(stem: &str, file: &str) -> (PathBuf, String) {
     let reference = std::env::var_os("OSIM_TUNE_REFERENCE")
         .map(PathBuf::from)
         .unwrap_or_else(|| root().join("../shared/reference"));
     let full = reference.join("muscle").join(stem);
-    if full.join("equilibrium.csv").exists() {
+    if full.join(file).exists() {
         (full, "OpenSim 4.6, all rows".into())
+    } else if MUSCLE_MODELS.iter().any(|(s, _)| *s == stem) {
+        (root().join("fixtures/golden/muscle").join(stem), "OpenSim 4.6, fixture slice".into())
     } else {
-        (
-            root().join("fixtures/golden/muscle").join(stem),
-            "OpenSim 4.6, fixture slice".into(),
-        )
+        (root().join("fixtures/golden/muscle").join(stem), "OpenSim 4.6, fixtures (all rows)".into())
     }
 }
 
+fn read_model(model: &Path) -> Result<ModelSpec, String> {
+    OsimDocument::read(model).map_err(|e| e.to_string()).and_then(|d| ModelSpec::read(&d).map_err(|e| e.to_string()))
+}
+
 pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
-    let (folder, reference) = golden_folder(stem);
+    let (folder, reference) = golden_folder(stem, "equilibrium.csv");
     let row = |what: String, worst: f64, tolerance: f64, at: String| Row {
         what,
         reference: reference.clone(),
@@ -52,10 +59,7 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
         tolerance,
         at,
     };
-    let spec = match OsimDocument::read(model)
-        .map_err(|e| e.to_string())
-        .and_then(|d| ModelSpec::read(&d).map_err(|e| e.to_string()))
-    {
+    let spec = match read_model(model) {
         Ok(spec) => spec,
         Err(e) => return vec![row(format!("muscle model, {stem}"), f64::INFINITY, 0.0, e)],
     };
@@ -114,7 +118,8 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
     rows
 }
 
-/// Millard curve values and derivatives (the models share one curve set; the first muscle's).
+/// Millard curve values and derivatives (the models share one curve set; the first muscle's), or
+/// the Thelen curves of the golden's parameter sets.
 fn curve_rows(
     stem: &str,
     spec: &ModelSpec,
@@ -126,6 +131,7 @@ fn curve_rows(
     };
     let muscle = match HillMuscle::from_force(force) {
         Ok(HillMuscle::Millard(m)) => *m,
+        Ok(HillMuscle::Thelen(_)) => return thelen_curve_rows(stem, folder, row),
         Ok(_) => return Vec::new(),
         Err(e) => {
             return vec![row(
@@ -164,4 +170,85 @@ fn curve_rows(
             e.to_string(),
         )],
     }
+}
+
+/// Thelen curve values and OpenSim's normalized fiber velocity at its force, ≤ 1e-10 absolute;
+/// ∞ when a curve has no samples.
+fn thelen_curve_rows(stem: &str, folder: &Path, row: &dyn Fn(String, f64, f64, String) -> Row) -> Vec<Row> {
+    let c = match compare_thelen_curves(folder) {
+        Ok(c) => c,
+        Err(e) => return vec![row(format!("Thelen curves, {stem}"), f64::INFINITY, 0.0, e.to_string())],
+    };
+    let all_curves = if c.curves.len() == 4 { c.value.error } else { f64::INFINITY };
+    let velocity = if c.velocity.count > 0 { c.velocity.error } else { f64::INFINITY };
+    vec![
+        row(format!("Thelen curve values, {stem} ({} samples, {} curves)", c.value.count, c.curves.len()), all_curves, 1e-10, c.value.at.clone()),
+        row(format!("Thelen f_V inverse, ṽ at OpenSim's force, {stem}"), velocity, 1e-10, c.velocity.at.clone()),
+    ]
+}
+
+/// The Thelen fiber-length derivative of gait2392 and arm26 muscles, relative to
+/// max(|v|, 1e-3 m/s).
+pub fn thelen_velocity_rows() -> Vec<Row> {
+    let (folder, reference) = golden_folder("thelen_velocity", "fiber_velocity.csv");
+    let what = "Thelen fiber velocity dL_m/dt (relative, ≥ 1e-3 m/s)".to_string();
+    let specs: Result<Vec<(&str, ModelSpec)>, String> =
+        MUSCLE_MODELS.iter().filter(|(stem, _)| ["gait2392_thelen2003muscle", "arm26"].contains(stem)).map(|(stem, file)| Ok((*stem, read_model(&root().join(file))?))).collect();
+    let result = specs.and_then(|specs| {
+        let models: Vec<(&str, &ModelSpec)> = specs.iter().map(|(stem, spec)| (*stem, spec)).collect();
+        compare_thelen_fiber_velocity(&models, &folder).map_err(|e| e.to_string())
+    });
+    vec![worst_row(what, reference, result, 1e-9)]
+}
+
+/// A row of a `Worst` (its count in the label), or of the error that prevented the comparison.
+fn worst_row(what: String, reference: String, worst: Result<Worst, String>, tolerance: f64) -> Row {
+    match worst {
+        Ok(w) => Row { what: format!("{what} ({} compared)", w.count), reference, worst: w.error, tolerance, at: w.at },
+        Err(e) => Row { what, reference, worst: f64::INFINITY, tolerance, at: e },
+    }
+}
+
+/// DeGrooteFregly2016 curves (relative to max(1, |y|)), equilibrium and fiber velocity of the
+/// bench model, with the bounds of `tests/muscle_degroote.rs`.
+pub fn degroote_rows() -> Vec<Row> {
+    let (folder, reference) = golden_folder("degroote", "equilibrium.csv");
+    let model = match read_model(&root().join("fixtures/models/degroote_bench.osim")) {
+        Ok(model) => model,
+        Err(e) => return vec![worst_row("DeGroote bench model".into(), reference, Err(e), 0.0)],
+    };
+    let mut rows = match compare_degroote_curves(&folder) {
+        Ok(c) => vec![
+            worst_row("DeGroote curve values (relative)".into(), reference.clone(), Ok(c.value), 1e-12),
+            worst_row("DeGroote curve derivatives (relative)".into(), reference.clone(), Ok(c.derivative), 1e-12),
+        ],
+        Err(e) => vec![worst_row("DeGroote curves".into(), reference.clone(), Err(e.to_string()), 1e-12)],
+    };
+    rows.extend(degroote_equilibrium_rows(&model, &folder, &reference));
+    let velocity = compare_degroote_fiber_velocity(&model, &folder).map_err(|e| e.to_string());
+    rows.push(worst_row("DeGroote fiber velocity (relative, ≥ 1 m/s)".into(), reference, velocity, 1e-9));
+    rows
+}
+
+/// Lengths ≤ 1e-8; tendon and fiber forces as fractions of their per-row allowance (≤ 1); the
+/// rows solved, refused or left unbalanced unlike OpenSim.
+fn degroote_equilibrium_rows(model: &ModelSpec, folder: &Path, reference: &str) -> Vec<Row> {
+    let c = match compare_degroote_equilibrium(model, folder) {
+        Ok(c) => c,
+        Err(e) => return vec![worst_row("DeGroote equilibrium".into(), reference.into(), Err(e.to_string()), 0.0)],
+    };
+    let rows = format!("{} rows + {} refused", c.compared, c.refused);
+    let mismatches = Row {
+        what: "DeGroote equilibrium rows solved or refused unlike OpenSim".into(),
+        reference: reference.into(),
+        worst: c.mismatches.len() as f64,
+        tolerance: 0.0,
+        at: c.mismatches.first().cloned().unwrap_or_default(),
+    };
+    vec![
+        worst_row(format!("DeGroote equilibrium lengths, angles, f_L, f_PE, {rows}"), reference.into(), Ok(c.lengths), DEGROOTE_LENGTH_TOLERANCE),
+        worst_row("DeGroote equilibrium tendon force / max(1e-6 N, 1e-8 |F_T|)".into(), reference.into(), Ok(c.tendon_force), 1.0),
+        worst_row("DeGroote equilibrium fiber forces / (that + OpenSim's imbalance)".into(), reference.into(), Ok(c.fiber_forces), 1.0),
+        mismatches,
+    ]
 }

@@ -279,6 +279,8 @@ mod tests {
             default_activation: 0.5,
             default_normalized_tendon_force: 0.5,
             tendon_compliance_dynamics_mode: "explicit".into(),
+            activation_time_constant: 0.015,
+            deactivation_time_constant: 0.060,
         };
         let spec = MuscleSpec {
             max_isometric_force: 1000.0,

@@ -39,6 +39,10 @@ pub struct DeGrooteFregly2016Muscle {
     /// β: damping force β ṽ F_max along the fiber (ṽ normalized fiber velocity).
     pub(super) fiber_damping: f64,
     pub(super) tendon_dynamics: TendonDynamics,
+    /// τ_a, s.
+    activation_time_constant: f64,
+    /// τ_d, s.
+    deactivation_time_constant: f64,
     /// w = L_opt sin α_opt, m.
     pub(super) fiber_width: f64,
     pub(super) curves: DeGrooteCurves,
@@ -76,6 +80,8 @@ impl DeGrooteFregly2016Muscle {
             ignore_tendon_compliance: spec.ignore_tendon_compliance,
             fiber_damping: class.fiber_damping,
             tendon_dynamics,
+            activation_time_constant: class.activation_time_constant,
+            deactivation_time_constant: class.deactivation_time_constant,
             fiber_width: spec.optimal_fiber_length * spec.pennation_angle_at_optimal.sin(),
             curves: DeGrooteCurves::new(
                 class.active_force_width_scale,
@@ -92,6 +98,16 @@ impl DeGrooteFregly2016Muscle {
 
     pub fn curves(&self) -> &DeGrooteCurves {
         &self.curves
+    }
+
+    /// τ_a (`activation_time_constant`), s: the time constant of rising activation.
+    pub fn activation_time_constant(&self) -> f64 {
+        self.activation_time_constant
+    }
+
+    /// τ_d (`deactivation_time_constant`), s: the time constant of falling activation.
+    pub fn deactivation_time_constant(&self) -> f64 {
+        self.deactivation_time_constant
     }
 
     /// w = L_opt sin α_opt (m): the fiber's constant width, the shortest possible fiber.
@@ -156,6 +172,8 @@ fn check_parameters(
             class.tendon_strain_at_one_norm_force,
         ),
         ("default_activation", class.default_activation),
+        ("activation_time_constant", class.activation_time_constant),
+        ("deactivation_time_constant", class.deactivation_time_constant),
     ];
     for (property, value) in positive {
         if !(value > 0.0 && value.is_finite()) {

@@ -187,6 +187,8 @@ pub(super) mod tests {
             maximum_pennation_angle: 0.1f64.acos(),
             default_activation: 0.05,
             minimum_activation: 0.01,
+            activation_time_constant: 0.01,
+            deactivation_time_constant: 0.04,
         }
     }
 

@@ -50,6 +50,10 @@ pub struct Thelen2003Muscle {
     max_contraction_velocity: f64,
     /// Activations below this are raised to it (`clampActivation`).
     minimum_activation: f64,
+    /// τ_a, s.
+    activation_time_constant: f64,
+    /// τ_d, s.
+    deactivation_time_constant: f64,
     pennation: FixedWidthPennation,
     curves: ThelenCurves,
 }
@@ -83,6 +87,8 @@ impl Thelen2003Muscle {
             tendon_slack_length: spec.tendon_slack_length,
             max_contraction_velocity: spec.max_contraction_velocity,
             minimum_activation: class.minimum_activation,
+            activation_time_constant: class.activation_time_constant,
+            deactivation_time_constant: class.deactivation_time_constant,
             pennation: FixedWidthPennation::new(
                 spec.optimal_fiber_length,
                 spec.pennation_angle_at_optimal,
@@ -118,6 +124,16 @@ impl Thelen2003Muscle {
 
     pub fn curves(&self) -> &ThelenCurves {
         &self.curves
+    }
+
+    /// τ_a (`activation_time_constant`), s: the time constant of rising activation.
+    pub fn activation_time_constant(&self) -> f64 {
+        self.activation_time_constant
+    }
+
+    /// τ_d (`deactivation_time_constant`), s: the time constant of falling activation.
+    pub fn deactivation_time_constant(&self) -> f64 {
+        self.deactivation_time_constant
     }
 
     pub fn pennation(&self) -> &FixedWidthPennation {
@@ -439,6 +455,12 @@ fn check_class(name: &str, class: &ThelenSpec) -> Result<(), MuscleError> {
             minimum,
             "a number in [0.01, 1)",
         ));
+    }
+    let time_constants = [("activation_time_constant", class.activation_time_constant), ("deactivation_time_constant", class.deactivation_time_constant)];
+    for (property, value) in time_constants {
+        if !(value >= SIGNIFICANT_REAL && value.is_finite()) {
+            return Err(MuscleError::invalid_parameter(name, property, value, "a positive time in s"));
+        }
     }
     Ok(())
 }
