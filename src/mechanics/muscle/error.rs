@@ -43,6 +43,15 @@ pub enum MuscleError {
 }
 
 impl MuscleError {
+    /// The first (property, value) that is not a finite number > 0 (NaN fails), as an
+    /// `InvalidParameter` expecting `expected`.
+    pub fn require_positive(muscle: &str, values: &[(&str, f64)], expected: &str) -> Result<(), MuscleError> {
+        match values.iter().find(|(_, value)| !(*value > 0.0 && value.is_finite())) {
+            Some(&(property, value)) => Err(MuscleError::invalid_parameter(muscle, property, value, expected)),
+            None => Ok(()),
+        }
+    }
+
     pub fn invalid_parameter(
         muscle: &str,
         property: &str,

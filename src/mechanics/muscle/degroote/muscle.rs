@@ -175,16 +175,7 @@ fn check_parameters(
         ("activation_time_constant", class.activation_time_constant),
         ("deactivation_time_constant", class.deactivation_time_constant),
     ];
-    for (property, value) in positive {
-        if !(value > 0.0 && value.is_finite()) {
-            return Err(MuscleError::invalid_parameter(
-                name,
-                property,
-                value,
-                "a positive number",
-            ));
-        }
-    }
+    MuscleError::require_positive(name, &positive, "a positive number")?;
     let ranges = [
         (
             "active_force_width_scale",

@@ -1,9 +1,9 @@
 //! OpenSim's `SmoothSegmentedFunction`: a curve made of quintic Bézier segments inside its
 //! domain [x0, x1] and straight lines outside it. x → u is found as OpenSim finds it, Newton's
 //! method on x(u) − x = 0 to 100 ε (at most 20 steps), from a first guess that is a cubic
-//! Hermite table of u(x) on a uniform x grid (OpenSim interpolates a spline through 100 samples
-//! uniform in u; both guesses are within ~1e-7 of u, so Newton ends at the same u to 100 ε, and
-//! the table is looked up without a search).
+//! Hermite table of u(x) on a uniform x grid, looked up without a search (OpenSim interpolates a
+//! spline through 100 samples uniform in u; from either guess Newton stops within 100 ε, so the
+//! curves agree with OpenSim's to rounding).
 
 use super::bezier::{derivative_u, BezierSegment, Weights};
 use crate::mechanics::muscle::root::bracketed_newton;
@@ -135,32 +135,42 @@ impl SmoothSegmentedFunction {
     }
 }
 
-/// u(x) of one segment at GUESS_INTERVALS + 1 evenly spaced x, with du/dx there, for cubic
-/// Hermite interpolation.
+/// u(x) of one segment as a cubic Hermite interpolant through u and du/dx at GUESS_INTERVALS + 1
+/// evenly spaced x, stored per interval as polynomial coefficients in t ∈ [0, 1].
 #[derive(Debug, Clone)]
 struct UGuess {
     x_start: f64,
     /// 1/h, h the grid spacing in x.
     inverse_step: f64,
-    /// (u, h·du/dx) at each grid x.
-    knots: Vec<(f64, f64)>,
+    /// u = c0 + t (c1 + t (c2 + t c3)) on each interval.
+    intervals: Vec<[f64; 4]>,
 }
 
 impl UGuess {
     fn new(segment: &BezierSegment) -> UGuess {
         let (x_start, x_end) = (segment.x[0], segment.x[5]);
         let step = (x_end - x_start) / GUESS_INTERVALS as f64;
-        let knots = (0..=GUESS_INTERVALS)
+        // (u, h·du/dx) at each grid x; NaN slope where x(u) is flat (a repeated control point).
+        let knots: Vec<(f64, f64)> = (0..=GUESS_INTERVALS)
             .map(|i| {
                 let x = x_start + step * i as f64;
                 let residual = |u: f64| (derivative_u(u, &segment.x, 0) - x, derivative_u(u, &segment.x, 1));
                 let u = bracketed_newton(residual, 0.0, 1.0, 1e-15, U_TOLERANCE, 200).map_or(i as f64 / GUESS_INTERVALS as f64, |r| r.x);
                 let slope = step / derivative_u(u, &segment.x, 1);
-                // Where x(u) is flat (a repeated control point) the table falls back to chords.
                 (u, if slope.is_finite() && slope.abs() < 1.0 { slope } else { f64::NAN })
             })
             .collect();
-        UGuess { x_start, inverse_step: if step > 0.0 { 1.0 / step } else { 0.0 }, knots }
+        let intervals = knots
+            .windows(2)
+            .map(|w| {
+                let ((u0, m0), (u1, m1)) = (w[0], w[1]);
+                // A flat end falls back to the chord.
+                let chord = u1 - u0;
+                let (m0, m1) = (if m0.is_nan() { chord } else { m0 }, if m1.is_nan() { chord } else { m1 });
+                [u0, m0, 3.0 * chord - 2.0 * m0 - m1, -2.0 * chord + m0 + m1]
+            })
+            .collect();
+        UGuess { x_start, inverse_step: if step > 0.0 { 1.0 / step } else { 0.0 }, intervals }
     }
 
     /// The interpolated u at x.
@@ -169,11 +179,8 @@ impl UGuess {
         let position = ((x - self.x_start) * self.inverse_step).clamp(0.0, GUESS_INTERVALS as f64);
         let i = (position as usize).min(GUESS_INTERVALS - 1);
         let t = position - i as f64;
-        let ((u0, m0), (u1, m1)) = (self.knots[i], self.knots[i + 1]);
-        let chord = u1 - u0;
-        let (m0, m1) = (if m0.is_nan() { chord } else { m0 }, if m1.is_nan() { chord } else { m1 });
-        let (t2, t3) = (t * t, t * t * t);
-        (2.0 * t3 - 3.0 * t2 + 1.0) * u0 + (t3 - 2.0 * t2 + t) * m0 + (-2.0 * t3 + 3.0 * t2) * u1 + (t3 - t2) * m1
+        let [c0, c1, c2, c3] = self.intervals[i];
+        c0 + t * (c1 + t * (c2 + t * c3))
     }
 }
 

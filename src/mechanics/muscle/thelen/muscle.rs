@@ -399,16 +399,7 @@ fn check_architecture(name: &str, spec: &MuscleSpec) -> Result<(), MuscleError> 
         ("tendon_slack_length", spec.tendon_slack_length),
         ("max_contraction_velocity", spec.max_contraction_velocity),
     ];
-    for (property, value) in positive {
-        if !(value > 0.0 && value.is_finite()) {
-            return Err(MuscleError::invalid_parameter(
-                name,
-                property,
-                value,
-                "a positive number",
-            ));
-        }
-    }
+    MuscleError::require_positive(name, &positive, "a positive number")?;
     let alpha = spec.pennation_angle_at_optimal;
     if !(0.0..=std::f64::consts::FRAC_PI_2 - SIGNIFICANT_REAL).contains(&alpha) {
         return Err(MuscleError::invalid_parameter(
@@ -456,6 +447,7 @@ fn check_class(name: &str, class: &ThelenSpec) -> Result<(), MuscleError> {
             "a number in [0.01, 1)",
         ));
     }
+    // `MuscleFirstOrderActivationDynamicModel` refuses time constants below SignificantReal.
     let time_constants = [("activation_time_constant", class.activation_time_constant), ("deactivation_time_constant", class.deactivation_time_constant)];
     for (property, value) in time_constants {
         if !(value >= SIGNIFICANT_REAL && value.is_finite()) {
