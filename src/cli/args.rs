@@ -87,6 +87,9 @@ pub enum Command {
         /// Functional: also constrain the rest fiber length in Phase II to ± this fraction.
         #[arg(long)]
         rest_constraint: Option<f64>,
+        /// Functional: stop after Phase II (the thesis' method) instead of then fitting with every rest fiber length held at its reference.
+        #[arg(long)]
+        no_rest_curve: bool,
         /// Functional: tie the vasti's and gastrocnemii's L_opt within 0.9–1.1 of each other (eq. 6.23–6.24).
         #[arg(long)]
         group_ratios: bool,

@@ -3,11 +3,13 @@
 //!
 //! - `least_squares.rs`: bounded Levenberg–Marquardt ([`LeastSquares`]);
 //! - `box_qp.rs`: the box-constrained QP of a bounded step (clarabel);
+//! - `false_position.rs`: a bracketed scalar root without derivatives ([`false_position`]);
 //! - `ik/`: inverse kinematics as OpenSim 4.6 computes it ([`InverseKinematics`]);
 //! - `error.rs`: [`IkError`].
 
 mod box_qp;
 mod error;
+mod false_position;
 pub mod ik;
 mod least_squares;
 pub mod nlp;
@@ -15,6 +17,7 @@ pub mod qp;
 
 pub use box_qp::BoxQpError;
 pub use error::IkError;
+pub use false_position::false_position;
 pub use ik::{
     ConstraintWeight, CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkFrame, IkSettings, IkSolution, IkTasks, IkWorkspace,
     InverseKinematics, MarkerErrors, MarkerTask, MissingFrom,

@@ -42,6 +42,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             sets,
             rest_tolerance,
             rest_constraint,
+            no_rest_curve,
             group_ratios,
             noise_sd,
             sigma_points,
@@ -56,7 +57,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             json,
         } => match trials.as_deref().filter(|folder| !linear && setup.is_none() && scale_functional::is_dynamometry(folder)) {
             Some(folder) => {
-                let settings = scale_functional::settings(method, rest_tolerance, rest_constraint, group_ratios, noise_sd, sigma_points);
+                let settings = scale_functional::settings(method, rest_tolerance, rest_constraint, !no_rest_curve, group_ratios, noise_sd, sigma_points);
                 let request = scale_functional::Request { sets, settings, force, report, json };
                 scale_functional::run(&model, folder, &output, &request)
             }

@@ -9,7 +9,7 @@ use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
-    fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, SetSelection,
+    fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
     TrialOptions, SUBJECT_FILE,
 };
 
@@ -37,6 +37,7 @@ pub fn settings(
     method: ScaleMethodArgument,
     rest_tolerance: Option<f64>,
     rest_constraint: Option<f64>,
+    rest_curve: bool,
     group_ratios: bool,
     noise_sd: Option<f64>,
     sigma_points: bool,
@@ -48,7 +49,8 @@ pub fn settings(
     };
     let feasible = FeasibleSetSettings { rest_tolerance: rest_tolerance.unwrap_or(FeasibleSetSettings::default().rest_tolerance), ..Default::default() };
     let phase_two = PhaseTwoSettings { rest_tolerance: rest_constraint, group_ratio: group_ratios.then_some([0.9, 1.1]), ..defaults };
-    FitSettings { method, feasible, phase_two, noise_sd, sigma_points }
+    let rest_curve = rest_curve.then(RestCurveSettings::default);
+    FitSettings { method, feasible, phase_two, rest_curve, noise_sd, sigma_points }
 }
 
 pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Result<Outcome, Failure> {

@@ -1,5 +1,7 @@
 //! One functional-scaling run, as `osim-tune scale MODEL TRIALS/` does it: the input checks,
-//! the fit (Phase I, hot start and Phase II; or the Garner & Pandy baseline), and the analyses
+//! the fit (Phase I, hot start and Phase II, then — when every estimated muscle has a reference
+//! rest fiber length — the rest-curve fit that holds those lengths exactly; or the Garner &
+//! Pandy baseline), and the analyses
 //! every fit reports — the single parameter that best explains the initial model's error,
 //! sensitivity classes, identifiability of three parameterisations (thesis
 //! table 6.4) and the parameters' uncertainty (Cramér–Rao bounds from the Fisher information;
@@ -15,7 +17,8 @@ use super::hot_start::{hot_start, HotStart};
 use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation};
 use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
-use super::phase_two::{solve_phase_two, PhaseTwoSettings};
+use super::phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings};
+use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurveSettings};
 use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
 use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
 use super::trials::{DynamometryData, Direction};
@@ -26,7 +29,8 @@ use crate::solvers::LeastSquaresStatus;
 /// Which estimator runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub enum FitMethod {
-    /// The thesis' method: Phase I feasible sets, hot start, Phase II NLP.
+    /// The thesis' method: Phase I feasible sets, hot start, Phase II NLP; then the rest-curve
+    /// fit when [`FitSettings::rest_curve`] is set and every rest length is known.
     Functional,
     /// Garner & Pandy (2003): least squares on moments over [L̃m_min, L̃m_max].
     GarnerPandy,
@@ -38,6 +42,8 @@ pub struct FitSettings {
     pub method: FitMethod,
     pub feasible: FeasibleSetSettings,
     pub phase_two: PhaseTwoSettings,
+    /// After Phase II, fit on the rest curves (rest fiber lengths exact); `None`: stop at Phase II.
+    pub rest_curve: Option<RestCurveSettings>,
     /// σ of the moment noise, N·m; `None`: the subject file's, else estimated from the residuals.
     pub noise_sd: Option<f64>,
     /// Propagate the noise through the whole fit at the 2n²+1 sigma points (n trials).
@@ -46,7 +52,14 @@ pub struct FitSettings {
 
 impl Default for FitSettings {
     fn default() -> Self {
-        FitSettings { method: FitMethod::Functional, feasible: FeasibleSetSettings::default(), phase_two: PhaseTwoSettings::default(), noise_sd: None, sigma_points: false }
+        FitSettings {
+            method: FitMethod::Functional,
+            feasible: FeasibleSetSettings::default(),
+            phase_two: PhaseTwoSettings::default(),
+            rest_curve: Some(RestCurveSettings::default()),
+            noise_sd: None,
+            sigma_points: false,
+        }
     }
 }
 
@@ -247,15 +260,40 @@ fn functional(
     progress(&format!("hot start: largest moment error {:.3} N·m; Phase II", start.max_moment_error));
     let solution = solve_phase_two(knee, &sets, &start.parameters, rest, measured, &settings.phase_two)?;
     progress(&format!("Phase II: {:?} after {} iterations, largest moment error {:.3e} N·m", solution.status, solution.iterations, solution.max_moment_error));
-    Ok(Estimate {
+    let phase_two = Estimate {
         converged: solution.converged(),
         status: format!("{:?}", solution.status),
         iterations: solution.iterations,
-        fitted: solution.parameters,
+        fitted: solution.parameters.clone(),
         feasible_sets: sets,
         hot_start: Some(start),
-        active_constraints: solution.active_constraints,
-    })
+        active_constraints: solution.active_constraints.clone(),
+    };
+    let Some(rest_curve) = &settings.rest_curve else { return Ok(phase_two) };
+    let Some(references) = rest.iter().copied().collect::<Option<Vec<f64>>>() else {
+        progress("rest-curve fit skipped: not every estimated muscle has a reference rest fiber length");
+        return Ok(phase_two);
+    };
+    progress("rest curves: global search and refinement with the rest fiber lengths held");
+    let curves = fit_rest_curves(knee, &references, initial, measured, std::slice::from_ref(&solution.parameters), rest_curve)?;
+    progress(&format!("rest curves: {:?} after {} iterations ({} starts), largest moment error {:.3e} N·m", curves.status, curves.iterations, curves.starts, largest(&curves.residuals)));
+    Ok(after_phase_two(phase_two, &solution, curves))
+}
+
+/// The estimate of the rest-curve fit, with Phase I's and Phase II's records.
+fn after_phase_two(phase_two: Estimate, solution: &PhaseTwo, curves: RestCurveFit) -> Estimate {
+    Estimate {
+        converged: curves.converged(),
+        status: format!("rest curves {:?} (Phase II {:?})", curves.status, solution.status),
+        iterations: solution.iterations + curves.iterations,
+        fitted: curves.parameters,
+        active_constraints: Vec::new(),
+        ..phase_two
+    }
+}
+
+fn largest(values: &[f64]) -> f64 {
+    values.iter().fold(0.0, |m, v| m.max(v.abs()))
 }
 
 fn garner_pandy(
@@ -309,7 +347,8 @@ fn identifiability(spec: &ModelSpec, knee: &KneeMomentModel, data: &DynamometryD
     Ok(all)
 }
 
-/// Phase II re-solved from the fit at each sigma point of the moments; sd of (L_opt, L_ts).
+/// The fit re-solved from itself at each sigma point of the moments (the rest-curve fit without
+/// its global search when it made the fit, else Phase II); sd of (L_opt, L_ts).
 fn sigma_point_spread(
     knee: &KneeMomentModel,
     estimate: &Estimate,
@@ -320,10 +359,15 @@ fn sigma_point_spread(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Vec<[f64; 2]>, FunctionalError> {
     let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
-    progress(&format!("sigma points: {} Phase II solves at σ = {noise_sd:.3} N·m", points.len()));
+    let references: Option<Vec<f64>> = rest.iter().copied().collect();
+    let local = settings.rest_curve.map(|s| RestCurveSettings { global_search: false, ..s });
+    progress(&format!("sigma points: {} refits at σ = {noise_sd:.3} N·m", points.len()));
     let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
-        let solution = solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?;
-        Ok(solution.parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())
+        let parameters = match (&references, &local) {
+            (Some(references), Some(local)) => fit_rest_curves(knee, references, &estimate.fitted, perturbed, std::slice::from_ref(&estimate.fitted), local)?.parameters,
+            _ => solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?.parameters,
+        };
+        Ok(parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())
     };
     let propagation = propagate_noise(&points, measured, noise_sd, refit).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
     let sd = propagation

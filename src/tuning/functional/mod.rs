@@ -13,6 +13,9 @@
 //!   `hot_start.rs`: the feasible combination closest to the measured moments ([`hot_start`]).
 //! - `phase_two.rs`: Phase II, the constrained NLP of eq. 6.15–6.24 on the SQP solver, in the
 //!   transformed variables (L_ts/L_opt, δ) with the equilibria solved exactly ([`solve_phase_two`]).
+//! - `rest_curve.rs`: a muscle's [`RestCurve`], the (L_opt, L_ts) that reproduce its reference
+//!   rest fiber length; `rest_curve_search.rs` the global search on tabulated contributions;
+//!   `rest_curve_fit.rs` the fit on the rest curves after Phase II ([`fit_rest_curves`]).
 //! - `garner_pandy.rs`: the Garner & Pandy (2003) baseline ([`fit_garner_pandy`]).
 //! - `identifiability.rs`: Fisher information, D- and E-criteria and unidentifiable directions
 //!   per parameterisation ([`fisher_information`]).
@@ -34,6 +37,9 @@ mod hot_start;
 mod knee_moment;
 mod parameters;
 mod phase_two;
+mod rest_curve;
+mod rest_curve_fit;
+mod rest_curve_search;
 mod sensitivity;
 mod sigma_points;
 mod trials;
@@ -53,6 +59,8 @@ pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, Re
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
 pub use parameters::{MuscleParameters, Parameter};
+pub use rest_curve::RestCurve;
+pub use rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurveSettings};
 pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};
 pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
 pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};

@@ -1,0 +1,275 @@
+//! The rest-curve fit: with every estimated muscle's rest fiber length taken as measured
+//! exactly, each muscle moves only along its [`RestCurve`], and (L_opt, L_ts) follow from one
+//! coordinate s per muscle. The moments are fitted by least squares in s:
+//! 1. a global search on a tabulated surrogate of each muscle's contributions
+//!    ([`rest_curve_search`](super::rest_curve_search)), which keeps each group's distinct minima;
+//! 2. Levenberg–Marquardt on the exact model from each distinct surrogate minimum kept, and
+//!    from any extra starts (e.g. Phase II's result), each muscle's Jacobian column by central
+//!    differences of its own contributions;
+//! 3. the refined point with the smallest Σ (M − M_meas)² is the fit.
+//!
+//! With exact rest lengths, five angles per direction identify all 16 parameters locally, but
+//! the moment error has several basins (the gastrocnemii trade L_opt against each other); step 1
+//! is what finds the right one.
+
+use super::error::FunctionalError;
+use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
+use super::parameters::MuscleParameters;
+use super::rest_curve::RestCurve;
+use super::rest_curve_search::{muscle_groups, search, ContributionTable};
+use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
+use nalgebra::DMatrix;
+
+/// Settings of [`fit_rest_curves`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestCurveSettings {
+    /// L_opt searched within this range times the origin's.
+    pub span: [f64; 2],
+    /// Points of each muscle's surrogate table.
+    pub table_points: usize,
+    /// Surrogate starts per group: k muscles get ⌊budget^(1/k)⌋ levels each.
+    pub lattice_budget: f64,
+    /// Distinct surrogate minima kept per group and refined on the exact model.
+    pub minima: usize,
+    /// Run the global search; without it only the extra starts are refined (a local fit).
+    pub global_search: bool,
+    /// Central-difference step in s.
+    pub step: f64,
+    pub least_squares: LeastSquaresOptions,
+}
+
+impl Default for RestCurveSettings {
+    fn default() -> Self {
+        RestCurveSettings {
+            span: [0.5, 1.5],
+            table_points: 81,
+            lattice_budget: 625.0,
+            minima: 4,
+            global_search: true,
+            step: 1e-6,
+            least_squares: LeastSquaresOptions { step_tolerance: 1e-8, gradient_tolerance: 1e-4, max_iterations: 200 },
+        }
+    }
+}
+
+/// The outcome of [`fit_rest_curves`].
+#[derive(Debug, Clone)]
+pub struct RestCurveFit {
+    pub parameters: Vec<MuscleParameters>,
+    /// The refinement that gave the fit.
+    pub status: LeastSquaresStatus,
+    pub iterations: usize,
+    /// Refinements run.
+    pub starts: usize,
+    /// M − M_meas per trial, N·m.
+    pub residuals: Vec<f64>,
+}
+
+impl RestCurveFit {
+    /// The refinement stopped at a minimum: its convergence test passed, or no step could lower
+    /// the cost any more (a minimum to the precision of the moments).
+    pub fn converged(&self) -> bool {
+        matches!(self.status, LeastSquaresStatus::Converged | LeastSquaresStatus::Stalled)
+    }
+}
+
+/// Fits the estimated muscles on their rest curves through `references` (m, one per estimated
+/// muscle), with origins `origin` (the s = 0 parameters, e.g. the model's) to `measured` (N·m,
+/// one per trial); `extra_starts` are refined too.
+pub fn fit_rest_curves(
+    model: &KneeMomentModel,
+    references: &[f64],
+    origin: &[MuscleParameters],
+    measured: &[f64],
+    extra_starts: &[Vec<MuscleParameters>],
+    settings: &RestCurveSettings,
+) -> Result<RestCurveFit, FunctionalError> {
+    let n = origin.len();
+    if references.len() != n || measured.len() != model.trials().len() {
+        return Err(FunctionalError::all_muscles(format!("{} rest lengths, {} origins and {} moments; expected one rest length per estimated muscle and one moment per trial", references.len(), n, measured.len())));
+    }
+    let mut workspace = model.estimated_muscles(origin)?;
+    let curves = (0..n).map(|e| RestCurve::new(model, &mut workspace, e, references[e], &origin[e])).collect::<Result<Vec<_>, _>>()?;
+    let ranges = curve_ranges(&curves, settings.span);
+    let held: Vec<f64> = extra_starts.first().map_or(vec![0.0; n], |start| curves.iter().zip(start).map(|(c, p)| c.coordinate_of(p).clamp(ranges[c.e][0], ranges[c.e][1])).collect());
+    let (minima, bounds) = if settings.global_search {
+        global_minima(model, &mut workspace, &curves, &ranges, measured, held, settings)?
+    } else {
+        (Vec::new(), Bounds { lower: ranges.iter().map(|r| r[0]).collect(), upper: ranges.iter().map(|r| r[1]).collect() })
+    };
+    let starts = starts(minima, &curves, extra_starts, &bounds);
+    let mut problem = CurveProblem::new(model, &curves, measured, workspace, settings.step);
+    let mut best: Option<(f64, Vec<f64>, LeastSquaresStatus, usize)> = None;
+    let mut solver = LeastSquares::new(n, measured.len());
+    for mut x in starts.iter().cloned() {
+        let report = solver.minimize(&mut problem, &mut x, &bounds, &settings.least_squares);
+        if report.cost.is_finite() && best.as_ref().is_none_or(|b| report.cost < b.0) {
+            best = Some((report.cost, x, report.status, report.iterations));
+        }
+    }
+    let (_, x, status, iterations) = best.ok_or_else(|| FunctionalError::all_muscles("no refinement of the rest-curve fit had finite moments"))?;
+    let mut residuals = vec![0.0; measured.len()];
+    problem.evaluate(&x, &mut residuals, None);
+    let parameters = problem.parameters_at(&x).ok_or_else(|| FunctionalError::all_muscles("the rest-curve fit's point lost its equilibrium"))?;
+    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals })
+}
+
+/// The surrogate search's minima (s per estimated muscle) and the tables' ranges as bounds.
+fn global_minima(
+    model: &KneeMomentModel,
+    workspace: &mut EstimatedMuscles,
+    curves: &[RestCurve],
+    ranges: &[[f64; 2]],
+    measured: &[f64],
+    held: Vec<f64>,
+    settings: &RestCurveSettings,
+) -> Result<(Vec<Vec<f64>>, Bounds), FunctionalError> {
+    let tables: Vec<ContributionTable> = curves.iter().map(|curve| ContributionTable::compute(model, workspace, curve, ranges[curve.e], settings.table_points, settings.step)).collect();
+    if let Some(curve) = curves.iter().find(|curve| tables[curve.e].points.iter().all(Option::is_none)) {
+        let origin = curve.origin();
+        return Err(FunctionalError::Parameters {
+            muscle: origin.name.clone(),
+            problem: format!("no L_opt in {:?} × {} m reproduces the rest fiber length {} m with an equilibrium in every trial", settings.span, origin.optimal_fiber_length, curve.reference),
+        });
+    }
+    let bounds = Bounds { lower: tables.iter().map(|t| t.start).collect(), upper: tables.iter().map(ContributionTable::end).collect() };
+    let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
+    let minima = search(&tables, &muscle_groups(model), &residual_base, held, settings.lattice_budget, settings.minima);
+    Ok((minima.into_iter().map(|m| m.s).collect(), bounds))
+}
+
+/// s within ln(span) × the origin's L_opt; where the clamped branch starts inside, s reaches far
+/// enough along it for L_ts to grow to span[1] × the origin's L_ts.
+fn curve_ranges(curves: &[RestCurve], span: [f64; 2]) -> Vec<[f64; 2]> {
+    let (lower, upper) = (span[0].ln(), span[1].ln());
+    let clamped_end = |curve: &RestCurve| -> Option<f64> {
+        let (s_clamp, slack) = (curve.clamp_coordinate()?, curve.clamp_slack_length()?);
+        (s_clamp < upper).then(|| s_clamp + (span[1] * curve.origin().tendon_slack_length / slack).ln())
+    };
+    curves.iter().map(|curve| [lower, clamped_end(curve).map_or(upper, |end| end.max(upper))]).collect()
+}
+
+/// The search's minima, then the extra starts mapped to s inside the bounds.
+fn starts(mut starts: Vec<Vec<f64>>, curves: &[RestCurve], extra: &[Vec<MuscleParameters>], bounds: &Bounds) -> Vec<Vec<f64>> {
+    for parameters in extra {
+        let s = curves.iter().zip(parameters).map(|(curve, p)| curve.coordinate_of(p).clamp(bounds.lower[curve.e], bounds.upper[curve.e]));
+        starts.push(s.collect());
+    }
+    starts
+}
+
+/// r(s) = M(s) − M_meas, each muscle's contributions cached at its last s.
+struct CurveProblem<'a> {
+    model: &'a KneeMomentModel,
+    curves: &'a [RestCurve],
+    measured: &'a [f64],
+    workspace: EstimatedMuscles,
+    step: f64,
+    /// Last L_ts per muscle, the next search's hint.
+    slack_hints: Vec<f64>,
+    /// Per muscle, the s its `contributions` are at (NaN: none yet).
+    cached_s: Vec<f64>,
+    contributions: Vec<Vec<f64>>,
+    plus: Vec<f64>,
+    minus: Vec<f64>,
+}
+
+impl<'a> CurveProblem<'a> {
+    fn new(model: &'a KneeMomentModel, curves: &'a [RestCurve], measured: &'a [f64], workspace: EstimatedMuscles, step: f64) -> CurveProblem<'a> {
+        let trials = measured.len();
+        CurveProblem {
+            model,
+            curves,
+            measured,
+            workspace,
+            step,
+            slack_hints: curves.iter().map(|c| c.origin().tendon_slack_length).collect(),
+            cached_s: vec![f64::NAN; curves.len()],
+            contributions: vec![vec![0.0; trials]; curves.len()],
+            plus: vec![0.0; trials],
+            minus: vec![0.0; trials],
+        }
+    }
+
+    /// Muscle e's contributions at s into `out`; false where the curve or an equilibrium fails.
+    fn contributions_at(&mut self, e: usize, s: f64, out: &mut [f64]) -> bool {
+        let Some(parameters) = self.curves[e].at(self.model, &mut self.workspace, s, self.slack_hints[e]) else { return false };
+        self.slack_hints[e] = parameters.tendon_slack_length;
+        let k = self.model.estimated_knee_index(e);
+        for (t, value) in out.iter_mut().enumerate() {
+            match self.model.contribution(k, self.workspace.muscle(e), t) {
+                Ok(c) => *value = c,
+                Err(_) => return false,
+            }
+        }
+        true
+    }
+
+    /// Brings every muscle's cache to x; false where one fails.
+    fn refresh(&mut self, x: &[f64]) -> bool {
+        for (e, &s) in x.iter().enumerate() {
+            if self.cached_s[e] != s {
+                let mut out = std::mem::take(&mut self.contributions[e]);
+                let ok = self.contributions_at(e, s, &mut out);
+                self.contributions[e] = out;
+                self.cached_s[e] = if ok { s } else { f64::NAN };
+                if !ok {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    fn parameters_at(&mut self, x: &[f64]) -> Option<Vec<MuscleParameters>> {
+        x.iter().enumerate().map(|(e, &s)| self.curves[e].at(self.model, &mut self.workspace, s, self.slack_hints[e])).collect()
+    }
+
+    /// ∂c_e/∂s per trial into `column` (central, else one-sided, else zero).
+    fn column(&mut self, e: usize, s: f64, column: &mut [f64]) {
+        let h = self.step;
+        let (mut plus, mut minus) = (std::mem::take(&mut self.plus), std::mem::take(&mut self.minus));
+        let plus_ok = self.contributions_at(e, s + h, &mut plus);
+        let minus_ok = self.contributions_at(e, s - h, &mut minus);
+        let centre = &self.contributions[e];
+        for (t, c) in column.iter_mut().enumerate() {
+            *c = match (plus_ok, minus_ok) {
+                (true, true) => (plus[t] - minus[t]) / (2.0 * h),
+                (true, false) => (plus[t] - centre[t]) / h,
+                (false, true) => (centre[t] - minus[t]) / h,
+                (false, false) => 0.0,
+            };
+        }
+        (self.plus, self.minus) = (plus, minus);
+    }
+}
+
+impl LeastSquaresProblem for CurveProblem<'_> {
+    fn variable_count(&self) -> usize {
+        self.curves.len()
+    }
+
+    fn residual_count(&self) -> usize {
+        self.measured.len()
+    }
+
+    /// Non-finite residuals where a curve point or an equilibrium fails: the solver backs off.
+    fn evaluate(&mut self, x: &[f64], residuals: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
+        if !self.refresh(x) {
+            residuals.fill(f64::NAN);
+            return;
+        }
+        residuals.copy_from_slice(self.model.fixed_moments());
+        for contributions in &self.contributions {
+            residuals.iter_mut().zip(contributions).for_each(|(r, c)| *r += c);
+        }
+        residuals.iter_mut().zip(self.measured).for_each(|(r, m)| *r -= m);
+        if let Some(jacobian) = jacobian {
+            let mut column = vec![0.0; residuals.len()];
+            for (e, &s) in x.iter().enumerate() {
+                self.column(e, s, &mut column);
+                jacobian.column_mut(e).copy_from_slice(&column);
+            }
+        }
+    }
+}

@@ -1,0 +1,73 @@
+//! The fast slice of `cargo xtask validate`'s functional-scaling study: noise-free fits of the
+//! OpenSim-generated subjects (ground truth beside them) from every 13th of the thesis' 81
+//! initial guesses (train01) and from three of them (train03) must land within 1 % of every true
+//! L_opt and L_ts. (The full study, in `cargo xtask validate`, still finds guesses from which the
+//! fit ends in another basin; see README.)
+
+use std::path::{Path, PathBuf};
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{Direction, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, SetSelection, TrialOptions};
+use osim_tune::validation::functional::{fit_errors, thesis_initial_guesses, StudySubject};
+use serde_json::Value;
+
+fn fixture(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(path)
+}
+
+/// The subject's set5 trials, the model, its ground truth and the noise-free moments
+/// (`knee_moment_true_Nm`, which equal the measured ones where the subject has no noise).
+fn subject(name: &str) -> (ModelSpec, DynamometryData, Vec<MuscleParameters>, Vec<f64>) {
+    let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
+    let folder = fixture(&format!("dynamometry/{name}"));
+    let data = DynamometryData::read(&folder, &TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() }).unwrap();
+    let truth: Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).unwrap()).unwrap();
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    let parameters = knee
+        .nominal_parameters()
+        .into_iter()
+        .map(|mut p| {
+            let t = &truth["true_parameters"][&p.name];
+            p.optimal_fiber_length = t["optimal_fiber_length"].as_f64().unwrap();
+            p.tendon_slack_length = t["tendon_slack_length"].as_f64().unwrap();
+            p
+        })
+        .collect();
+    let moments = data
+        .trials
+        .iter()
+        .map(|trial| {
+            let direction = if trial.direction == Direction::Extension { "extension" } else { "flexion" };
+            truth["trial_sets"][&trial.set][direction]["knee_moment_true_Nm"][trial.number - 1].as_f64().unwrap()
+        })
+        .collect();
+    (spec, data, parameters, moments)
+}
+
+/// Every L_opt and L_ts within 1 % from the thesis guesses `picked` (of the 81).
+fn recovers_from_guesses(name: &str, picked: &[usize]) {
+    let (spec, data, truth, moments) = subject(name);
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    let study = StudySubject { spec: &spec, knee: &knee, data: &data, truth: &truth };
+    let guesses = thesis_initial_guesses(&truth, &data, 81);
+    for &g in picked {
+        let (errors, converged) = fit_errors(&study, &guesses[g], &moments, &FitSettings::default()).unwrap();
+        assert!(converged, "{name}, guess {g}: not converged");
+        for (p, [optimal, slack]) in truth.iter().zip(&errors) {
+            assert!(optimal.abs() < 0.01 && slack.abs() < 0.01, "{name}, guess {g}, {}: L_opt {:+.2} %, L_ts {:+.2} %", p.name, 100.0 * optimal, 100.0 * slack);
+        }
+    }
+}
+
+#[test]
+fn train01_noise_free_from_thesis_guesses() {
+    recovers_from_guesses("train01", &[0, 13, 26, 39, 52, 65, 78]);
+}
+
+/// train03's fibre of vas_med_r is slack at rest (the rest length is its minimum): its (L_opt,
+/// L_ts) lie on the clamped branch of the rest curve.
+#[test]
+fn train03_noise_free_from_thesis_guesses() {
+    recovers_from_guesses("train03", &[0, 39, 78]);
+}
