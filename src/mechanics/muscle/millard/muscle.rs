@@ -6,9 +6,9 @@
 use super::curves::{self, CurveError};
 use super::smooth_function::SmoothSegmentedFunction;
 use crate::mechanics::muscle::pennation::{FixedWidthPennation, SIGNIFICANT_REAL};
+use crate::mechanics::muscle::root::newton_between_predicting;
 use crate::mechanics::muscle::{
-    bracketed_newton_from, check_inputs, newton_between, BracketEnd, EquilibriumStatus, FiberEquilibrium,
-    MuscleError, RootFailure,
+    bracketed_newton_from, check_inputs, BracketEnd, EquilibriumStatus, FiberEquilibrium, MuscleError, RootFailure,
 };
 use crate::model::{ForceVelocityCurveSpec, MillardSpec, MuscleSpec};
 
@@ -17,6 +17,11 @@ const MIN_NONZERO_DAMPING_COEFFICIENT: f64 = 0.001;
 /// Static-equilibrium force tolerance, N. The curves' x → u inversion stops at |Δx| ≤ 100 ε,
 /// which puts a noise floor of ~F_max·k_T·2e-14 (≤ 5e-10 N for gait2392) on the balance.
 const FORCE_TOLERANCE: f64 = 5e-10;
+/// Largest change of the normalised fiber or tendon length over which the state at the root is
+/// continued along the curves' slopes instead of evaluated: the second-order terms, f″ Δ²/2 ≤
+/// 3e-15 for the default Millard curves (|f″| ≤ 5800, the tendon's toe), stay below the curves'
+/// own resolution (their x → u inversion stops at |Δx| ≤ 100 ε: f is known to |f′| · 2e-14).
+const CONTINUATION_LIMIT: f64 = 1e-9;
 
 /// The five curves one Millard muscle evaluates.
 #[derive(Debug, Clone)]
@@ -61,6 +66,8 @@ pub struct Millard2012Muscle {
     pub curves: MillardCurves,
     /// f_V(0), the force–velocity multiplier of a fiber at rest.
     isometric_force_velocity: f64,
+    /// (sin α_max, cos α_max) of the pennation model's limit.
+    maximum_pennation: (f64, f64),
     /// The fiber part of every position at the minimum fiber length.
     shortest_fiber: Fiber,
 }
@@ -70,7 +77,6 @@ pub struct Millard2012Muscle {
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Fiber {
     pub(super) length: f64,
-    pub(super) pennation_angle: f64,
     pub(super) cos_alpha: f64,
     pub(super) sin_alpha: f64,
     pub(super) norm_length: f64,
@@ -79,36 +85,6 @@ pub(super) struct Fiber {
     /// Slopes of the two fiber curves at the normalised length.
     pub(super) d_active_force_length: f64,
     pub(super) d_fiber_force_length: f64,
-}
-
-impl Fiber {
-    /// Pennation and fiber curve values at fiber length `fiber_length` (L_opt
-    /// `optimal_fiber_length`).
-    fn at(
-        fiber_length: f64,
-        optimal_fiber_length: f64,
-        pennation: &FixedWidthPennation,
-        curves: &MillardCurves,
-    ) -> Fiber {
-        let pennation_angle = pennation.pennation_angle(fiber_length);
-        let (cos_alpha, sin_alpha) = (pennation_angle.cos(), pennation_angle.sin());
-        let norm_length = fiber_length / optimal_fiber_length;
-        let (active_force_length, d_active_force_length) =
-            curves.active_force_length.value_and_derivative(norm_length);
-        let (fiber_force_length, d_fiber_force_length) =
-            curves.fiber_force_length.value_and_derivative(norm_length);
-        Fiber {
-            length: fiber_length,
-            pennation_angle,
-            cos_alpha,
-            sin_alpha,
-            norm_length,
-            active_force_length,
-            fiber_force_length,
-            d_active_force_length,
-            d_fiber_force_length,
-        }
-    }
 }
 
 /// Fiber and tendon at one fiber length and path length (`positionFunc` + `multipliersFunc`).
@@ -143,6 +119,7 @@ impl Millard2012Muscle {
             minimum_fiber_length: 0.0,
             curves,
             isometric_force_velocity,
+            maximum_pennation: (class.maximum_pennation_angle.sin(), class.maximum_pennation_angle.cos()),
             shortest_fiber: Fiber::default(),
         };
         muscle.set_fiber_geometry(spec.optimal_fiber_length, spec.pennation_angle_at_optimal)?;
@@ -158,9 +135,43 @@ impl Millard2012Muscle {
         let minimum_active = self.min_norm_active_fiber_length * optimal_fiber_length;
         self.minimum_fiber_length = SIGNIFICANT_REAL.max(minimum_active.max(pennation.minimum_fiber_length));
         self.optimal_fiber_length = optimal_fiber_length;
-        self.shortest_fiber = Fiber::at(self.minimum_fiber_length, optimal_fiber_length, &pennation, &self.curves);
         self.pennation = pennation;
+        self.shortest_fiber = self.fiber(self.minimum_fiber_length);
         Ok(())
+    }
+
+    /// Pennation and fiber curve values at fiber length `fiber_length` (m).
+    fn fiber(&self, fiber_length: f64) -> Fiber {
+        let (sin_alpha, cos_alpha) = self.pennation_sin_cos(fiber_length);
+        let norm_length = fiber_length / self.optimal_fiber_length;
+        let (active_force_length, d_active_force_length) = self.curves.active_force_length.value_and_derivative(norm_length);
+        let (fiber_force_length, d_fiber_force_length) = self.curves.fiber_force_length.value_and_derivative(norm_length);
+        Fiber {
+            length: fiber_length,
+            cos_alpha,
+            sin_alpha,
+            norm_length,
+            active_force_length,
+            fiber_force_length,
+            d_active_force_length,
+            d_fiber_force_length,
+        }
+    }
+
+    /// (sin α, cos α) at fiber length `fiber_length` (m) for the α of
+    /// `FixedWidthPennation::pennation_angle`, without its asin: sin α = h/L_m and
+    /// cos α = √((1 − sin α)(1 + sin α)), equal to cos(asin(h/L_m)) to rounding.
+    fn pennation_sin_cos(&self, fiber_length: f64) -> (f64, f64) {
+        let pennation = &self.pennation;
+        if pennation.pennation_angle_at_optimal <= f64::EPSILON {
+            return (0.0, 1.0);
+        }
+        let sin_alpha = pennation.parallelogram_height / fiber_length;
+        if fiber_length > pennation.minimum_fiber_length && sin_alpha < self.maximum_pennation.0 {
+            (sin_alpha, ((1.0 - sin_alpha) * (1.0 + sin_alpha)).sqrt())
+        } else {
+            self.maximum_pennation
+        }
     }
 
     /// Activation as the muscle's dynamics see it: clamped to [minimum_activation, 1].
@@ -180,12 +191,35 @@ impl Millard2012Muscle {
     /// Geometry and curve values at fiber length `fiber_length` for path length `mt_length`;
     /// the minimum fiber length's fiber part is computed once, at construction.
     pub(super) fn position(&self, fiber_length: f64, mt_length: f64) -> Position {
-        let fiber = if fiber_length == self.minimum_fiber_length {
-            self.shortest_fiber
-        } else {
-            Fiber::at(fiber_length, self.optimal_fiber_length, &self.pennation, &self.curves)
-        };
+        let fiber = if fiber_length == self.minimum_fiber_length { self.shortest_fiber } else { self.fiber(fiber_length) };
         self.on_path(fiber, mt_length)
+    }
+
+    /// The position at fiber length `fiber_length` (m) for path length `mt_length` (m), continued
+    /// from the evaluated position `from` (a predicted last Newton step away): geometry exact,
+    /// curve values along their slopes; `None` when the normalised fiber or tendon length
+    /// changes by more than CONTINUATION_LIMIT.
+    fn position_continued(&self, from: &Position, fiber_length: f64, mt_length: f64) -> Option<Position> {
+        let (sin_alpha, cos_alpha) = self.pennation_sin_cos(fiber_length);
+        let norm_length = fiber_length / self.optimal_fiber_length;
+        let tendon_length = mt_length - fiber_length * cos_alpha;
+        let norm_tendon_length = tendon_length / self.tendon_slack_length;
+        let (d_norm_length, d_norm_tendon_length) = (norm_length - from.fiber.norm_length, norm_tendon_length - from.norm_tendon_length);
+        if d_norm_length.abs().max(d_norm_tendon_length.abs()) > CONTINUATION_LIMIT {
+            return None;
+        }
+        let f = &from.fiber;
+        let fiber = Fiber {
+            length: fiber_length,
+            cos_alpha,
+            sin_alpha,
+            norm_length,
+            active_force_length: f.active_force_length + f.d_active_force_length * d_norm_length,
+            fiber_force_length: f.fiber_force_length + f.d_fiber_force_length * d_norm_length,
+            ..from.fiber
+        };
+        let tendon_force_length = from.tendon_force_length + from.d_tendon_force_length * d_norm_tendon_length;
+        Some(Position { fiber, tendon_length, norm_tendon_length, tendon_force_length, ..*from })
     }
 
     /// F_m = F_max (a f_L f_V) + (F_max f_PE + F_max β ṽ) (`calcFiberForce`), N.
@@ -238,7 +272,8 @@ impl Millard2012Muscle {
     /// Static equilibrium at fiber velocity 0: the fiber length in [L_min, L_slack] (L_slack:
     /// the tendon exactly at slack length) where F_m cos α = F_t, by safeguarded Newton to
     /// 5e-10 N (or to the resolution of the fiber length), started where the tendon carries the
-    /// force the fiber has at L_slack. At the edges: when even the minimum
+    /// force the fiber has at L_slack; a last step predicted to land within the tolerance is
+    /// not evaluated (`newton_between_predicting`). At the edges: when even the minimum
     /// fiber length leaves the tendon slack, or the fiber's force at its minimum length exceeds
     /// the tendon's (the pennation/active-length limit), the fiber stays at its minimum length
     /// with zero fiber force, as OpenSim clamps it (`ClampedAtMinimumFiberLength`). A rigid
@@ -258,46 +293,65 @@ impl Millard2012Muscle {
         if self.ignore_tendon_compliance {
             return Ok(self.report(a, mt_length, &at(slack_fiber_length), 0.0, true));
         }
-        let shortest = at(self.minimum_fiber_length);
         if slack_fiber_length <= self.minimum_fiber_length {
-            return Ok(self.report(a, mt_length, &shortest, 0.0, false));
+            return Ok(self.report(a, mt_length, &at(self.minimum_fiber_length), 0.0, false));
         }
-        // The solver's last evaluation is usually at the root: kept for the report.
+        // The solver's last evaluation, at the root or a predicted last step before it: kept for
+        // the report.
         let mut last = None;
         let mut residual = |fiber_length| {
             let p = at(fiber_length);
             last = Some(p);
             self.balance(a, &p)
         };
-        // First guess: the tendon stretched by the force the fiber has at the slack fiber length
-        // (OpenSim starts at 1 % strain; this start saves Newton steps).
-        let at_slack = residual(slack_fiber_length).0;
+        // At the slack fiber the tendon pulls nothing, so the balance is the fiber's F_m cos α ≥ 0.
+        // First guess: the tendon stretched by that force (OpenSim starts at 1 % strain; this
+        // start saves Newton steps).
+        let at_slack = self.force_along_tendon_at_rest(a, slack_fiber_length);
         let norm_tendon_length = self.curves.tendon_length_at_force.value((at_slack / self.max_isometric_force).max(0.0));
         let start = self.pennation.fiber_length(mt_length, self.tendon_slack_length * norm_tendon_length);
         let length_resolution = 4.0 * f64::EPSILON * slack_fiber_length;
-        // At the slack fiber the tendon pulls nothing, so the balance is F_m cos α ≥ 0 there; it
-        // is negative at the shortest fiber unless the fiber outpulls the tendon even there.
-        // Assume so first (the root inside is unique) and solve without the shortest end.
-        let quick = newton_between(&mut residual, start, self.minimum_fiber_length, slack_fiber_length, length_resolution, FORCE_TOLERANCE, 60);
+        // The balance is negative at the shortest fiber unless the fiber outpulls the tendon even
+        // there. Assume so first (the root inside is unique) and solve without the shortest end.
+        let quick = newton_between_predicting(
+            &mut residual, start, self.minimum_fiber_length, slack_fiber_length, length_resolution, FORCE_TOLERANCE, 60,
+        );
         let solved = match quick {
             Ok(root) if root.residual.abs() <= FORCE_TOLERANCE => Ok(root),
             _ => {
-                let lo = BracketEnd { x: self.minimum_fiber_length, residual: self.balance(a, &shortest).0 };
+                let at_shortest = self.balance(a, &at(self.minimum_fiber_length)).0;
+                let lo = BracketEnd { x: self.minimum_fiber_length, residual: at_shortest };
                 let hi = BracketEnd { x: slack_fiber_length, residual: at_slack };
                 bracketed_newton_from(&mut residual, start, lo, hi, length_resolution, FORCE_TOLERANCE, 200)
             }
         };
         match solved {
             Ok(root) => {
-                let p = last.filter(|p| p.fiber.length == root.x).unwrap_or_else(|| at(root.x));
+                let p = match last {
+                    Some(p) if p.fiber.length == root.x => Some(p),
+                    Some(p) if root.predicted => self.position_continued(&p, root.x, mt_length),
+                    _ => None,
+                };
+                let p = p.unwrap_or_else(|| at(root.x));
                 Ok(self.report(a, mt_length, &p, 0.0, false))
             }
             // The fiber outpulls the tendon even at its shortest: OpenSim's clamp.
             Err(RootFailure::NoSignChange(at_shortest, _)) if at_shortest >= 0.0 => {
-                Ok(self.report(a, mt_length, &shortest, 0.0, false))
+                Ok(self.report(a, mt_length, &at(self.minimum_fiber_length), 0.0, false))
             }
             Err(failure) => Err(self.solve_failure(activation, mt_length, failure)),
         }
+    }
+
+    /// F_m cos α (N) of the fiber at rest at fiber length `fiber_length` (m), activation `a`
+    /// already clamped: the force balance where the tendon is slack, from the curve values alone.
+    fn force_along_tendon_at_rest(&self, a: f64, fiber_length: f64) -> f64 {
+        let f = self.max_isometric_force;
+        let norm_length = fiber_length / self.optimal_fiber_length;
+        let (_, cos_alpha) = self.pennation_sin_cos(fiber_length);
+        let active = self.curves.active_force_length.value(norm_length);
+        let passive = self.curves.fiber_force_length.value(norm_length);
+        (f * (a * active) + f * passive) * cos_alpha
     }
 
     pub(super) fn solve_failure(
@@ -366,7 +420,7 @@ impl Millard2012Muscle {
             mt_length,
             fiber_length: fiber.length,
             normalized_fiber_length: fiber.norm_length,
-            pennation_angle: fiber.pennation_angle,
+            pennation_angle: self.pennation.pennation_angle(fiber.length),
             cos_pennation_angle: fiber.cos_alpha,
             fiber_length_along_tendon: fiber.length * fiber.cos_alpha,
             tendon_length: p.tendon_length,
@@ -527,5 +581,35 @@ fn tendon_force_length_in_use(
             f64::NAN,
             "stiffness_at_one_norm_force, norm_force_at_toe_end and curviness all set or all empty",
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::io::osim::OsimDocument;
+    use crate::mechanics::muscle::HillMuscle;
+    use crate::model::ModelSpec;
+
+    /// Whether its last state was evaluated or continued from the one before, the reported
+    /// equilibrium is the state evaluated at its fiber length, to rounding.
+    #[test]
+    fn the_reported_state_is_the_one_at_the_reported_fiber_length() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/gait2392_millard2012muscle.osim");
+        let spec = ModelSpec::read(&OsimDocument::read(&path).unwrap()).unwrap();
+        for force in spec.forces.iter().filter(|f| f.muscle.is_some()).step_by(7) {
+            let HillMuscle::Millard(m) = HillMuscle::from_force(force).unwrap() else { panic!("{} is not a Millard muscle", force.name) };
+            for (a, stretch) in [(0.05, 0.6), (0.5, 0.9), (1.0, 1.2)] {
+                let mt_length = m.tendon_slack_length + stretch * m.optimal_fiber_length;
+                let e = m.equilibrium(a, mt_length).unwrap();
+                let p = m.position(e.fiber_length, mt_length);
+                let f = m.max_isometric_force;
+                assert!((e.active_force_length_multiplier - p.fiber.active_force_length).abs() <= 1e-14, "{}", m.name);
+                assert!((e.passive_force_multiplier - p.fiber.fiber_force_length).abs() <= 1e-14, "{}", m.name);
+                assert!((e.tendon_force - p.tendon_force_length * f).abs() <= 1e-14 * f, "{}", m.name);
+                assert_eq!((e.tendon_length, e.cos_pennation_angle), (p.tendon_length, p.fiber.cos_alpha), "{}", m.name);
+            }
+        }
     }
 }
