@@ -10,7 +10,8 @@ pub struct FixedWidthPennation {
     pub maximum_pennation_angle: f64,
     /// h = L_opt · sin α_opt, m.
     pub parallelogram_height: f64,
-    maximum_sin_pennation: f64,
+    /// (sin α_max, cos α_max).
+    maximum_sin_cos: (f64, f64),
     /// The shortest fiber the pennation model allows, m: h / sin α_max (1 % of L_opt when
     /// α_max = 0).
     pub minimum_fiber_length: f64,
@@ -25,9 +26,9 @@ impl FixedWidthPennation {
         maximum_pennation_angle: f64,
     ) -> Self {
         let parallelogram_height = optimal_fiber_length * pennation_angle_at_optimal.sin();
-        let maximum_sin_pennation = maximum_pennation_angle.sin();
+        let maximum_sin_cos = (maximum_pennation_angle.sin(), maximum_pennation_angle.cos());
         let minimum_fiber_length = if maximum_pennation_angle > SIGNIFICANT_REAL {
-            parallelogram_height / maximum_sin_pennation
+            parallelogram_height / maximum_sin_cos.0
         } else {
             optimal_fiber_length * 0.01
         };
@@ -35,9 +36,9 @@ impl FixedWidthPennation {
             pennation_angle_at_optimal,
             maximum_pennation_angle,
             parallelogram_height,
-            maximum_sin_pennation,
+            maximum_sin_cos,
             minimum_fiber_length,
-            minimum_fiber_length_along_tendon: minimum_fiber_length * maximum_pennation_angle.cos(),
+            minimum_fiber_length_along_tendon: minimum_fiber_length * maximum_sin_cos.1,
         }
     }
 
@@ -48,11 +49,25 @@ impl FixedWidthPennation {
         }
         if fiber_length > self.minimum_fiber_length {
             let sin_phi = self.parallelogram_height / fiber_length;
-            if sin_phi < self.maximum_sin_pennation {
+            if sin_phi < self.maximum_sin_cos.0 {
                 return sin_phi.asin();
             }
         }
         self.maximum_pennation_angle
+    }
+
+    /// (sin α, cos α) of [`FixedWidthPennation::pennation_angle`] without its asin: sin α = h/L_m
+    /// and cos α = √((1 − sin α)(1 + sin α)), equal to cos(asin(h/L_m)) to rounding.
+    pub fn sin_cos(&self, fiber_length: f64) -> (f64, f64) {
+        if self.pennation_angle_at_optimal <= f64::EPSILON {
+            return (0.0, 1.0);
+        }
+        let sin_alpha = self.parallelogram_height / fiber_length;
+        if fiber_length > self.minimum_fiber_length && sin_alpha < self.maximum_sin_cos.0 {
+            (sin_alpha, ((1.0 - sin_alpha) * (1.0 + sin_alpha)).sqrt())
+        } else {
+            self.maximum_sin_cos
+        }
     }
 
     /// dα/dL_m = −(h/L_m²)/√(1 − (h/L_m)²), rad/m, OpenSim's formula (not capped at α_max; 0 for
@@ -87,3 +102,23 @@ impl FixedWidthPennation {
 
 /// SimTK::SignificantReal = ε^(7/8) for doubles.
 pub const SIGNIFICANT_REAL: f64 = 2.0097183471152322e-14;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// sin_cos is (sin α, cos α) of pennation_angle to rounding, inside the range, at its
+    /// minimum fiber length limit and for an unpennated muscle.
+    #[test]
+    fn sin_cos_matches_the_pennation_angle() {
+        let pennated = FixedWidthPennation::new(0.1, 0.3, 1.4);
+        let unpennated = FixedWidthPennation::new(0.1, 0.0, 1.4);
+        for pennation in [pennated, unpennated] {
+            for fiber_length in [0.01, pennation.minimum_fiber_length, 0.05, 0.1, 0.2] {
+                let alpha = pennation.pennation_angle(fiber_length);
+                let (sin, cos) = pennation.sin_cos(fiber_length);
+                assert!((sin - alpha.sin()).abs() < 1e-15 && (cos - alpha.cos()).abs() < 1e-15, "{fiber_length}: {alpha}");
+            }
+        }
+    }
+}

@@ -17,7 +17,7 @@ use super::hot_start::{hot_start, HotStart};
 use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation};
 use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
-use super::phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings};
+use super::phase_two::{solve_phase_two, PhaseTwoSettings};
 use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurveSettings};
 use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
 use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
@@ -264,10 +264,10 @@ fn functional(
         converged: solution.converged(),
         status: format!("{:?}", solution.status),
         iterations: solution.iterations,
-        fitted: solution.parameters.clone(),
+        fitted: solution.parameters,
         feasible_sets: sets,
         hot_start: Some(start),
-        active_constraints: solution.active_constraints.clone(),
+        active_constraints: solution.active_constraints,
     };
     let Some(rest_curve) = &settings.rest_curve else { return Ok(phase_two) };
     let Some(references) = rest.iter().copied().collect::<Option<Vec<f64>>>() else {
@@ -275,17 +275,17 @@ fn functional(
         return Ok(phase_two);
     };
     progress("rest curves: global search and refinement with the rest fiber lengths held");
-    let curves = fit_rest_curves(knee, &references, initial, measured, std::slice::from_ref(&solution.parameters), rest_curve)?;
+    let curves = fit_rest_curves(knee, &references, initial, measured, std::slice::from_ref(&phase_two.fitted), rest_curve)?;
     progress(&format!("rest curves: {:?} after {} iterations ({} starts), largest moment error {:.3e} N·m", curves.status, curves.iterations, curves.starts, largest(&curves.residuals)));
-    Ok(after_phase_two(phase_two, &solution, curves))
+    Ok(after_phase_two(phase_two, curves))
 }
 
-/// The estimate of the rest-curve fit, with Phase I's and Phase II's records.
-fn after_phase_two(phase_two: Estimate, solution: &PhaseTwo, curves: RestCurveFit) -> Estimate {
+/// The estimate of the rest-curve fit, keeping Phase I's records and Phase II's status.
+fn after_phase_two(phase_two: Estimate, curves: RestCurveFit) -> Estimate {
     Estimate {
         converged: curves.converged(),
-        status: format!("rest curves {:?} (Phase II {:?})", curves.status, solution.status),
-        iterations: solution.iterations + curves.iterations,
+        status: format!("rest curves {:?} (Phase II {})", curves.status, phase_two.status),
+        iterations: phase_two.iterations + curves.iterations,
         fitted: curves.parameters,
         active_constraints: Vec::new(),
         ..phase_two

@@ -50,7 +50,7 @@ impl RestCurve {
         let s_clamp = (clamp_optimal / origin.optimal_fiber_length).ln();
         let mut at_clamp = origin.clone();
         at_clamp.optimal_fiber_length = clamp_optimal;
-        let slack = curve.shortest_clamping_slack(model, workspace, &at_clamp);
+        let slack = curve.shortest_clamping_slack(model, workspace, at_clamp);
         workspace.set(model, e, origin)?;
         curve.clamp = slack.map(|slack| (s_clamp, slack));
         Ok(curve)
@@ -60,14 +60,9 @@ impl RestCurve {
         &self.origin
     }
 
-    /// s of the clamped branch's start, if the class clamps.
-    pub fn clamp_coordinate(&self) -> Option<f64> {
-        self.clamp.map(|(s, _)| s)
-    }
-
-    /// L_ts at the clamped branch's start (m), if the class clamps.
-    pub fn clamp_slack_length(&self) -> Option<f64> {
-        self.clamp.map(|(_, slack)| slack)
+    /// (s*, L_ts* in m) where the clamped branch starts, if the class clamps.
+    pub fn clamp(&self) -> Option<(f64, f64)> {
+        self.clamp
     }
 
     /// The s of the curve point nearest `parameters` in L_opt (on the clamped branch, in L_ts).
@@ -89,25 +84,40 @@ impl RestCurve {
             parameters.tendon_slack_length = slack * (s - s_clamp).exp();
         } else {
             parameters.optimal_fiber_length *= s.exp();
-            parameters.tendon_slack_length = self.slack_for_rest(model, workspace, &parameters, slack_hint)?;
+            parameters.tendon_slack_length = self.slack_for_rest(model, workspace, &mut parameters, slack_hint)?;
         }
         workspace.set(model, self.e, &parameters).ok()?;
         Some(parameters)
     }
 
-    /// The L_ts whose rest fiber length is the reference at `parameters`' L_opt.
-    fn slack_for_rest(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, parameters: &MuscleParameters, hint: f64) -> Option<f64> {
-        let mt_length = model.estimated_knee_muscle(self.e).rest_mt_length;
-        let mut trial = parameters.clone();
+    /// The knee-moment contribution F_t·r (N·m) per trial at s into `out`, the L_ts search
+    /// started at `slack_hint` (updated to the L_ts found); false where the curve point or a
+    /// trial's equilibrium does not exist.
+    pub fn contributions(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, s: f64, slack_hint: &mut f64, out: &mut [f64]) -> bool {
+        let Some(parameters) = self.at(model, workspace, s, *slack_hint) else { return false };
+        *slack_hint = parameters.tendon_slack_length;
+        let k = model.estimated_knee_index(self.e);
+        for (t, value) in out.iter_mut().enumerate() {
+            match model.contribution(k, workspace.muscle(self.e), t) {
+                Ok(c) => *value = c,
+                Err(_) => return false,
+            }
+        }
+        true
+    }
+
+    /// The L_ts whose rest fiber length is the reference at `parameters`' L_opt (its L_ts is
+    /// overwritten by the search).
+    fn slack_for_rest(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, parameters: &mut MuscleParameters, hint: f64) -> Option<f64> {
         let mut excess = |slack: f64| -> f64 {
-            trial.tendon_slack_length = slack;
-            match workspace.set(model, self.e, &trial).and_then(|_| model.rest_state(self.e, workspace)) {
+            parameters.tendon_slack_length = slack;
+            match workspace.set(model, self.e, parameters).and_then(|_| model.rest_state(self.e, workspace)) {
                 Ok(state) => state.fiber_length - self.reference,
                 Err(_) => f64::NAN,
             }
         };
         // The rest fiber is longer than the reference below the root, shorter above it.
-        let (shortest, longest) = (1e-3 * mt_length, mt_length);
+        let [shortest, longest] = self.slack_range(model);
         let mut near = hint.clamp(shortest, longest);
         let mut f_near = excess(near);
         if !f_near.is_finite() {
@@ -122,7 +132,7 @@ impl RestCurve {
             }
             if (f_far > 0.0) != rising || f_far == 0.0 {
                 let (ends, values) = if rising { ([near, far], [f_near, f_far]) } else { ([far, near], [f_far, f_near]) };
-                return false_position(&mut excess, ends, values, SLACK_TOLERANCE * mt_length, 200);
+                return false_position(&mut excess, ends, values, SLACK_TOLERANCE * longest, 200);
             }
             if far == near {
                 return None;
@@ -131,22 +141,27 @@ impl RestCurve {
         }
     }
 
+    /// The L_ts searched, m: 10⁻³ of the rest path length up to all of it.
+    fn slack_range(&self, model: &KneeMomentModel) -> [f64; 2] {
+        let mt_length = model.estimated_knee_muscle(self.e).rest_mt_length;
+        [1e-3 * mt_length, mt_length]
+    }
+
     /// At L_opt* the rest fiber reaches the reference (its minimum length) for every L_ts above
     /// L_ts*: bisection for the shortest such L_ts.
-    fn shortest_clamping_slack(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, at_clamp: &MuscleParameters) -> Option<f64> {
-        let mt_length = model.estimated_knee_muscle(self.e).rest_mt_length;
-        let mut trial = at_clamp.clone();
+    fn shortest_clamping_slack(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, mut at_clamp: MuscleParameters) -> Option<f64> {
         let mut clamped = |slack: f64| -> Option<bool> {
-            trial.tendon_slack_length = slack;
-            workspace.set(model, self.e, &trial).ok()?;
+            at_clamp.tendon_slack_length = slack;
+            workspace.set(model, self.e, &at_clamp).ok()?;
             let state = model.rest_state(self.e, workspace).ok()?;
             Some(state.status == EquilibriumStatus::ClampedAtMinimumFiberLength || state.fiber_length <= self.reference)
         };
-        let (mut lo, mut hi) = (1e-3 * mt_length, mt_length);
+        let [mut lo, mut hi] = self.slack_range(model);
+        let tolerance = SLACK_TOLERANCE * hi;
         if clamped(lo)? || !clamped(hi)? {
             return None;
         }
-        while hi - lo > SLACK_TOLERANCE * mt_length {
+        while hi - lo > tolerance {
             let mid = 0.5 * (lo + hi);
             if clamped(mid)? {
                 hi = mid;

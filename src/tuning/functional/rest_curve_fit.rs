@@ -91,13 +91,22 @@ pub fn fit_rest_curves(
     let mut workspace = model.estimated_muscles(origin)?;
     let curves = (0..n).map(|e| RestCurve::new(model, &mut workspace, e, references[e], &origin[e])).collect::<Result<Vec<_>, _>>()?;
     let ranges = curve_ranges(&curves, settings.span);
-    let held: Vec<f64> = extra_starts.first().map_or(vec![0.0; n], |start| curves.iter().zip(start).map(|(c, p)| c.coordinate_of(p).clamp(ranges[c.e][0], ranges[c.e][1])).collect());
-    let (minima, bounds) = if settings.global_search {
-        global_minima(model, &mut workspace, &curves, &ranges, measured, held, settings)?
-    } else {
-        (Vec::new(), Bounds { lower: ranges.iter().map(|r| r[0]).collect(), upper: ranges.iter().map(|r| r[1]).collect() })
+    let tables = if settings.global_search { Some(contribution_tables(model, &mut workspace, &curves, &ranges, settings)?) } else { None };
+    let bounds = match &tables {
+        Some(tables) => Bounds { lower: tables.iter().map(|t| t.start).collect(), upper: tables.iter().map(ContributionTable::end).collect() },
+        None => Bounds { lower: ranges.iter().map(|r| r[0]).collect(), upper: ranges.iter().map(|r| r[1]).collect() },
     };
-    let starts = starts(minima, &curves, extra_starts, &bounds);
+    let coordinates = |parameters: &[MuscleParameters]| -> Vec<f64> { curves.iter().zip(parameters).map(|(c, p)| c.coordinate_of(p).clamp(bounds.lower[c.e], bounds.upper[c.e])).collect() };
+    let extra: Vec<Vec<f64>> = extra_starts.iter().map(|p| coordinates(p)).collect();
+    let mut starts: Vec<Vec<f64>> = match &tables {
+        Some(tables) => {
+            let held = extra.first().cloned().unwrap_or_else(|| coordinates(origin));
+            let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
+            search(tables, &muscle_groups(model), &residual_base, held, settings.lattice_budget, settings.minima).into_iter().map(|m| m.s).collect()
+        }
+        None => Vec::new(),
+    };
+    starts.extend(extra);
     let mut problem = CurveProblem::new(model, &curves, measured, workspace, settings.step);
     let mut best: Option<(f64, Vec<f64>, LeastSquaresStatus, usize)> = None;
     let mut solver = LeastSquares::new(n, measured.len());
@@ -114,16 +123,8 @@ pub fn fit_rest_curves(
     Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals })
 }
 
-/// The surrogate search's minima (s per estimated muscle) and the tables' ranges as bounds.
-fn global_minima(
-    model: &KneeMomentModel,
-    workspace: &mut EstimatedMuscles,
-    curves: &[RestCurve],
-    ranges: &[[f64; 2]],
-    measured: &[f64],
-    held: Vec<f64>,
-    settings: &RestCurveSettings,
-) -> Result<(Vec<Vec<f64>>, Bounds), FunctionalError> {
+/// Every muscle's contribution table over its range; an error for a muscle with no point.
+fn contribution_tables(model: &KneeMomentModel, workspace: &mut EstimatedMuscles, curves: &[RestCurve], ranges: &[[f64; 2]], settings: &RestCurveSettings) -> Result<Vec<ContributionTable>, FunctionalError> {
     let tables: Vec<ContributionTable> = curves.iter().map(|curve| ContributionTable::compute(model, workspace, curve, ranges[curve.e], settings.table_points, settings.step)).collect();
     if let Some(curve) = curves.iter().find(|curve| tables[curve.e].points.iter().all(Option::is_none)) {
         let origin = curve.origin();
@@ -132,10 +133,7 @@ fn global_minima(
             problem: format!("no L_opt in {:?} × {} m reproduces the rest fiber length {} m with an equilibrium in every trial", settings.span, origin.optimal_fiber_length, curve.reference),
         });
     }
-    let bounds = Bounds { lower: tables.iter().map(|t| t.start).collect(), upper: tables.iter().map(ContributionTable::end).collect() };
-    let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
-    let minima = search(&tables, &muscle_groups(model), &residual_base, held, settings.lattice_budget, settings.minima);
-    Ok((minima.into_iter().map(|m| m.s).collect(), bounds))
+    Ok(tables)
 }
 
 /// s within ln(span) × the origin's L_opt; where the clamped branch starts inside, s reaches far
@@ -143,19 +141,10 @@ fn global_minima(
 fn curve_ranges(curves: &[RestCurve], span: [f64; 2]) -> Vec<[f64; 2]> {
     let (lower, upper) = (span[0].ln(), span[1].ln());
     let clamped_end = |curve: &RestCurve| -> Option<f64> {
-        let (s_clamp, slack) = (curve.clamp_coordinate()?, curve.clamp_slack_length()?);
+        let (s_clamp, slack) = curve.clamp()?;
         (s_clamp < upper).then(|| s_clamp + (span[1] * curve.origin().tendon_slack_length / slack).ln())
     };
     curves.iter().map(|curve| [lower, clamped_end(curve).map_or(upper, |end| end.max(upper))]).collect()
-}
-
-/// The search's minima, then the extra starts mapped to s inside the bounds.
-fn starts(mut starts: Vec<Vec<f64>>, curves: &[RestCurve], extra: &[Vec<MuscleParameters>], bounds: &Bounds) -> Vec<Vec<f64>> {
-    for parameters in extra {
-        let s = curves.iter().zip(parameters).map(|(curve, p)| curve.coordinate_of(p).clamp(bounds.lower[curve.e], bounds.upper[curve.e]));
-        starts.push(s.collect());
-    }
-    starts
 }
 
 /// r(s) = M(s) − M_meas, each muscle's contributions cached at its last s.
@@ -193,16 +182,7 @@ impl<'a> CurveProblem<'a> {
 
     /// Muscle e's contributions at s into `out`; false where the curve or an equilibrium fails.
     fn contributions_at(&mut self, e: usize, s: f64, out: &mut [f64]) -> bool {
-        let Some(parameters) = self.curves[e].at(self.model, &mut self.workspace, s, self.slack_hints[e]) else { return false };
-        self.slack_hints[e] = parameters.tendon_slack_length;
-        let k = self.model.estimated_knee_index(e);
-        for (t, value) in out.iter_mut().enumerate() {
-            match self.model.contribution(k, self.workspace.muscle(e), t) {
-                Ok(c) => *value = c,
-                Err(_) => return false,
-            }
-        }
-        true
+        self.curves[e].contributions(self.model, &mut self.workspace, s, &mut self.slack_hints[e], out)
     }
 
     /// Brings every muscle's cache to x; false where one fails.

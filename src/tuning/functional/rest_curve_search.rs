@@ -51,13 +51,16 @@ impl ContributionTable {
     /// piece spans the corner.
     pub fn compute(model: &KneeMomentModel, workspace: &mut EstimatedMuscles, curve: &RestCurve, range: [f64; 2], steps: usize, step: f64) -> ContributionTable {
         let spacing = (range[1] - range[0]) / (steps - 1).max(1) as f64;
-        let corner = curve.clamp_coordinate().filter(|s| *s > range[0] && *s < range[1]);
+        let corner = curve.clamp().map(|(s, _)| s).filter(|s| *s > range[0] && *s < range[1]);
         let start = corner.map_or(range[0], |corner| corner - ((corner - range[0]) / spacing).ceil() * spacing);
         let mut hint = curve.origin().tendon_slack_length;
         let points = (0..steps)
             .map(|i| {
                 let s = start + spacing * i as f64;
-                let mut at = |s: f64| contributions(model, workspace, curve, s, &mut hint);
+                let mut at = |s: f64| {
+                    let mut out = vec![0.0; model.trials().len()];
+                    curve.contributions(model, workspace, s, &mut hint, &mut out).then_some(out)
+                };
                 let (value, plus, minus) = (at(s)?, at(s + step)?, at(s - step)?);
                 let slope = |a: &[f64], b: &[f64], h: f64| -> Vec<f64> { a.iter().zip(b).map(|(a, b)| (a - b) / h).collect() };
                 Some(match corner {
@@ -96,14 +99,6 @@ impl ContributionTable {
         }
         true
     }
-}
-
-/// Muscle e's contributions per trial at s, its L_ts search started at `hint` (updated).
-fn contributions(model: &KneeMomentModel, workspace: &mut EstimatedMuscles, curve: &RestCurve, s: f64, hint: &mut f64) -> Option<Vec<f64>> {
-    let parameters = curve.at(model, workspace, s, *hint)?;
-    *hint = parameters.tendon_slack_length;
-    let k = model.estimated_knee_index(curve.e);
-    (0..model.trials().len()).map(|t| model.contribution(k, workspace.muscle(curve.e), t).ok()).collect()
 }
 
 /// Muscles fitted together and the trials that score them.
@@ -200,8 +195,7 @@ fn one_pass(tables: &[ContributionTable], groups: &[MuscleGroup], residual_base:
 /// Every combination of the groups' minima (others at `best`) refined on all trials together.
 fn joint_minima(tables: &[ContributionTable], groups: &[MuscleGroup], residual_base: &[f64], best: &[f64], seen: &[Vec<SurrogateMinimum>], keep: usize) -> Vec<SurrogateMinimum> {
     let all = MuscleGroup { muscles: (0..tables.len()).collect(), trials: (0..residual_base.len()).collect() };
-    let lower: Vec<f64> = tables.iter().map(|t| t.start).collect();
-    let upper: Vec<f64> = tables.iter().map(ContributionTable::end).collect();
+    let [lower, upper] = table_bounds(tables, &all.muscles);
     let mut problem = SurrogateProblem::new(tables, &all, residual_base);
     let mut minima = Vec::new();
     let combinations: usize = seen.iter().map(|g| g.len().max(1)).product();
@@ -242,8 +236,7 @@ fn held_residuals(tables: &[ContributionTable], group: &MuscleGroup, residual_ba
 fn group_minima(tables: &[ContributionTable], group: &MuscleGroup, base: &[f64], lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
     let k = group.muscles.len();
     let levels = (lattice_budget.powf(1.0 / k as f64).floor() as usize).max(2);
-    let lower: Vec<f64> = group.muscles.iter().map(|&e| tables[e].start).collect();
-    let upper: Vec<f64> = group.muscles.iter().map(|&e| tables[e].end()).collect();
+    let [lower, upper] = table_bounds(tables, &group.muscles);
     let mut problem = SurrogateProblem::new(tables, group, base);
     let mut minima: Vec<SurrogateMinimum> = Vec::new();
     for n in 0..levels.pow(k as u32) {
@@ -253,6 +246,11 @@ fn group_minima(tables: &[ContributionTable], group: &MuscleGroup, base: &[f64],
         }
     }
     minima
+}
+
+/// The tables' first and last s of `muscles`.
+fn table_bounds(tables: &[ContributionTable], muscles: &[usize]) -> [Vec<f64>; 2] {
+    [muscles.iter().map(|&e| tables[e].start).collect(), muscles.iter().map(|&e| tables[e].end()).collect()]
 }
 
 /// Keeps `candidate` among the best `keep` distinct minima, sorted by cost.
@@ -306,12 +304,12 @@ impl<'a> SurrogateProblem<'a> {
         let mut cost = self.evaluate(x)?;
         let mut damping = 1e-6;
         let mut trial = x.to_vec();
-        let mut system = DMatrix::zeros(k, k);
-        let mut step = DVector::zeros(k);
+        let (mut system, mut normal) = (DMatrix::zeros(k, k), DMatrix::zeros(k, k));
+        let (mut step, mut gradient) = (DVector::zeros(k), DVector::zeros(k));
         for _ in 0..SURROGATE_ITERATIONS {
             // Trial evaluations overwrite J and r; the local model keeps those at x.
-            let gradient = self.jacobian.tr_mul(&self.residuals);
-            let normal = self.jacobian.tr_mul(&self.jacobian);
+            self.jacobian.tr_mul_to(&self.residuals, &mut gradient);
+            self.jacobian.tr_mul_to(&self.jacobian, &mut normal);
             let held = |j: usize| (x[j] <= lower[j] && gradient[j] > 0.0) || (x[j] >= upper[j] && gradient[j] < 0.0);
             loop {
                 system.copy_from(&normal);

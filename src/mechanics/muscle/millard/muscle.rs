@@ -66,8 +66,6 @@ pub struct Millard2012Muscle {
     pub curves: MillardCurves,
     /// f_V(0), the force–velocity multiplier of a fiber at rest.
     isometric_force_velocity: f64,
-    /// (sin α_max, cos α_max) of the pennation model's limit.
-    maximum_pennation: (f64, f64),
     /// The fiber part of every position at the minimum fiber length.
     shortest_fiber: Fiber,
 }
@@ -119,7 +117,6 @@ impl Millard2012Muscle {
             minimum_fiber_length: 0.0,
             curves,
             isometric_force_velocity,
-            maximum_pennation: (class.maximum_pennation_angle.sin(), class.maximum_pennation_angle.cos()),
             shortest_fiber: Fiber::default(),
         };
         muscle.set_fiber_geometry(spec.optimal_fiber_length, spec.pennation_angle_at_optimal)?;
@@ -142,7 +139,7 @@ impl Millard2012Muscle {
 
     /// Pennation and fiber curve values at fiber length `fiber_length` (m).
     fn fiber(&self, fiber_length: f64) -> Fiber {
-        let (sin_alpha, cos_alpha) = self.pennation_sin_cos(fiber_length);
+        let (sin_alpha, cos_alpha) = self.pennation.sin_cos(fiber_length);
         let norm_length = fiber_length / self.optimal_fiber_length;
         let (active_force_length, d_active_force_length) = self.curves.active_force_length.value_and_derivative(norm_length);
         let (fiber_force_length, d_fiber_force_length) = self.curves.fiber_force_length.value_and_derivative(norm_length);
@@ -155,22 +152,6 @@ impl Millard2012Muscle {
             fiber_force_length,
             d_active_force_length,
             d_fiber_force_length,
-        }
-    }
-
-    /// (sin α, cos α) at fiber length `fiber_length` (m) for the α of
-    /// `FixedWidthPennation::pennation_angle`, without its asin: sin α = h/L_m and
-    /// cos α = √((1 − sin α)(1 + sin α)), equal to cos(asin(h/L_m)) to rounding.
-    fn pennation_sin_cos(&self, fiber_length: f64) -> (f64, f64) {
-        let pennation = &self.pennation;
-        if pennation.pennation_angle_at_optimal <= f64::EPSILON {
-            return (0.0, 1.0);
-        }
-        let sin_alpha = pennation.parallelogram_height / fiber_length;
-        if fiber_length > pennation.minimum_fiber_length && sin_alpha < self.maximum_pennation.0 {
-            (sin_alpha, ((1.0 - sin_alpha) * (1.0 + sin_alpha)).sqrt())
-        } else {
-            self.maximum_pennation
         }
     }
 
@@ -200,7 +181,7 @@ impl Millard2012Muscle {
     /// curve values along their slopes; `None` when the normalised fiber or tendon length
     /// changes by more than CONTINUATION_LIMIT.
     fn position_continued(&self, from: &Position, fiber_length: f64, mt_length: f64) -> Option<Position> {
-        let (sin_alpha, cos_alpha) = self.pennation_sin_cos(fiber_length);
+        let (sin_alpha, cos_alpha) = self.pennation.sin_cos(fiber_length);
         let norm_length = fiber_length / self.optimal_fiber_length;
         let tendon_length = mt_length - fiber_length * cos_alpha;
         let norm_tendon_length = tendon_length / self.tendon_slack_length;
@@ -348,7 +329,7 @@ impl Millard2012Muscle {
     fn force_along_tendon_at_rest(&self, a: f64, fiber_length: f64) -> f64 {
         let f = self.max_isometric_force;
         let norm_length = fiber_length / self.optimal_fiber_length;
-        let (_, cos_alpha) = self.pennation_sin_cos(fiber_length);
+        let (_, cos_alpha) = self.pennation.sin_cos(fiber_length);
         let active = self.curves.active_force_length.value(norm_length);
         let passive = self.curves.fiber_force_length.value(norm_length);
         (f * (a * active) + f * passive) * cos_alpha
