@@ -1,5 +1,5 @@
 //! `cargo xtask bench`, functional scaling (issue 6) on train01 set5 (8 muscles, five angles per
-//! direction): one fit (Phase I, hot start, Phase II), the same with the report's analyses, and
+//! direction): one fit (Phase I, hot start, Phase II, rest-curve fit), the same with the report's analyses, and
 //! the thesis' 81-guess study; goals < 1 s and < 60 s. Memory: the process's peak resident set
 //! (VmHWM) after the study.
 
@@ -30,7 +30,7 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     }
     let study = start.elapsed().as_secs_f64();
     println!("functional scaling: train01 set5 (8 muscles, {} trials)", data.trials.len());
-    println!("  one fit (Phase I + hot start + Phase II) {:>8.1} ms  (goal < 1 s: {})", one * 1e3, verdict(one < 1.0));
+    println!("  one fit (Phase I, II, rest curves)       {:>8.1} ms  (goal < 1 s: {})", one * 1e3, verdict(one < 1.0));
     println!("  with the report's analyses               {:>8.1} ms", reported * 1e3);
     println!("  {} initial guesses                        {:>8.1} s   (goal < 60 s: {})", guesses.len(), study, verdict(study < 60.0));
     match peak_resident_kib() {
