@@ -90,6 +90,12 @@ pub enum Command {
         /// Functional: stop after Phase II (the thesis' method) instead of then fitting with every rest fiber length held at its reference.
         #[arg(long)]
         no_rest_curve: bool,
+        /// Functional: τ of the rest-curve fit's Gaussian prior around the model's L_opt (relative sd; default 0.1), weighed against the moment noise σ.
+        #[arg(long, conflicts_with = "no_prior")]
+        prior_sd: Option<f64>,
+        /// Functional: plain least squares in the rest-curve fit (no prior around the model's values).
+        #[arg(long)]
+        no_prior: bool,
         /// Functional: tie the vasti's and gastrocnemii's L_opt within 0.9–1.1 of each other (eq. 6.23–6.24).
         #[arg(long)]
         group_ratios: bool,

@@ -12,7 +12,11 @@
 //! Convergence is tested on the step, not on F: an accepted step whose largest component is at
 //! most [`LeastSquaresOptions::step_tolerance`] while the damping is small (λ ≤ 10⁻³: the step
 //! is then the Gauss–Newton step to 0.1 %), or a projected gradient whose largest component is
-//! at most [`LeastSquaresOptions::gradient_tolerance`].
+//! at most [`LeastSquaresOptions::gradient_tolerance`], or (MINPACK's `ftol` test) an accepted
+//! step whose actual and predicted decreases of F are both at most
+//! [`LeastSquaresOptions::cost_tolerance`]·F: the local model sees nothing left to gain. The
+//! last one ends slow crawls along a curved valley of a problem with a large residual, where
+//! the damping never falls low enough for the step test.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -34,13 +38,16 @@ pub struct LeastSquaresOptions {
     pub step_tolerance: f64,
     /// Converged when the projected gradient's largest component is at most this.
     pub gradient_tolerance: f64,
+    /// Converged when an accepted step's actual and predicted relative decreases of F are both
+    /// at most this (0: test off).
+    pub cost_tolerance: f64,
     /// Iterations (Jacobian evaluations) allowed.
     pub max_iterations: usize,
 }
 
 impl Default for LeastSquaresOptions {
     fn default() -> Self {
-        LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-14, max_iterations: 200 }
+        LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-14, cost_tolerance: 0.0, max_iterations: 200 }
     }
 }
 
@@ -110,6 +117,15 @@ struct LocalModel {
     gradient: DVector<f64>,
     hessian: DMatrix<f64>,
     cost: f64,
+}
+
+/// A step [`LeastSquares::find_step`] accepted.
+struct AcceptedStep {
+    /// Whether it needed the box QP.
+    constrained: bool,
+    /// Actual and predicted decrease of F.
+    reduction: f64,
+    predicted: f64,
 }
 
 /// Nielsen's damping update: λ shrinks after good steps, grows ever faster after failures.
@@ -201,17 +217,19 @@ impl LeastSquares {
             }
             self.update_scaling(&hessian);
             let local = LocalModel { gradient, hessian, cost };
-            let Some(constrained) = self.find_step(problem, x, bounds, &local, &mut damping) else {
+            let Some(accepted) = self.find_step(problem, x, bounds, &local, &mut damping) else {
                 report.status = LeastSquaresStatus::Stalled;
                 break;
             };
+            let constrained = accepted.constrained;
             report.constrained_steps += usize::from(constrained);
             let step_size = x.iter().zip(&self.trial_x).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
             x.copy_from_slice(&self.trial_x);
             report.iterations += 1;
             problem.evaluate(x, self.residuals.as_mut_slice(), Some(&mut self.jacobian));
             cost = 0.5 * self.residuals.norm_squared();
-            if step_size <= options.step_tolerance && damping.value <= CONVERGED_DAMPING {
+            let no_gain = accepted.reduction.abs().max(accepted.predicted) <= options.cost_tolerance * local.cost;
+            if (step_size <= options.step_tolerance && damping.value <= CONVERGED_DAMPING) || no_gain {
                 report.status = LeastSquaresStatus::Converged;
                 break;
             }
@@ -221,8 +239,8 @@ impl LeastSquares {
     }
 
     /// Raises the damping until a step decreases F enough; leaves the new point in `trial_x`
-    /// and returns whether the step needed the box QP (`None`: the damping ran out).
-    fn find_step(&mut self, problem: &mut impl LeastSquaresProblem, x: &[f64], bounds: &Bounds, local: &LocalModel, damping: &mut Damping) -> Option<bool> {
+    /// (`None`: the damping ran out).
+    fn find_step(&mut self, problem: &mut impl LeastSquaresProblem, x: &[f64], bounds: &Bounds, local: &LocalModel, damping: &mut Damping) -> Option<AcceptedStep> {
         let LocalModel { gradient, hessian, cost } = local;
         loop {
             let Some((step, constrained)) = self.step(hessian, gradient, damping.value, x, bounds) else {
@@ -242,7 +260,7 @@ impl LeastSquares {
             let ratio = if predicted > noise { reduction / predicted } else if reduction >= -noise { 1.0 } else { -1.0 };
             if reduction.is_finite() && ratio > 1e-4 {
                 damping.accept(ratio);
-                return Some(constrained);
+                return Some(AcceptedStep { constrained, reduction, predicted });
             }
             damping.reject()?;
         }
@@ -390,5 +408,37 @@ mod tests {
         }
         let report = LeastSquares::new(1, 1).minimize(&mut Nan, &mut [0.0], &Bounds::none(1), &LeastSquaresOptions::default());
         assert_eq!(report.status, LeastSquaresStatus::NonFinite);
+    }
+
+    /// r = (x − 1 + 10⁻⁶·sin(10⁶·x), 100) with the Jacobian of x − 1 alone, as a finite-difference
+    /// Jacobian blind to the ripple: F stops falling near x = 1 while gradient and steps stay
+    /// ragged. The cost test ends it there; without it the iteration runs out.
+    #[test]
+    fn the_cost_test_ends_a_crawl_at_a_large_residual() {
+        struct Ripple;
+        impl LeastSquaresProblem for Ripple {
+            fn variable_count(&self) -> usize {
+                1
+            }
+            fn residual_count(&self) -> usize {
+                2
+            }
+            fn evaluate(&mut self, x: &[f64], r: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
+                r[0] = x[0] - 1.0 + 1e-6 * (1e6 * x[0]).sin();
+                r[1] = 100.0;
+                if let Some(j) = jacobian {
+                    j[(0, 0)] = 1.0;
+                    j[(1, 0)] = 0.0;
+                }
+            }
+        }
+        let options = LeastSquaresOptions { step_tolerance: 0.0, gradient_tolerance: 0.0, cost_tolerance: 1e-10, max_iterations: 200 };
+        let mut x = [3.0];
+        let report = LeastSquares::new(1, 2).minimize(&mut Ripple, &mut x, &Bounds::none(1), &options);
+        assert_eq!(report.status, LeastSquaresStatus::Converged, "{report:?}");
+        assert!((x[0] - 1.0).abs() < 1e-5, "{x:?}");
+        let mut x = [3.0];
+        let report = LeastSquares::new(1, 2).minimize(&mut Ripple, &mut x, &Bounds::none(1), &LeastSquaresOptions { cost_tolerance: 0.0, ..options });
+        assert_ne!(report.status, LeastSquaresStatus::Converged, "{report:?}");
     }
 }

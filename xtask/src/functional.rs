@@ -1,7 +1,8 @@
 //! Functional scaling rows of the validation table (issue 6): on the public subject train01
 //! (OpenSim 4.6 data, ground truth beside it) the thesis' 81 initial guesses without noise and
-//! 20 noise draws at σ = 5 and 10 N·m, ours beside Garner & Pandy and the thesis' numbers;
-//! and hidden single-muscle L_ts changes in engine-generated data, which must be named.
+//! 20 noise draws at σ = 5 and 10 N·m, ours (with and without the rest-curve prior) beside
+//! Garner & Pandy and the thesis' numbers, on set5 and on all 70 trials; and hidden
+//! single-muscle L_ts changes in engine-generated data, which must be named.
 //! The issue's accuracy goals are printed as open goals; conformance rows are the checks.
 
 use std::path::Path;
@@ -46,25 +47,35 @@ pub fn rows() -> Vec<Row> {
     print_guess_table(&truth, &data, &noise_free, &noise_free_gp);
     rows.push(failure_row("81 guesses, noise-free", &noise_free));
     open_goal("every L_opt and L_ts within 1 % from every guess, noise-free", worst(&noise_free), 0.01);
-    for sd in [5.0, 10.0] {
-        let noisy = noise_study(&subject, sd, NOISE_DRAWS, 20 + sd as u64, &ours);
-        let noisy_gp = noise_study(&subject, sd, NOISE_DRAWS, 20 + sd as u64, &garner_pandy);
-        println!("σ = {sd} N·m, {NOISE_DRAWS} draws from the truth: mean ± sd of the relative error, %");
-        print_noise_table(&truth, &noisy, &noisy_gp);
-        rows.push(failure_row(&format!("σ = {sd} N·m"), &noisy));
-        let means = |i: usize| (0..truth.len()).map(|e| noisy.statistics(e).mean[i].abs()).fold(0.0, f64::max);
-        open_goal(&format!("σ = {sd} N·m: mean |error| of L_ts"), means(1), 0.01);
-        open_goal(&format!("σ = {sd} N·m: mean |error| of L_opt"), means(0), 0.02);
-    }
+    let no_prior = FitSettings { prior_sd: None, ..FitSettings::default() };
+    rows.extend(noise_rows(&subject, "set5", &[&ours, &no_prior, &garner_pandy]));
     let more = FitSettings { phase_two: PhaseTwoSettings { rest_tolerance: Some(0.005), ..PhaseTwoSettings::default() }, ..FitSettings::default() };
     let all_sets = DynamometryData::read(&root.join(SUBJECT), &TrialOptions::default()).expect("the train01 fixture");
     let all_knee = KneeMomentModel::new(&spec, &all_sets).expect("the knee-moment model");
     let all_subject = StudySubject { spec: &spec, knee: &all_knee, data: &all_sets, truth: &truth };
+    rows.extend(noise_rows(&all_subject, "all 70 trials", &[&ours, &no_prior]));
     let some: Vec<Vec<MuscleParameters>> = guesses.iter().step_by(9).cloned().collect();
     let richer = initial_guess_study(&all_subject, &some, &more);
     println!("with more information — set5+set10+set20 ({} trials) and the rest fiber length within ±0.5 % in Phase II, {} of the guesses:", all_sets.trials.len(), some.len());
     print_guess_table(&truth, &all_sets, &richer, &StudyResult::default());
     rows.push(hidden_change_row(&knee));
+    rows
+}
+
+/// The noise study at σ = 5 and 10 N·m for each of `settings` (ours, ours without the prior,
+/// then optionally Garner & Pandy), its table, its failure row and the open goals of the first.
+fn noise_rows(subject: &StudySubject, label: &str, settings: &[&FitSettings]) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for sd in [5.0, 10.0] {
+        let results: Vec<StudyResult> = settings.iter().map(|s| noise_study(subject, sd, NOISE_DRAWS, 20 + sd as u64, s)).collect();
+        println!("{label}, σ = {sd} N·m, {NOISE_DRAWS} draws from the truth: mean ± sd of the relative error, % (L_opt, L_ts)");
+        print_noise_table(subject.truth, &results);
+        let ours = &results[0];
+        rows.push(failure_row(&format!("{label}, σ = {sd} N·m"), ours));
+        let means = |i: usize| (0..subject.truth.len()).map(|e| ours.statistics(e).mean[i].abs()).fold(0.0, f64::max);
+        open_goal(&format!("{label}, σ = {sd} N·m: mean |error| of L_ts"), means(1), 0.01);
+        open_goal(&format!("{label}, σ = {sd} N·m: mean |error| of L_opt"), means(0), 0.02);
+    }
     rows
 }
 
@@ -124,12 +135,19 @@ fn print_guess_table(truth: &[MuscleParameters], data: &DynamometryData, ours: &
     println!("  ({} fits, {} not converged, {} failed)\n", ours.errors.len(), ours.not_converged, ours.failed);
 }
 
-fn print_noise_table(truth: &[MuscleParameters], ours: &StudyResult, gp: &StudyResult) {
-    println!("{:<12} {:>20} {:>20} {:>20} {:>20}", "muscle", "ours L_opt", "ours L_ts", "G&P L_opt", "G&P L_ts");
+/// Columns: ours (MAP with the prior), ours without the prior, Garner & Pandy (when run).
+fn print_noise_table(truth: &[MuscleParameters], results: &[StudyResult]) {
+    const HEADS: [&str; 3] = ["ours", "ours, no prior", "Garner & Pandy"];
+    print!("{:<12}", "muscle");
+    HEADS.iter().take(results.len()).for_each(|h| print!(" {h:>37}"));
+    println!();
     for (e, p) in truth.iter().enumerate() {
-        let (s, g) = (ours.statistics(e), gp.statistics(e));
-        let cell = |mean: f64, sd: f64| format!("{:+.2} ± {:.2}", 100.0 * mean, 100.0 * sd);
-        println!("{:<12} {:>20} {:>20} {:>20} {:>20}", p.name, cell(s.mean[0], s.sd[0]), cell(s.mean[1], s.sd[1]), cell(g.mean[0], g.sd[0]), cell(g.mean[1], g.sd[1]));
+        print!("{:<12}", p.name);
+        for r in results {
+            let s = r.statistics(e);
+            print!(" {:>18} {:>18}", format!("{:+.2} ± {:.2}", 100.0 * s.mean[0], 100.0 * s.sd[0]), format!("{:+.2} ± {:.2}", 100.0 * s.mean[1], 100.0 * s.sd[1]));
+        }
+        println!();
     }
     println!("  thesis (σ = 10): mean ≤ 4.3 / 3.0 % (L_opt ext/flex), ≤ 1.9 / 1.6 % (L_ts); sd up to 10.2 / 15.5 % and 5.1 / 3.9 %\n");
 }

@@ -10,7 +10,7 @@ use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
     fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
-    TrialOptions, SUBJECT_FILE,
+    TrialOptions, DEFAULT_PRIOR_SD, SUBJECT_FILE,
 };
 
 use super::super::args::ScaleMethodArgument;
@@ -32,25 +32,38 @@ pub fn is_dynamometry(folder: &Path) -> bool {
         .is_some_and(|subject| subject.get("trial_files").is_some())
 }
 
-/// The fit settings from the command-line options.
-pub fn settings(
-    method: ScaleMethodArgument,
-    rest_tolerance: Option<f64>,
-    rest_constraint: Option<f64>,
-    rest_curve: bool,
-    group_ratios: bool,
-    noise_sd: Option<f64>,
-    sigma_points: bool,
-) -> FitSettings {
-    let defaults = PhaseTwoSettings::default();
-    let method = match method {
-        ScaleMethodArgument::Functional => FitMethod::Functional,
-        ScaleMethodArgument::GarnerPandy => FitMethod::GarnerPandy,
-    };
-    let feasible = FeasibleSetSettings { rest_tolerance: rest_tolerance.unwrap_or(FeasibleSetSettings::default().rest_tolerance), ..Default::default() };
-    let phase_two = PhaseTwoSettings { rest_tolerance: rest_constraint, group_ratio: group_ratios.then_some([0.9, 1.1]), ..defaults };
-    let rest_curve = rest_curve.then(RestCurveSettings::default);
-    FitSettings { method, feasible, phase_two, rest_curve, noise_sd, sigma_points }
+/// The functional-scaling options of the command line.
+pub struct Options {
+    pub method: ScaleMethodArgument,
+    pub rest_tolerance: Option<f64>,
+    pub rest_constraint: Option<f64>,
+    pub rest_curve: bool,
+    pub prior_sd: Option<f64>,
+    pub no_prior: bool,
+    pub group_ratios: bool,
+    pub noise_sd: Option<f64>,
+    pub sigma_points: bool,
+}
+
+impl Options {
+    /// The fit settings.
+    pub fn settings(&self) -> FitSettings {
+        let method = match self.method {
+            ScaleMethodArgument::Functional => FitMethod::Functional,
+            ScaleMethodArgument::GarnerPandy => FitMethod::GarnerPandy,
+        };
+        let feasible = FeasibleSetSettings { rest_tolerance: self.rest_tolerance.unwrap_or(FeasibleSetSettings::default().rest_tolerance), ..Default::default() };
+        let phase_two = PhaseTwoSettings { rest_tolerance: self.rest_constraint, group_ratio: self.group_ratios.then_some([0.9, 1.1]), ..PhaseTwoSettings::default() };
+        FitSettings {
+            method,
+            feasible,
+            phase_two,
+            rest_curve: self.rest_curve.then(RestCurveSettings::default),
+            prior_sd: (!self.no_prior).then(|| self.prior_sd.unwrap_or(DEFAULT_PRIOR_SD)),
+            noise_sd: self.noise_sd,
+            sigma_points: self.sigma_points,
+        }
+    }
 }
 
 pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Result<Outcome, Failure> {
@@ -94,8 +107,9 @@ fn check_settings(settings: &FitSettings) -> Result<(), Failure> {
     };
     fraction("--rest-tolerance", Some(settings.feasible.rest_tolerance))?;
     fraction("--rest-constraint", settings.phase_two.rest_tolerance)?;
-    match settings.noise_sd {
-        Some(sd) if !(sd > 0.0 && sd.is_finite()) => Err(format!("--noise-sd {sd}: expected a positive number of N·m").into()),
+    match (settings.noise_sd, settings.prior_sd) {
+        (Some(sd), _) if !(sd > 0.0 && sd.is_finite()) => Err(format!("--noise-sd {sd}: expected a positive number of N·m").into()),
+        (_, Some(tau)) if !(tau > 0.0 && tau.is_finite()) => Err(format!("--prior-sd {tau}: expected a positive relative standard deviation").into()),
         _ => Ok(()),
     }
 }
@@ -105,6 +119,9 @@ fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
     println!("solver: {} after {} iterations{}", fit.solver_status, fit.iterations, if fit.converged { "" } else { " — NOT CONVERGED" });
     let initial_error = fit.trials.iter().map(|t| (t.initial - t.measured).abs()).fold(0.0, f64::max);
     println!("knee moment error: max {:.4} N·m, RMS {:.4} N·m (initial model: max {initial_error:.4} N·m)", fit.max_moment_error(), fit.rms_moment_error());
+    if let Some(prior) = &fit.prior {
+        println!("rest-curve prior: L_opt within τ = {:.0} % of the model's, against moment noise σ = {:.3} N·m ({})", 100.0 * prior.coordinate_sd, prior.noise_sd, prior.noise_source);
+    }
     print_parameters(fit);
     print_causes(fit);
     print_sets(fit);

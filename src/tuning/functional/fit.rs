@@ -18,13 +18,17 @@ use super::identifiability::{fisher_information, FisherCriteria, FisherInformati
 use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
 use super::phase_two::{solve_phase_two, PhaseTwoSettings};
-use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurveSettings};
+use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
 use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
 use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
 use super::trials::{DynamometryData, Direction};
 use crate::io::osim::{format_numbers, OsimDocument, OsimError};
 use crate::model::ModelSpec;
 use crate::solvers::LeastSquaresStatus;
+
+/// Default τ of the rest-curve prior: linearly scaled models' L_opt and L_ts are typically
+/// within 10–15 % of a subject's.
+pub const DEFAULT_PRIOR_SD: f64 = 0.1;
 
 /// Which estimator runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -44,7 +48,11 @@ pub struct FitSettings {
     pub phase_two: PhaseTwoSettings,
     /// After Phase II, fit on the rest curves (rest fiber lengths exact); `None`: stop at Phase II.
     pub rest_curve: Option<RestCurveSettings>,
-    /// σ of the moment noise, N·m; `None`: the subject file's, else estimated from the residuals.
+    /// τ of the rest-curve fit's Gaussian prior around the model's parameters (relative sd of
+    /// L_opt), weighed against the moment noise σ; `None`: plain least squares.
+    pub prior_sd: Option<f64>,
+    /// σ of the moment noise, N·m; `None`: the subject file's, else estimated from the residuals;
+    /// 0: noise-free moments (no prior).
     pub noise_sd: Option<f64>,
     /// Propagate the noise through the whole fit at the 2n²+1 sigma points (n trials).
     pub sigma_points: bool,
@@ -57,6 +65,7 @@ impl Default for FitSettings {
             feasible: FeasibleSetSettings::default(),
             phase_two: PhaseTwoSettings::default(),
             rest_curve: Some(RestCurveSettings::default()),
+            prior_sd: Some(DEFAULT_PRIOR_SD),
             noise_sd: None,
             sigma_points: false,
         }
@@ -80,6 +89,8 @@ pub struct FunctionalFit {
     pub hot_start: Option<HotStart>,
     /// Phase II constraints active at the solution (e.g. a rest length at its tolerance).
     pub active_constraints: Vec<String>,
+    /// The rest-curve fit's prior, when it was used.
+    pub prior: Option<AppliedPrior>,
     /// Each single parameter fitted alone from the initial model, best explanation first.
     pub single_causes: Vec<SingleCause>,
     pub sensitivity: SensitivityTable,
@@ -169,6 +180,17 @@ pub struct Estimate {
     pub feasible_sets: Vec<MuscleFeasibleSet>,
     pub hot_start: Option<HotStart>,
     pub active_constraints: Vec<String>,
+    pub prior: Option<AppliedPrior>,
+}
+
+/// The Gaussian prior a rest-curve fit used: relative sd τ of L_opt around the model's, moment
+/// noise σ (N·m).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AppliedPrior {
+    pub coordinate_sd: f64,
+    pub noise_sd: f64,
+    /// Where σ came from: "given" (or the subject file's) or "residuals".
+    pub noise_source: &'static str,
 }
 
 /// The estimator of `settings.method` alone, from `initial` (one per estimated muscle) on
@@ -183,7 +205,10 @@ pub fn estimate(
     progress: &mut dyn FnMut(&str),
 ) -> Result<Estimate, FunctionalError> {
     match settings.method {
-        FitMethod::Functional => functional(knee, initial, &rest_references(knee, data), measured, settings, progress),
+        FitMethod::Functional => {
+            let noise_sd = settings.noise_sd.or(data.noise_sd.filter(|sd| *sd > 0.0));
+            functional(knee, initial, &rest_references(knee, data), measured, noise_sd, settings, progress)
+        }
         FitMethod::GarnerPandy => garner_pandy(spec, knee, data, initial, measured, progress),
     }
 }
@@ -235,6 +260,7 @@ pub fn fit(
         feasible_sets: estimate.feasible_sets,
         hot_start: estimate.hot_start,
         active_constraints: estimate.active_constraints,
+        prior: estimate.prior,
         single_causes,
         sensitivity,
         identifiability,
@@ -251,6 +277,7 @@ fn functional(
     initial: &[MuscleParameters],
     rest: &[Option<f64>],
     measured: &[f64],
+    noise_sd: Option<f64>,
     settings: &FitSettings,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Estimate, FunctionalError> {
@@ -268,6 +295,7 @@ fn functional(
         feasible_sets: sets,
         hot_start: Some(start),
         active_constraints: solution.active_constraints,
+        prior: None,
     };
     let Some(rest_curve) = &settings.rest_curve else { return Ok(phase_two) };
     let Some(references) = rest.iter().copied().collect::<Option<Vec<f64>>>() else {
@@ -275,14 +303,47 @@ fn functional(
         return Ok(phase_two);
     };
     progress("rest curves: global search and refinement with the rest fiber lengths held");
-    let curves = fit_rest_curves(knee, &references, initial, measured, std::slice::from_ref(&phase_two.fitted), rest_curve)?;
-    progress(&format!("rest curves: {:?} after {} iterations ({} starts), largest moment error {:.3e} N·m", curves.status, curves.iterations, curves.starts, largest(&curves.residuals)));
-    Ok(after_phase_two(phase_two, curves))
+    let model = knee.nominal_parameters();
+    let prior = |noise_sd: f64| settings.prior_sd.map(|coordinate_sd| RestCurvePrior { model: &model, coordinate_sd, noise_sd });
+    let mut starts = vec![phase_two.fitted.clone()];
+    let (noise_sd, noise_source) = match (noise_sd, settings.prior_sd) {
+        (Some(sd), Some(_)) if sd > NEGLIGIBLE_NOISE => (sd, "given"),
+        _ => {
+            let plain = fit_rest_curves(knee, &references, initial, measured, &starts, None, rest_curve)?;
+            report_rest_curves(&plain, progress);
+            let sd = noise_sd.unwrap_or_else(|| noise_from_residuals(&plain.residuals, references.len()).unwrap_or(0.0));
+            if settings.prior_sd.is_none() || sd <= NEGLIGIBLE_NOISE {
+                return Ok(after_phase_two(phase_two, plain, None));
+            }
+            progress(&format!("rest curves: σ = {sd:.3} N·m from the residuals; again with the prior"));
+            starts.insert(0, plain.parameters);
+            (sd, "residuals")
+        }
+    };
+    let curves = fit_rest_curves(knee, &references, initial, measured, &starts, prior(noise_sd), rest_curve)?;
+    report_rest_curves(&curves, progress);
+    let applied = settings.prior_sd.map(|coordinate_sd| AppliedPrior { coordinate_sd, noise_sd, noise_source });
+    Ok(after_phase_two(phase_two, curves, applied))
+}
+
+/// σ (N·m) below which moments count as noise-free: the prior is then not used.
+const NEGLIGIBLE_NOISE: f64 = 1e-6;
+
+fn report_rest_curves(curves: &RestCurveFit, progress: &mut dyn FnMut(&str)) {
+    progress(&format!(
+        "rest curves: {:?} after {} iterations ({} starts, prior weight {:.3} N·m), largest moment error {:.3e} N·m",
+        curves.status,
+        curves.iterations,
+        curves.starts,
+        curves.prior_weight,
+        largest(&curves.residuals)
+    ));
 }
 
 /// The estimate of the rest-curve fit, keeping Phase I's records and Phase II's status.
-fn after_phase_two(phase_two: Estimate, curves: RestCurveFit) -> Estimate {
+fn after_phase_two(phase_two: Estimate, curves: RestCurveFit, prior: Option<AppliedPrior>) -> Estimate {
     Estimate {
+        prior,
         converged: curves.converged(),
         status: format!("rest curves {:?} (Phase II {})", curves.status, phase_two.status),
         iterations: phase_two.iterations + curves.iterations,
@@ -315,13 +376,14 @@ fn garner_pandy(
         feasible_sets: Vec::new(),
         hot_start: None,
         active_constraints: Vec::new(),
+        prior: None,
     })
 }
 
 /// σ: given, else the subject file's (when positive), else √(RSS/(n − p)) of the fit (0 when
 /// the fit is exact or has no degrees of freedom: then a nominal 1 N·m scales the criteria).
 fn noise_level(settings: &FitSettings, data: &DynamometryData, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
-    if let Some(sd) = settings.noise_sd {
+    if let Some(sd) = settings.noise_sd.filter(|sd| *sd > 0.0) {
         return (sd, "given");
     }
     if let Some(sd) = data.noise_sd.filter(|sd| *sd > 0.0) {
@@ -361,10 +423,12 @@ fn sigma_point_spread(
     let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
     let references: Option<Vec<f64>> = rest.iter().copied().collect();
     let local = settings.rest_curve.map(|s| RestCurveSettings { global_search: false, ..s });
+    let model = knee.nominal_parameters();
+    let prior = settings.prior_sd.map(|coordinate_sd| RestCurvePrior { model: &model, coordinate_sd, noise_sd });
     progress(&format!("sigma points: {} refits at σ = {noise_sd:.3} N·m", points.len()));
     let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
         let parameters = match (&references, &local) {
-            (Some(references), Some(local)) => fit_rest_curves(knee, references, &estimate.fitted, perturbed, std::slice::from_ref(&estimate.fitted), local)?.parameters,
+            (Some(references), Some(local)) => fit_rest_curves(knee, references, &estimate.fitted, perturbed, std::slice::from_ref(&estimate.fitted), prior, local)?.parameters,
             _ => solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?.parameters,
         };
         Ok(parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())

@@ -236,7 +236,7 @@ impl Default for GarnerPandyOptions {
             upper: 2.0,
             relative_step: 1e-6,
             fitted_muscles: None,
-            least_squares: LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-10, max_iterations: 100 },
+            least_squares: LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-10, max_iterations: 100, ..LeastSquaresOptions::default() },
         }
     }
 }

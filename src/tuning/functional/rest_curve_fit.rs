@@ -8,6 +8,12 @@
 //!    differences of its own contributions;
 //! 3. the refined point with the smallest Σ (M − M_meas)² is the fit.
 //!
+//! With noisy moments an optional Gaussian prior around the model's parameters
+//! ([`RestCurvePrior`]) joins the least squares: a maximum a-posteriori fit. Five angles per
+//! direction leave one residual degree of freedom per group, and several basins then fit the
+//! noise about equally well; the prior picks the one nearest the model and shrinks what the
+//! moments do not determine.
+//!
 //! With exact rest lengths, five angles per direction identify all 16 parameters locally, but
 //! the moment error has several basins (the gastrocnemii trade L_opt against each other); step 1
 //! is what finds the right one.
@@ -16,7 +22,7 @@ use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::MuscleParameters;
 use super::rest_curve::RestCurve;
-use super::rest_curve_search::{muscle_groups, search, ContributionTable};
+use super::rest_curve_search::{muscle_groups, search, ContributionTable, CoordinatePrior, Surrogate};
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 use nalgebra::DMatrix;
 
@@ -47,9 +53,20 @@ impl Default for RestCurveSettings {
             minima: 4,
             global_search: true,
             step: 1e-6,
-            least_squares: LeastSquaresOptions { step_tolerance: 1e-8, gradient_tolerance: 1e-4, max_iterations: 200 },
+            least_squares: LeastSquaresOptions { step_tolerance: 1e-8, gradient_tolerance: 1e-4, cost_tolerance: 1e-10, max_iterations: 200 },
         }
     }
+}
+
+/// A Gaussian prior on each muscle's rest-curve coordinate around `model`'s parameters:
+/// s − s(model) ~ N(0, τ²) with τ = `coordinate_sd` (the relative standard deviation of L_opt;
+/// of L_ts on a clamped branch), weighed against moment noise of standard deviation `noise_sd`
+/// (N·m).
+#[derive(Debug, Clone, Copy)]
+pub struct RestCurvePrior<'a> {
+    pub model: &'a [MuscleParameters],
+    pub coordinate_sd: f64,
+    pub noise_sd: f64,
 }
 
 /// The outcome of [`fit_rest_curves`].
@@ -63,6 +80,8 @@ pub struct RestCurveFit {
     pub starts: usize,
     /// M − M_meas per trial, N·m.
     pub residuals: Vec<f64>,
+    /// The prior's weight σ/τ, N·m (0 without a prior).
+    pub prior_weight: f64,
 }
 
 impl RestCurveFit {
@@ -75,13 +94,14 @@ impl RestCurveFit {
 
 /// Fits the estimated muscles on their rest curves through `references` (m, one per estimated
 /// muscle), with origins `origin` (the s = 0 parameters, e.g. the model's) to `measured` (N·m,
-/// one per trial); `extra_starts` are refined too.
+/// one per trial); `extra_starts` are refined too; `prior`, if any, joins the least squares.
 pub fn fit_rest_curves(
     model: &KneeMomentModel,
     references: &[f64],
     origin: &[MuscleParameters],
     measured: &[f64],
     extra_starts: &[Vec<MuscleParameters>],
+    prior: Option<RestCurvePrior>,
     settings: &RestCurveSettings,
 ) -> Result<RestCurveFit, FunctionalError> {
     let n = origin.len();
@@ -97,19 +117,22 @@ pub fn fit_rest_curves(
         None => Bounds { lower: ranges.iter().map(|r| r[0]).collect(), upper: ranges.iter().map(|r| r[1]).collect() },
     };
     let coordinates = |parameters: &[MuscleParameters]| -> Vec<f64> { curves.iter().zip(parameters).map(|(c, p)| c.coordinate_of(p).clamp(bounds.lower[c.e], bounds.upper[c.e])).collect() };
+    let prior = coordinate_prior(&curves, prior)?;
     let extra: Vec<Vec<f64>> = extra_starts.iter().map(|p| coordinates(p)).collect();
     let mut starts: Vec<Vec<f64>> = match &tables {
         Some(tables) => {
             let held = extra.first().cloned().unwrap_or_else(|| coordinates(origin));
             let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
-            search(tables, &muscle_groups(model), &residual_base, held, settings.lattice_budget, settings.minima).into_iter().map(|m| m.s).collect()
+            let surrogate = Surrogate { tables, residual_base: &residual_base, prior: &prior };
+            search(&surrogate, &muscle_groups(model), held, settings.lattice_budget, settings.minima).into_iter().map(|m| m.s).collect()
         }
         None => Vec::new(),
     };
     starts.extend(extra);
-    let mut problem = CurveProblem::new(model, &curves, measured, workspace, settings.step);
+    let prior_weight = prior.weight;
+    let mut problem = CurveProblem::new(model, &curves, measured, prior, workspace, settings.step);
     let mut best: Option<(f64, Vec<f64>, LeastSquaresStatus, usize)> = None;
-    let mut solver = LeastSquares::new(n, measured.len());
+    let mut solver = LeastSquares::new(n, problem.residual_count());
     for mut x in starts.iter().cloned() {
         let report = solver.minimize(&mut problem, &mut x, &bounds, &settings.least_squares);
         if report.cost.is_finite() && best.as_ref().is_none_or(|b| report.cost < b.0) {
@@ -117,10 +140,26 @@ pub fn fit_rest_curves(
         }
     }
     let (_, x, status, iterations) = best.ok_or_else(|| FunctionalError::all_muscles("no refinement of the rest-curve fit had finite moments"))?;
-    let mut residuals = vec![0.0; measured.len()];
+    let mut residuals = vec![0.0; problem.residual_count()];
     problem.evaluate(&x, &mut residuals, None);
+    residuals.truncate(measured.len());
     let parameters = problem.parameters_at(&x).ok_or_else(|| FunctionalError::all_muscles("the rest-curve fit's point lost its equilibrium"))?;
-    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals })
+    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight })
+}
+
+/// The prior in curve coordinates (weight 0 without one); an error for a non-positive τ or a
+/// negative σ.
+fn coordinate_prior(curves: &[RestCurve], prior: Option<RestCurvePrior>) -> Result<CoordinatePrior, FunctionalError> {
+    let Some(prior) = prior else { return Ok(CoordinatePrior { centre: vec![0.0; curves.len()], weight: 0.0 }) };
+    if !(prior.coordinate_sd > 0.0 && prior.noise_sd >= 0.0 && prior.noise_sd.is_finite()) || prior.model.len() != curves.len() {
+        return Err(FunctionalError::all_muscles(format!(
+            "prior τ = {}, σ = {} N·m over {} muscles; expected τ > 0, a finite σ ≥ 0 and one model muscle per estimated muscle",
+            prior.coordinate_sd,
+            prior.noise_sd,
+            prior.model.len()
+        )));
+    }
+    Ok(CoordinatePrior { centre: curves.iter().zip(prior.model).map(|(c, p)| c.coordinate_of(p)).collect(), weight: prior.noise_sd / prior.coordinate_sd })
 }
 
 /// Every muscle's contribution table over its range; an error for a muscle with no point.
@@ -147,11 +186,13 @@ fn curve_ranges(curves: &[RestCurve], span: [f64; 2]) -> Vec<[f64; 2]> {
     curves.iter().map(|curve| [lower, clamped_end(curve).map_or(upper, |end| end.max(upper))]).collect()
 }
 
-/// r(s) = M(s) − M_meas, each muscle's contributions cached at its last s.
+/// r(s) = M(s) − M_meas per trial, then the prior's residual per muscle; each muscle's
+/// contributions cached at its last s.
 struct CurveProblem<'a> {
     model: &'a KneeMomentModel,
     curves: &'a [RestCurve],
     measured: &'a [f64],
+    prior: CoordinatePrior,
     workspace: EstimatedMuscles,
     step: f64,
     /// Last L_ts per muscle, the next search's hint.
@@ -164,12 +205,13 @@ struct CurveProblem<'a> {
 }
 
 impl<'a> CurveProblem<'a> {
-    fn new(model: &'a KneeMomentModel, curves: &'a [RestCurve], measured: &'a [f64], workspace: EstimatedMuscles, step: f64) -> CurveProblem<'a> {
+    fn new(model: &'a KneeMomentModel, curves: &'a [RestCurve], measured: &'a [f64], prior: CoordinatePrior, workspace: EstimatedMuscles, step: f64) -> CurveProblem<'a> {
         let trials = measured.len();
         CurveProblem {
             model,
             curves,
             measured,
+            prior,
             workspace,
             step,
             slack_hints: curves.iter().map(|c| c.origin().tendon_slack_length).collect(),
@@ -230,7 +272,7 @@ impl LeastSquaresProblem for CurveProblem<'_> {
     }
 
     fn residual_count(&self) -> usize {
-        self.measured.len()
+        self.measured.len() + self.curves.len()
     }
 
     /// Non-finite residuals where a curve point or an equilibrium fails: the solver backs off.
@@ -239,16 +281,20 @@ impl LeastSquaresProblem for CurveProblem<'_> {
             residuals.fill(f64::NAN);
             return;
         }
-        residuals.copy_from_slice(self.model.fixed_moments());
+        let (moments, priors) = residuals.split_at_mut(self.measured.len());
+        moments.copy_from_slice(self.model.fixed_moments());
         for contributions in &self.contributions {
-            residuals.iter_mut().zip(contributions).for_each(|(r, c)| *r += c);
+            moments.iter_mut().zip(contributions).for_each(|(r, c)| *r += c);
         }
-        residuals.iter_mut().zip(self.measured).for_each(|(r, m)| *r -= m);
+        moments.iter_mut().zip(self.measured).for_each(|(r, m)| *r -= m);
+        priors.iter_mut().enumerate().for_each(|(e, r)| *r = self.prior.residual(e, x[e]));
         if let Some(jacobian) = jacobian {
-            let mut column = vec![0.0; residuals.len()];
+            let mut column = vec![0.0; moments.len()];
+            jacobian.fill(0.0);
             for (e, &s) in x.iter().enumerate() {
                 self.column(e, s, &mut column);
-                jacobian.column_mut(e).copy_from_slice(&column);
+                jacobian.view_mut((0, e), (column.len(), 1)).copy_from_slice(&column);
+                jacobian[(column.len() + e, e)] = self.prior.weight;
             }
         }
     }

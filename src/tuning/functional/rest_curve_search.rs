@@ -131,11 +131,36 @@ pub fn muscle_groups(model: &KneeMomentModel) -> Vec<MuscleGroup> {
     groups
 }
 
-/// A minimum on the surrogate: of one group (its muscles' s, cost on its trials) or of all
-/// estimated muscles (cost on all trials).
+/// A Gaussian prior on the coordinates, s_e − centre_e ~ N(0, τ²): with moment noise σ it joins
+/// the least squares as one residual weight·(s_e − centre_e) per muscle, weight = σ/τ (N·m).
+/// Weight 0 is no prior.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoordinatePrior {
+    pub centre: Vec<f64>,
+    pub weight: f64,
+}
+
+impl CoordinatePrior {
+    /// The prior residual of muscle e at s, N·m.
+    pub fn residual(&self, e: usize, s: f64) -> f64 {
+        self.weight * (s - self.centre[e])
+    }
+}
+
+/// The surrogate least squares of all estimated muscles: their tables, M_fixed − M_meas per
+/// trial, and the prior.
+#[derive(Debug, Clone, Copy)]
+pub struct Surrogate<'a> {
+    pub tables: &'a [ContributionTable],
+    pub residual_base: &'a [f64],
+    pub prior: &'a CoordinatePrior,
+}
+
+/// A minimum on the surrogate: of one group (its muscles' s, cost on its trials and their
+/// priors) or of all estimated muscles (cost on all trials and priors).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurrogateMinimum {
-    /// Σ (M − M_meas)², N²·m².
+    /// Σ (M − M_meas)² plus the prior's squared residuals, N²·m².
     pub cost: f64,
     pub s: Vec<f64>,
 }
@@ -143,11 +168,11 @@ pub struct SurrogateMinimum {
 /// The distinct minima of all estimated muscles together, best first (at most `keep`): passes
 /// of [`one_pass`], the first held at `start` (s per estimated muscle), each next one at the
 /// best minimum so far, until a pass improves the best cost by less than 0.1 %.
-pub fn search(tables: &[ContributionTable], groups: &[MuscleGroup], residual_base: &[f64], start: Vec<f64>, lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
+pub fn search(surrogate: &Surrogate, groups: &[MuscleGroup], start: Vec<f64>, lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
     let mut all: Vec<SurrogateMinimum> = Vec::new();
     let mut start = start;
     for _ in 0..MAX_PASSES {
-        let found = one_pass(tables, groups, residual_base, start, lattice_budget, keep);
+        let found = one_pass(surrogate, groups, start, lattice_budget, keep);
         let improved = found.first().is_some_and(|f| all.first().is_none_or(|b| f.cost < b.cost * (1.0 - 1e-3)));
         for minimum in found {
             offer(&mut all, minimum, keep);
@@ -165,14 +190,14 @@ pub fn search(tables: &[ContributionTable], groups: &[MuscleGroup], residual_bas
 /// the best so far; every combination of the groups' kept minima of every round then starts a
 /// fit of all muscles on all trials, since the groups are coupled through the passive forces of
 /// each direction's antagonists.
-fn one_pass(tables: &[ContributionTable], groups: &[MuscleGroup], residual_base: &[f64], start: Vec<f64>, lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
+fn one_pass(surrogate: &Surrogate, groups: &[MuscleGroup], start: Vec<f64>, lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
     let mut best = start;
     let mut seen: Vec<Vec<SurrogateMinimum>> = vec![Vec::new(); groups.len()];
     for _ in 0..MAX_ROUNDS {
         let mut changed = false;
         for (g, group) in groups.iter().enumerate() {
-            let Some(base) = held_residuals(tables, group, residual_base, &best) else { continue };
-            let found = group_minima(tables, group, &base, lattice_budget, keep);
+            let Some(base) = held_residuals(surrogate, group, &best) else { continue };
+            let found = group_minima(surrogate.tables, surrogate.prior, group, &base, lattice_budget, keep);
             if let Some(first) = found.first() {
                 for (&e, &s) in group.muscles.iter().zip(&first.s) {
                     changed |= (best[e] - s).abs() > SAME_MINIMUM;
@@ -189,14 +214,14 @@ fn one_pass(tables: &[ContributionTable], groups: &[MuscleGroup], residual_base:
             break;
         }
     }
-    joint_minima(tables, groups, residual_base, &best, &seen, keep)
+    joint_minima(surrogate, groups, &best, &seen, keep)
 }
 
 /// Every combination of the groups' minima (others at `best`) refined on all trials together.
-fn joint_minima(tables: &[ContributionTable], groups: &[MuscleGroup], residual_base: &[f64], best: &[f64], seen: &[Vec<SurrogateMinimum>], keep: usize) -> Vec<SurrogateMinimum> {
-    let all = MuscleGroup { muscles: (0..tables.len()).collect(), trials: (0..residual_base.len()).collect() };
-    let [lower, upper] = table_bounds(tables, &all.muscles);
-    let mut problem = SurrogateProblem::new(tables, &all, residual_base);
+fn joint_minima(surrogate: &Surrogate, groups: &[MuscleGroup], best: &[f64], seen: &[Vec<SurrogateMinimum>], keep: usize) -> Vec<SurrogateMinimum> {
+    let all = MuscleGroup { muscles: (0..surrogate.tables.len()).collect(), trials: (0..surrogate.residual_base.len()).collect() };
+    let [lower, upper] = table_bounds(surrogate.tables, &all.muscles);
+    let mut problem = SurrogateProblem::new(surrogate.tables, surrogate.prior, &all, surrogate.residual_base);
     let mut minima = Vec::new();
     let combinations: usize = seen.iter().map(|g| g.len().max(1)).product();
     for n in 0..combinations {
@@ -220,8 +245,9 @@ fn same_point(a: &[f64], b: &[f64]) -> bool {
 
 /// M_fixed − M_meas plus the surrogate contributions of the muscles outside `group` at `s`,
 /// per group trial.
-fn held_residuals(tables: &[ContributionTable], group: &MuscleGroup, residual_base: &[f64], s: &[f64]) -> Option<Vec<f64>> {
-    let mut base: Vec<f64> = group.trials.iter().map(|&t| residual_base[t]).collect();
+fn held_residuals(surrogate: &Surrogate, group: &MuscleGroup, s: &[f64]) -> Option<Vec<f64>> {
+    let tables = surrogate.tables;
+    let mut base: Vec<f64> = group.trials.iter().map(|&t| surrogate.residual_base[t]).collect();
     let (mut value, mut slope) = (vec![0.0; base.len()], vec![0.0; base.len()]);
     for e in (0..tables.len()).filter(|e| !group.muscles.contains(e)) {
         if !tables[e].interpolate(s[e], &group.trials, &mut value, &mut slope) {
@@ -233,11 +259,11 @@ fn held_residuals(tables: &[ContributionTable], group: &MuscleGroup, residual_ba
 }
 
 /// The group's distinct surrogate minima from every lattice start, best first.
-fn group_minima(tables: &[ContributionTable], group: &MuscleGroup, base: &[f64], lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
+fn group_minima(tables: &[ContributionTable], prior: &CoordinatePrior, group: &MuscleGroup, base: &[f64], lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
     let k = group.muscles.len();
     let levels = (lattice_budget.powf(1.0 / k as f64).floor() as usize).max(2);
     let [lower, upper] = table_bounds(tables, &group.muscles);
-    let mut problem = SurrogateProblem::new(tables, group, base);
+    let mut problem = SurrogateProblem::new(tables, prior, group, base);
     let mut minima: Vec<SurrogateMinimum> = Vec::new();
     for n in 0..levels.pow(k as u32) {
         let mut x: Vec<f64> = (0..k).map(|j| lower[j] + (upper[j] - lower[j]) * (((n / levels.pow(j as u32)) % levels) as f64 + 0.5) / levels as f64).collect();
@@ -265,9 +291,11 @@ fn offer(minima: &mut Vec<SurrogateMinimum>, candidate: SurrogateMinimum, keep: 
     minima.truncate(keep.max(1));
 }
 
-/// One group's residuals on the surrogate: base + Σ_group c_j(s_j) per group trial.
+/// One group's residuals on the surrogate: base + Σ_group c_j(s_j) per group trial, then the
+/// prior's residual per group muscle.
 struct SurrogateProblem<'a> {
     tables: &'a [ContributionTable],
+    prior: &'a CoordinatePrior,
     group: &'a MuscleGroup,
     base: &'a [f64],
     value: Vec<f64>,
@@ -277,20 +305,24 @@ struct SurrogateProblem<'a> {
 }
 
 impl<'a> SurrogateProblem<'a> {
-    fn new(tables: &'a [ContributionTable], group: &'a MuscleGroup, base: &'a [f64]) -> SurrogateProblem<'a> {
+    fn new(tables: &'a [ContributionTable], prior: &'a CoordinatePrior, group: &'a MuscleGroup, base: &'a [f64]) -> SurrogateProblem<'a> {
         let (m, k) = (base.len(), group.muscles.len());
-        SurrogateProblem { tables, group, base, value: vec![0.0; m], slope: vec![0.0; m], residuals: DVector::zeros(m), jacobian: DMatrix::zeros(m, k) }
+        let mut jacobian = DMatrix::zeros(m + k, k);
+        (0..k).for_each(|j| jacobian[(m + j, j)] = prior.weight);
+        SurrogateProblem { tables, prior, group, base, value: vec![0.0; m], slope: vec![0.0; m], residuals: DVector::zeros(m + k), jacobian }
     }
 
     /// Residuals and Jacobian at x; Σ r² (N²·m²), `None` outside the surrogate.
     fn evaluate(&mut self, x: &[f64]) -> Option<f64> {
-        self.residuals.as_mut_slice().copy_from_slice(self.base);
+        let m = self.base.len();
+        self.residuals.rows_mut(0, m).copy_from_slice(self.base);
         for (j, (&e, &s)) in self.group.muscles.iter().zip(x).enumerate() {
             if !self.tables[e].interpolate(s, &self.group.trials, &mut self.value, &mut self.slope) {
                 return None;
             }
             self.residuals.iter_mut().zip(&self.value).for_each(|(r, v)| *r += v);
-            self.jacobian.column_mut(j).copy_from_slice(&self.slope);
+            self.residuals[m + j] = self.prior.residual(e, s);
+            self.jacobian.view_mut((0, j), (m, 1)).copy_from_slice(&self.slope);
         }
         Some(self.residuals.norm_squared())
     }
@@ -382,7 +414,7 @@ mod tests {
         let grid = |i: usize| -2.0 + 0.05 * i as f64;
         let table = ContributionTable { start: -2.0, spacing: 0.05, points: (0..81).map(|i| Some(TablePoint { value: vec![f(grid(i))], left: vec![df(grid(i))], right: vec![df(grid(i))] })).collect() };
         let group = MuscleGroup { muscles: vec![0], trials: vec![0] };
-        let minima = group_minima(&[table], &group, &[0.0], 12.0, 5);
+        let minima = group_minima(&[table], &CoordinatePrior { centre: vec![0.0], weight: 0.0 }, &group, &[0.0], 12.0, 5);
         let mut roots: Vec<f64> = minima.iter().filter(|m| m.cost < 1e-12).map(|m| m.s[0]).collect();
         roots.sort_by(f64::total_cmp);
         assert_eq!(roots.len(), 3, "{minima:?}");
