@@ -4,17 +4,14 @@
 //! L_opt and L_ts. (The full study, in `cargo xtask validate`, still finds guesses from which the
 //! fit ends in another basin; see README.)
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::{fixture, true_parameters};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{Direction, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, SetSelection, TrialOptions};
 use osim_tune::validation::functional::{fit_errors, thesis_initial_guesses, StudySubject};
 use serde_json::Value;
-
-fn fixture(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(path)
-}
 
 /// The subject's set5 trials, the model, its ground truth and the noise-free moments
 /// (`knee_moment_true_Nm`, which equal the measured ones where the subject has no noise).
@@ -24,16 +21,7 @@ fn subject(name: &str) -> (ModelSpec, DynamometryData, Vec<MuscleParameters>, Ve
     let data = DynamometryData::read(&folder, &TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() }).unwrap();
     let truth: Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).unwrap()).unwrap();
     let knee = KneeMomentModel::new(&spec, &data).unwrap();
-    let parameters = knee
-        .nominal_parameters()
-        .into_iter()
-        .map(|mut p| {
-            let t = &truth["true_parameters"][&p.name];
-            p.optimal_fiber_length = t["optimal_fiber_length"].as_f64().unwrap();
-            p.tendon_slack_length = t["tendon_slack_length"].as_f64().unwrap();
-            p
-        })
-        .collect();
+    let parameters = true_parameters(&folder, knee.nominal_parameters());
     let moments = data
         .trials
         .iter()

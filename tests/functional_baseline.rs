@@ -3,6 +3,8 @@
 //! parameters that fewer trials cannot identify, and sigma-point noise propagation
 //! (Appendix 6.6). Run with `--nocapture` to see the tables.
 
+mod common;
+
 use std::path::Path;
 
 use nalgebra::{DMatrix, DVector};
@@ -14,7 +16,6 @@ use osim_tune::tuning::functional::{
     FisherOptions, GarnerPandyOptions, JointRange, KneeMomentModel, MuscleParameters, ParameterLabel, Parameterisation, SetSelection,
     SigmaPointError, SigmaPoints, TransformedParameter, TrialOptions,
 };
-use serde_json::Value;
 
 const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
 const SUBJECT: &str = "fixtures/dynamometry/train01";
@@ -29,16 +30,7 @@ fn set5() -> DynamometryData {
 
 /// The ground truth's `true_parameters` (L_opt, L_ts) on the model's other values.
 fn true_parameters(knee: &KneeMomentModel) -> Vec<MuscleParameters> {
-    let truth: Value = serde_json::from_str(&std::fs::read_to_string(Path::new(SUBJECT).join("ground_truth.json")).unwrap()).unwrap();
-    knee.nominal_parameters()
-        .into_iter()
-        .map(|mut p| {
-            let t = &truth["true_parameters"][&p.name];
-            p.optimal_fiber_length = t["optimal_fiber_length"].as_f64().unwrap();
-            p.tendon_slack_length = t["tendon_slack_length"].as_f64().unwrap();
-            p
-        })
-        .collect()
+    common::true_parameters(Path::new(SUBJECT), knee.nominal_parameters())
 }
 
 fn percent(estimate: f64, truth: f64) -> f64 {

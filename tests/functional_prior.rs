@@ -2,19 +2,15 @@
 //! fit): its two limits, which follow from the objective, and its accuracy on noisy moments of
 //! the OpenSim-generated subject train01 against the goals and the thesis' table 6.3.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::{fixture, true_parameters};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{
     fit_rest_curves, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurve, RestCurvePrior, RestCurveSettings, SetSelection, TrialOptions,
 };
 use osim_tune::validation::functional::{noise_study, StudySubject};
-use serde_json::Value;
-
-fn fixture(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(path)
-}
 
 /// train01's trials of `sets` (all when `None`), the base model and the ground truth.
 fn train01(sets: Option<Vec<String>>) -> (ModelSpec, DynamometryData, Vec<MuscleParameters>) {
@@ -22,19 +18,9 @@ fn train01(sets: Option<Vec<String>>) -> (ModelSpec, DynamometryData, Vec<Muscle
     let folder = fixture("dynamometry/train01");
     let sets = sets.map_or(SetSelection::All, SetSelection::Only);
     let data = DynamometryData::read(&folder, &TrialOptions { sets, ..TrialOptions::default() }).unwrap();
-    let truth: Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).unwrap()).unwrap();
     let knee = KneeMomentModel::new(&spec, &data).unwrap();
-    let parameters = knee
-        .nominal_parameters()
-        .into_iter()
-        .map(|mut p| {
-            let t = &truth["true_parameters"][&p.name];
-            p.optimal_fiber_length = t["optimal_fiber_length"].as_f64().unwrap();
-            p.tendon_slack_length = t["tendon_slack_length"].as_f64().unwrap();
-            p
-        })
-        .collect();
-    (spec, data, parameters)
+    let truth = true_parameters(&folder, knee.nominal_parameters());
+    (spec, data, truth)
 }
 
 /// A very wide prior leaves the least-squares fit as it is; a very tight one holds every muscle

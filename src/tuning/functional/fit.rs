@@ -326,8 +326,9 @@ fn functional(
     Ok(after_phase_two(phase_two, curves, applied))
 }
 
-/// σ (N·m) below which moments count as noise-free: the prior is then not used.
-const NEGLIGIBLE_NOISE: f64 = 1e-6;
+/// σ (N·m) below which moments count as noise-free (dynamometers resolve about 0.1 N·m): the
+/// prior is then not used.
+const NEGLIGIBLE_NOISE: f64 = 1e-3;
 
 fn report_rest_curves(curves: &RestCurveFit, progress: &mut dyn FnMut(&str)) {
     progress(&format!(
