@@ -168,6 +168,19 @@ fn refuses_too_few_angles_and_says_what_is_not_identifiable() {
     assert!(stderr.contains("not identifiable") && stderr.contains("rect_fem_r (L_opt, L_ts)"), "{stderr}");
 }
 
+/// A prior or noise level that is not a positive number is refused before any fit.
+#[test]
+fn refuses_a_non_positive_prior_or_noise_level() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("out.osim");
+    for (option, value) in [("--prior-sd", "0"), ("--noise-sd", "-2")] {
+        let (code, _, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &[&format!("{option}={value}")]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(option) && stderr.contains("expected a positive"), "{stderr}");
+        assert!(!output.exists());
+    }
+}
+
 #[test]
 fn refuses_a_model_that_lacks_an_estimated_muscle() {
     let dir = tempfile::tempdir().unwrap();

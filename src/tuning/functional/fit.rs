@@ -26,8 +26,8 @@ use crate::io::osim::{format_numbers, OsimDocument, OsimError};
 use crate::model::ModelSpec;
 use crate::solvers::LeastSquaresStatus;
 
-/// Default τ of the rest-curve prior: linearly scaled models' L_opt and L_ts are typically
-/// within 10–15 % of a subject's.
+/// Default τ of the rest-curve prior: a subject's L_opt taken to lie within about ±10 % (one
+/// standard deviation) of the linearly scaled model's.
 pub const DEFAULT_PRIOR_SD: f64 = 0.1;
 
 /// Which estimator runs.
@@ -189,7 +189,7 @@ pub struct Estimate {
 pub struct AppliedPrior {
     pub coordinate_sd: f64,
     pub noise_sd: f64,
-    /// Where σ came from: "given" (or the subject file's) or "residuals".
+    /// Where σ came from: "given", "subject file" or "residuals".
     pub noise_source: &'static str,
 }
 
@@ -206,8 +206,9 @@ pub fn estimate(
 ) -> Result<Estimate, FunctionalError> {
     match settings.method {
         FitMethod::Functional => {
-            let noise_sd = settings.noise_sd.or(data.noise_sd.filter(|sd| *sd > 0.0));
-            functional(knee, initial, &rest_references(knee, data), measured, noise_sd, settings, progress)
+            let given = settings.noise_sd.map(|sd| (sd, "given"));
+            let noise = given.or(data.noise_sd.filter(|sd| *sd > 0.0).map(|sd| (sd, "subject file")));
+            functional(knee, initial, &rest_references(knee, data), measured, noise, settings, progress)
         }
         FitMethod::GarnerPandy => garner_pandy(spec, knee, data, initial, measured, progress),
     }
@@ -277,7 +278,7 @@ fn functional(
     initial: &[MuscleParameters],
     rest: &[Option<f64>],
     measured: &[f64],
-    noise_sd: Option<f64>,
+    noise: Option<(f64, &'static str)>,
     settings: &FitSettings,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Estimate, FunctionalError> {
@@ -306,12 +307,12 @@ fn functional(
     let model = knee.nominal_parameters();
     let prior = |noise_sd: f64| settings.prior_sd.map(|coordinate_sd| RestCurvePrior { model: &model, coordinate_sd, noise_sd });
     let mut starts = vec![phase_two.fitted.clone()];
-    let (noise_sd, noise_source) = match (noise_sd, settings.prior_sd) {
-        (Some(sd), Some(_)) if sd > NEGLIGIBLE_NOISE => (sd, "given"),
+    let (noise_sd, noise_source) = match (noise, settings.prior_sd) {
+        (Some(noise), Some(_)) if noise.0 > NEGLIGIBLE_NOISE => noise,
         _ => {
             let plain = fit_rest_curves(knee, &references, initial, measured, &starts, None, rest_curve)?;
             report_rest_curves(&plain, progress);
-            let sd = noise_sd.unwrap_or_else(|| noise_from_residuals(&plain.residuals, references.len()).unwrap_or(0.0));
+            let sd = noise.map_or_else(|| noise_from_residuals(&plain.residuals, references.len()).unwrap_or(0.0), |(sd, _)| sd);
             if settings.prior_sd.is_none() || sd <= NEGLIGIBLE_NOISE {
                 return Ok(after_phase_two(phase_two, plain, None));
             }
@@ -411,7 +412,8 @@ fn identifiability(spec: &ModelSpec, knee: &KneeMomentModel, data: &DynamometryD
 }
 
 /// The fit re-solved from itself at each sigma point of the moments (the rest-curve fit without
-/// its global search when it made the fit, else Phase II); sd of (L_opt, L_ts).
+/// its global search, with the fit's prior if it had one, when it made the fit; else Phase II);
+/// sd of (L_opt, L_ts).
 fn sigma_point_spread(
     knee: &KneeMomentModel,
     estimate: &Estimate,
@@ -425,7 +427,7 @@ fn sigma_point_spread(
     let references: Option<Vec<f64>> = rest.iter().copied().collect();
     let local = settings.rest_curve.map(|s| RestCurveSettings { global_search: false, ..s });
     let model = knee.nominal_parameters();
-    let prior = settings.prior_sd.map(|coordinate_sd| RestCurvePrior { model: &model, coordinate_sd, noise_sd });
+    let prior = estimate.prior.map(|applied| RestCurvePrior { model: &model, coordinate_sd: applied.coordinate_sd, noise_sd });
     progress(&format!("sigma points: {} refits at σ = {noise_sd:.3} N·m", points.len()));
     let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
         let parameters = match (&references, &local) {

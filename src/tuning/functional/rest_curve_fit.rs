@@ -6,17 +6,17 @@
 //! 2. Levenberg–Marquardt on the exact model from each distinct surrogate minimum kept, and
 //!    from any extra starts (e.g. Phase II's result), each muscle's Jacobian column by central
 //!    differences of its own contributions;
-//! 3. the refined point with the smallest Σ (M − M_meas)² is the fit.
-//!
-//! With noisy moments an optional Gaussian prior around the model's parameters
-//! ([`RestCurvePrior`]) joins the least squares: a maximum a-posteriori fit. Five angles per
-//! direction leave one residual degree of freedom per group, and several basins then fit the
-//! noise about equally well; the prior picks the one nearest the model and shrinks what the
-//! moments do not determine.
+//! 3. the refined point with the smallest cost is the fit.
 //!
 //! With exact rest lengths, five angles per direction identify all 16 parameters locally, but
 //! the moment error has several basins (the gastrocnemii trade L_opt against each other); step 1
 //! is what finds the right one.
+//!
+//! With noisy moments an optional Gaussian prior around the model's parameters
+//! ([`RestCurvePrior`]) adds its residuals to the cost of all three steps: a maximum
+//! a-posteriori fit. Five angles per direction leave one residual degree of freedom per group,
+//! and several basins then fit the noise about equally well; the prior picks the one nearest
+//! the model and shrinks what the moments do not determine.
 
 use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};

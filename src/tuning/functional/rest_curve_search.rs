@@ -197,7 +197,7 @@ fn one_pass(surrogate: &Surrogate, groups: &[MuscleGroup], start: Vec<f64>, latt
         let mut changed = false;
         for (g, group) in groups.iter().enumerate() {
             let Some(base) = held_residuals(surrogate, group, &best) else { continue };
-            let found = group_minima(surrogate.tables, surrogate.prior, group, &base, lattice_budget, keep);
+            let found = group_minima(surrogate, group, &base, lattice_budget, keep);
             if let Some(first) = found.first() {
                 for (&e, &s) in group.muscles.iter().zip(&first.s) {
                     changed |= (best[e] - s).abs() > SAME_MINIMUM;
@@ -221,7 +221,7 @@ fn one_pass(surrogate: &Surrogate, groups: &[MuscleGroup], start: Vec<f64>, latt
 fn joint_minima(surrogate: &Surrogate, groups: &[MuscleGroup], best: &[f64], seen: &[Vec<SurrogateMinimum>], keep: usize) -> Vec<SurrogateMinimum> {
     let all = MuscleGroup { muscles: (0..surrogate.tables.len()).collect(), trials: (0..surrogate.residual_base.len()).collect() };
     let [lower, upper] = table_bounds(surrogate.tables, &all.muscles);
-    let mut problem = SurrogateProblem::new(surrogate.tables, surrogate.prior, &all, surrogate.residual_base);
+    let mut problem = SurrogateProblem::new(surrogate, &all, surrogate.residual_base);
     let mut minima = Vec::new();
     let combinations: usize = seen.iter().map(|g| g.len().max(1)).product();
     for n in 0..combinations {
@@ -258,12 +258,13 @@ fn held_residuals(surrogate: &Surrogate, group: &MuscleGroup, s: &[f64]) -> Opti
     Some(base)
 }
 
-/// The group's distinct surrogate minima from every lattice start, best first.
-fn group_minima(tables: &[ContributionTable], prior: &CoordinatePrior, group: &MuscleGroup, base: &[f64], lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
+/// The group's distinct surrogate minima from every lattice start, best first; `base` is its
+/// trials' residuals with the other groups held.
+fn group_minima(surrogate: &Surrogate, group: &MuscleGroup, base: &[f64], lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
     let k = group.muscles.len();
     let levels = (lattice_budget.powf(1.0 / k as f64).floor() as usize).max(2);
-    let [lower, upper] = table_bounds(tables, &group.muscles);
-    let mut problem = SurrogateProblem::new(tables, prior, group, base);
+    let [lower, upper] = table_bounds(surrogate.tables, &group.muscles);
+    let mut problem = SurrogateProblem::new(surrogate, group, base);
     let mut minima: Vec<SurrogateMinimum> = Vec::new();
     for n in 0..levels.pow(k as u32) {
         let mut x: Vec<f64> = (0..k).map(|j| lower[j] + (upper[j] - lower[j]) * (((n / levels.pow(j as u32)) % levels) as f64 + 0.5) / levels as f64).collect();
@@ -305,11 +306,11 @@ struct SurrogateProblem<'a> {
 }
 
 impl<'a> SurrogateProblem<'a> {
-    fn new(tables: &'a [ContributionTable], prior: &'a CoordinatePrior, group: &'a MuscleGroup, base: &'a [f64]) -> SurrogateProblem<'a> {
+    fn new(surrogate: &Surrogate<'a>, group: &'a MuscleGroup, base: &'a [f64]) -> SurrogateProblem<'a> {
         let (m, k) = (base.len(), group.muscles.len());
         let mut jacobian = DMatrix::zeros(m + k, k);
-        (0..k).for_each(|j| jacobian[(m + j, j)] = prior.weight);
-        SurrogateProblem { tables, prior, group, base, value: vec![0.0; m], slope: vec![0.0; m], residuals: DVector::zeros(m + k), jacobian }
+        (0..k).for_each(|j| jacobian[(m + j, j)] = surrogate.prior.weight);
+        SurrogateProblem { tables: surrogate.tables, prior: surrogate.prior, group, base, value: vec![0.0; m], slope: vec![0.0; m], residuals: DVector::zeros(m + k), jacobian }
     }
 
     /// Residuals and Jacobian at x; Σ r² (N²·m²), `None` outside the surrogate.
@@ -414,7 +415,9 @@ mod tests {
         let grid = |i: usize| -2.0 + 0.05 * i as f64;
         let table = ContributionTable { start: -2.0, spacing: 0.05, points: (0..81).map(|i| Some(TablePoint { value: vec![f(grid(i))], left: vec![df(grid(i))], right: vec![df(grid(i))] })).collect() };
         let group = MuscleGroup { muscles: vec![0], trials: vec![0] };
-        let minima = group_minima(&[table], &CoordinatePrior { centre: vec![0.0], weight: 0.0 }, &group, &[0.0], 12.0, 5);
+        let no_prior = CoordinatePrior { centre: vec![0.0], weight: 0.0 };
+        let surrogate = Surrogate { tables: &[table], residual_base: &[0.0], prior: &no_prior };
+        let minima = group_minima(&surrogate, &group, &[0.0], 12.0, 5);
         let mut roots: Vec<f64> = minima.iter().filter(|m| m.cost < 1e-12).map(|m| m.s[0]).collect();
         roots.sort_by(f64::total_cmp);
         assert_eq!(roots.len(), 3, "{minima:?}");
