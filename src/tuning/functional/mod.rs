@@ -61,6 +61,7 @@ pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, Knee
 pub use parameters::{MuscleParameters, Parameter};
 pub use rest_curve::RestCurve;
 pub use rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+pub use rest_curve_search::SearchBudget;
 pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};
 pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
 pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};

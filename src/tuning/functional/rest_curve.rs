@@ -23,6 +23,9 @@ use crate::solvers::false_position;
 const SLACK_TOLERANCE: f64 = 1e-13;
 /// Growth factor of the bracket search around the hint.
 const BRACKET_GROWTH: f64 = 1.05;
+/// Points within this of s* take the clamped branch: there the unclamped branch's L_ts has a
+/// flat root (every L_ts ≥ L_ts* gives the rest length) that no search resolves.
+const CORNER: f64 = 1e-9;
 
 /// The rest curve of estimated muscle `e`.
 #[derive(Debug, Clone)]
@@ -79,7 +82,7 @@ impl RestCurve {
     /// returned parameters.
     pub fn at(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, s: f64, slack_hint: f64) -> Option<MuscleParameters> {
         let mut parameters = self.origin.clone();
-        if let Some((s_clamp, slack)) = self.clamp.filter(|(s_clamp, _)| s > *s_clamp) {
+        if let Some((s_clamp, slack)) = self.clamp.filter(|(s_clamp, _)| s >= *s_clamp - CORNER) {
             parameters.optimal_fiber_length *= s_clamp.exp();
             parameters.tendon_slack_length = slack * (s - s_clamp).exp();
         } else {

@@ -2,15 +2,15 @@
 //! exactly, each muscle moves only along its [`RestCurve`], and (L_opt, L_ts) follow from one
 //! coordinate s per muscle. The moments are fitted by least squares in s:
 //! 1. a global search on a tabulated surrogate of each muscle's contributions
-//!    ([`rest_curve_search`](super::rest_curve_search)), which keeps each group's distinct minima;
+//!    ([`rest_curve_search`](super::rest_curve_search)), which keeps the best distinct minima;
 //! 2. Levenberg–Marquardt on the exact model from each distinct surrogate minimum kept, and
 //!    from any extra starts (e.g. Phase II's result), each muscle's Jacobian column by central
 //!    differences of its own contributions;
 //! 3. the refined point with the smallest cost is the fit.
 //!
 //! With exact rest lengths, five angles per direction identify all 16 parameters locally, but
-//! the moment error has several basins (the gastrocnemii trade L_opt against each other); step 1
-//! is what finds the right one.
+//! the moment error has many small basins (ten residuals for eight coordinates; the groups
+//! trade passive force across directions); step 1 is what finds the right one.
 //!
 //! With noisy moments an optional Gaussian prior around the model's parameters
 //! ([`RestCurvePrior`]) adds its residuals to the cost of all three steps: a maximum
@@ -22,7 +22,7 @@ use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::MuscleParameters;
 use super::rest_curve::RestCurve;
-use super::rest_curve_search::{muscle_groups, search, ContributionTable, CoordinatePrior, Surrogate};
+use super::rest_curve_search::{muscle_groups, search, ContributionTable, CoordinatePrior, SearchBudget, Surrogate};
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 use nalgebra::DMatrix;
 
@@ -33,10 +33,8 @@ pub struct RestCurveSettings {
     pub span: [f64; 2],
     /// Points of each muscle's surrogate table.
     pub table_points: usize,
-    /// Surrogate starts per group: k muscles get ⌊budget^(1/k)⌋ levels each.
-    pub lattice_budget: f64,
-    /// Distinct surrogate minima kept per group and refined on the exact model.
-    pub minima: usize,
+    /// How widely the global search looks; its `keep` minima are refined on the exact model.
+    pub search: SearchBudget,
     /// Run the global search; without it only the extra starts are refined (a local fit).
     pub global_search: bool,
     /// Central-difference step in s.
@@ -49,8 +47,7 @@ impl Default for RestCurveSettings {
         RestCurveSettings {
             span: [0.5, 1.5],
             table_points: 81,
-            lattice_budget: 625.0,
-            minima: 4,
+            search: SearchBudget::default(),
             global_search: true,
             step: 1e-6,
             least_squares: LeastSquaresOptions { step_tolerance: 1e-8, gradient_tolerance: 1e-4, cost_tolerance: 1e-10, max_iterations: 200 },
@@ -124,7 +121,7 @@ pub fn fit_rest_curves(
             let held = extra.first().cloned().unwrap_or_else(|| coordinates(origin));
             let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
             let surrogate = Surrogate { tables, residual_base: &residual_base, prior: &prior };
-            search(&surrogate, &muscle_groups(model), held, settings.lattice_budget, settings.minima).into_iter().map(|m| m.s).collect()
+            search(&surrogate, &muscle_groups(model), &held, &settings.search).into_iter().map(|m| m.s).collect()
         }
         None => Vec::new(),
     };

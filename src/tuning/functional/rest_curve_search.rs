@@ -2,28 +2,21 @@
 //! coordinate s, and the knee moment is a sum of per-muscle contributions,
 //! M_t = M_fixed,t + Σ_j c_j(s_j, t). So each muscle's c_j(·, t) is tabulated once, with its
 //! slope, on a uniform grid of s, and interpolated by cubic Hermite pieces: a surrogate
-//! whose evaluation costs no equilibrium. On the surrogate, each group of muscles (the agonists
-//! of one direction, on that direction's trials; a muscle active in no trial alone, on all) is
-//! fitted by least squares from every point of a coarse lattice, the other groups held, and the
-//! groups take turns; combinations of their minima are then fitted jointly. The distinct minima
-//! found, best first, are the starts of the exact
-//! refinement: the moment error has several basins with exact rest lengths (the gastrocnemii
-//! trade L_opt against each other at nearly equal cost), and only a global search finds the
-//! right one.
+//! whose evaluation costs no equilibrium. The moment error on it has many small basins: five
+//! angles per direction give ten residuals for eight unknowns, and each direction's agonists
+//! are coupled to the other direction's trials through their passive forces, so the truth is
+//! found only by fits that move all muscles together from starts near it. Two sources of starts:
+//! - pairing: the muscles split in two halves (one direction's agonists and the rest); every
+//!   combination of grid nodes in each half is summed once, and the pairs of combinations with
+//!   the smallest cost start fits (a meet-in-the-middle scan of a grid too large to fit from);
+//! - the groups' lattices: each group's s from every point of a coarse lattice, the other
+//!   muscles at the best minimum so far, in rounds.
+//! Every start gets a short screening fit; the best screened minima are polished, and the
+//! distinct minima found, best first, are the starts of the exact refinement.
 
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::rest_curve::RestCurve;
 use nalgebra::{Cholesky, DMatrix, DVector};
-
-/// Minima closer than this in every s are one.
-const SAME_MINIMUM: f64 = 1e-3;
-/// The surrogate's least squares: converged when no s moves more than this; iteration cap.
-const SURROGATE_STEP_TOLERANCE: f64 = 1e-10;
-const SURROGATE_ITERATIONS: usize = 200;
-/// Passes of the whole search, each held at the best joint minimum of the last.
-const MAX_PASSES: usize = 4;
-/// Rounds of the groups taking turns.
-const MAX_ROUNDS: usize = 4;
 
 /// One muscle's contributions and their slopes on a uniform grid of s; `None` where the curve
 /// or a trial's equilibrium does not exist.
@@ -101,18 +94,9 @@ impl ContributionTable {
     }
 }
 
-/// Muscles fitted together and the trials that score them.
-#[derive(Debug, Clone)]
-pub struct MuscleGroup {
-    /// Estimated-muscle indices.
-    pub muscles: Vec<usize>,
-    /// Trial indices.
-    pub trials: Vec<usize>,
-}
-
-/// The groups: the estimated muscles with an activation in a direction's trials (the first
-/// such direction) are fitted on those trials; any other estimated muscle alone, on all.
-pub fn muscle_groups(model: &KneeMomentModel) -> Vec<MuscleGroup> {
+/// The groups, as estimated-muscle indices: the muscles with an activation in a direction's
+/// trials (the first such direction), one group per direction; any other muscle alone.
+pub fn muscle_groups(model: &KneeMomentModel) -> Vec<Vec<usize>> {
     let names: Vec<&str> = model.estimated_names().collect();
     let mut assigned = vec![false; names.len()];
     let mut groups = Vec::new();
@@ -124,10 +108,9 @@ pub fn muscle_groups(model: &KneeMomentModel) -> Vec<MuscleGroup> {
             continue;
         }
         muscles.iter().for_each(|&e| assigned[e] = true);
-        groups.push(MuscleGroup { muscles, trials });
+        groups.push(muscles);
     }
-    let all: Vec<usize> = (0..model.trials().len()).collect();
-    groups.extend((0..names.len()).filter(|&e| !assigned[e]).map(|e| MuscleGroup { muscles: vec![e], trials: all.clone() }));
+    groups.extend((0..names.len()).filter(|&e| !assigned[e]).map(|e| vec![e]));
     groups
 }
 
@@ -156,8 +139,7 @@ pub struct Surrogate<'a> {
     pub prior: &'a CoordinatePrior,
 }
 
-/// A minimum on the surrogate: of one group (its muscles' s, cost on its trials and their
-/// priors) or of all estimated muscles (cost on all trials and priors).
+/// A minimum of all estimated muscles on the surrogate.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurrogateMinimum {
     /// Σ (M − M_meas)² plus the prior's squared residuals, N²·m².
@@ -165,119 +147,182 @@ pub struct SurrogateMinimum {
     pub s: Vec<f64>,
 }
 
-/// The distinct minima of all estimated muscles together, best first (at most `keep`): passes
-/// of [`one_pass`], the first held at `start` (s per estimated muscle), each next one at the
-/// best minimum so far, until a pass improves the best cost by less than 0.1 %.
-pub fn search(surrogate: &Surrogate, groups: &[MuscleGroup], start: Vec<f64>, lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
-    let mut all: Vec<SurrogateMinimum> = Vec::new();
-    let mut start = start;
-    for _ in 0..MAX_PASSES {
-        let found = one_pass(surrogate, groups, start, lattice_budget, keep);
-        let improved = found.first().is_some_and(|f| all.first().is_none_or(|b| f.cost < b.cost * (1.0 - 1e-3)));
-        for minimum in found {
-            offer(&mut all, minimum, keep);
-        }
-        match all.first() {
-            Some(best) if improved => start = best.s.clone(),
-            _ => break,
-        }
-    }
-    all
+/// How widely [`search`] looks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchBudget {
+    /// Grid combinations per half in the pairing: k muscles get ⌊pairing^(1/k)⌋ nodes each.
+    pub pairing: f64,
+    /// Best pairs of combinations fitted from.
+    pub pair_starts: usize,
+    /// Lattice starts per group: k muscles get ⌊lattice^(1/k)⌋ levels each; the coarser
+    /// lattice held at each runner-up.
+    pub lattice: f64,
+    pub runner_up_lattice: f64,
+    /// Distinct minima returned.
+    pub keep: usize,
 }
 
-/// The groups take turns from `start`, each fitted from every point of a lattice of
-/// ⌊`lattice_budget`^(1/k)⌋ levels per muscle (k its muscles, at least 2) with the others at
-/// the best so far; every combination of the groups' kept minima of every round then starts a
-/// fit of all muscles on all trials, since the groups are coupled through the passive forces of
-/// each direction's antagonists.
-fn one_pass(surrogate: &Surrogate, groups: &[MuscleGroup], start: Vec<f64>, lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
-    let mut best = start;
-    let mut seen: Vec<Vec<SurrogateMinimum>> = vec![Vec::new(); groups.len()];
-    for _ in 0..MAX_ROUNDS {
-        let mut changed = false;
-        for (g, group) in groups.iter().enumerate() {
-            let Some(base) = held_residuals(surrogate, group, &best) else { continue };
-            let found = group_minima(surrogate, group, &base, lattice_budget, keep);
-            if let Some(first) = found.first() {
-                for (&e, &s) in group.muscles.iter().zip(&first.s) {
-                    changed |= (best[e] - s).abs() > SAME_MINIMUM;
-                    best[e] = s;
-                }
-            }
-            for minimum in found {
-                if !seen[g].iter().any(|m| same_point(&m.s, &minimum.s)) {
-                    seen[g].push(minimum);
-                }
+impl Default for SearchBudget {
+    fn default() -> Self {
+        SearchBudget { pairing: 2401.0, pair_starts: 256, lattice: 625.0, runner_up_lattice: 81.0, keep: 4 }
+    }
+}
+
+/// Minima closer than this in every s are one.
+const SAME_MINIMUM: f64 = 1e-3;
+/// The largest change of any s in one Levenberg–Marquardt step (about 10 % of L_opt): the
+/// Gauss–Newton steps of ten residuals in eight unknowns are long and jump between basins.
+const MAX_STEP: f64 = 0.1;
+/// The short fit from every start, and the polish of the screened minima kept.
+const SCREEN: Stopping = Stopping { step_tolerance: 1e-6, iterations: 30 };
+const POLISH: Stopping = Stopping { step_tolerance: 1e-10, iterations: 200 };
+/// Screened minima kept per minimum returned.
+const SCREENED_PER_KEPT: usize = 4;
+/// Rounds of the groups' lattices.
+const MAX_ROUNDS: usize = 4;
+
+/// The distinct minima of all estimated muscles, best first (at most `budget.keep`). Screened
+/// from: the pairing's starts and `start` (s per estimated muscle); the groups' lattices in
+/// rounds, the first group first held at `start`, every other lattice at the best minimum so
+/// far, until a round improves the best cost by less than 0.1 %; then each group's coarse
+/// lattice held at each runner-up (a group already right there may complete it).
+pub fn search(surrogate: &Surrogate, groups: &[Vec<usize>], start: &[f64], budget: &SearchBudget) -> Vec<SurrogateMinimum> {
+    let mut problem = SurrogateProblem::new(*surrogate);
+    let keep = budget.keep.max(1);
+    let mut screened = Vec::new();
+    let screen = |problem: &mut SurrogateProblem, screened: &mut Vec<SurrogateMinimum>, starts: Vec<Vec<f64>>| {
+        for mut x in starts {
+            if let Some(cost) = problem.minimize(&mut x, SCREEN) {
+                offer(screened, SurrogateMinimum { cost, s: x }, SCREENED_PER_KEPT * keep);
             }
         }
-        if !changed {
+    };
+    let mut starts = pair_starts(surrogate, &halves(groups, surrogate.tables.len()), budget);
+    starts.push(start.to_vec());
+    screen(&mut problem, &mut screened, starts);
+    let mut held = start.to_vec();
+    for _ in 0..MAX_ROUNDS {
+        let Some(before) = screened.first().map(|m| m.cost) else { break };
+        for group in groups {
+            let starts = problem.lattice(group, &held, budget.lattice);
+            screen(&mut problem, &mut screened, starts);
+            held = screened[0].s.clone();
+        }
+        if screened[0].cost >= before * (1.0 - 1e-3) {
             break;
         }
     }
-    joint_minima(surrogate, groups, &best, &seen, keep)
-}
-
-/// Every combination of the groups' minima (others at `best`) refined on all trials together.
-fn joint_minima(surrogate: &Surrogate, groups: &[MuscleGroup], best: &[f64], seen: &[Vec<SurrogateMinimum>], keep: usize) -> Vec<SurrogateMinimum> {
-    let all = MuscleGroup { muscles: (0..surrogate.tables.len()).collect(), trials: (0..surrogate.residual_base.len()).collect() };
-    let [lower, upper] = table_bounds(surrogate.tables, &all.muscles);
-    let mut problem = SurrogateProblem::new(surrogate, &all, surrogate.residual_base);
-    let mut minima = Vec::new();
-    let combinations: usize = seen.iter().map(|g| g.len().max(1)).product();
-    for n in 0..combinations {
-        let mut x = best.to_vec();
-        let mut stride = 1;
-        for (group, kept) in groups.iter().zip(seen).filter(|(_, kept)| !kept.is_empty()) {
-            let minimum = &kept[(n / stride) % kept.len()];
-            group.muscles.iter().zip(&minimum.s).for_each(|(&e, &s)| x[e] = s);
-            stride *= kept.len();
+    let runner_ups: Vec<Vec<f64>> = screened.iter().skip(1).take(keep).map(|m| m.s.clone()).collect();
+    for held in &runner_ups {
+        for group in groups {
+            let starts = problem.lattice(group, held, budget.runner_up_lattice);
+            screen(&mut problem, &mut screened, starts);
         }
-        if let Some(cost) = problem.minimize(&mut x, &lower, &upper) {
-            offer(&mut minima, SurrogateMinimum { cost, s: x }, keep);
+    }
+    let mut minima = Vec::new();
+    for mut minimum in screened {
+        if let Some(cost) = problem.minimize(&mut minimum.s, POLISH) {
+            offer(&mut minima, SurrogateMinimum { cost, s: minimum.s }, keep);
         }
     }
     minima
+}
+
+/// The pairing's halves: the first group and the other muscles, or, when the first group
+/// holds every muscle, its first and second half.
+fn halves(groups: &[Vec<usize>], muscles: usize) -> [Vec<usize>; 2] {
+    let first = groups.first().cloned().unwrap_or_default();
+    if first.len() < muscles {
+        return [first.clone(), (0..muscles).filter(|e| !first.contains(e)).collect()];
+    }
+    let (a, b) = first.split_at(muscles / 2);
+    [a.to_vec(), b.to_vec()]
+}
+
+/// One half's combinations of grid nodes: per combination its muscles' s, their summed
+/// contributions per trial (N·m) and their prior's squared residuals (N²·m²).
+struct HalfGrid {
+    s: Vec<Vec<f64>>,
+    moments: Vec<Vec<f64>>,
+    prior: Vec<f64>,
+}
+
+impl HalfGrid {
+    /// ⌊budget^(1/k)⌋ nodes per muscle, at the cell centres of its table; combinations with a
+    /// missing node are left out. An empty half has one empty combination.
+    fn new(surrogate: &Surrogate, muscles: &[usize], budget: f64) -> HalfGrid {
+        let levels = levels(budget, muscles.len());
+        let mut grid = HalfGrid { s: Vec::new(), moments: Vec::new(), prior: Vec::new() };
+        'combination: for n in 0..levels.pow(muscles.len() as u32) {
+            let (mut s, mut moments, mut prior) = (Vec::with_capacity(muscles.len()), vec![0.0; surrogate.residual_base.len()], 0.0);
+            for (j, &e) in muscles.iter().enumerate() {
+                let table = &surrogate.tables[e];
+                let node = (cell_centre(n, j, levels) * (table.points.len() - 1) as f64).round() as usize;
+                let Some(point) = &table.points[node] else { continue 'combination };
+                let x = table.start + table.spacing * node as f64;
+                moments.iter_mut().zip(&point.value).for_each(|(m, v)| *m += v);
+                prior += surrogate.prior.residual(e, x).powi(2);
+                s.push(x);
+            }
+            grid.s.push(s);
+            grid.moments.push(moments);
+            grid.prior.push(prior);
+        }
+        grid
+    }
+}
+
+/// The `budget.pair_starts` pairs of the halves' combinations with the smallest cost
+/// Σ_t (M_fixed − M_meas + m_A + m_B)² + prior, as starts (s per estimated muscle).
+fn pair_starts(surrogate: &Surrogate, halves: &[Vec<usize>; 2], budget: &SearchBudget) -> Vec<Vec<f64>> {
+    let [a, b] = [0, 1].map(|h| HalfGrid::new(surrogate, &halves[h], budget.pairing));
+    let keep = budget.pair_starts.max(1);
+    let mut best: Vec<(f64, usize, usize)> = Vec::with_capacity(2 * keep);
+    let mut bound = f64::INFINITY;
+    for (i, moments_a) in a.moments.iter().enumerate() {
+        let base: Vec<f64> = moments_a.iter().zip(surrogate.residual_base).map(|(m, r)| m + r).collect();
+        for (j, moments_b) in b.moments.iter().enumerate() {
+            let mut cost = a.prior[i] + b.prior[j];
+            for (r, m) in base.iter().zip(moments_b) {
+                cost += (r + m) * (r + m);
+                if cost >= bound {
+                    break;
+                }
+            }
+            if cost < bound {
+                best.push((cost, i, j));
+                if best.len() == 2 * keep {
+                    best.sort_by(|x, y| x.0.total_cmp(&y.0));
+                    best.truncate(keep);
+                    bound = best[keep - 1].0;
+                }
+            }
+        }
+    }
+    best.sort_by(|x, y| x.0.total_cmp(&y.0));
+    best.truncate(keep);
+    let muscles = surrogate.tables.len();
+    best.into_iter()
+        .map(|(_, i, j)| {
+            let mut s = vec![0.0; muscles];
+            halves[0].iter().zip(&a.s[i]).chain(halves[1].iter().zip(&b.s[j])).for_each(|(&e, &x)| s[e] = x);
+            s
+        })
+        .collect()
+}
+
+/// Levels per muscle when k muscles share `budget` points: ⌊budget^(1/k)⌋, at least 2.
+fn levels(budget: f64, k: usize) -> usize {
+    (budget.powf(1.0 / k.max(1) as f64).floor() as usize).max(2)
+}
+
+/// Of point n of a lattice with `levels` per muscle, muscle j's cell centre in [0, 1].
+fn cell_centre(n: usize, j: usize, levels: usize) -> f64 {
+    (((n / levels.pow(j as u32)) % levels) as f64 + 0.5) / levels as f64
 }
 
 fn same_point(a: &[f64], b: &[f64]) -> bool {
     a.iter().zip(b).all(|(a, b)| (a - b).abs() < SAME_MINIMUM)
-}
-
-/// M_fixed − M_meas plus the surrogate contributions of the muscles outside `group` at `s`,
-/// per group trial.
-fn held_residuals(surrogate: &Surrogate, group: &MuscleGroup, s: &[f64]) -> Option<Vec<f64>> {
-    let tables = surrogate.tables;
-    let mut base: Vec<f64> = group.trials.iter().map(|&t| surrogate.residual_base[t]).collect();
-    let (mut value, mut slope) = (vec![0.0; base.len()], vec![0.0; base.len()]);
-    for e in (0..tables.len()).filter(|e| !group.muscles.contains(e)) {
-        if !tables[e].interpolate(s[e], &group.trials, &mut value, &mut slope) {
-            return None;
-        }
-        base.iter_mut().zip(&value).for_each(|(b, v)| *b += v);
-    }
-    Some(base)
-}
-
-/// The group's distinct surrogate minima from every lattice start, best first; `base` is its
-/// trials' residuals with the other groups held.
-fn group_minima(surrogate: &Surrogate, group: &MuscleGroup, base: &[f64], lattice_budget: f64, keep: usize) -> Vec<SurrogateMinimum> {
-    let k = group.muscles.len();
-    let levels = (lattice_budget.powf(1.0 / k as f64).floor() as usize).max(2);
-    let [lower, upper] = table_bounds(surrogate.tables, &group.muscles);
-    let mut problem = SurrogateProblem::new(surrogate, group, base);
-    let mut minima: Vec<SurrogateMinimum> = Vec::new();
-    for n in 0..levels.pow(k as u32) {
-        let mut x: Vec<f64> = (0..k).map(|j| lower[j] + (upper[j] - lower[j]) * (((n / levels.pow(j as u32)) % levels) as f64 + 0.5) / levels as f64).collect();
-        if let Some(cost) = problem.minimize(&mut x, &lower, &upper) {
-            offer(&mut minima, SurrogateMinimum { cost, s: x }, keep);
-        }
-    }
-    minima
-}
-
-/// The tables' first and last s of `muscles`.
-fn table_bounds(tables: &[ContributionTable], muscles: &[usize]) -> [Vec<f64>; 2] {
-    [muscles.iter().map(|&e| tables[e].start).collect(), muscles.iter().map(|&e| tables[e].end()).collect()]
 }
 
 /// Keeps `candidate` among the best `keep` distinct minima, sorted by cost.
@@ -292,13 +337,21 @@ fn offer(minima: &mut Vec<SurrogateMinimum>, candidate: SurrogateMinimum, keep: 
     minima.truncate(keep.max(1));
 }
 
-/// One group's residuals on the surrogate: base + Σ_group c_j(s_j) per group trial, then the
-/// prior's residual per group muscle.
+/// When a Levenberg–Marquardt fit stops: a step changes no s by more than `step_tolerance`,
+/// or after `iterations`.
+#[derive(Debug, Clone, Copy)]
+struct Stopping {
+    step_tolerance: f64,
+    iterations: usize,
+}
+
+/// The surrogate residuals of all estimated muscles: M_fixed − M_meas + Σ_e c_e(s_e) per trial,
+/// then the prior's residual per muscle; s within the tables.
 struct SurrogateProblem<'a> {
-    tables: &'a [ContributionTable],
-    prior: &'a CoordinatePrior,
-    group: &'a MuscleGroup,
-    base: &'a [f64],
+    surrogate: Surrogate<'a>,
+    trials: Vec<usize>,
+    lower: Vec<f64>,
+    upper: Vec<f64>,
     value: Vec<f64>,
     slope: Vec<f64>,
     residuals: DVector<f64>,
@@ -306,48 +359,69 @@ struct SurrogateProblem<'a> {
 }
 
 impl<'a> SurrogateProblem<'a> {
-    fn new(surrogate: &Surrogate<'a>, group: &'a MuscleGroup, base: &'a [f64]) -> SurrogateProblem<'a> {
-        let (m, k) = (base.len(), group.muscles.len());
+    fn new(surrogate: Surrogate<'a>) -> SurrogateProblem<'a> {
+        let (m, k) = (surrogate.residual_base.len(), surrogate.tables.len());
         let mut jacobian = DMatrix::zeros(m + k, k);
         (0..k).for_each(|j| jacobian[(m + j, j)] = surrogate.prior.weight);
-        SurrogateProblem { tables: surrogate.tables, prior: surrogate.prior, group, base, value: vec![0.0; m], slope: vec![0.0; m], residuals: DVector::zeros(m + k), jacobian }
+        SurrogateProblem {
+            surrogate,
+            trials: (0..m).collect(),
+            lower: surrogate.tables.iter().map(|t| t.start).collect(),
+            upper: surrogate.tables.iter().map(ContributionTable::end).collect(),
+            value: vec![0.0; m],
+            slope: vec![0.0; m],
+            residuals: DVector::zeros(m + k),
+            jacobian,
+        }
+    }
+
+    /// Starts with `group`'s s at every point of a lattice of ⌊budget^(1/k)⌋ levels per muscle
+    /// (cell centres of the table ranges) and the other muscles at `held`.
+    fn lattice(&self, group: &[usize], held: &[f64], budget: f64) -> Vec<Vec<f64>> {
+        let levels = levels(budget, group.len());
+        (0..levels.pow(group.len() as u32))
+            .map(|n| {
+                let mut x = held.to_vec();
+                group.iter().enumerate().for_each(|(j, &e)| x[e] = self.lower[e] + (self.upper[e] - self.lower[e]) * cell_centre(n, j, levels));
+                x
+            })
+            .collect()
     }
 
     /// Residuals and Jacobian at x; Σ r² (N²·m²), `None` outside the surrogate.
     fn evaluate(&mut self, x: &[f64]) -> Option<f64> {
-        let m = self.base.len();
-        self.residuals.rows_mut(0, m).copy_from_slice(self.base);
-        for (j, (&e, &s)) in self.group.muscles.iter().zip(x).enumerate() {
-            if !self.tables[e].interpolate(s, &self.group.trials, &mut self.value, &mut self.slope) {
+        let m = self.trials.len();
+        self.residuals.rows_mut(0, m).copy_from_slice(self.surrogate.residual_base);
+        for (e, &s) in x.iter().enumerate() {
+            if !self.surrogate.tables[e].interpolate(s, &self.trials, &mut self.value, &mut self.slope) {
                 return None;
             }
             self.residuals.iter_mut().zip(&self.value).for_each(|(r, v)| *r += v);
-            self.residuals[m + j] = self.prior.residual(e, s);
-            self.jacobian.view_mut((0, j), (m, 1)).copy_from_slice(&self.slope);
+            self.residuals[m + e] = self.surrogate.prior.residual(e, s);
+            self.jacobian.view_mut((0, e), (m, 1)).copy_from_slice(&self.slope);
         }
         Some(self.residuals.norm_squared())
     }
 
-    /// Projected Levenberg–Marquardt from x within [lower, upper]: the step clamped into the
-    /// box, a variable at a bound that the gradient pushes outward held there. Stops when a
-    /// step changes no s by more than [`SURROGATE_STEP_TOLERANCE`], or the damping exceeds
-    /// 10¹⁰ (no descent left), or after [`SURROGATE_ITERATIONS`]. Returns Σ r² at x.
-    fn minimize(&mut self, x: &mut [f64], lower: &[f64], upper: &[f64]) -> Option<f64> {
+    /// Projected Levenberg–Marquardt from x within the tables: the step shortened to
+    /// [`MAX_STEP`] and clamped into the box, a variable at a bound that the gradient pushes
+    /// outward held there. Stops as `stopping` says, or when the damping exceeds 10¹⁰ (no
+    /// descent left). Returns Σ r² at x.
+    fn minimize(&mut self, x: &mut [f64], stopping: Stopping) -> Option<f64> {
         let k = x.len();
         let mut cost = self.evaluate(x)?;
         let mut damping = 1e-6;
         let mut trial = x.to_vec();
         let (mut system, mut normal) = (DMatrix::zeros(k, k), DMatrix::zeros(k, k));
         let (mut step, mut gradient) = (DVector::zeros(k), DVector::zeros(k));
-        for _ in 0..SURROGATE_ITERATIONS {
+        for _ in 0..stopping.iterations {
             // Trial evaluations overwrite J and r; the local model keeps those at x.
             self.jacobian.tr_mul_to(&self.residuals, &mut gradient);
             self.jacobian.tr_mul_to(&self.jacobian, &mut normal);
-            let held = |j: usize| (x[j] <= lower[j] && gradient[j] > 0.0) || (x[j] >= upper[j] && gradient[j] < 0.0);
             loop {
                 system.copy_from(&normal);
                 for j in 0..k {
-                    if held(j) {
+                    if (x[j] <= self.lower[j] && gradient[j] > 0.0) || (x[j] >= self.upper[j] && gradient[j] < 0.0) {
                         system.row_mut(j).fill(0.0);
                         system.column_mut(j).fill(0.0);
                         system[(j, j)] = 1.0;
@@ -360,8 +434,12 @@ impl<'a> SurrogateProblem<'a> {
                 let factor = Cholesky::new(system)?;
                 factor.solve_mut(&mut step);
                 system = factor.unpack();
+                let longest = step.amax();
+                if longest > MAX_STEP {
+                    step *= MAX_STEP / longest;
+                }
                 for j in 0..k {
-                    trial[j] = (x[j] + step[j]).clamp(lower[j], upper[j]);
+                    trial[j] = (x[j] + step[j]).clamp(self.lower[j], self.upper[j]);
                 }
                 let moved = (0..k).map(|j| (trial[j] - x[j]).abs()).fold(0.0, f64::max);
                 match self.evaluate(&trial) {
@@ -369,14 +447,14 @@ impl<'a> SurrogateProblem<'a> {
                         x.copy_from_slice(&trial);
                         cost = trial_cost;
                         damping = (damping / 3.0).max(1e-12);
-                        if moved <= SURROGATE_STEP_TOLERANCE {
+                        if moved <= stopping.step_tolerance {
                             return Some(cost);
                         }
                         break;
                     }
                     _ => {
                         damping *= 4.0;
-                        if damping > 1e10 || moved <= SURROGATE_STEP_TOLERANCE {
+                        if damping > 1e10 || moved <= stopping.step_tolerance {
                             return Some(cost);
                         }
                     }
@@ -406,23 +484,42 @@ mod tests {
         assert!(!table.interpolate(1.01, &[0], &mut value, &mut slope));
     }
 
-    /// Two minima of (c(s) − 0)² with c = (s² − 1)(s − 0.2): the lattice finds all three roots
-    /// as distinct zero-cost minima.
-    #[test]
-    fn lattice_finds_distinct_minima() {
-        let f = |s: f64| (s * s - 1.0) * (s - 0.2);
-        let df = |s: f64| 3.0 * s * s - 0.4 * s - 1.0;
+    /// A table of c(s) over [−2, 2] (81 points) with exact slopes dc/ds.
+    fn table(c: impl Fn(f64) -> Vec<f64>, dc: impl Fn(f64) -> Vec<f64>) -> ContributionTable {
         let grid = |i: usize| -2.0 + 0.05 * i as f64;
-        let table = ContributionTable { start: -2.0, spacing: 0.05, points: (0..81).map(|i| Some(TablePoint { value: vec![f(grid(i))], left: vec![df(grid(i))], right: vec![df(grid(i))] })).collect() };
-        let group = MuscleGroup { muscles: vec![0], trials: vec![0] };
+        ContributionTable { start: -2.0, spacing: 0.05, points: (0..81).map(|i| Some(TablePoint { value: c(grid(i)), left: dc(grid(i)), right: dc(grid(i)) })).collect() }
+    }
+
+    /// (c(s) − 0)² with c = (s² − 1)(s − 0.2) has three zeros: the search returns all three as
+    /// distinct zero-cost minima.
+    #[test]
+    fn search_finds_distinct_minima() {
+        let tables = [table(|s| vec![(s * s - 1.0) * (s - 0.2)], |s| vec![3.0 * s * s - 0.4 * s - 1.0])];
         let no_prior = CoordinatePrior { centre: vec![0.0], weight: 0.0 };
-        let surrogate = Surrogate { tables: &[table], residual_base: &[0.0], prior: &no_prior };
-        let minima = group_minima(&surrogate, &group, &[0.0], 12.0, 5);
+        let surrogate = Surrogate { tables: &tables, residual_base: &[0.0], prior: &no_prior };
+        let budget = SearchBudget { pairing: 2.0, pair_starts: 1, lattice: 12.0, runner_up_lattice: 2.0, keep: 5 };
+        let minima = search(&surrogate, &[vec![0]], &[1.9], &budget);
         let mut roots: Vec<f64> = minima.iter().filter(|m| m.cost < 1e-12).map(|m| m.s[0]).collect();
         roots.sort_by(f64::total_cmp);
         assert_eq!(roots.len(), 3, "{minima:?}");
         for (root, expected) in roots.iter().zip([-1.0, 0.2, 1.0]) {
             assert!((root - expected).abs() < 1e-4, "{root}");
         }
+    }
+
+    /// Two coupled muscles, c₀(a) = (10a, 2a²) and c₁(b) = (3b², 10b), and moments made at
+    /// a = 0.3, b = −0.5 (the only solution in the tables): the pairing's best start is the
+    /// grid pair next to it, and the search's best minimum is the solution.
+    #[test]
+    fn pairing_starts_next_to_the_solution() {
+        let tables = [table(|a| vec![10.0 * a, 2.0 * a * a], |a| vec![10.0, 4.0 * a]), table(|b| vec![3.0 * b * b, 10.0 * b], |b| vec![6.0 * b, 10.0])];
+        let base = [-(3.0 + 0.75), -(0.18 - 5.0)];
+        let no_prior = CoordinatePrior { centre: vec![0.0; 2], weight: 0.0 };
+        let surrogate = Surrogate { tables: &tables, residual_base: &base, prior: &no_prior };
+        let budget = SearchBudget { pairing: 81.0, pair_starts: 1, lattice: 2.0, runner_up_lattice: 2.0, keep: 1 };
+        let starts = pair_starts(&surrogate, &halves(&[vec![0], vec![1]], 2), &budget);
+        assert!((starts[0][0] - 0.3).abs() <= 0.05 + 1e-12 && (starts[0][1] + 0.5).abs() <= 0.05 + 1e-12, "{starts:?}");
+        let minima = search(&surrogate, &[vec![0], vec![1]], &[-1.9, 1.9], &budget);
+        assert!((minima[0].s[0] - 0.3).abs() < 1e-6 && (minima[0].s[1] + 0.5).abs() < 1e-6 && minima[0].cost < 1e-12, "{minima:?}");
     }
 }

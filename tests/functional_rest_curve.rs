@@ -1,0 +1,35 @@
+//! A muscle's rest curve at its corner s*, where the clamped branch begins: there every
+//! L_ts ≥ L_ts* reproduces the rest fiber length, so the unclamped branch's search for L_ts has
+//! no single root; the curve must still be continuous and defined on both sides.
+
+mod common;
+
+use common::fixture;
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{DynamometryData, KneeMomentModel, RestCurve, SetSelection, TrialOptions};
+
+/// For every estimated muscle of train01 whose rest curve clamps: the points at s* − 10⁻¹²,
+/// s* and s* + 10⁻¹² are (L_opt,0·e^(s*), L_ts*) to 10⁻⁹.
+#[test]
+fn rest_curve_is_continuous_at_its_corner() {
+    let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
+    let data = DynamometryData::read(&fixture("dynamometry/train01"), &TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() }).unwrap();
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    let nominal = knee.nominal_parameters();
+    let mut workspace = knee.estimated_muscles(&nominal).unwrap();
+    let mut corners = 0;
+    for (e, origin) in nominal.iter().enumerate() {
+        let reference = data.reference_rest_fiber_length(&origin.name).unwrap();
+        let curve = RestCurve::new(&knee, &mut workspace, e, reference, origin).unwrap();
+        let Some((corner, slack)) = curve.clamp() else { continue };
+        corners += 1;
+        for s in [corner - 1e-12, corner, corner + 1e-12] {
+            let point = curve.at(&knee, &mut workspace, s, origin.tendon_slack_length).unwrap_or_else(|| panic!("{}: no point at s* {s:+e}", origin.name));
+            let optimal = origin.optimal_fiber_length * corner.exp();
+            assert!((point.optimal_fiber_length / optimal - 1.0).abs() < 1e-9, "{} at s* {s:+e}: L_opt {}, expected {optimal}", origin.name, point.optimal_fiber_length);
+            assert!((point.tendon_slack_length / slack - 1.0).abs() < 1e-9, "{} at s* {s:+e}: L_ts {}, expected {slack}", origin.name, point.tendon_slack_length);
+        }
+    }
+    assert!(corners > 0, "no estimated muscle's rest curve clamps");
+}
