@@ -154,9 +154,9 @@ pub struct SearchBudget {
     pub pairing: f64,
     /// Best pairs of combinations fitted from.
     pub pair_starts: usize,
-    /// Lattice starts per group: k muscles get ⌊lattice^(1/k)⌋ levels each; the coarser
-    /// lattice held at each runner-up.
+    /// Lattice starts per group: k muscles get ⌊lattice^(1/k)⌋ levels each.
     pub lattice: f64,
+    /// The same for the coarser lattice held at each runner-up minimum.
     pub runner_up_lattice: f64,
     /// Distinct minima returned.
     pub keep: usize,
