@@ -5,12 +5,11 @@
 
 mod common;
 
-use common::{fixture, true_parameters};
+use common::fixture;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::tuning::functional::{Direction, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, SetSelection, TrialOptions};
-use osim_tune::validation::functional::{fit_errors, thesis_initial_guesses, StudySubject};
-use serde_json::Value;
+use osim_tune::tuning::functional::{DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, SetSelection, TrialOptions};
+use osim_tune::validation::functional::{fit_errors, thesis_initial_guesses, GroundTruth, StudySubject};
 
 /// The subject's set5 trials, the model, its ground truth and the noise-free moments
 /// (`knee_moment_true_Nm`, which equal the measured ones where the subject has no noise).
@@ -18,17 +17,10 @@ fn subject(name: &str) -> (ModelSpec, DynamometryData, Vec<MuscleParameters>, Ve
     let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
     let folder = fixture(&format!("dynamometry/{name}"));
     let data = DynamometryData::read(&folder, &TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() }).unwrap();
-    let truth: Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).unwrap()).unwrap();
+    let truth = GroundTruth::read(&folder).unwrap();
     let knee = KneeMomentModel::new(&spec, &data).unwrap();
-    let parameters = true_parameters(&folder, knee.nominal_parameters());
-    let moments = data
-        .trials
-        .iter()
-        .map(|trial| {
-            let direction = if trial.direction == Direction::Extension { "extension" } else { "flexion" };
-            truth["trial_sets"][&trial.set][direction]["knee_moment_true_Nm"][trial.number - 1].as_f64().unwrap()
-        })
-        .collect();
+    let parameters = truth.parameters(&knee.nominal_parameters()).unwrap();
+    let moments = truth.noise_free_moments(&data.trials).unwrap();
     (spec, data, parameters, moments)
 }
 

@@ -1,13 +1,53 @@
 //! Accuracy studies of functional scaling (issue 6, thesis §6.2.4) on a dynamometry subject
 //! whose true parameters are known: the thesis' 81 initial-guess combinations on noise-free
 //! moments, and repeated fits to moments with Gaussian noise, for our method and for Garner &
-//! Pandy. Used by `cargo xtask validate` (full) and the tests (a slice).
+//! Pandy. Used by `cargo xtask validate` (full) and the tests (a slice). A public subject's
+//! truth is read from its `ground_truth.json` ([`GroundTruth`]).
+
+use std::path::Path;
 
 use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
 use crate::model::ModelSpec;
-use crate::tuning::functional::{estimate, Direction, DynamometryData, FitSettings, FunctionalError, KneeMomentModel, MuscleParameters};
+use crate::tuning::functional::{estimate, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel, MuscleParameters};
+
+/// A public dynamometry subject's `ground_truth.json`: the parameters and the noise-free
+/// moments its data were generated with.
+pub struct GroundTruth(serde_json::Value);
+
+impl GroundTruth {
+    /// Reads `folder/ground_truth.json`.
+    pub fn read(folder: &Path) -> std::io::Result<GroundTruth> {
+        let text = std::fs::read_to_string(folder.join("ground_truth.json"))?;
+        Ok(GroundTruth(serde_json::from_str(&text)?))
+    }
+
+    /// `nominal` with each muscle's true L_opt and L_ts (`true_parameters`); `None` when the
+    /// file lacks one.
+    pub fn parameters(&self, nominal: &[MuscleParameters]) -> Option<Vec<MuscleParameters>> {
+        nominal
+            .iter()
+            .map(|p| {
+                let t = &self.0["true_parameters"][&p.name];
+                let (optimal_fiber_length, tendon_slack_length) = (t["optimal_fiber_length"].as_f64()?, t["tendon_slack_length"].as_f64()?);
+                Some(MuscleParameters { optimal_fiber_length, tendon_slack_length, ..p.clone() })
+            })
+            .collect()
+    }
+
+    /// Each trial's noise-free knee moment (`knee_moment_true_Nm`), N·m; `None` when the file
+    /// lacks one.
+    pub fn noise_free_moments(&self, trials: &[IsometricTrial]) -> Option<Vec<f64>> {
+        trials
+            .iter()
+            .map(|trial| {
+                let direction = if trial.direction == Direction::Extension { "extension" } else { "flexion" };
+                self.0["trial_sets"][&trial.set][direction]["knee_moment_true_Nm"][trial.number.checked_sub(1)?].as_f64()
+            })
+            .collect()
+    }
+}
 
 /// A subject: model, trials and the truth the data were generated with.
 pub struct StudySubject<'a> {

@@ -35,16 +35,7 @@ fn collect(directory: &Path, found: &mut Vec<PathBuf>) {
 /// `nominal` with L_opt and L_ts from the `true_parameters` of `folder`'s `ground_truth.json`
 /// (a public dynamometry subject).
 pub fn true_parameters(folder: &Path, nominal: Vec<osim_tune::tuning::functional::MuscleParameters>) -> Vec<osim_tune::tuning::functional::MuscleParameters> {
-    let truth: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).unwrap()).unwrap();
-    nominal
-        .into_iter()
-        .map(|mut p| {
-            let t = &truth["true_parameters"][&p.name];
-            p.optimal_fiber_length = t["optimal_fiber_length"].as_f64().unwrap();
-            p.tendon_slack_length = t["tendon_slack_length"].as_f64().unwrap();
-            p
-        })
-        .collect()
+    osim_tune::validation::functional::GroundTruth::read(folder).unwrap().parameters(&nominal).unwrap()
 }
 
 /// Runs the `osim-tune` binary; returns (exit code, stdout, stderr).

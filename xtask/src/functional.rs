@@ -1,8 +1,9 @@
 //! Functional scaling rows of the validation table (issue 6): on the public subject train01
-//! (OpenSim 4.6 data, ground truth beside it) the thesis' 81 initial guesses without noise (and
-//! on train03's noise-free moments, a subject with a muscle slack at rest) and 20 noise draws at σ = 5 and 10 N·m, ours (with and without the rest-curve prior) beside
-//! Garner & Pandy and the thesis' numbers, on set5 and on all 70 trials; and hidden
-//! single-muscle L_ts changes in engine-generated data, which must be named.
+//! (OpenSim 4.6 data, ground truth beside it) the thesis' 81 initial guesses without noise
+//! (also on train03's noise-free moments, a subject with a muscle slack at rest) and 20 noise
+//! draws at σ = 5 and 10 N·m, ours (with and without the rest-curve prior) beside Garner &
+//! Pandy and the thesis' numbers, on set5 and on all 70 trials; and hidden single-muscle L_ts
+//! changes in engine-generated data, which must be named.
 //! The issue's accuracy goals are printed as open goals; conformance rows are the checks.
 
 use std::path::Path;
@@ -11,10 +12,9 @@ use std::time::Instant;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{
-    single_causes, Direction, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, SetSelection, TrialOptions,
+    single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, SetSelection, TrialOptions,
 };
-use osim_tune::validation::functional::{hidden_slack_change, initial_guess_study, noise_study, thesis_initial_guesses, StudyResult, StudySubject};
-use serde_json::Value;
+use osim_tune::validation::functional::{hidden_slack_change, initial_guess_study, noise_study, thesis_initial_guesses, GroundTruth, StudyResult, StudySubject};
 
 use crate::root;
 use crate::validate::Row;
@@ -83,16 +83,7 @@ fn noise_rows(subject: &StudySubject, label: &str, settings: &[&FitSettings]) ->
 }
 
 fn truth(folder: &Path, nominal: &[MuscleParameters]) -> Vec<MuscleParameters> {
-    let text = std::fs::read_to_string(folder.join("ground_truth.json")).expect("ground_truth.json");
-    let truth: Value = serde_json::from_str(&text).expect("ground_truth.json is JSON");
-    nominal
-        .iter()
-        .map(|p| {
-            let t = &truth["true_parameters"][&p.name];
-            let value = |key: &str| t[key].as_f64().unwrap_or_else(|| panic!("ground truth lacks {}.{key}", p.name));
-            MuscleParameters { optimal_fiber_length: value("optimal_fiber_length"), tendon_slack_length: value("tendon_slack_length"), ..p.clone() }
-        })
-        .collect()
+    GroundTruth::read(folder).expect("ground_truth.json").parameters(nominal).expect("true_parameters of every estimated muscle")
 }
 
 /// The 81 guesses on train03's set5 with its noise-free moments (`knee_moment_true_Nm`): its
@@ -100,14 +91,11 @@ fn truth(folder: &Path, nominal: &[MuscleParameters]) -> Vec<MuscleParameters> {
 fn noise_free_train03(spec: &ModelSpec, options: &TrialOptions) -> Row {
     let folder = root().join(NOISY_SUBJECT);
     let mut data = DynamometryData::read(&folder, options).expect("the train03 fixture");
-    let text = std::fs::read_to_string(folder.join("ground_truth.json")).expect("ground_truth.json");
-    let json: Value = serde_json::from_str(&text).expect("ground_truth.json is JSON");
-    for trial in &mut data.trials {
-        let direction = if trial.direction == Direction::Extension { "extension" } else { "flexion" };
-        trial.moment = json["trial_sets"][&trial.set][direction]["knee_moment_true_Nm"][trial.number - 1].as_f64().expect("knee_moment_true_Nm per trial");
-    }
+    let ground_truth = GroundTruth::read(&folder).expect("ground_truth.json");
+    let moments = ground_truth.noise_free_moments(&data.trials).expect("knee_moment_true_Nm per trial");
+    data.trials.iter_mut().zip(moments).for_each(|(trial, moment)| trial.moment = moment);
     let knee = KneeMomentModel::new(spec, &data).expect("the knee-moment model");
-    let truth = truth(&folder, &knee.nominal_parameters());
+    let truth = ground_truth.parameters(&knee.nominal_parameters()).expect("true_parameters of every estimated muscle");
     let subject = StudySubject { spec, knee: &knee, data: &data, truth: &truth };
     let guesses = thesis_initial_guesses(&truth, &data, 6);
     let started = Instant::now();

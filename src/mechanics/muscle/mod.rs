@@ -18,7 +18,7 @@ pub use millard::{
     SmoothSegmentedFunction,
 };
 pub use pennation::FixedWidthPennation;
-pub use root::{bracketed_newton, bracketed_newton_from, newton_between, BracketEnd, Root, RootFailure};
+pub use root::{bracketed_newton, bracketed_newton_from, BracketEnd, Root, RootFailure};
 pub use thelen::{Thelen2003Muscle, ThelenCurves};
 
 use crate::model::{ForceSpec, MuscleModelSpec, MuscleSpec};

@@ -97,31 +97,19 @@ pub fn bracketed_newton_from(
     }
     // Orient so that r(negative_end) < 0 < r(positive_end).
     let (negative_end, positive_end) = if r_lo < 0.0 { (lo.x, hi.x) } else { (hi.x, lo.x) };
-    newton_between(residual, start, negative_end, positive_end, x_tolerance, residual_tolerance, max_iterations)
-}
-
-/// The safeguarded iteration of `bracketed_newton` when the caller knows, without evaluating
-/// them, that r < 0 at `negative_end` and r > 0 at `positive_end`. Converging to either end
-/// with a residual above `residual_tolerance` means that end's sign was wrong.
-pub fn newton_between(
-    residual: impl FnMut(f64) -> (f64, f64),
-    start: f64,
-    negative_end: f64,
-    positive_end: f64,
-    x_tolerance: f64,
-    residual_tolerance: f64,
-    max_iterations: usize,
-) -> Result<Root, RootFailure> {
     let stopping = Stopping { x_tolerance, residual_tolerance, max_iterations, predict: false };
     safeguarded_newton(residual, start, (negative_end, positive_end), stopping)
 }
 
-/// `newton_between` without the evaluation that would confirm the root: after two Newton
-/// steps in a row, when both the residual's curvature (from the slopes at the last two
-/// iterates) and the convergence rate observed (|r_k|³/r_(k−1)²) put |r| after the next step
-/// below 1/1000 of `residual_tolerance`, that step's end is the root, unevaluated
-/// (`Root::predicted`). The step is then so short that the caller can continue its state from
-/// the last evaluation along the slopes.
+/// The safeguarded iteration of `bracketed_newton` when the caller knows, without evaluating
+/// them, that r < 0 at `negative_end` and r > 0 at `positive_end` (converging to either end
+/// with a residual above `residual_tolerance` means that end's sign was wrong), and without the
+/// evaluation that would confirm the root: after two Newton steps in a row, when both the
+/// residual's curvature (from the slopes at the last two iterates) and the convergence rate
+/// observed (|r_k|³/r_(k−1)²) put |r| after the next step below 1/1000 of
+/// `residual_tolerance`, that step's end is the root, unevaluated (`Root::predicted`). The step
+/// is then so short that the caller can continue its state from the last evaluation along the
+/// slopes.
 pub fn newton_between_predicting(
     residual: impl FnMut(f64) -> (f64, f64),
     start: f64,
@@ -235,7 +223,7 @@ mod tests {
     #[test]
     fn a_predicted_root_is_a_root_one_evaluation_sooner() {
         let f = |x: f64| (x * x * x - 2.0, 3.0 * x * x);
-        let evaluated = newton_between(f, 1.0, 0.0, 3.0, 1e-15, 1e-10, 50).unwrap();
+        let evaluated = bracketed_newton_from(f, 1.0, BracketEnd { x: 0.0, residual: -2.0 }, BracketEnd { x: 3.0, residual: 25.0 }, 1e-15, 1e-10, 50).unwrap();
         let predicted = newton_between_predicting(f, 1.0, 0.0, 3.0, 1e-15, 1e-10, 50).unwrap();
         assert!(predicted.predicted && !evaluated.predicted, "{predicted:?}");
         assert_eq!(predicted.iterations + 1, evaluated.iterations);
