@@ -206,6 +206,7 @@ fn fits_noisy_moments_and_reports_the_noise_level() {
     let report: Value = serde_json::from_str(&stdout).unwrap();
     assert!(["Converged", "ObjectiveStalled"].contains(&report["solver_status"].as_str().unwrap()), "{}", report["solver_status"]);
     let phase_two_worst = report["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).abs()).fold(0.0, f64::max);
+    assert!(report["uncertainty"]["rest_curve"].is_null(), "Phase II alone holds no rest length exactly");
     let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train03"), &output, &["--sets", "set5", "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let report: Value = serde_json::from_str(&stdout).unwrap();
@@ -215,10 +216,28 @@ fn fits_noisy_moments_and_reports_the_noise_level() {
     assert!(rms(&report) < 5.0, "least-squares RMS error {} N·m above σ (Phase II's largest {phase_two_worst})", rms(&report));
     assert_eq!(report["uncertainty"]["noise_source"], "subject file");
     assert_eq!(report["uncertainty"]["noise_sd"], 5.0);
+    assert_rest_curve_uncertainty(&report);
     let worst = report["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).abs()).fold(0.0, f64::max);
     let hot = report["hot_start"]["max_moment_error"].as_f64().unwrap();
     assert!(worst < hot && worst < 3.0 * 5.0, "fitted max error {worst} N·m, hot start {hot} N·m");
     assert!(output.exists());
+}
+
+/// With the rest lengths held, the report has one identifiable coordinate per muscle, a
+/// Cramér–Rao sd for every L_opt and L_ts, and posterior sds with the default prior (τ = 0.1 in
+/// s) no larger than the prior's own: sd(L_opt) ≤ τ·L_opt, the tangent dL_opt/ds being L_opt
+/// (unclamped) or 0 (clamped).
+fn assert_rest_curve_uncertainty(report: &Value) {
+    let on_curves = report["identifiability"].as_array().unwrap().iter().find(|r| r["parameterisation"] == "[s] on the rest curves").expect("the rest-curve parameterisation");
+    assert_eq!(on_curves["identifiability"]["rank"], 8, "{on_curves}");
+    let rest_curve = &report["uncertainty"]["rest_curve"];
+    let posterior = rest_curve["posterior"].as_array().unwrap();
+    for (e, fitted) in report["fitted"].as_array().unwrap().iter().enumerate() {
+        assert!(rest_curve["cramer_rao"][e].as_array().unwrap().iter().all(Value::is_number), "{}", rest_curve["cramer_rao"][e]);
+        let optimal = fitted["optimal_fiber_length"].as_f64().unwrap();
+        let sd = posterior[e][0].as_f64().unwrap();
+        assert!(sd <= 0.1 * optimal * (1.0 + 1e-9) && sd <= rest_curve["cramer_rao"][e][0].as_f64().unwrap(), "{}: posterior sd {sd} m", fitted["name"]);
+    }
 }
 
 /// A slice of the xtask initial-guess study: three of the thesis' 81 guesses, each fitted

@@ -135,13 +135,19 @@ fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
 
 fn print_parameters(fit: &FunctionalFit) {
     let u = &fit.uncertainty;
-    println!("\nparameters (m): old → new (change), ± Cramér–Rao sd at σ = {:.3} N·m ({}){}", u.noise_sd, u.noise_source, if u.sigma_points.is_some() { ", sigma-point sd" } else { "" });
+    let held = if u.rest_curve.is_some() { ", rest fiber lengths held" } else { "" };
+    let posterior = u.rest_curve.as_ref().and_then(|r| r.posterior.as_ref());
+    let columns = [(posterior.is_some(), ", posterior sd with the prior"), (u.sigma_points.is_some(), ", sigma-point sd")];
+    let extra: String = columns.iter().filter(|(shown, _)| *shown).map(|(_, text)| *text).collect();
+    println!("\nparameters (m): old → new (change), ± Cramér–Rao sd at σ = {:.3} N·m ({}{held}){extra}", u.noise_sd, u.noise_source);
     for (e, (old, new)) in fit.initial.iter().zip(&fit.fitted).enumerate() {
         for (i, parameter) in [Parameter::OptimalFiberLength, Parameter::TendonSlackLength].into_iter().enumerate() {
             let (a, b) = (old.get(parameter), new.get(parameter));
-            let bound = u.cramer_rao[e][i].map_or("not identifiable".to_string(), |sd| format!("± {sd:.5}"));
+            let cramer_rao = u.rest_curve.as_ref().map_or(u.cramer_rao[e][i], |r| r.cramer_rao[e][i]);
+            let bound = cramer_rao.map_or("not identifiable".to_string(), |sd| format!("± {sd:.5}"));
+            let prior = posterior.map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
             let sigma = u.sigma_points.as_ref().map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
-            println!("  {:<12} {:<5} {a:.6} → {b:.6} ({:+.2} %) {bound}{sigma}", new.name, parameter.symbol(), 100.0 * (b / a - 1.0));
+            println!("  {:<12} {:<5} {a:.6} → {b:.6} ({:+.2} %) {bound}{prior}{sigma}", new.name, parameter.symbol(), 100.0 * (b / a - 1.0));
         }
     }
 }

@@ -4,8 +4,9 @@
 //! Pandy baseline), and the analyses
 //! every fit reports — the single parameter that best explains the initial model's error,
 //! sensitivity classes, identifiability of three parameterisations (thesis
-//! table 6.4) and the parameters' uncertainty (Cramér–Rao bounds from the Fisher information;
-//! optionally the sigma-point propagation of Appendix 6.6).
+//! table 6.4; a fourth, the rest-curve coordinates, when the fit held the rest lengths) and the
+//! parameters' uncertainty (Cramér–Rao bounds from the Fisher information, on the rest curves
+//! also the posterior with the prior; optionally the sigma-point propagation of Appendix 6.6).
 
 use serde::Serialize;
 
@@ -19,6 +20,7 @@ use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
 use super::phase_two::{solve_phase_two, PhaseTwoSettings};
 use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+use super::rest_curve_information::RestCurveInformation;
 use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
 use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
 use super::trials::{DynamometryData, Direction};
@@ -138,8 +140,28 @@ pub struct Uncertainty {
     pub noise_source: &'static str,
     /// Cramér–Rao bound per muscle [sd L_opt, sd L_ts]; `None` where not identifiable.
     pub cramer_rao: Vec<[Option<f64>; 2]>,
+    /// With the rest fiber lengths held, when the rest-curve fit made the estimate.
+    pub rest_curve: Option<RestCurveUncertainty>,
     /// Sigma-point propagation per muscle [sd L_opt, sd L_ts], when run.
     pub sigma_points: Option<Vec<[f64; 2]>>,
+}
+
+/// Standard deviations of the fitted (L_opt, L_ts) along the rest curves, m (one parameter per
+/// muscle: its curve coordinate).
+#[derive(Debug, Clone, Serialize)]
+pub struct RestCurveUncertainty {
+    /// Cramér–Rao bound from the moments alone (any unbiased estimator), at the report's σ;
+    /// `None` where not identifiable.
+    pub cramer_rao: Vec<[Option<f64>; 2]>,
+    /// Posterior sd with the fit's prior, at the prior's σ, when it had one.
+    pub posterior: Option<Vec<[f64; 2]>>,
+}
+
+impl RestCurveUncertainty {
+    fn of(information: &RestCurveInformation, prior: Option<AppliedPrior>) -> Result<RestCurveUncertainty, FunctionalError> {
+        let posterior = prior.map(|p| information.posterior(p.coordinate_sd, p.noise_sd)).transpose()?;
+        Ok(RestCurveUncertainty { cramer_rao: information.cramer_rao(), posterior })
+    }
 }
 
 impl FunctionalFit {
@@ -181,6 +203,8 @@ pub struct Estimate {
     pub hot_start: Option<HotStart>,
     pub active_constraints: Vec<String>,
     pub prior: Option<AppliedPrior>,
+    /// The rest fiber lengths (m) the estimate holds, when the rest-curve fit made it.
+    pub held_rest_lengths: Option<Vec<f64>>,
 }
 
 /// The Gaussian prior a rest-curve fit used: relative sd τ of L_opt around the model's, moment
@@ -239,7 +263,10 @@ pub fn fit(
     let (noise_sd, noise_source) = noise_level(settings, data, &residuals, 2 * initial.len());
     let fishers = identifiability(spec, knee, data, &estimate, noise_sd)?;
     let cramer_rao = fishers[0].standard_deviations.chunks(2).map(|c| [c[0], c[1]]).collect();
-    let identifiability = fishers.iter().map(ParameterisationReport::of).collect();
+    let mut identifiability: Vec<ParameterisationReport> = fishers.iter().map(ParameterisationReport::of).collect();
+    let on_curves = estimate.held_rest_lengths.as_ref().map(|references| RestCurveInformation::new(knee, &estimate.fitted, references, noise_sd)).transpose()?;
+    identifiability.extend(on_curves.as_ref().map(|information| ParameterisationReport::of(&information.fisher)));
+    let rest_curve = on_curves.map(|information| RestCurveUncertainty::of(&information, estimate.prior)).transpose()?;
     let sigma_points = match (settings.sigma_points, settings.method) {
         (true, FitMethod::Functional) => Some(sigma_point_spread(knee, &estimate, &rest, &measured, noise_sd, settings, progress)?),
         _ => None,
@@ -265,7 +292,7 @@ pub fn fit(
         single_causes,
         sensitivity,
         identifiability,
-        uncertainty: Uncertainty { noise_sd, noise_source, cramer_rao, sigma_points },
+        uncertainty: Uncertainty { noise_sd, noise_source, cramer_rao, rest_curve, sigma_points },
     })
 }
 
@@ -297,6 +324,7 @@ fn functional(
         hot_start: Some(start),
         active_constraints: solution.active_constraints,
         prior: None,
+        held_rest_lengths: None,
     };
     let Some(rest_curve) = &settings.rest_curve else { return Ok(phase_two) };
     let Some(references) = rest.iter().copied().collect::<Option<Vec<f64>>>() else {
@@ -314,7 +342,7 @@ fn functional(
             report_rest_curves(&plain, progress);
             let sd = noise.map_or_else(|| noise_from_residuals(&plain.residuals, references.len()).unwrap_or(0.0), |(sd, _)| sd);
             if settings.prior_sd.is_none() || sd <= NEGLIGIBLE_NOISE {
-                return Ok(after_phase_two(phase_two, plain, None));
+                return Ok(after_phase_two(phase_two, plain, None, references));
             }
             progress(&format!("rest curves: σ = {sd:.3} N·m from the residuals; again with the prior"));
             starts.insert(0, plain.parameters);
@@ -324,7 +352,7 @@ fn functional(
     let curves = fit_rest_curves(knee, &references, initial, measured, &starts, prior(noise_sd), rest_curve)?;
     report_rest_curves(&curves, progress);
     let applied = settings.prior_sd.map(|coordinate_sd| AppliedPrior { coordinate_sd, noise_sd, noise_source });
-    Ok(after_phase_two(phase_two, curves, applied))
+    Ok(after_phase_two(phase_two, curves, applied, references))
 }
 
 /// σ (N·m) below which moments count as noise-free (dynamometers resolve about 0.1 N·m): the
@@ -342,10 +370,12 @@ fn report_rest_curves(curves: &RestCurveFit, progress: &mut dyn FnMut(&str)) {
     ));
 }
 
-/// The estimate of the rest-curve fit, keeping Phase I's records and Phase II's status.
-fn after_phase_two(phase_two: Estimate, curves: RestCurveFit, prior: Option<AppliedPrior>) -> Estimate {
+/// The estimate of the rest-curve fit through `references`, keeping Phase I's records and
+/// Phase II's status.
+fn after_phase_two(phase_two: Estimate, curves: RestCurveFit, prior: Option<AppliedPrior>, references: Vec<f64>) -> Estimate {
     Estimate {
         prior,
+        held_rest_lengths: Some(references),
         converged: curves.converged(),
         status: format!("rest curves {:?} (Phase II {})", curves.status, phase_two.status),
         iterations: phase_two.iterations + curves.iterations,
@@ -379,6 +409,7 @@ fn garner_pandy(
         hot_start: None,
         active_constraints: Vec::new(),
         prior: None,
+        held_rest_lengths: None,
     })
 }
 

@@ -73,6 +73,8 @@ pub enum TransformedParameter {
     SlackToOptimalRatio,
     /// δ = 1/L_opt − c1·L_ts/L_opt − c2, 1/m.
     Delta,
+    /// s, the coordinate on the muscle's rest curve (`rest_curve.rs`; dimensionless).
+    RestCurveCoordinate,
 }
 
 impl TransformedParameter {
@@ -84,6 +86,7 @@ impl TransformedParameter {
             TransformedParameter::MaximumNormalizedFiberLength => "L̃m_max",
             TransformedParameter::SlackToOptimalRatio => "L_ts/L_opt",
             TransformedParameter::Delta => "δ",
+            TransformedParameter::RestCurveCoordinate => "s",
         }
     }
 

@@ -15,7 +15,9 @@
 //!   transformed variables (L_ts/L_opt, δ) with the equilibria solved exactly ([`solve_phase_two`]).
 //! - `rest_curve.rs`: a muscle's [`RestCurve`], the (L_opt, L_ts) that reproduce its reference
 //!   rest fiber length; `rest_curve_search.rs` the global search on tabulated contributions;
-//!   `rest_curve_fit.rs` the fit on the rest curves after Phase II ([`fit_rest_curves`]).
+//!   `rest_curve_fit.rs` the fit on the rest curves after Phase II ([`fit_rest_curves`]);
+//!   `rest_curve_information.rs` the Fisher information, Cramér–Rao bounds, posterior and
+//!   prior pull of the curve coordinates ([`RestCurveInformation`]).
 //! - `garner_pandy.rs`: the Garner & Pandy (2003) baseline ([`fit_garner_pandy`]).
 //! - `identifiability.rs`: Fisher information, D- and E-criteria and unidentifiable directions
 //!   per parameterisation ([`fisher_information`]).
@@ -39,6 +41,7 @@ mod parameters;
 mod phase_two;
 mod rest_curve;
 mod rest_curve_fit;
+mod rest_curve_information;
 mod rest_curve_search;
 mod sensitivity;
 mod sigma_points;
@@ -54,13 +57,14 @@ pub use identifiability::{
     ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };
-pub use fit::{estimate, fit, AppliedPrior, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, TrialFit, Uncertainty, DEFAULT_PRIOR_SD};
+pub use fit::{estimate, fit, AppliedPrior, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, RestCurveUncertainty, TrialFit, Uncertainty, DEFAULT_PRIOR_SD};
 pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
 pub use parameters::{MuscleParameters, Parameter};
 pub use rest_curve::RestCurve;
 pub use rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+pub use rest_curve_information::{RestCurveInformation, COORDINATE_STEP, REST_CURVE_PARAMETERISATION};
 pub use rest_curve_search::SearchBudget;
 pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};
 pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
