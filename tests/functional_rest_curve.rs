@@ -1,6 +1,7 @@
 //! A muscle's rest curve at its corner s*, where the clamped branch begins: there every
 //! L_ts ≥ L_ts* reproduces the rest fiber length, so the unclamped branch's search for L_ts has
-//! no single root; the curve must still be continuous and defined on both sides.
+//! no single root; the curve must still be continuous and defined on both sides, and
+//! `coordinate_of` must map points to the curve consistently on both branches.
 
 mod common;
 
@@ -32,4 +33,29 @@ fn rest_curve_is_continuous_at_its_corner() {
         }
     }
     assert!(corners > 0, "no estimated muscle's rest curve clamps");
+}
+
+/// `coordinate_of` inverts `at` on both branches, and takes a point whose L_opt is beyond the
+/// clamped L_opt* but whose tendon is shorter than L_ts* to the corner (the clamped branch's
+/// point nearest in L_ts), not further along the clamped branch.
+#[test]
+fn coordinate_of_inverts_the_curve_and_meets_short_tendons_at_the_corner() {
+    let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
+    let data = DynamometryData::read(&fixture("dynamometry/train01"), &TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() }).unwrap();
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    let nominal = knee.nominal_parameters();
+    let mut workspace = knee.estimated_muscles(&nominal).unwrap();
+    for (e, origin) in nominal.iter().enumerate() {
+        let reference = data.reference_rest_fiber_length(&origin.name).unwrap();
+        let curve = RestCurve::new(&knee, &mut workspace, e, reference, origin).unwrap();
+        let Some((corner, slack)) = curve.clamp() else { continue };
+        for s in [corner - 0.05, corner + 0.05] {
+            let point = curve.at(&knee, &mut workspace, s, origin.tendon_slack_length).unwrap();
+            assert!((curve.coordinate_of(&point) - s).abs() < 1e-12, "{}: coordinate of the point at {s}", origin.name);
+        }
+        let mut short = origin.clone();
+        short.optimal_fiber_length = origin.optimal_fiber_length * (corner + 0.05).exp();
+        short.tendon_slack_length = 0.95 * slack;
+        assert_eq!(curve.coordinate_of(&short), corner, "{}: a short tendon beyond L_opt*", origin.name);
+    }
 }

@@ -68,11 +68,13 @@ impl RestCurve {
         self.clamp
     }
 
-    /// The s of the curve point nearest `parameters` in L_opt (on the clamped branch, in L_ts).
+    /// The s of the curve point nearest `parameters` in L_opt; where that is the clamped branch
+    /// (L_opt ≥ L_opt*), its point nearest in L_ts — the corner s* for a tendon no longer than
+    /// L_ts*.
     pub fn coordinate_of(&self, parameters: &MuscleParameters) -> f64 {
         let s = (parameters.optimal_fiber_length / self.origin.optimal_fiber_length).ln();
         match self.clamp {
-            Some((s_clamp, slack)) if s >= s_clamp - 1e-9 && parameters.tendon_slack_length > slack => s_clamp + (parameters.tendon_slack_length / slack).ln(),
+            Some((s_clamp, slack)) if s >= s_clamp - CORNER => s_clamp + (parameters.tendon_slack_length / slack).ln().max(0.0),
             _ => s,
         }
     }
