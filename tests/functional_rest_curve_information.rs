@@ -93,7 +93,13 @@ fn prior_pull_predicts_the_map_estimate() {
         .map(|p| MuscleParameters { optimal_fiber_length: 1.001 * p.optimal_fiber_length, ..p.clone() })
         .collect();
     let information = RestCurveInformation::new(&subject.knee, &subject.truth, &subject.references, sigma).unwrap();
-    let pull = information.prior_pull(tau, sigma, &centre, &subject.truth).unwrap();
+    let pull: Vec<[f64; 2]> = information
+        .prior_pull(tau, sigma, &centre)
+        .unwrap()
+        .iter()
+        .zip(&subject.truth)
+        .map(|(m, p)| [m[0] / p.optimal_fiber_length, m[1] / p.tendon_slack_length])
+        .collect();
     let clean = subject.knee.moments(&subject.truth).unwrap();
     let fitted = local_fit(&subject, &clean, Some(RestCurvePrior { model: &centre, coordinate_sd: tau, noise_sd: sigma }));
     let largest = pull.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));

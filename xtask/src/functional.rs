@@ -121,7 +121,7 @@ fn print_information(subject: &StudySubject, sd: f64, ours: &StudyResult) {
     let tau = DEFAULT_PRIOR_SD;
     let nominal = subject.knee.nominal_parameters();
     let (bounds, posterior) = (information.cramer_rao(), information.posterior(tau, sd).expect("τ, σ > 0"));
-    let pull = information.prior_pull(tau, sd, &nominal, subject.truth).expect("τ, σ > 0");
+    let pull = information.prior_pull(tau, sd, &nominal).expect("τ, σ > 0");
     println!("  information at the truth, rest fiber lengths held, L_opt in %: Cramér–Rao sd (unbiased), posterior sd (τ = {tau}), prior pull predicted / measured mean (ours), thesis sd");
     let mut above = Vec::new();
     for (e, p) in subject.truth.iter().enumerate() {
@@ -131,7 +131,7 @@ fn print_information(subject: &StudySubject, sd: f64, ours: &StudyResult) {
         if bound > thesis {
             above.push(p.name.as_str());
         }
-        println!("  {:<12} {bound:>10.1} {:>10.1} {:>+10.1} / {:+.1} {thesis:>8.1}", p.name, relative(posterior[e][0]), 100.0 * pull[e][0], 100.0 * ours.statistics(e).mean[0]);
+        println!("  {:<12} {bound:>10.1} {:>10.1} {:>+10.1} / {:+.1} {thesis:>8.1}", p.name, relative(posterior[e][0]), relative(pull[e][0]), 100.0 * ours.statistics(e).mean[0]);
     }
     println!(
         "  L_opt's Cramér–Rao sd exceeds the thesis' sd for {} of {} muscles ({}): there no unbiased estimator reaches the thesis' sd, and a prior trades its pull for the lower sd\n",

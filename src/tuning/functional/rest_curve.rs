@@ -96,19 +96,16 @@ impl RestCurve {
     }
 
     /// The knee-moment contribution F_t·r (N·m) per trial at s into `out`, the L_ts search
-    /// started at `slack_hint` (updated to the L_ts found); false where the curve point or a
-    /// trial's equilibrium does not exist.
-    pub fn contributions(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, s: f64, slack_hint: &mut f64, out: &mut [f64]) -> bool {
-        let Some(parameters) = self.at(model, workspace, s, *slack_hint) else { return false };
+    /// started at `slack_hint` (updated to the L_ts found); returns the curve point, `None`
+    /// where it or a trial's equilibrium does not exist.
+    pub fn contributions(&self, model: &KneeMomentModel, workspace: &mut EstimatedMuscles, s: f64, slack_hint: &mut f64, out: &mut [f64]) -> Option<MuscleParameters> {
+        let parameters = self.at(model, workspace, s, *slack_hint)?;
         *slack_hint = parameters.tendon_slack_length;
         let k = model.estimated_knee_index(self.e);
         for (t, value) in out.iter_mut().enumerate() {
-            match model.contribution(k, workspace.muscle(self.e), t) {
-                Ok(c) => *value = c,
-                Err(_) => return false,
-            }
+            *value = model.contribution(k, workspace.muscle(self.e), t).ok()?;
         }
-        true
+        Some(parameters)
     }
 
     /// The L_ts whose rest fiber length is the reference at `parameters`' L_opt (its L_ts is

@@ -221,7 +221,7 @@ impl<'a> CurveProblem<'a> {
 
     /// Muscle e's contributions at s into `out`; false where the curve or an equilibrium fails.
     fn contributions_at(&mut self, e: usize, s: f64, out: &mut [f64]) -> bool {
-        self.curves[e].contributions(self.model, &mut self.workspace, s, &mut self.slack_hints[e], out)
+        self.curves[e].contributions(self.model, &mut self.workspace, s, &mut self.slack_hints[e], out).is_some()
     }
 
     /// Brings every muscle's cache to x; false where one fails.

@@ -35,8 +35,8 @@ pub struct RestCurveInformation {
     pub fisher: FisherInformation,
     /// Per muscle (dL_opt/ds, dL_ts/ds) at the parameters, m.
     pub tangents: Vec<[f64; 2]>,
+    /// The curves, s = 0 at the parameters' L_opt (their coordinates are the labels' values).
     curves: Vec<RestCurve>,
-    coordinates: Vec<f64>,
 }
 
 impl RestCurveInformation {
@@ -49,7 +49,7 @@ impl RestCurveInformation {
         let mut workspace = knee.estimated_muscles(parameters)?;
         let trials = knee.trials().len();
         let mut jacobian = DMatrix::zeros(trials, parameters.len());
-        let (mut curves, mut coordinates, mut tangents, mut labels) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut curves, mut tangents, mut labels) = (Vec::new(), Vec::new(), Vec::new());
         for (e, p) in parameters.iter().enumerate() {
             let curve = RestCurve::new(knee, &mut workspace, e, references[e], p)?;
             let s = curve.coordinate_of(p);
@@ -57,20 +57,17 @@ impl RestCurveInformation {
             let mut slack = p.tendon_slack_length;
             let (mut plus, mut minus) = (vec![0.0; trials], vec![0.0; trials]);
             let unavailable = || FunctionalError::Parameters { muscle: p.name.clone(), problem: format!("the rest curve has no equilibrium in every trial within {COORDINATE_STEP} of s = {s:.6}") };
-            if !(curve.contributions(knee, &mut workspace, high, &mut slack, &mut plus) && curve.contributions(knee, &mut workspace, low, &mut slack, &mut minus)) {
-                return Err(unavailable());
-            }
-            let (Some(above), Some(below)) = (curve.at(knee, &mut workspace, high, slack), curve.at(knee, &mut workspace, low, slack)) else { return Err(unavailable()) };
+            let above = curve.contributions(knee, &mut workspace, high, &mut slack, &mut plus).ok_or_else(unavailable)?;
+            let below = curve.contributions(knee, &mut workspace, low, &mut slack, &mut minus).ok_or_else(unavailable)?;
             let width = high - low;
             jacobian.column_mut(e).iter_mut().zip(plus.iter().zip(&minus)).for_each(|(j, (a, b))| *j = (a - b) / width);
             tangents.push([(above.optimal_fiber_length - below.optimal_fiber_length) / width, (above.tendon_slack_length - below.tendon_slack_length) / width]);
             labels.push(ParameterLabel { muscle: p.name.clone(), parameter: TransformedParameter::RestCurveCoordinate, value: s, scale: 1.0 });
             workspace.set(knee, e, p)?;
             curves.push(curve);
-            coordinates.push(s);
         }
         let fisher = FisherInformation::from_jacobian(REST_CURVE_PARAMETERISATION, jacobian, labels, noise_sd, DEFAULT_RANK_TOLERANCE)?;
-        Ok(RestCurveInformation { fisher, tangents, curves, coordinates })
+        Ok(RestCurveInformation { fisher, tangents, curves })
     }
 
     /// The Cramér–Rao standard deviations per muscle [L_opt, L_ts], m; `None` where the moments
@@ -87,12 +84,11 @@ impl RestCurveInformation {
     }
 
     /// The first-order move of the estimate by a prior of sd τ centred at `centre`'s
-    /// coordinates, relative per muscle [ΔL_opt/L_opt, ΔL_ts/L_ts] (the values at s taken from
-    /// the labels' curves); σ = `noise_sd` N·m.
-    pub fn prior_pull(&self, prior_sd: f64, noise_sd: f64, centre: &[MuscleParameters], at: &[MuscleParameters]) -> Result<Vec<[f64; 2]>, FunctionalError> {
-        let offset = DVector::from_iterator(self.curves.len(), self.curves.iter().zip(centre).zip(&self.coordinates).map(|((c, p), s)| c.coordinate_of(p) - s));
+    /// coordinates, per muscle [ΔL_opt, ΔL_ts], m; σ = `noise_sd` N·m.
+    pub fn prior_pull(&self, prior_sd: f64, noise_sd: f64, centre: &[MuscleParameters]) -> Result<Vec<[f64; 2]>, FunctionalError> {
+        let offset = DVector::from_iterator(self.curves.len(), self.curves.iter().zip(centre).zip(&self.fisher.labels).map(|((c, p), label)| c.coordinate_of(p) - label.value));
         let shift = self.posterior_covariance(prior_sd, noise_sd)? * offset / (prior_sd * prior_sd);
-        Ok(self.tangents.iter().zip(shift.iter()).zip(at).map(|((t, ds), p)| [t[0] * ds / p.optimal_fiber_length, t[1] * ds / p.tendon_slack_length]).collect())
+        Ok(self.tangents.iter().zip(shift.iter()).map(|(t, ds)| t.map(|d| d * ds)).collect())
     }
 
     /// (JᵀJ/σ² + I/τ²)⁻¹.

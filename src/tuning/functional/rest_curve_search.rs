@@ -11,6 +11,7 @@
 //!   the smallest cost start fits (a meet-in-the-middle scan of a grid too large to fit from);
 //! - the groups' lattices: each group's s from every point of a coarse lattice, the other
 //!   muscles at the best minimum so far, in rounds.
+//!
 //! Every start gets a short screening fit; the best screened minima are polished, and the
 //! distinct minima found, best first, are the starts of the exact refinement.
 
@@ -52,7 +53,7 @@ impl ContributionTable {
                 let s = start + spacing * i as f64;
                 let mut at = |s: f64| {
                     let mut out = vec![0.0; model.trials().len()];
-                    curve.contributions(model, workspace, s, &mut hint, &mut out).then_some(out)
+                    curve.contributions(model, workspace, s, &mut hint, &mut out).map(|_| out)
                 };
                 let (value, plus, minus) = (at(s)?, at(s + step)?, at(s - step)?);
                 let slope = |a: &[f64], b: &[f64], h: f64| -> Vec<f64> { a.iter().zip(b).map(|(a, b)| (a - b) / h).collect() };
