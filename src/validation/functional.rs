@@ -2,7 +2,8 @@
 //! whose true parameters are known: the thesis' 81 initial-guess combinations on noise-free
 //! moments, and repeated fits to moments with Gaussian noise, for our method and for Garner &
 //! Pandy. Used by `cargo xtask validate` (full) and the tests (a slice). A public subject's
-//! truth is read from its `ground_truth.json` ([`GroundTruth`]).
+//! truth is read from its `ground_truth.json` ([`GroundTruth`]); [`model_with`] makes the
+//! thesis' protocol, in which the model is the truth.
 
 use std::path::Path;
 
@@ -56,6 +57,20 @@ pub struct StudySubject<'a> {
     pub data: &'a DynamometryData,
     /// One per estimated muscle, in order.
     pub truth: &'a [MuscleParameters],
+}
+
+/// `spec` with each muscle of `parameters` set to its five values: a model whose parameters are
+/// the truth, as in the thesis' studies (§6.2.4: "the generic values as reported by [32] were
+/// chosen as ground truth value"), where the model a fit starts from and its prior's centre are
+/// the truth.
+pub fn model_with(spec: &ModelSpec, parameters: &[MuscleParameters]) -> ModelSpec {
+    let mut model = spec.clone();
+    for force in &mut model.forces {
+        if let (Some(p), Some(muscle)) = (parameters.iter().find(|p| p.name == force.name), &force.muscle) {
+            force.muscle = Some(p.apply_to(muscle));
+        }
+    }
+    model
 }
 
 /// Relative errors (fitted/true − 1) of one fit, per muscle [L_opt, L_ts].

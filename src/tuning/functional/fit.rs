@@ -20,6 +20,7 @@ use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
 use super::phase_two::{solve_phase_two, PhaseTwoSettings};
 use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+use super::rest_curve_map::{fit_on_rest_curves, AppliedPrior, RestCurveProblem};
 use super::rest_curve_information::RestCurveInformation;
 use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
 use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
@@ -136,7 +137,8 @@ impl ParameterisationReport {
 pub struct Uncertainty {
     /// σ of the moment noise used, N·m.
     pub noise_sd: f64,
-    /// Where σ came from: "given", "subject file" or "residuals".
+    /// Where σ came from: "given", "subject file", "marginal likelihood" (under the rest-curve
+    /// prior) or "residuals".
     pub noise_source: &'static str,
     /// Cramér–Rao bound per muscle [sd L_opt, sd L_ts]; `None` where not identifiable.
     pub cramer_rao: Vec<[Option<f64>; 2]>,
@@ -207,16 +209,6 @@ pub struct Estimate {
     pub held_rest_lengths: Option<Vec<f64>>,
 }
 
-/// The Gaussian prior a rest-curve fit used: relative sd τ of L_opt around the model's, moment
-/// noise σ (N·m).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct AppliedPrior {
-    pub coordinate_sd: f64,
-    pub noise_sd: f64,
-    /// Where σ came from: "given", "subject file" or "residuals".
-    pub noise_source: &'static str,
-}
-
 /// The estimator of `settings.method` alone, from `initial` (one per estimated muscle) on
 /// `measured` (one per trial), without the input checks and analyses of [`fit`].
 pub fn estimate(
@@ -260,7 +252,7 @@ pub fn fit(
     progress("sensitivity and identifiability");
     let sensitivity = SensitivityTable::compute(knee, &estimate.fitted, DEFAULT_RELATIVE_STEP)?;
     let residuals: Vec<f64> = moments.iter().zip(&measured).map(|(m, y)| m - y).collect();
-    let (noise_sd, noise_source) = noise_level(settings, data, &residuals, 2 * initial.len());
+    let (noise_sd, noise_source) = noise_level(settings, data, estimate.prior, &residuals, 2 * initial.len());
     let fishers = identifiability(spec, knee, data, &estimate, noise_sd)?;
     let cramer_rao = fishers[0].standard_deviations.chunks(2).map(|c| [c[0], c[1]]).collect();
     let mut identifiability: Vec<ParameterisationReport> = fishers.iter().map(ParameterisationReport::of).collect();
@@ -333,41 +325,9 @@ fn functional(
     };
     progress("rest curves: global search and refinement with the rest fiber lengths held");
     let model = knee.nominal_parameters();
-    let prior = |noise_sd: f64| settings.prior_sd.map(|coordinate_sd| RestCurvePrior { model: &model, coordinate_sd, noise_sd });
-    let mut starts = vec![phase_two.fitted.clone()];
-    let (noise_sd, noise_source) = match (noise, settings.prior_sd) {
-        (Some(noise), Some(_)) if noise.0 > NEGLIGIBLE_NOISE => noise,
-        _ => {
-            let plain = fit_rest_curves(knee, &references, initial, measured, &starts, None, rest_curve)?;
-            report_rest_curves(&plain, progress);
-            let sd = noise.map_or_else(|| noise_from_residuals(&plain.residuals, references.len()).unwrap_or(0.0), |(sd, _)| sd);
-            if settings.prior_sd.is_none() || sd <= NEGLIGIBLE_NOISE {
-                return Ok(after_phase_two(phase_two, plain, None, references));
-            }
-            progress(&format!("rest curves: σ = {sd:.3} N·m from the residuals; again with the prior"));
-            starts.insert(0, plain.parameters);
-            (sd, "residuals")
-        }
-    };
-    let curves = fit_rest_curves(knee, &references, initial, measured, &starts, prior(noise_sd), rest_curve)?;
-    report_rest_curves(&curves, progress);
-    let applied = settings.prior_sd.map(|coordinate_sd| AppliedPrior { coordinate_sd, noise_sd, noise_source });
-    Ok(after_phase_two(phase_two, curves, applied, references))
-}
-
-/// σ (N·m) below which moments count as noise-free (dynamometers resolve about 0.1 N·m): the
-/// prior is then not used.
-const NEGLIGIBLE_NOISE: f64 = 1e-3;
-
-fn report_rest_curves(curves: &RestCurveFit, progress: &mut dyn FnMut(&str)) {
-    progress(&format!(
-        "rest curves: {:?} after {} iterations ({} starts, prior weight {:.3} N·m), largest moment error {:.3e} N·m",
-        curves.status,
-        curves.iterations,
-        curves.starts,
-        curves.prior_weight,
-        largest(&curves.residuals)
-    ));
+    let problem = RestCurveProblem { knee, references: &references, origin: initial, measured, centre: &model, settings: rest_curve };
+    let (curves, prior) = fit_on_rest_curves(&problem, &phase_two.fitted, noise, settings.prior_sd, progress)?;
+    Ok(after_phase_two(phase_two, curves, prior, references))
 }
 
 /// The estimate of the rest-curve fit through `references`, keeping Phase I's records and
@@ -383,10 +343,6 @@ fn after_phase_two(phase_two: Estimate, curves: RestCurveFit, prior: Option<Appl
         active_constraints: Vec::new(),
         ..phase_two
     }
-}
-
-fn largest(values: &[f64]) -> f64 {
-    values.iter().fold(0.0, |m, v| m.max(v.abs()))
 }
 
 fn garner_pandy(
@@ -413,14 +369,18 @@ fn garner_pandy(
     })
 }
 
-/// σ: given, else the subject file's (when positive), else √(RSS/(n − p)) of the fit (0 when
-/// the fit is exact or has no degrees of freedom: then a nominal 1 N·m scales the criteria).
-fn noise_level(settings: &FitSettings, data: &DynamometryData, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
+/// σ: given, else the subject file's (when positive), else the prior's (the fit's own
+/// estimate), else √(RSS/(n − p)) of the fit (0 when the fit is exact or has no degrees of
+/// freedom: then a nominal 1 N·m scales the criteria).
+fn noise_level(settings: &FitSettings, data: &DynamometryData, prior: Option<AppliedPrior>, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
     if let Some(sd) = settings.noise_sd.filter(|sd| *sd > 0.0) {
         return (sd, "given");
     }
     if let Some(sd) = data.noise_sd.filter(|sd| *sd > 0.0) {
         return (sd, "subject file");
+    }
+    if let Some(prior) = prior {
+        return (prior.noise_sd, prior.noise_source);
     }
     match noise_from_residuals(residuals, parameters) {
         Ok(sd) if sd > 1e-6 => (sd, "residuals"),

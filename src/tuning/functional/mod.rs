@@ -16,8 +16,11 @@
 //! - `rest_curve.rs`: a muscle's [`RestCurve`], the (L_opt, L_ts) that reproduce its reference
 //!   rest fiber length; `rest_curve_search.rs` the global search on tabulated contributions;
 //!   `rest_curve_fit.rs` the fit on the rest curves after Phase II ([`fit_rest_curves`]);
+//!   `rest_curve_map.rs` that fit as the estimator runs it, with the prior and the σ it is
+//!   weighed against ([`fit_on_rest_curves`]);
 //!   `rest_curve_information.rs` the Fisher information, Cramér–Rao bounds, posterior and
-//!   prior pull of the curve coordinates ([`RestCurveInformation`]).
+//!   prior pull of the curve coordinates ([`RestCurveInformation`]); `noise_evidence.rs` the
+//!   moment noise σ by the marginal likelihood under the prior.
 //! - `garner_pandy.rs`: the Garner & Pandy (2003) baseline ([`fit_garner_pandy`]).
 //! - `identifiability.rs`: Fisher information, D- and E-criteria and unidentifiable directions
 //!   per parameterisation ([`fisher_information`]).
@@ -37,11 +40,13 @@ mod feasible_set;
 mod fit;
 mod hot_start;
 mod knee_moment;
+mod noise_evidence;
 mod parameters;
 mod phase_two;
 mod rest_curve;
 mod rest_curve_fit;
 mod rest_curve_information;
+mod rest_curve_map;
 mod rest_curve_search;
 mod sensitivity;
 mod sigma_points;
@@ -57,13 +62,14 @@ pub use identifiability::{
     ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };
-pub use fit::{estimate, fit, AppliedPrior, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, RestCurveUncertainty, TrialFit, Uncertainty, DEFAULT_PRIOR_SD};
+pub use fit::{estimate, fit, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, RestCurveUncertainty, TrialFit, Uncertainty, DEFAULT_PRIOR_SD};
 pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
 pub use parameters::{MuscleParameters, Parameter};
 pub use rest_curve::RestCurve;
 pub use rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+pub use rest_curve_map::{fit_on_rest_curves, AppliedPrior, RestCurveProblem};
 pub use rest_curve_information::{RestCurveInformation, COORDINATE_STEP, REST_CURVE_PARAMETERISATION};
 pub use rest_curve_search::SearchBudget;
 pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};

@@ -12,13 +12,15 @@
 //!   estimate by (F + I/τ²)⁻¹(c − s)/τ² (its bias when the truth is at s).
 //!
 //! Bounds on L_opt and L_ts follow through the curve's tangent: sd(L) = |dL/ds|·sd(s), and a
-//! move Δs changes L by (dL/ds)·Δs.
+//! move Δs changes L by (dL/ds)·Δs. The same linearisation gives σ of the moment noise by the
+//! marginal likelihood under the prior (`noise_evidence.rs`).
 
 use nalgebra::{DMatrix, DVector};
 
 use super::error::FunctionalError;
 use super::identifiability::{FisherInformation, ParameterLabel, TransformedParameter, DEFAULT_RANK_TOLERANCE};
 use super::knee_moment::KneeMomentModel;
+use super::noise_evidence::noise_by_evidence;
 use super::parameters::MuscleParameters;
 use super::rest_curve::RestCurve;
 
@@ -86,9 +88,23 @@ impl RestCurveInformation {
     /// The first-order move of the estimate by a prior of sd τ centred at `centre`'s
     /// coordinates, per muscle [ΔL_opt, ΔL_ts], m; σ = `noise_sd` N·m.
     pub fn prior_pull(&self, prior_sd: f64, noise_sd: f64, centre: &[MuscleParameters]) -> Result<Vec<[f64; 2]>, FunctionalError> {
-        let offset = DVector::from_iterator(self.curves.len(), self.curves.iter().zip(centre).zip(&self.fisher.labels).map(|((c, p), label)| c.coordinate_of(p) - label.value));
-        let shift = self.posterior_covariance(prior_sd, noise_sd)? * offset / (prior_sd * prior_sd);
+        let shift = self.posterior_covariance(prior_sd, noise_sd)? * self.offset(centre) / (prior_sd * prior_sd);
         Ok(self.tangents.iter().zip(shift.iter()).map(|(t, ds)| t.map(|d| d * ds)).collect())
+    }
+
+    /// σ of the moment noise, N·m, by the marginal likelihood of the moments under a prior of sd
+    /// τ = `prior_sd` in s centred at `centre`'s coordinates, linearised here; `residuals` are
+    /// M − M_meas at these parameters, one per trial (`noise_evidence.rs`). 0 when the moments
+    /// fit exactly.
+    pub fn noise_by_evidence(&self, residuals: &[f64], prior_sd: f64, centre: &[MuscleParameters]) -> f64 {
+        let jacobian = &self.fisher.jacobian;
+        let innovation = -DVector::from_column_slice(residuals) - jacobian * self.offset(centre);
+        noise_by_evidence(jacobian, prior_sd, &innovation)
+    }
+
+    /// c − s: `centre`'s coordinates on the curves minus these.
+    fn offset(&self, centre: &[MuscleParameters]) -> DVector<f64> {
+        DVector::from_iterator(self.curves.len(), self.curves.iter().zip(centre).zip(&self.fisher.labels).map(|((c, p), label)| c.coordinate_of(p) - label.value))
     }
 
     /// (JᵀJ/σ² + I/τ²)⁻¹.

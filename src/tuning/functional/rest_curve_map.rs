@@ -1,0 +1,131 @@
+//! The rest-curve fit as the estimator runs it after Phase II, and the moment noise σ its
+//! prior is weighed against (`rest_curve_fit.rs`: the prior on each curve coordinate):
+//!
+//! - without a prior (τ unset), or on noise-free moments — σ given at most
+//!   [`NEGLIGIBLE_NOISE`], or the fit without prior reproducing the moments so that the
+//!   marginal likelihood finds σ at most that — the least-squares fit;
+//! - σ given (option or subject file): the MAP fit under the prior with that σ;
+//! - else σ by the marginal likelihood of the moments under the prior (`noise_evidence.rs`),
+//!   linearised first at the fit without prior, then at each MAP estimate, which is refitted
+//!   locally with the new σ until σ changes by less than [`EVIDENCE_TOLERANCE`] (MacKay's
+//!   evidence fixed point; at most [`EVIDENCE_ROUNDS`] refits, reported when σ has not settled).
+//!   A fit without prior leaves few degrees of freedom for σ (set5: ten trials, eight
+//!   coordinates); the marginal likelihood also counts the directions the prior holds.
+
+use serde::Serialize;
+
+use super::error::FunctionalError;
+use super::knee_moment::KneeMomentModel;
+use super::parameters::MuscleParameters;
+use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+use super::rest_curve_information::RestCurveInformation;
+
+/// σ (N·m) below which moments count as noise-free (dynamometers resolve about 0.1 N·m): the
+/// prior is then not used.
+pub const NEGLIGIBLE_NOISE: f64 = 1e-3;
+/// Relative change of σ at which the evidence fixed point stops.
+pub const EVIDENCE_TOLERANCE: f64 = 0.01;
+/// Local refits of the evidence fixed point at most.
+pub const EVIDENCE_ROUNDS: usize = 10;
+/// The source of a σ estimated with the prior.
+const MARGINAL_LIKELIHOOD: &str = "marginal likelihood";
+
+/// The Gaussian prior a rest-curve fit used: relative sd τ of L_opt around the model's, moment
+/// noise σ (N·m).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AppliedPrior {
+    pub coordinate_sd: f64,
+    pub noise_sd: f64,
+    /// Where σ came from: "given", "subject file" or "marginal likelihood" (under the prior).
+    pub noise_source: &'static str,
+}
+
+/// What the rest-curve fit works on: the trials' model, the held rest fiber lengths (m, one per
+/// estimated muscle), the curves' origins (s = 0), the measured moments (N·m, one per trial)
+/// and the prior's centre (the model's parameters).
+pub struct RestCurveProblem<'a> {
+    pub knee: &'a KneeMomentModel,
+    pub references: &'a [f64],
+    pub origin: &'a [MuscleParameters],
+    pub measured: &'a [f64],
+    pub centre: &'a [MuscleParameters],
+    pub settings: &'a RestCurveSettings,
+}
+
+/// The rest-curve estimate from Phase II's parameters `phase_two`, with noise σ `noise` (N·m,
+/// and its source) when known and the prior's τ `prior_sd` when one is used (module doc);
+/// returns the fit and the prior it used.
+pub fn fit_on_rest_curves(
+    problem: &RestCurveProblem,
+    phase_two: &[MuscleParameters],
+    noise: Option<(f64, &'static str)>,
+    prior_sd: Option<f64>,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(RestCurveFit, Option<AppliedPrior>), FunctionalError> {
+    let mut starts = vec![phase_two.to_vec()];
+    if let (Some((noise_sd, noise_source)), Some(coordinate_sd)) = (noise, prior_sd) {
+        if noise_sd > NEGLIGIBLE_NOISE {
+            let prior = AppliedPrior { coordinate_sd, noise_sd, noise_source };
+            return Ok((problem.fit(&starts, Some(prior), true, progress)?, Some(prior)));
+        }
+    }
+    let plain = problem.fit(&starts, None, true, progress)?;
+    let Some(coordinate_sd) = prior_sd else { return Ok((plain, None)) };
+    let noise_sd = match noise {
+        Some((sd, _)) => sd,
+        None => problem.evidence(&plain, coordinate_sd)?,
+    };
+    if noise_sd <= NEGLIGIBLE_NOISE {
+        return Ok((plain, None));
+    }
+    starts.insert(0, plain.parameters);
+    let prior = AppliedPrior { coordinate_sd, noise_sd, noise_source: MARGINAL_LIKELIHOOD };
+    evidence_fixed_point(problem, &starts, prior, progress)
+}
+
+/// The MAP fit from `starts` (global search) with σ re-estimated at each estimate and refitted
+/// locally until it settles.
+fn evidence_fixed_point(
+    problem: &RestCurveProblem,
+    starts: &[Vec<MuscleParameters>],
+    mut prior: AppliedPrior,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(RestCurveFit, Option<AppliedPrior>), FunctionalError> {
+    progress(&format!("rest curves: σ = {:.3} N·m by the marginal likelihood under the prior; again with the prior", prior.noise_sd));
+    let mut curves = problem.fit(starts, Some(prior), true, progress)?;
+    for _ in 0..EVIDENCE_ROUNDS {
+        let noise_sd = problem.evidence(&curves, prior.coordinate_sd)?;
+        if (noise_sd - prior.noise_sd).abs() <= EVIDENCE_TOLERANCE * prior.noise_sd || noise_sd <= NEGLIGIBLE_NOISE {
+            return Ok((curves, Some(prior)));
+        }
+        prior.noise_sd = noise_sd;
+        progress(&format!("rest curves: σ = {noise_sd:.3} N·m at the estimate; refitted from it"));
+        curves = problem.fit(std::slice::from_ref(&curves.parameters), Some(prior), false, progress)?;
+    }
+    progress(&format!("rest curves: σ has not settled within {EVIDENCE_ROUNDS} refits; the estimate is the MAP fit at σ = {:.3} N·m", prior.noise_sd));
+    Ok((curves, Some(prior)))
+}
+
+impl RestCurveProblem<'_> {
+    /// The rest-curve fit from `starts` (with the global search when `global_search`).
+    fn fit(&self, starts: &[Vec<MuscleParameters>], prior: Option<AppliedPrior>, global_search: bool, progress: &mut dyn FnMut(&str)) -> Result<RestCurveFit, FunctionalError> {
+        let settings = RestCurveSettings { global_search: global_search && self.settings.global_search, ..*self.settings };
+        let prior = prior.map(|p| RestCurvePrior { model: self.centre, coordinate_sd: p.coordinate_sd, noise_sd: p.noise_sd });
+        let curves = fit_rest_curves(self.knee, self.references, self.origin, self.measured, starts, prior, &settings)?;
+        progress(&format!(
+            "rest curves: {:?} after {} iterations ({} starts, prior weight {:.3} N·m), largest moment error {:.3e} N·m",
+            curves.status,
+            curves.iterations,
+            curves.starts,
+            curves.prior_weight,
+            curves.residuals.iter().fold(0.0, |m: f64, r| m.max(r.abs()))
+        ));
+        Ok(curves)
+    }
+
+    /// σ by the marginal likelihood under a prior of sd τ = `coordinate_sd`, linearised at `curves`.
+    fn evidence(&self, curves: &RestCurveFit, coordinate_sd: f64) -> Result<f64, FunctionalError> {
+        let information = RestCurveInformation::new(self.knee, &curves.parameters, self.references, 1.0)?;
+        Ok(information.noise_by_evidence(&curves.residuals, coordinate_sd, self.centre))
+    }
+}
