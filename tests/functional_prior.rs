@@ -92,8 +92,9 @@ fn noise_free_moments_need_no_prior() {
 
 /// The thesis' protocol (the model is the truth) on set5 at σ = 10 N·m, ten draws, σ not given:
 /// every fit estimates σ by the marginal likelihood, on average within 30 % of the true σ (ten
-/// trials for eight coordinates: one draw's estimate scatters by about a third of σ, ten
-/// average to about a tenth; ML estimates of a variance run low, so the band is not centred);
+/// trials for eight coordinates: one draw's estimate scatters by about a third of σ, the mean
+/// of ten by about a tenth; the estimate runs about 15 % low, as ML estimates of a variance
+/// do, which the band allows);
 /// the mean L_ts error is within the 1 % and the spread no worse than the thesis' table
 /// 6.3 at σ = 10 (as above).
 #[test]

@@ -60,7 +60,7 @@ pub struct StudySubject<'a> {
 }
 
 /// `spec` with each muscle of `parameters` set to its five values: a model whose parameters are
-/// the truth, as in the thesis' studies (§6.2.4: "the generic values as reported by [32] were
+/// the truth, as in the thesis' studies (§6.2.4: "the generic values as reported by \[32\] were
 /// chosen as ground truth value"), where the model a fit starts from and its prior's centre are
 /// the truth.
 pub fn model_with(spec: &ModelSpec, parameters: &[MuscleParameters]) -> ModelSpec {

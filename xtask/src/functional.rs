@@ -244,8 +244,8 @@ fn print_guess_table(truth: &[MuscleParameters], data: &DynamometryData, ours: &
     println!("  ({} fits, {} not converged, {} failed)\n", ours.errors.len(), ours.not_converged, ours.failed);
 }
 
-/// Columns: ours (MAP with the prior), ours without the prior, Garner & Pandy (when run), the
-/// thesis' table 6.3 at this σ.
+/// Columns: the results of `columns` (from `draws` fits each), then the thesis' table 6.3 at
+/// this σ.
 fn print_noise_table(truth: &[MuscleParameters], sd: f64, columns: &[Column], results: &[StudyResult], draws: usize) {
     print!("{:<12}", "muscle");
     columns.iter().for_each(|c| print!(" {:>37}", c.head));

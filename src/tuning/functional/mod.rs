@@ -17,7 +17,7 @@
 //!   rest fiber length; `rest_curve_search.rs` the global search on tabulated contributions;
 //!   `rest_curve_fit.rs` the fit on the rest curves after Phase II ([`fit_rest_curves`]);
 //!   `rest_curve_map.rs` that fit as the estimator runs it, with the prior and the σ it is
-//!   weighed against ([`fit_on_rest_curves`]);
+//!   weighed against (`fit_on_rest_curves`);
 //!   `rest_curve_information.rs` the Fisher information, Cramér–Rao bounds, posterior and
 //!   prior pull of the curve coordinates ([`RestCurveInformation`]); `noise_evidence.rs` the
 //!   moment noise σ by the marginal likelihood under the prior.
@@ -69,7 +69,7 @@ pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, Knee
 pub use parameters::{MuscleParameters, Parameter};
 pub use rest_curve::RestCurve;
 pub use rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
-pub use rest_curve_map::{fit_on_rest_curves, AppliedPrior, RestCurveProblem};
+pub use rest_curve_map::AppliedPrior;
 pub use rest_curve_information::{RestCurveInformation, COORDINATE_STEP, REST_CURVE_PARAMETERISATION};
 pub use rest_curve_search::SearchBudget;
 pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};

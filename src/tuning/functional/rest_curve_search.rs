@@ -148,7 +148,7 @@ pub struct SurrogateMinimum {
     pub s: Vec<f64>,
 }
 
-/// How widely [`search`] looks.
+/// How widely `search` looks.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SearchBudget {
     /// Grid combinations per half in the pairing: k muscles get ⌊pairing^(1/k)⌋ nodes each.
