@@ -7,7 +7,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use osim_tune::model::ModelError;
+use osim_tune::model::{BadProperty, ModelError};
 use osim_tune::setup::{
     BodyScale, CoordinateTarget, IkSetup, IkTaskSet, ScaleSetup, ScalingStep, SetupError, SetupPath, TimeRange,
 };
@@ -347,9 +347,8 @@ fn mutated_after(relative: &str, anchor: &str, from: &str, to: &str) -> (tempfil
 fn assert_bad_property(error: SetupError, path: &Path, line: usize, property: &str, component: &str, expected: &str) {
     let message = error.to_string();
     let SetupError::Property(error) = error else { panic!("not a property error: {message}") };
-    let ModelError::BadProperty { file, line: at, component: element, property: name, .. } = *error else {
-        panic!("not a bad property: {message}")
-    };
+    let ModelError::BadProperty(bad) = *error else { panic!("not a bad property: {message}") };
+    let BadProperty { file, line: at, component: element, property: name, .. } = *bad;
     assert_eq!((file.as_path(), at, name.as_str()), (path, line, property), "{message}");
     assert!(element.contains(component), "{message}");
     assert!(message.contains(&format!("{}:{line}", path.display())) && message.contains(expected), "{message}");

@@ -10,10 +10,22 @@ pub enum ModelError {
     /// A property OpenSim requires is absent.
     #[error("{}:{line}: {component}: missing <{property}>", file.display())]
     MissingProperty { file: PathBuf, line: usize, component: String, property: String },
-    /// A property's text is not what it must be.
-    #[error("{}:{line}: {component}: <{property}> must be {expected}, found {found:?}", file.display())]
-    BadProperty { file: PathBuf, line: usize, component: String, property: String, expected: String, found: String },
+    /// A property's text is not what it must be (boxed: the largest variant).
+    #[error(transparent)]
+    BadProperty(Box<BadProperty>),
     /// A reference (socket, body name, coordinate name) names nothing in the model.
     #[error("{}:{line}: {component}: {what} {target:?} does not exist in the model", file.display())]
     UnknownReference { file: PathBuf, line: usize, component: String, what: String, target: String },
+}
+
+/// A property's text is not what it must be.
+#[derive(Debug, thiserror::Error)]
+#[error("{}:{line}: {component}: <{property}> must be {expected}, found {found:?}", file.display())]
+pub struct BadProperty {
+    pub file: PathBuf,
+    pub line: usize,
+    pub component: String,
+    pub property: String,
+    pub expected: String,
+    pub found: String,
 }

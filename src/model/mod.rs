@@ -20,7 +20,7 @@ mod wrap_object;
 pub use body::BodySpec;
 pub use constraint::{ConstraintSpec, CouplerSpec};
 pub use coordinate::{CoordinateSpec, CoordinateUnit, MotionType};
-pub use error::ModelError;
+pub use error::{BadProperty, ModelError};
 pub use force::{ForceSpec, PathWrapSpec};
 pub use frame::{opensim_path, FrameChain, FrameIndex, Offset};
 pub use function::FunctionSpec;

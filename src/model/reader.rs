@@ -4,7 +4,7 @@
 use crate::io::osim::OsimDocument;
 use crate::io::xml::ElementId;
 
-use super::error::ModelError;
+use super::error::{BadProperty, ModelError};
 
 /// A component element and the document it lives in.
 #[derive(Clone, Copy)]
@@ -108,14 +108,14 @@ impl<'a> ComponentReader<'a> {
 
     pub fn bad(&self, property: &str, expected: &str, found: &str) -> ModelError {
         let line = self.child(property).map_or(self.line(), |id| self.document.xml.line(id));
-        ModelError::BadProperty {
+        ModelError::BadProperty(Box::new(BadProperty {
             file: self.document.xml.file().into(),
             line,
             component: self.path(),
             property: property.into(),
             expected: expected.into(),
             found: found.into(),
-        }
+        }))
     }
 
     pub fn unknown(&self, what: &str, target: &str) -> ModelError {

@@ -83,8 +83,8 @@ fn cylinder(i: &mut [[f64; 3]; 3], factors: [f64; 3], unscaled_mass: f64, mass: 
     };
     let rad_sqr = radius * factors[a] * radius * factors[b];
     let across = mass * ((length * length / 12.0) + 0.25 * rad_sqr);
-    for k in 0..3 {
-        i[k][k] = if k == axis { 0.5 * mass * rad_sqr } else { across };
+    for (k, row) in i.iter_mut().enumerate() {
+        row[k] = if k == axis { 0.5 * mass * rad_sqr } else { across };
     }
 }
 
