@@ -99,7 +99,7 @@ pub enum Command {
         /// Functional: tie the vasti's and gastrocnemii's L_opt within 0.9–1.1 of each other (eq. 6.23–6.24).
         #[arg(long)]
         group_ratios: bool,
-        /// Functional: moment noise σ in N·m for the uncertainty (default: subject.json's, else the residuals').
+        /// Functional: moment noise σ in N·m, weighed against the rest-curve prior and used for the uncertainty (default: subject.json's, else estimated from the moments by their marginal likelihood under the prior).
         #[arg(long)]
         noise_sd: Option<f64>,
         /// Functional: propagate the noise through the fit at the 2n²+1 sigma points (slow: one Phase II per point).

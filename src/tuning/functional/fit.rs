@@ -54,8 +54,9 @@ pub struct FitSettings {
     /// τ of the rest-curve fit's Gaussian prior around the model's parameters (relative sd of
     /// L_opt), weighed against the moment noise σ; `None`: plain least squares.
     pub prior_sd: Option<f64>,
-    /// σ of the moment noise, N·m; `None`: the subject file's, else estimated from the residuals;
-    /// 0: noise-free moments (no prior).
+    /// σ of the moment noise, N·m; `None`: the subject file's, else estimated (from the marginal
+    /// likelihood under the rest-curve prior, or without one from the residuals); 0: noise-free
+    /// moments (no prior).
     pub noise_sd: Option<f64>,
     /// Propagate the noise through the whole fit at the 2n²+1 sigma points (n trials).
     pub sigma_points: bool,

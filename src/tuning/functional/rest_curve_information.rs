@@ -92,10 +92,10 @@ impl RestCurveInformation {
         Ok(self.tangents.iter().zip(shift.iter()).map(|(t, ds)| t.map(|d| d * ds)).collect())
     }
 
-    /// σ of the moment noise, N·m, by the marginal likelihood of the moments under a prior of sd
-    /// τ = `prior_sd` in s centred at `centre`'s coordinates, linearised here; `residuals` are
-    /// M − M_meas at these parameters, one per trial (`noise_evidence.rs`). 0 when the moments
-    /// fit exactly.
+    /// σ of the moment noise, N·m, from the marginal likelihood of the moments under a prior of
+    /// sd τ = `prior_sd` in s centred at `centre`'s coordinates, linearised here (its posterior
+    /// mean, `noise_evidence.rs`); `residuals` are M − M_meas at these parameters, one per trial.
+    /// 0 when the moments fit exactly.
     pub fn noise_by_evidence(&self, residuals: &[f64], prior_sd: f64, centre: &[MuscleParameters]) -> f64 {
         let jacobian = &self.fisher.jacobian;
         let innovation = -DVector::from_column_slice(residuals) - jacobian * self.offset(centre);

@@ -5,10 +5,11 @@
 //!   [`NEGLIGIBLE_NOISE`], or the fit without prior reproducing the moments so that the
 //!   marginal likelihood finds σ at most that — the least-squares fit;
 //! - σ given (option or subject file): the MAP fit under the prior with that σ;
-//! - else σ by the marginal likelihood of the moments under the prior (`noise_evidence.rs`),
-//!   linearised first at the fit without prior, then at each MAP estimate, which is refitted
-//!   locally with the new σ until σ changes by less than [`EVIDENCE_TOLERANCE`] (MacKay's
-//!   evidence fixed point; at most [`EVIDENCE_ROUNDS`] refits, reported when σ has not settled).
+//! - else σ from the marginal likelihood of the moments under the prior (its posterior mean,
+//!   `noise_evidence.rs`), linearised first at the fit without prior, then at each MAP estimate,
+//!   which is refitted locally with the new σ until σ changes by less than
+//!   [`EVIDENCE_TOLERANCE`] (an evidence fixed point after MacKay; at most [`EVIDENCE_ROUNDS`]
+//!   refits, reported when σ has not settled).
 //!   A fit without prior leaves few degrees of freedom for σ (set5: ten trials, eight
 //!   coordinates); the marginal likelihood also counts the directions the prior holds.
 
