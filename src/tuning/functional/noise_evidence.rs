@@ -17,21 +17,29 @@
 //! draws — there the prior loses its weight and the fit absorbs the noise; the mean keeps the
 //! skew. Without parameters it is √(S/2)·Γ((n − 1)/2)/Γ(n/2), S = Σr².
 //!
-//! ∂ℓ/∂v = ½ Σ (z_i² − v − κ_i)/(v + κ_i)² is negative beyond v = max z_i², so any maximum
-//! lies in (0, max z_i²]. Without one (∂ℓ/∂v < 0 on a grid in ln v down to 1e-13·max z_i²: the
-//! data fit exactly) σ̂ = 0. The integrals run over that range and 20 above it (beyond, e^ℓ falls
-//! as v^(−n/2)); where a direction has κ > 0 only (n ≤ p), ℓ does not fall towards v = 0 and the
-//! mean exists only thanks to the range's floor.
+//! ∂ℓ/∂v = ½ Σ (z_i² − v − κ_i)/(v + κ_i)² is negative beyond v = max z_i², so the maxima lie
+//! in (0, max z_i²]; they are found as the downward sign changes of ∂ℓ/∂v on a grid in ln v and
+//! refined by false position. Without one (∂ℓ/∂v < 0 down to 1e-13·max z_i²: the data fit
+//! exactly) σ̂ = 0. The integrals run over that grid and 20 above it (beyond, e^ℓ falls as
+//! v^(−n/2)). Where every direction has κ > 0 (n ≤ p: four angles per direction for eight
+//! coordinates), ℓ does not fall towards v = 0, the posterior is improper and σ̂ is the highest
+//! maximum.
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
+use crate::solvers::false_position;
 
 /// Grid of ln v below ln(max z_i²): 13 decades, searched in 0.25-wide steps.
 const DECADES: f64 = 13.0;
 const GRID_STEP: f64 = 0.25;
+/// The refinement's tolerance in ln v (σ to 1e-10 relative).
+const LOG_TOLERANCE: f64 = 2e-10;
 /// The posterior mean's range above ln(max z_i²) and its trapezoid step, in ln v.
 const ABOVE: f64 = 20.0;
 const QUADRATURE_STEP: f64 = 0.01;
+/// ℓ at the grid's floor above this (relative to the maximum): the posterior does not vanish
+/// towards σ = 0, and σ̂ is the maximum.
+const IMPROPER: f64 = -20.0;
 
 /// σ̂ ≥ 0 (the unit of `innovation`) for the innovation r (observations), Jacobian J
 /// (observations × parameters) and prior sd τ = `prior_sd` (the parameters' unit).
@@ -52,13 +60,18 @@ pub fn noise_by_evidence(jacobian: &DMatrix<f64>, prior_sd: f64, innovation: &DV
         let v = u.exp();
         terms.iter().map(|(k, z2)| (z2 - v - k) / (v + k).powi(2)).sum::<f64>()
     };
-    let floor = top.ln() - DECADES * std::f64::consts::LN_10;
-    let steps = ((top.ln() - floor) / GRID_STEP).ceil() as usize;
-    let has_maximum = (0..steps).any(|i| slope(floor + i as f64 * GRID_STEP) > 0.0);
-    if !has_maximum {
-        return 0.0;
+    let high = top.ln();
+    let steps = (DECADES * std::f64::consts::LN_10 / GRID_STEP).ceil() as usize;
+    let grid: Vec<f64> = (0..=steps).map(|i| high - (steps - i) as f64 * GRID_STEP).collect();
+    let slopes: Vec<f64> = grid.iter().map(|&u| slope(u)).collect();
+    let maxima = (1..grid.len())
+        .filter(|&i| slopes[i - 1] > 0.0 && slopes[i] <= 0.0)
+        .filter_map(|i| false_position(slope, [grid[i - 1], grid[i]], [slopes[i - 1], slopes[i]], LOG_TOLERANCE, 200));
+    let Some(mode) = maxima.max_by(|a, b| likelihood(*a).total_cmp(&likelihood(*b))) else { return 0.0 };
+    if likelihood(grid[0]) - likelihood(mode) > IMPROPER {
+        return (0.5 * mode).exp();
     }
-    posterior_mean(likelihood, floor, top.ln() + ABOVE)
+    posterior_mean(likelihood, grid[0], high + ABOVE)
 }
 
 /// ∫ e^{u/2 + ℓ(u)} du / ∫ e^{ℓ(u)} du over [low, high] (trapezoids of [`QUADRATURE_STEP`]).
@@ -100,6 +113,14 @@ mod tests {
         approx::assert_relative_eq!(noise_by_evidence(&strong, 1.0, &r), 1.5f64.sqrt() * 2.0 / PI.sqrt(), max_relative = 1e-6);
         let weak = DMatrix::from_column_slice(4, 1, &[1e-9, 0.0, 0.0, 0.0]);
         approx::assert_relative_eq!(noise_by_evidence(&weak, 1.0, &r), (r.norm_squared() / 2.0).sqrt() * PI.sqrt() / 2.0, max_relative = 1e-6);
+    }
+
+    /// Two observations, two parameters with J = I and τ = 1 (κ = 1 in both directions): ℓ does
+    /// not fall towards v = 0, so σ̂ is the maximum, v + 1 = Σz²/2 = 5 for r = (3, 1): σ̂ = 2.
+    #[test]
+    fn without_a_free_direction_it_is_the_maximum() {
+        let r = DVector::from_vec(vec![3.0, 1.0]);
+        approx::assert_relative_eq!(noise_by_evidence(&DMatrix::identity(2, 2), 1.0, &r), 2.0, max_relative = 1e-9);
     }
 
     #[test]
