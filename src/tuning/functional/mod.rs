@@ -20,7 +20,7 @@
 //!   weighed against (`fit_on_rest_curves`);
 //!   `rest_curve_information.rs` the Fisher information, Cramér–Rao bounds, posterior and
 //!   prior pull of the curve coordinates ([`RestCurveInformation`]); `noise_evidence.rs` the
-//!   moment noise σ by the marginal likelihood under the prior.
+//!   moment noise σ from its marginal likelihood under the prior (the posterior mean).
 //! - `garner_pandy.rs`: the Garner & Pandy (2003) baseline ([`fit_garner_pandy`]).
 //! - `identifiability.rs`: Fisher information, D- and E-criteria and unidentifiable directions
 //!   per parameterisation ([`fisher_information`]).

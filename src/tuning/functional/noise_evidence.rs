@@ -68,20 +68,21 @@ pub fn noise_by_evidence(jacobian: &DMatrix<f64>, prior_sd: f64, innovation: &DV
         .filter(|&i| slopes[i - 1] > 0.0 && slopes[i] <= 0.0)
         .filter_map(|i| false_position(slope, [grid[i - 1], grid[i]], [slopes[i - 1], slopes[i]], LOG_TOLERANCE, 200));
     let Some(mode) = maxima.max_by(|a, b| likelihood(*a).total_cmp(&likelihood(*b))) else { return 0.0 };
-    if likelihood(grid[0]) - likelihood(mode) > IMPROPER {
+    let peak = likelihood(mode);
+    if likelihood(grid[0]) - peak > IMPROPER {
         return (0.5 * mode).exp();
     }
-    posterior_mean(likelihood, grid[0], high + ABOVE)
+    posterior_mean(|u| likelihood(u) - peak, grid[0], high + ABOVE)
 }
 
-/// ∫ e^{u/2 + ℓ(u)} du / ∫ e^{ℓ(u)} du over [low, high] (trapezoids of [`QUADRATURE_STEP`]).
+/// ∫ e^{u/2 + ℓ(u)} du / ∫ e^{ℓ(u)} du over [low, high] (trapezoids of [`QUADRATURE_STEP`]),
+/// with ℓ = `likelihood` shifted to its maximum 0 (so that e^ℓ cannot overflow).
 fn posterior_mean(likelihood: impl Fn(f64) -> f64, low: f64, high: f64) -> f64 {
     let steps = ((high - low) / QUADRATURE_STEP).ceil() as usize;
-    let nodes: Vec<(f64, f64)> = (0..=steps).map(|i| low + (high - low) * i as f64 / steps as f64).map(|u| (u, likelihood(u))).collect();
-    let peak = nodes.iter().map(|(_, l)| *l).fold(f64::NEG_INFINITY, f64::max);
     let (mut weighted, mut total) = (0.0, 0.0);
-    for (i, (u, l)) in nodes.iter().enumerate() {
-        let weight = (l - peak).exp() * if i == 0 || i == steps { 0.5 } else { 1.0 };
+    for i in 0..=steps {
+        let u = low + (high - low) * i as f64 / steps as f64;
+        let weight = likelihood(u).exp() * if i == 0 || i == steps { 0.5 } else { 1.0 };
         weighted += weight * (0.5 * u).exp();
         total += weight;
     }
