@@ -196,7 +196,10 @@ fn refuses_a_model_that_lacks_an_estimated_muscle() {
 
 /// train03 carries σ = 5 N·m noise: no fit is exact. Phase II (the thesis' min–max fit, alone
 /// with --no-rest-curve) ends where the largest error stops changing (ObjectiveStalled) or at a
-/// KKT point; the rest-curve least squares after it at a minimum — converged fits, written.
+/// KKT point; the rest-curve fit after it at a minimum — converged fits, written. The MAP fit
+/// (`--map`) fits the noise (RMS below σ: ten trials, eight coordinates); the default posterior
+/// mean weighs the basins instead and stays within 3σ of every trial, the MAP fit also within
+/// the hot start's largest error.
 #[test]
 fn fits_noisy_moments_and_reports_the_noise_level() {
     let dir = tempfile::tempdir().unwrap();
@@ -207,19 +210,25 @@ fn fits_noisy_moments_and_reports_the_noise_level() {
     assert!(["Converged", "ObjectiveStalled"].contains(&report["solver_status"].as_str().unwrap()), "{}", report["solver_status"]);
     let phase_two_worst = report["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).abs()).fold(0.0, f64::max);
     assert!(report["uncertainty"]["rest_curve"].is_null(), "Phase II alone holds no rest length exactly");
+    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train03"), &output, &["--sets", "set5", "--json", "--map"]);
+    assert_eq!(code, 0, "{stderr}");
+    let map: Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(map["prior"]["estimate"], "maximum a posteriori");
+    let rms = |r: &Value| (r["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).powi(2)).sum::<f64>() / 10.0).sqrt();
+    assert!(rms(&map) < 5.0, "MAP RMS error {} N·m above σ (Phase II's largest {phase_two_worst})", rms(&map));
     let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train03"), &output, &["--sets", "set5", "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let report: Value = serde_json::from_str(&stdout).unwrap();
     let status = report["solver_status"].as_str().unwrap();
     assert!(report["converged"] == true && status.starts_with("rest curves") && status.contains("Phase II"), "{status}");
-    let rms = |r: &Value| (r["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).powi(2)).sum::<f64>() / 10.0).sqrt();
-    assert!(rms(&report) < 5.0, "least-squares RMS error {} N·m above σ (Phase II's largest {phase_two_worst})", rms(&report));
+    assert_eq!(report["prior"]["estimate"], "posterior mean");
     assert_eq!(report["uncertainty"]["noise_source"], "subject file");
     assert_eq!(report["uncertainty"]["noise_sd"], 5.0);
     assert_rest_curve_uncertainty(&report);
-    let worst = report["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).abs()).fold(0.0, f64::max);
-    let hot = report["hot_start"]["max_moment_error"].as_f64().unwrap();
-    assert!(worst < hot && worst < 3.0 * 5.0, "fitted max error {worst} N·m, hot start {hot} N·m");
+    let worst = |r: &Value| r["trials"].as_array().unwrap().iter().map(|t| (t["fitted"].as_f64().unwrap() - t["measured"].as_f64().unwrap()).abs()).fold(0.0, f64::max);
+    let hot = map["hot_start"]["max_moment_error"].as_f64().unwrap();
+    assert!(worst(&map) < hot, "MAP max error {} N·m, hot start {hot} N·m", worst(&map));
+    assert!(worst(&report) < 3.0 * 5.0, "posterior mean's max error {} N·m", worst(&report));
     assert!(output.exists());
 }
 

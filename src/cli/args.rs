@@ -96,6 +96,9 @@ pub enum Command {
         /// Functional: plain least squares in the rest-curve fit (no prior around the model's values).
         #[arg(long)]
         no_prior: bool,
+        /// Functional: with the prior, report its maximum a-posteriori fit instead of the posterior mean (sampled on the search's tables).
+        #[arg(long, conflicts_with = "no_prior")]
+        map: bool,
         /// Functional: tie the vasti's and gastrocnemii's L_opt within 0.9–1.1 of each other (eq. 6.23–6.24).
         #[arg(long)]
         group_ratios: bool,

@@ -2,7 +2,7 @@
 //! (OpenSim 4.6 data, ground truth beside it) the thesis' 81 initial guesses without noise
 //! (also on train03's noise-free moments, a subject with a muscle slack at rest); noise draws
 //! at σ = 5 and 10 N·m from the truth beside the thesis' table 6.3, first in the thesis'
-//! protocol (the model is the truth, σ estimated by the fit or given), then with the bundled
+//! protocol (the model is the truth, σ estimated; the posterior mean and the MAP fit), then with the bundled
 //! model, which is off the truth, as the prior's centre (ours with and without the prior,
 //! Garner & Pandy; set5 and all 70 trials, each with the Fisher information at the truth:
 //! Cramér–Rao and posterior sd, the prior's predicted pull); and hidden single-muscle L_ts
@@ -15,7 +15,8 @@ use std::time::Instant;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{
-    single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, RestCurveInformation, SetSelection, TrialOptions,
+    single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, RestCurveInformation, RestCurveSettings, SetSelection,
+    TrialOptions,
     DEFAULT_PRIOR_SD,
 };
 use osim_tune::validation::functional::{
@@ -83,14 +84,14 @@ pub fn rows() -> Vec<Row> {
     let generic = model_with(&spec, &truth);
     let generic_knee = KneeMomentModel::new(&generic, &data).expect("the knee-moment model");
     let thesis_protocol = StudySubject { spec: &generic, knee: &generic_knee, data: &data, truth: &truth };
-    rows.extend(noise_rows(&thesis_protocol, "set5, the thesis' protocol (the model is the truth)", &[OURS, OURS_SIGMA_GIVEN], THESIS_PROTOCOL_DRAWS, false));
+    rows.extend(noise_rows(&thesis_protocol, "set5, the thesis' protocol (the model is the truth)", &[OURS, OURS_MAP], 2, THESIS_PROTOCOL_DRAWS, false));
     print_model_offset(&knee, &truth);
-    rows.extend(noise_rows(&subject, "set5, the model off the truth", &[OURS, NO_PRIOR, GARNER_PANDY], NOISE_DRAWS, true));
+    rows.extend(noise_rows(&subject, "set5, the model off the truth", &[OURS, NO_PRIOR, GARNER_PANDY], 1, NOISE_DRAWS, true));
     let more = FitSettings { phase_two: PhaseTwoSettings { rest_tolerance: Some(0.005), ..PhaseTwoSettings::default() }, ..FitSettings::default() };
     let all_sets = DynamometryData::read(&root.join(SUBJECT), &TrialOptions::default()).expect("the train01 fixture");
     let all_knee = KneeMomentModel::new(&spec, &all_sets).expect("the knee-moment model");
     let all_subject = StudySubject { spec: &spec, knee: &all_knee, data: &all_sets, truth: &truth };
-    rows.extend(noise_rows(&all_subject, "all 70 trials, the model off the truth", &[OURS, NO_PRIOR], NOISE_DRAWS, true));
+    rows.extend(noise_rows(&all_subject, "all 70 trials, the model off the truth", &[OURS, NO_PRIOR], 1, NOISE_DRAWS, true));
     let some: Vec<Vec<MuscleParameters>> = guesses.iter().step_by(9).cloned().collect();
     let richer = initial_guess_study(&all_subject, &some, &more);
     println!("with more information — set5+set10+set20 ({} trials) and the rest fiber length within ±0.5 % in Phase II, {} of the guesses:", all_sets.trials.len(), some.len());
@@ -106,34 +107,44 @@ struct Column {
 }
 
 const OURS: Column = Column { head: "ours", settings: |_| FitSettings::default() };
-const OURS_SIGMA_GIVEN: Column = Column { head: "ours, σ given", settings: |sd| FitSettings { noise_sd: Some(sd), ..FitSettings::default() } };
+const OURS_MAP: Column = Column {
+    head: "ours, MAP fit",
+    settings: |_| FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() },
+};
 const NO_PRIOR: Column = Column { head: "ours, no prior", settings: |_| FitSettings { prior_sd: None, ..FitSettings::default() } };
 const GARNER_PANDY: Column = Column { head: "Garner & Pandy", settings: |_| FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() } };
 
 /// The noise study at σ = 5 and 10 N·m, `draws` fits per column, its table, its failure row
-/// and the open goals of the first column; with `information`, the Fisher information at the
-/// truth after each table.
-fn noise_rows(subject: &StudySubject, label: &str, columns: &[Column], draws: usize, information: bool) -> Vec<Row> {
+/// and the open goals of the first `goal_columns` columns; with `information`, the Fisher
+/// information at the truth after each table.
+fn noise_rows(subject: &StudySubject, label: &str, columns: &[Column], goal_columns: usize, draws: usize, information: bool) -> Vec<Row> {
     let mut rows = Vec::new();
     for sd in [5.0, 10.0] {
         let results: Vec<StudyResult> = columns.iter().map(|c| noise_study(subject, sd, draws, 20 + sd as u64, &(c.settings)(sd))).collect();
         println!("{label}, σ = {sd} N·m, {draws} draws from the truth: mean ± sd of the relative error, % (L_opt, L_ts)");
         print_noise_table(subject.truth, sd, columns, &results, draws);
-        let ours = &results[0];
-        rows.push(failure_row(&format!("{label}, σ = {sd} N·m"), "train01", ours));
-        let means = |i: usize| (0..subject.truth.len()).map(|e| ours.statistics(e).mean[i].abs()).fold(0.0, f64::max);
-        open_goal(&format!("{label}, σ = {sd} N·m: mean |error| of L_ts"), means(1), 0.01);
-        open_goal(&format!("{label}, σ = {sd} N·m: mean |error| of L_opt"), means(0), 0.02);
-        let excess = (0..subject.truth.len())
-            .filter_map(|e| thesis_row(&subject.truth[e].name, sd).map(|t| [0, 1].map(|i| ours.statistics(e).sd[i] - t[i].1 / 100.0)))
-            .flatten()
-            .fold(f64::NEG_INFINITY, f64::max);
-        open_goal(&format!("{label}, σ = {sd} N·m: sd of ours − the thesis' sd, largest over muscles and parameters"), excess, 0.0);
+        rows.push(failure_row(&format!("{label}, σ = {sd} N·m"), "train01", &results[0]));
+        for (column, result) in columns.iter().zip(&results).take(goal_columns) {
+            print_goals(subject, &format!("{label}, σ = {sd} N·m, {}", column.head), sd, result);
+        }
         if information {
-            print_information(subject, sd, ours);
+            print_information(subject, sd, &results[0]);
         }
     }
     rows
+}
+
+/// The open goals of one column: largest |mean error| of L_ts and L_opt, largest sd above the
+/// thesis'.
+fn print_goals(subject: &StudySubject, label: &str, sd: f64, result: &StudyResult) {
+    let means = |i: usize| (0..subject.truth.len()).map(|e| result.statistics(e).mean[i].abs()).fold(0.0, f64::max);
+    open_goal(&format!("{label}: mean |error| of L_ts"), means(1), 0.01);
+    open_goal(&format!("{label}: mean |error| of L_opt"), means(0), 0.02);
+    let excess = (0..subject.truth.len())
+        .filter_map(|e| thesis_row(&subject.truth[e].name, sd).map(|t| [0, 1].map(|i| result.statistics(e).sd[i] - t[i].1 / 100.0)))
+        .flatten()
+        .fold(f64::NEG_INFINITY, f64::max);
+    open_goal(&format!("{label}: sd − the thesis' sd, largest over muscles and parameters"), excess, 0.0);
 }
 
 /// What the moments can tell at the truth with the rest lengths held: per muscle the

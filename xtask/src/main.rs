@@ -8,6 +8,7 @@ mod bench_scale;
 mod bench_functional;
 mod bench_ik;
 mod functional;
+mod functional_generated;
 mod fuzz;
 mod geometry;
 mod ik;

@@ -36,6 +36,7 @@ pub fn run() -> ExitCode {
     rows.extend(crate::knee_axis::rows());
     rows.extend(knee_swap::rows());
     rows.extend(crate::functional::rows());
+    rows.extend(crate::functional_generated::rows());
     rows.push(storage_round_trip(&files_with(&root().join("fixtures"), &["sto", "mot"])));
     rows.push(marker_round_trip(&files_with(&root().join("fixtures"), &["trc"])));
     print_table(&rows)

@@ -45,6 +45,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             no_rest_curve,
             prior_sd,
             no_prior,
+            map,
             group_ratios,
             noise_sd,
             sigma_points,
@@ -59,7 +60,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             json,
         } => match trials.as_deref().filter(|folder| !linear && setup.is_none() && scale_functional::is_dynamometry(folder)) {
             Some(folder) => {
-                let options = scale_functional::Options { method, rest_tolerance, rest_constraint, rest_curve: !no_rest_curve, prior_sd, no_prior, group_ratios, noise_sd, sigma_points };
+                let options = scale_functional::Options { method, rest_tolerance, rest_constraint, rest_curve: !no_rest_curve, prior_sd, no_prior, map, group_ratios, noise_sd, sigma_points };
                 let settings = options.settings();
                 let request = scale_functional::Request { sets, settings, force, report, json };
                 scale_functional::run(&model, folder, &output, &request)

@@ -40,6 +40,8 @@ pub struct Options {
     pub rest_curve: bool,
     pub prior_sd: Option<f64>,
     pub no_prior: bool,
+    /// The MAP fit under the prior instead of the posterior mean.
+    pub map: bool,
     pub group_ratios: bool,
     pub noise_sd: Option<f64>,
     pub sigma_points: bool,
@@ -58,7 +60,7 @@ impl Options {
             method,
             feasible,
             phase_two,
-            rest_curve: self.rest_curve.then(RestCurveSettings::default),
+            rest_curve: self.rest_curve.then(|| RestCurveSettings { posterior: RestCurveSettings::default().posterior.filter(|_| !self.map), ..RestCurveSettings::default() }),
             prior_sd: (!self.no_prior).then(|| self.prior_sd.unwrap_or(DEFAULT_PRIOR_SD)),
             noise_sd: self.noise_sd,
             sigma_points: self.sigma_points,
@@ -120,7 +122,7 @@ fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
     let initial_error = fit.trials.iter().map(|t| (t.initial - t.measured).abs()).fold(0.0, f64::max);
     println!("knee moment error: max {:.4} N·m, RMS {:.4} N·m (initial model: max {initial_error:.4} N·m)", fit.max_moment_error(), fit.rms_moment_error());
     if let Some(prior) = &fit.prior {
-        println!("rest-curve prior: L_opt within τ = {:.0} % of the model's, against moment noise σ = {:.3} N·m ({})", 100.0 * prior.coordinate_sd, prior.noise_sd, prior.noise_source);
+        println!("rest-curve prior: L_opt within τ = {:.0} % of the model's, against moment noise σ = {:.3} N·m ({}); estimate: the {}", 100.0 * prior.coordinate_sd, prior.noise_sd, prior.noise_source, prior.estimate);
     }
     print_parameters(fit);
     print_causes(fit);

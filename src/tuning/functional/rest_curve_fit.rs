@@ -22,6 +22,7 @@ use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::MuscleParameters;
 use super::rest_curve::RestCurve;
+use super::rest_curve_posterior::{posterior_mean, CoordinatePosterior, PosteriorSettings};
 use super::rest_curve_search::{muscle_groups, search, ContributionTable, CoordinatePrior, SearchBudget, Surrogate};
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 use nalgebra::DMatrix;
@@ -40,6 +41,9 @@ pub struct RestCurveSettings {
     /// Central-difference step in s.
     pub step: f64,
     pub least_squares: LeastSquaresOptions,
+    /// With a prior, the estimate is the posterior mean sampled on the search's tables
+    /// ([`posterior_mean_fit`]); `None`: the MAP fit.
+    pub posterior: Option<PosteriorSettings>,
 }
 
 impl Default for RestCurveSettings {
@@ -51,6 +55,7 @@ impl Default for RestCurveSettings {
             global_search: true,
             step: 1e-6,
             least_squares: LeastSquaresOptions { step_tolerance: 1e-8, gradient_tolerance: 1e-4, cost_tolerance: 1e-10, max_iterations: 200 },
+            posterior: Some(PosteriorSettings::default()),
         }
     }
 }
@@ -79,6 +84,15 @@ pub struct RestCurveFit {
     pub residuals: Vec<f64>,
     /// The prior's weight σ/τ, N·m (0 without a prior).
     pub prior_weight: f64,
+    /// The global search's curves and tables (`None` for a local fit).
+    pub search: Option<SearchTables>,
+}
+
+/// The curves and contribution tables of a global search.
+#[derive(Debug, Clone)]
+pub struct SearchTables {
+    pub curves: Vec<RestCurve>,
+    pub tables: Vec<ContributionTable>,
 }
 
 impl RestCurveFit {
@@ -141,7 +155,39 @@ pub fn fit_rest_curves(
     problem.evaluate(&x, &mut residuals, None);
     residuals.truncate(measured.len());
     let parameters = problem.parameters_at(&x).ok_or_else(|| FunctionalError::all_muscles("the rest-curve fit's point lost its equilibrium"))?;
-    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight })
+    let search = tables.map(|tables| SearchTables { curves, tables });
+    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight, search })
+}
+
+/// The posterior mean under `prior` of the fit `fit` to `measured` (N·m, one per trial), sampled
+/// on `fit`'s search tables (`rest_curve_posterior.rs`) by chains from `fit` and from the prior's
+/// centre: the curve points at the mean coordinates (`fit`'s where the grid does not resolve the
+/// posterior), with `fit`'s status, and the posterior;
+/// `None` when `fit` kept no tables or a curve has no point at the mean.
+pub fn posterior_mean_fit(
+    model: &KneeMomentModel,
+    fit: &RestCurveFit,
+    measured: &[f64],
+    prior: RestCurvePrior,
+    settings: &PosteriorSettings,
+) -> Result<Option<(RestCurveFit, CoordinatePosterior)>, FunctionalError> {
+    let Some(search) = &fit.search else { return Ok(None) };
+    let coordinate_prior = coordinate_prior(&search.curves, Some(prior))?;
+    let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
+    let at_fit: Vec<f64> = search.curves.iter().zip(&fit.parameters).map(|(c, p)| c.coordinate_of(p)).collect();
+    let starts = [at_fit, coordinate_prior.centre.clone()];
+    let Some(posterior) = posterior_mean(&search.tables, &residual_base, &coordinate_prior, prior.noise_sd, &starts, settings) else { return Ok(None) };
+    let mut workspace = model.estimated_muscles(&fit.parameters)?;
+    let mut points = Vec::with_capacity(fit.parameters.len());
+    for (curve, map) in search.curves.iter().zip(&fit.parameters) {
+        let e = curve.e;
+        let point = if posterior.resolved[e] { curve.at(model, &mut workspace, posterior.mean[e], map.tendon_slack_length) } else { Some(map.clone()) };
+        points.push(point);
+    }
+    let points: Option<Vec<MuscleParameters>> = points.into_iter().collect();
+    let Some(parameters) = points else { return Ok(None) };
+    let residuals = model.moments(&parameters)?.iter().zip(measured).map(|(m, y)| m - y).collect();
+    Ok(Some((RestCurveFit { parameters, residuals, ..fit.clone() }, posterior)))
 }
 
 /// The prior in curve coordinates (weight 0 without one); an error for a non-positive τ or a

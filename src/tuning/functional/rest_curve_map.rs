@@ -4,7 +4,7 @@
 //! - without a prior (τ unset), or on noise-free moments — σ given at most
 //!   [`NEGLIGIBLE_NOISE`], or the fit without prior reproducing the moments so that the
 //!   marginal likelihood finds σ at most that — the least-squares fit;
-//! - σ given (option or subject file): the MAP fit under the prior with that σ;
+//! - σ given (option or subject file): the fit under the prior with that σ;
 //! - else σ from the marginal likelihood of the moments under the prior (its posterior mean,
 //!   `noise_evidence.rs`), linearised first at the fit without prior, then at each MAP estimate,
 //!   which is refitted locally with the new σ until σ changes by less than
@@ -12,13 +12,17 @@
 //!   refits, reported when σ has not settled).
 //!   A fit without prior leaves few degrees of freedom for σ (set5: ten trials, eight
 //!   coordinates); the marginal likelihood also counts the directions the prior holds.
+//!
+//! Under the prior the estimate is the posterior mean of the curve coordinates
+//! (`rest_curve_posterior.rs`) at the final σ, unless the settings ask for the MAP fit (or the
+//! mean cannot be sampled: then the MAP fit, said so in the progress).
 
 use serde::Serialize;
 
 use super::error::FunctionalError;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::MuscleParameters;
-use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+use super::rest_curve_fit::{fit_rest_curves, posterior_mean_fit, RestCurveFit, RestCurvePrior, RestCurveSettings};
 use super::rest_curve_information::RestCurveInformation;
 
 /// σ (N·m) below which moments count as noise-free (dynamometers resolve about 0.1 N·m): the
@@ -30,6 +34,9 @@ pub const EVIDENCE_TOLERANCE: f64 = 0.01;
 pub const EVIDENCE_ROUNDS: usize = 10;
 /// The source of a σ estimated with the prior.
 const MARGINAL_LIKELIHOOD: &str = "marginal likelihood";
+/// The estimates under the prior.
+const POSTERIOR_MEAN: &str = "posterior mean";
+const MAXIMUM_A_POSTERIORI: &str = "maximum a posteriori";
 
 /// The Gaussian prior a rest-curve fit used: relative sd τ of L_opt around the model's, moment
 /// noise σ (N·m).
@@ -39,6 +46,8 @@ pub struct AppliedPrior {
     pub noise_sd: f64,
     /// Where σ came from: "given", "subject file" or "marginal likelihood" (under the prior).
     pub noise_source: &'static str,
+    /// "posterior mean" or "maximum a posteriori".
+    pub estimate: &'static str,
 }
 
 /// What the rest-curve fit works on: the trials' model, the held rest fiber lengths (m, one per
@@ -66,8 +75,9 @@ pub fn fit_on_rest_curves(
     let mut starts = vec![phase_two.to_vec()];
     if let (Some((noise_sd, noise_source)), Some(coordinate_sd)) = (noise, prior_sd) {
         if noise_sd > NEGLIGIBLE_NOISE {
-            let prior = AppliedPrior { coordinate_sd, noise_sd, noise_source };
-            return Ok((problem.fit(&starts, Some(prior), true, progress)?, Some(prior)));
+            let prior = AppliedPrior { coordinate_sd, noise_sd, noise_source, estimate: MAXIMUM_A_POSTERIORI };
+            let map = problem.fit(&starts, Some(prior), true, progress)?;
+            return problem.posterior(map, prior, progress);
         }
     }
     let plain = problem.fit(&starts, None, true, progress)?;
@@ -80,31 +90,33 @@ pub fn fit_on_rest_curves(
         return Ok((plain, None));
     }
     starts.insert(0, plain.parameters);
-    let prior = AppliedPrior { coordinate_sd, noise_sd, noise_source: MARGINAL_LIKELIHOOD };
-    evidence_fixed_point(problem, &starts, prior, progress)
+    let prior = AppliedPrior { coordinate_sd, noise_sd, noise_source: MARGINAL_LIKELIHOOD, estimate: MAXIMUM_A_POSTERIORI };
+    let (map, prior) = evidence_fixed_point(problem, &starts, prior, progress)?;
+    problem.posterior(map, prior, progress)
 }
 
 /// The MAP fit from `starts` (global search) with σ re-estimated at each estimate and refitted
-/// locally until it settles.
+/// locally until it settles; the fit keeps the global search's tables.
 fn evidence_fixed_point(
     problem: &RestCurveProblem,
     starts: &[Vec<MuscleParameters>],
     mut prior: AppliedPrior,
     progress: &mut dyn FnMut(&str),
-) -> Result<(RestCurveFit, Option<AppliedPrior>), FunctionalError> {
+) -> Result<(RestCurveFit, AppliedPrior), FunctionalError> {
     progress(&format!("rest curves: σ = {:.3} N·m by the marginal likelihood under the prior; again with the prior", prior.noise_sd));
     let mut curves = problem.fit(starts, Some(prior), true, progress)?;
+    let search = curves.search.take();
     for _ in 0..EVIDENCE_ROUNDS {
         let noise_sd = problem.evidence(&curves, prior.coordinate_sd)?;
         if (noise_sd - prior.noise_sd).abs() <= EVIDENCE_TOLERANCE * prior.noise_sd || noise_sd <= NEGLIGIBLE_NOISE {
-            return Ok((curves, Some(prior)));
+            return Ok((RestCurveFit { search, ..curves }, prior));
         }
         prior.noise_sd = noise_sd;
         progress(&format!("rest curves: σ = {noise_sd:.3} N·m at the estimate; refitted from it"));
         curves = problem.fit(std::slice::from_ref(&curves.parameters), Some(prior), false, progress)?;
     }
-    progress(&format!("rest curves: σ has not settled within {EVIDENCE_ROUNDS} refits; the estimate is the MAP fit at σ = {:.3} N·m", prior.noise_sd));
-    Ok((curves, Some(prior)))
+    progress(&format!("rest curves: σ has not settled within {EVIDENCE_ROUNDS} refits; the estimate is taken at σ = {:.3} N·m", prior.noise_sd));
+    Ok((RestCurveFit { search, ..curves }, prior))
 }
 
 impl RestCurveProblem<'_> {
@@ -122,6 +134,22 @@ impl RestCurveProblem<'_> {
             curves.residuals.iter().fold(0.0, |m: f64, r| m.max(r.abs()))
         ));
         Ok(curves)
+    }
+
+    /// The posterior mean from the MAP fit `map` under `prior` (the settings', else `map`).
+    fn posterior(&self, map: RestCurveFit, prior: AppliedPrior, progress: &mut dyn FnMut(&str)) -> Result<(RestCurveFit, Option<AppliedPrior>), FunctionalError> {
+        let Some(settings) = &self.settings.posterior else { return Ok((map, Some(prior))) };
+        let curve_prior = RestCurvePrior { model: self.centre, coordinate_sd: prior.coordinate_sd, noise_sd: prior.noise_sd };
+        match posterior_mean_fit(self.knee, &map, self.measured, curve_prior, settings)? {
+            Some((mean, posterior)) => {
+                progress(&format!("rest curves: posterior mean from {} Gibbs samples at σ = {:.3} N·m", posterior.samples, prior.noise_sd));
+                Ok((mean, Some(AppliedPrior { estimate: POSTERIOR_MEAN, ..prior })))
+            }
+            None => {
+                progress("rest curves: the posterior mean could not be sampled (no table or no curve point at the mean); the estimate is the MAP fit");
+                Ok((map, Some(prior)))
+            }
+        }
     }
 
     /// σ by the marginal likelihood under a prior of sd τ = `coordinate_sd`, linearised at `curves`.

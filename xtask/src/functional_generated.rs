@@ -1,0 +1,75 @@
+//! Held-out functional-scaling rows: twelve noisy subjects made by the shared OpenSim 4.6
+//! generator with seeds no development run used (`oracle/gen_dynamometry_subjects.py`; σ = 5 N·m
+//! for gen01–06, 10 N·m for gen07–12), each fitted once on its own noisy moments with the
+//! bundled model as the prior's centre, as a lab would run it. Per estimator (the default
+//! posterior mean, the MAP fit) and trial selection (set5, all 70 trials): the RMS relative
+//! error of L_opt and L_ts over every muscle and subject, beside the model's own.
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
+use osim_tune::validation::functional::GroundTruth;
+
+use crate::root;
+use crate::validate::Row;
+
+const SUBJECTS: &str = "fixtures/dynamometry/generated";
+const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
+const COUNT: usize = 12;
+
+/// Squared relative errors [L_opt, L_ts] summed over muscles and subjects, and their count.
+#[derive(Default, Clone, Copy)]
+struct Squares {
+    sum: [f64; 2],
+    count: usize,
+}
+
+impl Squares {
+    fn add(&mut self, fitted: &[MuscleParameters], truth: &[MuscleParameters]) {
+        for (f, t) in fitted.iter().zip(truth) {
+            self.sum[0] += (f.optimal_fiber_length / t.optimal_fiber_length - 1.0).powi(2);
+            self.sum[1] += (f.tendon_slack_length / t.tendon_slack_length - 1.0).powi(2);
+            self.count += 1;
+        }
+    }
+
+    fn rms(&self) -> [f64; 2] {
+        self.sum.map(|s| (s / self.count.max(1) as f64).sqrt())
+    }
+}
+
+pub fn rows() -> Vec<Row> {
+    let root = root();
+    let spec = ModelSpec::read(&OsimDocument::read(&root.join(MODEL)).expect("the base model")).expect("the base model");
+    let map = FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() };
+    let mut rows = Vec::new();
+    println!("held-out OpenSim-generated subjects gen01–gen12 (σ = 5 / 10 N·m), RMS relative error over 8 muscles × 12 subjects, L_opt / L_ts:");
+    for (label, sets) in [("set5", SetSelection::Only(vec!["set5".into()])), ("all 70 trials", SetSelection::All)] {
+        let (mut model, mut mean, mut mode, mut failed) = (Squares::default(), Squares::default(), Squares::default(), Vec::new());
+        for k in 1..=COUNT {
+            let folder = root.join(SUBJECTS).join(format!("gen{k:02}"));
+            let data = DynamometryData::read(&folder, &TrialOptions { sets: sets.clone(), ..TrialOptions::default() }).expect("a generated subject");
+            let knee = KneeMomentModel::new(&spec, &data).expect("the knee-moment model");
+            let initial = knee.nominal_parameters();
+            let truth = GroundTruth::read(&folder).ok().and_then(|t| t.parameters(&initial)).expect("the subject's true parameters");
+            let measured = data.measured_moments();
+            model.add(&initial, &truth);
+            for (settings, squares) in [(&FitSettings::default(), &mut mean), (&map, &mut mode)] {
+                match estimate(&spec, &knee, &data, &initial, &measured, settings, &mut |_| {}) {
+                    Ok(fit) => squares.add(&fit.fitted, &truth),
+                    Err(e) => failed.push(format!("gen{k:02}: {e}")),
+                }
+            }
+        }
+        let cell = |s: &Squares| format!("{:.2} / {:.2} %", 100.0 * s.rms()[0], 100.0 * s.rms()[1]);
+        println!("  {label:<14} posterior mean {}   MAP {}   the model {}", cell(&mean), cell(&mode), cell(&model));
+        let reference = format!("gen01–12, {label}");
+        let at = failed.join("; ");
+        rows.push(Row { what: "generated: fits that fail".into(), reference: reference.clone(), worst: failed.len() as f64, tolerance: 0.0, at });
+        rows.push(Row { what: "generated: RMS L_ts error, posterior mean".into(), reference: reference.clone(), worst: mean.rms()[1], tolerance: 0.01, at: String::new() });
+        rows.push(Row { what: "generated: RMS L_opt error, posterior mean / MAP's".into(), reference: reference.clone(), worst: mean.rms()[0] / mode.rms()[0], tolerance: 1.0, at: String::new() });
+        rows.push(Row { what: "generated: RMS L_opt error, posterior mean / model's".into(), reference, worst: mean.rms()[0] / model.rms()[0], tolerance: 1.0, at: String::new() });
+    }
+    println!();
+    rows
+}
