@@ -10,7 +10,7 @@ mod common;
 use common::fixture;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
+use osim_tune::tuning::functional::{DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
 use osim_tune::validation::functional::{fit_errors, thesis_initial_guesses, GroundTruth, StudySubject};
 
 /// The subject's set5 trials, the model, its ground truth and the noise-free moments
@@ -67,13 +67,10 @@ fn posterior_mean_beats_the_map_fit_on_generated_subjects() {
     for k in 1..=4 {
         let (spec, data, truth, _) = subject(&format!("generated/gen{k:02}"));
         let knee = KneeMomentModel::new(&spec, &data).unwrap();
-        let measured = data.measured_moments();
+        let study = StudySubject { spec: &spec, knee: &knee, data: &data, truth: &truth };
         for (settings, squares) in [(&FitSettings::default(), &mut mean), (&map, &mut mode)] {
-            let fitted = estimate(&spec, &knee, &data, &knee.nominal_parameters(), &measured, settings, &mut |_| {}).unwrap().fitted;
-            for (f, t) in fitted.iter().zip(&truth) {
-                squares[0] += (f.optimal_fiber_length / t.optimal_fiber_length - 1.0).powi(2);
-                squares[1] += (f.tendon_slack_length / t.tendon_slack_length - 1.0).powi(2);
-            }
+            let (errors, _) = fit_errors(&study, &knee.nominal_parameters(), &data.measured_moments(), settings).unwrap();
+            errors.iter().for_each(|e| (0..2).for_each(|i| squares[i] += e[i] * e[i]));
         }
     }
     let rms = |s: [f64; 2]| s.map(|v| (v / 32.0).sqrt());

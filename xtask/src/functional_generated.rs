@@ -8,7 +8,7 @@
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
-use osim_tune::validation::functional::GroundTruth;
+use osim_tune::validation::functional::{relative_errors, GroundTruth};
 
 use crate::root;
 use crate::validate::Row;
@@ -26,9 +26,8 @@ struct Squares {
 
 impl Squares {
     fn add(&mut self, fitted: &[MuscleParameters], truth: &[MuscleParameters]) {
-        for (f, t) in fitted.iter().zip(truth) {
-            self.sum[0] += (f.optimal_fiber_length / t.optimal_fiber_length - 1.0).powi(2);
-            self.sum[1] += (f.tendon_slack_length / t.tendon_slack_length - 1.0).powi(2);
+        for errors in relative_errors(fitted, truth) {
+            (0..2).for_each(|i| self.sum[i] += errors[i] * errors[i]);
             self.count += 1;
         }
     }

@@ -17,7 +17,8 @@
 //!   rest fiber length; `rest_curve_search.rs` the global search on tabulated contributions;
 //!   `rest_curve_fit.rs` the fit on the rest curves after Phase II ([`fit_rest_curves`]);
 //!   `rest_curve_map.rs` that fit as the estimator runs it, with the prior and the σ it is
-//!   weighed against (`fit_on_rest_curves`);
+//!   weighed against (`fit_on_rest_curves`); `rest_curve_posterior.rs` the posterior mean of
+//!   the curve coordinates under the prior, the default estimate;
 //!   `rest_curve_information.rs` the Fisher information, Cramér–Rao bounds, posterior and
 //!   prior pull of the curve coordinates ([`RestCurveInformation`]); `noise_evidence.rs` the
 //!   moment noise σ from its marginal likelihood under the prior (the posterior mean).
@@ -69,11 +70,11 @@ pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
 pub use parameters::{MuscleParameters, Parameter};
 pub use rest_curve::RestCurve;
-pub use rest_curve_fit::{fit_rest_curves, posterior_mean_fit, RestCurveFit, RestCurvePrior, RestCurveSettings, SearchTables};
-pub use rest_curve_posterior::{posterior_mean, CoordinatePosterior, PosteriorSettings};
+pub use rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+pub use rest_curve_posterior::PosteriorSettings;
 pub use rest_curve_map::AppliedPrior;
 pub use rest_curve_information::{RestCurveInformation, COORDINATE_STEP, REST_CURVE_PARAMETERISATION};
-pub use rest_curve_search::{ContributionTable, SearchBudget};
+pub use rest_curve_search::SearchBudget;
 pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};
 pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
 pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};

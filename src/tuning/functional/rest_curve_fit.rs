@@ -42,7 +42,7 @@ pub struct RestCurveSettings {
     pub step: f64,
     pub least_squares: LeastSquaresOptions,
     /// With a prior, the estimate is the posterior mean sampled on the search's tables
-    /// ([`posterior_mean_fit`]); `None`: the MAP fit.
+    /// (`rest_curve_posterior.rs`); `None`: the MAP fit.
     pub posterior: Option<PosteriorSettings>,
 }
 
@@ -84,15 +84,16 @@ pub struct RestCurveFit {
     pub residuals: Vec<f64>,
     /// The prior's weight σ/τ, N·m (0 without a prior).
     pub prior_weight: f64,
-    /// The global search's curves and tables (`None` for a local fit).
-    pub search: Option<SearchTables>,
+    /// The global search's curves and tables, kept for the posterior mean (`None` for a local
+    /// fit).
+    pub(crate) search: Option<SearchTables>,
 }
 
 /// The curves and contribution tables of a global search.
 #[derive(Debug, Clone)]
-pub struct SearchTables {
-    pub curves: Vec<RestCurve>,
-    pub tables: Vec<ContributionTable>,
+pub(crate) struct SearchTables {
+    curves: Vec<RestCurve>,
+    tables: Vec<ContributionTable>,
 }
 
 impl RestCurveFit {
@@ -159,18 +160,18 @@ pub fn fit_rest_curves(
     Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight, search })
 }
 
-/// The posterior mean under `prior` of the fit `fit` to `measured` (N·m, one per trial), sampled
-/// on `fit`'s search tables (`rest_curve_posterior.rs`) by chains from `fit` and from the prior's
-/// centre: the curve points at the mean coordinates (`fit`'s where the grid does not resolve the
-/// posterior), with `fit`'s status, and the posterior;
-/// `None` when `fit` kept no tables or a curve has no point at the mean.
-pub fn posterior_mean_fit(
+/// Moves the fit `fit` to `measured` (N·m, one per trial) to its posterior mean under `prior`,
+/// sampled on `fit`'s search tables (`rest_curve_posterior.rs`) by chains from `fit` and from the
+/// prior's centre: the curve points at the mean coordinates (`fit`'s where the grid does not
+/// resolve the posterior) and their residuals; `fit`'s status stays. Returns the posterior;
+/// `None`, with `fit` unchanged, when `fit` kept no tables or a curve has no point at the mean.
+pub(crate) fn move_to_posterior_mean(
     model: &KneeMomentModel,
-    fit: &RestCurveFit,
+    fit: &mut RestCurveFit,
     measured: &[f64],
     prior: RestCurvePrior,
     settings: &PosteriorSettings,
-) -> Result<Option<(RestCurveFit, CoordinatePosterior)>, FunctionalError> {
+) -> Result<Option<CoordinatePosterior>, FunctionalError> {
     let Some(search) = &fit.search else { return Ok(None) };
     let coordinate_prior = coordinate_prior(&search.curves, Some(prior))?;
     let residual_base: Vec<f64> = model.fixed_moments().iter().zip(measured).map(|(f, m)| f - m).collect();
@@ -186,8 +187,9 @@ pub fn posterior_mean_fit(
     }
     let points: Option<Vec<MuscleParameters>> = points.into_iter().collect();
     let Some(parameters) = points else { return Ok(None) };
-    let residuals = model.moments(&parameters)?.iter().zip(measured).map(|(m, y)| m - y).collect();
-    Ok(Some((RestCurveFit { parameters, residuals, ..fit.clone() }, posterior)))
+    fit.residuals = model.moments(&parameters)?.iter().zip(measured).map(|(m, y)| m - y).collect();
+    fit.parameters = parameters;
+    Ok(Some(posterior))
 }
 
 /// The prior in curve coordinates (weight 0 without one); an error for a non-positive τ or a

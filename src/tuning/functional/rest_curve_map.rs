@@ -22,7 +22,7 @@ use serde::Serialize;
 use super::error::FunctionalError;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::MuscleParameters;
-use super::rest_curve_fit::{fit_rest_curves, posterior_mean_fit, RestCurveFit, RestCurvePrior, RestCurveSettings};
+use super::rest_curve_fit::{fit_rest_curves, move_to_posterior_mean, RestCurveFit, RestCurvePrior, RestCurveSettings};
 use super::rest_curve_information::RestCurveInformation;
 
 /// σ (N·m) below which moments count as noise-free (dynamometers resolve about 0.1 N·m): the
@@ -136,14 +136,15 @@ impl RestCurveProblem<'_> {
         Ok(curves)
     }
 
-    /// The posterior mean from the MAP fit `map` under `prior` (the settings', else `map`).
-    fn posterior(&self, map: RestCurveFit, prior: AppliedPrior, progress: &mut dyn FnMut(&str)) -> Result<(RestCurveFit, Option<AppliedPrior>), FunctionalError> {
+    /// The estimate from the MAP fit `map` under `prior`: its posterior mean when the settings
+    /// ask for one and it can be sampled, else `map` itself.
+    fn posterior(&self, mut map: RestCurveFit, prior: AppliedPrior, progress: &mut dyn FnMut(&str)) -> Result<(RestCurveFit, Option<AppliedPrior>), FunctionalError> {
         let Some(settings) = &self.settings.posterior else { return Ok((map, Some(prior))) };
         let curve_prior = RestCurvePrior { model: self.centre, coordinate_sd: prior.coordinate_sd, noise_sd: prior.noise_sd };
-        match posterior_mean_fit(self.knee, &map, self.measured, curve_prior, settings)? {
-            Some((mean, posterior)) => {
+        match move_to_posterior_mean(self.knee, &mut map, self.measured, curve_prior, settings)? {
+            Some(posterior) => {
                 progress(&format!("rest curves: posterior mean from {} Gibbs samples at σ = {:.3} N·m", posterior.samples, prior.noise_sd));
-                Ok((mean, Some(AppliedPrior { estimate: POSTERIOR_MEAN, ..prior })))
+                Ok((map, Some(AppliedPrior { estimate: POSTERIOR_MEAN, ..prior })))
             }
             None => {
                 progress("rest curves: the posterior mean could not be sampled (no table or no curve point at the mean); the estimate is the MAP fit");

@@ -28,9 +28,11 @@ use super::rest_curve_search::{ContributionTable, CoordinatePrior};
 pub struct PosteriorSettings {
     /// Sub-intervals per table interval of each muscle's grid.
     pub refinement: usize,
-    /// Sweeps per chain, and the first of them left out.
+    /// Sweeps per chain.
     pub sweeps: usize,
+    /// The first sweeps of each chain, left out of the mean.
     pub burn_in: usize,
+    /// Seed of the generator.
     pub seed: u64,
 }
 
@@ -94,8 +96,9 @@ impl MuscleGrid {
     fn new(table: &ContributionTable, trials: usize, refinement: usize, prior: &CoordinatePrior, e: usize) -> MuscleGrid {
         let all: Vec<usize> = (0..trials).collect();
         let (mut value, mut slope) = (vec![0.0; trials], vec![0.0; trials]);
-        let steps = (table.points.len() - 1) * refinement.max(1);
-        let spacing = table.spacing / refinement.max(1) as f64;
+        let refinement = refinement.max(1);
+        let steps = (table.points.len() - 1) * refinement;
+        let spacing = table.spacing / refinement as f64;
         let mut grid = MuscleGrid { spacing, s: Vec::new(), contributions: Vec::new(), fixed: Vec::new() };
         for i in 0..=steps {
             let s = table.start + spacing * i as f64;
