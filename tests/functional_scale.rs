@@ -181,6 +181,20 @@ fn refuses_a_non_positive_prior_or_noise_level() {
     }
 }
 
+/// Options of the rest-curve fit's prior make no sense without the rest-curve fit, nor with no
+/// prior: refused by the argument parser, nothing written.
+#[test]
+fn refuses_prior_options_without_the_rest_curve_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("out.osim");
+    for pair in [["--map", "--no-rest-curve"], ["--prior-sd=0.2", "--no-rest-curve"], ["--map", "--no-prior"]] {
+        let (code, _, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &pair);
+        assert_eq!(code, 2, "{pair:?}: {stderr}");
+        assert!(stderr.contains("cannot be used with"), "{pair:?}: {stderr}");
+        assert!(!output.exists());
+    }
+}
+
 #[test]
 fn refuses_a_model_that_lacks_an_estimated_muscle() {
     let dir = tempfile::tempdir().unwrap();
@@ -234,13 +248,16 @@ fn fits_noisy_moments_and_reports_the_noise_level() {
 
 /// With the rest lengths held, the report has one identifiable coordinate per muscle, a
 /// Cramér–Rao sd for every L_opt and L_ts, and posterior sds with the default prior (τ = 0.1 in
-/// s) no larger than the prior's own: sd(L_opt) ≤ τ·L_opt, the tangent dL_opt/ds being L_opt
-/// (unclamped) or 0 (clamped).
+/// s), sampled (the estimate is the posterior mean), no larger than the prior's own, sd(L_opt)
+/// ≤ τ·L_opt (the tangent dL_opt/ds being L_opt unclamped, 0 clamped), nor than the Cramér–Rao
+/// sd: the moments and the prior each add information (on average a posterior variance is below
+/// the prior's, by the law of total variance; the Laplace sds obey both bounds exactly).
 fn assert_rest_curve_uncertainty(report: &Value) {
     let on_curves = report["identifiability"].as_array().unwrap().iter().find(|r| r["parameterisation"] == "[s] on the rest curves").expect("the rest-curve parameterisation");
     assert_eq!(on_curves["identifiability"]["rank"], 8, "{on_curves}");
     let rest_curve = &report["uncertainty"]["rest_curve"];
     let posterior = rest_curve["posterior"].as_array().unwrap();
+    assert!(rest_curve["posterior_method"].as_array().unwrap().iter().all(|m| m == "sampled"), "{}", rest_curve["posterior_method"]);
     for (e, fitted) in report["fitted"].as_array().unwrap().iter().enumerate() {
         assert!(rest_curve["cramer_rao"][e].as_array().unwrap().iter().all(Value::is_number), "{}", rest_curve["cramer_rao"][e]);
         let optimal = fitted["optimal_fiber_length"].as_f64().unwrap();

@@ -91,13 +91,13 @@ pub enum Command {
         #[arg(long)]
         no_rest_curve: bool,
         /// Functional: τ of the rest-curve fit's Gaussian prior around the model's L_opt (relative sd; default 0.1), weighed against the moment noise σ.
-        #[arg(long, conflicts_with = "no_prior")]
+        #[arg(long, conflicts_with_all = ["no_prior", "no_rest_curve"])]
         prior_sd: Option<f64>,
         /// Functional: plain least squares in the rest-curve fit (no prior around the model's values).
         #[arg(long)]
         no_prior: bool,
         /// Functional: with the prior, report its maximum a-posteriori fit instead of the posterior mean (sampled on the search's tables).
-        #[arg(long, conflicts_with = "no_prior")]
+        #[arg(long, conflicts_with_all = ["no_prior", "no_rest_curve"])]
         map: bool,
         /// Functional: tie the vasti's and gastrocnemii's L_opt within 0.9–1.1 of each other (eq. 6.23–6.24).
         #[arg(long)]

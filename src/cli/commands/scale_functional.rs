@@ -10,7 +10,7 @@ use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
     fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
-    TrialOptions, DEFAULT_PRIOR_SD, SUBJECT_FILE,
+    TrialOptions, DEFAULT_PRIOR_SD, LAPLACE, SAMPLED, SUBJECT_FILE,
 };
 
 use super::super::args::ScaleMethodArgument;
@@ -139,15 +139,23 @@ fn print_parameters(fit: &FunctionalFit) {
     let u = &fit.uncertainty;
     let held = if u.rest_curve.is_some() { ", rest fiber lengths held" } else { "" };
     let posterior = u.rest_curve.as_ref().and_then(|r| r.posterior.as_ref());
-    let columns = [(posterior.is_some(), ", posterior sd with the prior"), (u.sigma_points.is_some(), ", sigma-point sd")];
-    let extra: String = columns.iter().filter(|(shown, _)| *shown).map(|(_, text)| *text).collect();
+    let methods = u.rest_curve.as_ref().and_then(|r| r.posterior_method.as_deref()).unwrap_or(&[]);
+    let mixed = methods.iter().any(|m| *m != methods[0]);
+    let method = match methods.first() {
+        Some(_) if mixed => format!(" ({SAMPLED}; {LAPLACE} where marked L)"),
+        Some(first) => format!(" ({first})"),
+        None => String::new(),
+    };
+    let columns = [(posterior.is_some(), format!(", posterior sd with the prior{method}")), (u.sigma_points.is_some(), ", sigma-point sd".to_string())];
+    let extra: String = columns.iter().filter(|(shown, _)| *shown).map(|(_, text)| text.as_str()).collect();
     println!("\nparameters (m): old → new (change), ± Cramér–Rao sd at σ = {:.3} N·m ({}{held}){extra}", u.noise_sd, u.noise_source);
     for (e, (old, new)) in fit.initial.iter().zip(&fit.fitted).enumerate() {
         for (i, parameter) in [Parameter::OptimalFiberLength, Parameter::TendonSlackLength].into_iter().enumerate() {
             let (a, b) = (old.get(parameter), new.get(parameter));
             let cramer_rao = u.rest_curve.as_ref().map_or(u.cramer_rao[e][i], |r| r.cramer_rao[e][i]);
             let bound = cramer_rao.map_or("not identifiable".to_string(), |sd| format!("± {sd:.5}"));
-            let prior = posterior.map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
+            let mark = if mixed && methods[e] == LAPLACE { " L" } else { "" };
+            let prior = posterior.map_or(String::new(), |s| format!(", ± {:.5}{mark}", s[e][i]));
             let sigma = u.sigma_points.as_ref().map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
             println!("  {:<12} {:<5} {a:.6} → {b:.6} ({:+.2} %) {bound}{prior}{sigma}", new.name, parameter.symbol(), 100.0 * (b / a - 1.0));
         }

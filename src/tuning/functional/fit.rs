@@ -156,14 +156,31 @@ pub struct RestCurveUncertainty {
     /// Cramér–Rao bound from the moments alone (any unbiased estimator), at the report's σ;
     /// `None` where not identifiable.
     pub cramer_rao: Vec<[Option<f64>; 2]>,
-    /// Posterior sd with the fit's prior, at the prior's σ, when it had one.
+    /// Posterior sd with the fit's prior, at the prior's σ, when it had one: of the posterior
+    /// mean from its Gibbs samples; of the MAP fit, and of a coordinate the sampling grid does
+    /// not resolve, the Laplace approximation (linearised at the estimate).
     pub posterior: Option<Vec<[f64; 2]>>,
+    /// Per muscle, how its posterior sd was found: [`SAMPLED`] or [`LAPLACE`].
+    pub posterior_method: Option<Vec<&'static str>>,
 }
 
+/// A posterior sd from the Gibbs samples.
+pub const SAMPLED: &str = "sampled";
+/// A posterior sd of the Laplace approximation.
+pub const LAPLACE: &str = "Laplace";
+
 impl RestCurveUncertainty {
-    fn of(information: &RestCurveInformation, prior: Option<AppliedPrior>) -> Result<RestCurveUncertainty, FunctionalError> {
-        let posterior = prior.map(|p| information.posterior(p.coordinate_sd, p.noise_sd)).transpose()?;
-        Ok(RestCurveUncertainty { cramer_rao: information.cramer_rao(), posterior })
+    /// `sampled`: each muscle's sampled posterior sd of [L_opt, L_ts], where there is one.
+    fn of(information: &RestCurveInformation, prior: Option<AppliedPrior>, sampled: Option<&[Option<[f64; 2]>]>) -> Result<RestCurveUncertainty, FunctionalError> {
+        let cramer_rao = information.cramer_rao();
+        let Some(prior) = prior else { return Ok(RestCurveUncertainty { cramer_rao, posterior: None, posterior_method: None }) };
+        let laplace = information.posterior(prior.coordinate_sd, prior.noise_sd)?;
+        let per_muscle = laplace.into_iter().enumerate().map(|(e, sd)| match sampled.and_then(|s| s[e]) {
+            Some(sampled) => (sampled, SAMPLED),
+            None => (sd, LAPLACE),
+        });
+        let (posterior, methods) = per_muscle.unzip();
+        Ok(RestCurveUncertainty { cramer_rao, posterior: Some(posterior), posterior_method: Some(methods) })
     }
 }
 
@@ -208,6 +225,9 @@ pub struct Estimate {
     pub prior: Option<AppliedPrior>,
     /// The rest fiber lengths (m) the estimate holds, when the rest-curve fit made it.
     pub held_rest_lengths: Option<Vec<f64>>,
+    /// When the estimate is the posterior mean on the rest curves: each muscle's sampled
+    /// posterior sd of [L_opt, L_ts], m (`None` where the grid does not resolve it).
+    pub sampled_sd: Option<Vec<Option<[f64; 2]>>>,
 }
 
 /// The estimator of `settings.method` alone, from `initial` (one per estimated muscle) on
@@ -259,7 +279,7 @@ pub fn fit(
     let mut identifiability: Vec<ParameterisationReport> = fishers.iter().map(ParameterisationReport::of).collect();
     let on_curves = estimate.held_rest_lengths.as_ref().map(|references| RestCurveInformation::new(knee, &estimate.fitted, references, noise_sd)).transpose()?;
     identifiability.extend(on_curves.as_ref().map(|information| ParameterisationReport::of(&information.fisher)));
-    let rest_curve = on_curves.map(|information| RestCurveUncertainty::of(&information, estimate.prior)).transpose()?;
+    let rest_curve = on_curves.map(|information| RestCurveUncertainty::of(&information, estimate.prior, estimate.sampled_sd.as_deref())).transpose()?;
     let sigma_points = match (settings.sigma_points, settings.method) {
         (true, FitMethod::Functional) => Some(sigma_point_spread(knee, &estimate, &rest, &measured, noise_sd, settings, progress)?),
         _ => None,
@@ -318,6 +338,7 @@ fn functional(
         active_constraints: solution.active_constraints,
         prior: None,
         held_rest_lengths: None,
+        sampled_sd: None,
     };
     let Some(rest_curve) = &settings.rest_curve else { return Ok(phase_two) };
     let Some(references) = rest.iter().copied().collect::<Option<Vec<f64>>>() else {
@@ -341,6 +362,7 @@ fn after_phase_two(phase_two: Estimate, curves: RestCurveFit, prior: Option<Appl
         status: format!("rest curves {:?} (Phase II {})", curves.status, phase_two.status),
         iterations: phase_two.iterations + curves.iterations,
         fitted: curves.parameters,
+        sampled_sd: curves.sampled_sd,
         active_constraints: Vec::new(),
         ..phase_two
     }
@@ -367,6 +389,7 @@ fn garner_pandy(
         active_constraints: Vec::new(),
         prior: None,
         held_rest_lengths: None,
+        sampled_sd: None,
     })
 }
 

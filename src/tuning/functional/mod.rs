@@ -64,7 +64,7 @@ pub use identifiability::{
     ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };
-pub use fit::{estimate, fit, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, RestCurveUncertainty, TrialFit, Uncertainty, DEFAULT_PRIOR_SD};
+pub use fit::{estimate, fit, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, RestCurveUncertainty, TrialFit, Uncertainty, DEFAULT_PRIOR_SD, LAPLACE, SAMPLED};
 pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};

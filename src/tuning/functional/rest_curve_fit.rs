@@ -84,6 +84,10 @@ pub struct RestCurveFit {
     pub residuals: Vec<f64>,
     /// The prior's weight σ/τ, N·m (0 without a prior).
     pub prior_weight: f64,
+    /// When the fit is the posterior mean: each muscle's posterior sd of [L_opt, L_ts] (m) from
+    /// the Gibbs samples; `None` for a coordinate the grid does not resolve (it keeps the MAP
+    /// value).
+    pub sampled_sd: Option<Vec<Option<[f64; 2]>>>,
     /// The global search's curves and tables, kept for the posterior mean (`None` for a local
     /// fit).
     pub(crate) search: Option<SearchTables>,
@@ -157,13 +161,13 @@ pub fn fit_rest_curves(
     residuals.truncate(measured.len());
     let parameters = problem.parameters_at(&x).ok_or_else(|| FunctionalError::all_muscles("the rest-curve fit's point lost its equilibrium"))?;
     let search = tables.map(|tables| SearchTables { curves, tables });
-    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight, search })
+    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight, sampled_sd: None, search })
 }
 
 /// Moves the fit `fit` to `measured` (N·m, one per trial) to its posterior mean under `prior`,
 /// sampled on `fit`'s search tables (`rest_curve_posterior.rs`) by chains from `fit` and from the
 /// prior's centre: the curve points at the mean coordinates (`fit`'s where the grid does not
-/// resolve the posterior) and their residuals; `fit`'s status stays. Returns the posterior;
+/// resolve the posterior), their residuals and the sampled sd; `fit`'s status stays. Returns the posterior;
 /// `None`, with `fit` unchanged, when `fit` kept no tables or a curve has no point at the mean.
 pub(crate) fn move_to_posterior_mean(
     model: &KneeMomentModel,
@@ -189,6 +193,7 @@ pub(crate) fn move_to_posterior_mean(
     let Some(parameters) = points else { return Ok(None) };
     fit.residuals = model.moments(&parameters)?.iter().zip(measured).map(|(m, y)| m - y).collect();
     fit.parameters = parameters;
+    fit.sampled_sd = Some(posterior.length_sd.iter().zip(&posterior.resolved).map(|(sd, resolved)| resolved.then_some(*sd)).collect());
     Ok(Some(posterior))
 }
 

@@ -79,7 +79,7 @@ impl RestCurveInformation {
     }
 
     /// The posterior standard deviations per muscle [L_opt, L_ts], m, under a prior of sd τ =
-    /// `prior_sd` in s against moment noise σ = `noise_sd` N·m.
+    /// `prior_sd` in s against moment noise σ = `noise_sd` N·m (Laplace: linearised here).
     pub fn posterior(&self, prior_sd: f64, noise_sd: f64) -> Result<Vec<[f64; 2]>, FunctionalError> {
         let covariance = self.posterior_covariance(prior_sd, noise_sd)?;
         Ok(self.tangents.iter().enumerate().map(|(e, t)| t.map(|d| d.abs() * covariance[(e, e)].sqrt())).collect())

@@ -13,7 +13,9 @@
 //! −½(2 r_¬e·c_i + ‖c_i‖² + w²(s_i − c_e)²)/σ² up to a constant. Chains start from given points
 //! (the MAP estimate, the prior's centre) and sweep every muscle in turn; after a burn-in each
 //! draw adds its conditional's mean and second moment (Rao–Blackwell: less sampling noise than
-//! the draws, and between the nodes). The generator is seeded, so a fit is reproducible.
+//! the draws, and between the nodes), of s and of the curve's L_opt and L_ts (interpolated
+//! linearly between the table's points), whose sd is thus sampled too, not linearised. The
+//! generator is seeded, so a fit is reproducible.
 //!
 //! A coordinate whose posterior sd is below its grid spacing is not resolved by the grid; its
 //! posterior is then narrow enough for the MAP estimate to stand for the mean.
@@ -42,12 +44,13 @@ impl Default for PosteriorSettings {
     }
 }
 
-/// Mean and standard deviation of each coordinate over the sweeps kept, and whether the grid
-/// resolves it (sd ≥ the grid spacing).
+/// Mean and standard deviation of each coordinate over the sweeps kept, the standard deviation
+/// of its curve's [L_opt, L_ts] (m), and whether the grid resolves it (sd ≥ the grid spacing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CoordinatePosterior {
     pub mean: Vec<f64>,
     pub sd: Vec<f64>,
+    pub length_sd: Vec<[f64; 2]>,
     pub resolved: Vec<bool>,
     pub samples: usize,
 }
@@ -57,11 +60,11 @@ pub struct CoordinatePosterior {
 /// one chain from each of `starts`; `None` when a muscle's grid is empty.
 pub fn posterior_mean(tables: &[ContributionTable], residual_base: &[f64], prior: &CoordinatePrior, noise_sd: f64, starts: &[Vec<f64>], settings: &PosteriorSettings) -> Option<CoordinatePosterior> {
     let grids: Vec<MuscleGrid> = tables.iter().enumerate().map(|(e, table)| MuscleGrid::new(table, residual_base.len(), settings.refinement, prior, e)).collect();
-    if grids.iter().any(|g| g.s.is_empty()) {
+    if grids.iter().any(|g| g.point.is_empty()) {
         return None;
     }
     let mut rng = StdRng::seed_from_u64(settings.seed);
-    let (mut sum, mut squares, mut samples) = (vec![0.0; grids.len()], vec![0.0; grids.len()], 0usize);
+    let (mut sum, mut squares, mut samples) = (vec![[0.0; 3]; grids.len()], vec![[0.0; 3]; grids.len()], 0usize);
     let mut weights = Vec::new();
     for start in starts {
         let mut chain = Chain::new(&grids, residual_base, start);
@@ -70,24 +73,26 @@ pub fn posterior_mean(tables: &[ContributionTable], residual_base: &[f64], prior
             for (e, grid) in grids.iter().enumerate() {
                 let [first, second] = chain.resample(e, grid, noise_sd, &mut rng, &mut weights);
                 if kept {
-                    sum[e] += first;
-                    squares[e] += second;
+                    (0..3).for_each(|k| (sum[e][k], squares[e][k]) = (sum[e][k] + first[k], squares[e][k] + second[k]));
                 }
             }
             samples += usize::from(kept);
         }
     }
     let n = samples.max(1) as f64;
-    let mean: Vec<f64> = sum.iter().map(|s| s / n).collect();
-    let sd: Vec<f64> = squares.iter().zip(&mean).map(|(q, m)| (q / n - m * m).max(0.0).sqrt()).collect();
+    let sd_of = |sum: &[f64; 3], square: &[f64; 3], k: usize| (square[k] / n - (sum[k] / n).powi(2)).max(0.0).sqrt();
+    let mean: Vec<f64> = sum.iter().map(|s| s[0] / n).collect();
+    let sd: Vec<f64> = sum.iter().zip(&squares).map(|(s, q)| sd_of(s, q, 0)).collect();
+    let length_sd = sum.iter().zip(&squares).map(|(s, q)| [sd_of(s, q, 1), sd_of(s, q, 2)]).collect();
     let resolved = sd.iter().zip(&grids).map(|(sd, g)| *sd >= g.spacing).collect();
-    Some(CoordinatePosterior { mean, sd, resolved, samples })
+    Some(CoordinatePosterior { mean, sd, length_sd, resolved, samples })
 }
 
-/// One muscle's nodes: s, contributions c_i (N·m per trial) and ‖c_i‖² + w²(s_i − c)², N²·m².
+/// One muscle's nodes: the curve's [s, L_opt, L_ts] (m), contributions c_i (N·m per trial)
+/// and ‖c_i‖² + w²(s_i − c)², N²·m².
 struct MuscleGrid {
     spacing: f64,
-    s: Vec<f64>,
+    point: Vec<[f64; 3]>,
     contributions: Vec<Vec<f64>>,
     fixed: Vec<f64>,
 }
@@ -99,13 +104,13 @@ impl MuscleGrid {
         let refinement = refinement.max(1);
         let steps = (table.points.len() - 1) * refinement;
         let spacing = table.spacing / refinement as f64;
-        let mut grid = MuscleGrid { spacing, s: Vec::new(), contributions: Vec::new(), fixed: Vec::new() };
+        let mut grid = MuscleGrid { spacing, point: Vec::new(), contributions: Vec::new(), fixed: Vec::new() };
         for i in 0..=steps {
             let s = table.start + spacing * i as f64;
-            if table.interpolate(s, &all, &mut value, &mut slope) {
+            if let (true, Some([optimal, slack])) = (table.interpolate(s, &all, &mut value, &mut slope), table.lengths(s)) {
                 let prior_residual = prior.residual(e, s);
                 grid.fixed.push(value.iter().map(|c| c * c).sum::<f64>() + prior_residual * prior_residual);
-                grid.s.push(s);
+                grid.point.push([s, optimal, slack]);
                 grid.contributions.push(value.clone());
             }
         }
@@ -114,7 +119,7 @@ impl MuscleGrid {
 
     /// The node nearest s.
     fn nearest(&self, s: f64) -> usize {
-        (0..self.s.len()).min_by(|&a, &b| (self.s[a] - s).abs().total_cmp(&(self.s[b] - s).abs())).unwrap_or(0)
+        (0..self.point.len()).min_by(|&a, &b| (self.point[a][0] - s).abs().total_cmp(&(self.point[b][0] - s).abs())).unwrap_or(0)
     }
 }
 
@@ -135,19 +140,21 @@ impl Chain {
     }
 
     /// Draws muscle e's node from its conditional given the others; returns the conditional's
-    /// mean and second moment of s.
-    fn resample(&mut self, e: usize, grid: &MuscleGrid, noise_sd: f64, rng: &mut StdRng, weights: &mut Vec<f64>) -> [f64; 2] {
+    /// mean and second moment of [s, L_opt, L_ts].
+    fn resample(&mut self, e: usize, grid: &MuscleGrid, noise_sd: f64, rng: &mut StdRng, weights: &mut Vec<f64>) -> [[f64; 3]; 2] {
         self.residual.iter_mut().zip(&grid.contributions[self.node[e]]).for_each(|(r, c)| *r -= c);
         let scale = -0.5 / (noise_sd * noise_sd);
         weights.clear();
         weights.extend(grid.contributions.iter().zip(&grid.fixed).map(|(c, fixed)| scale * (2.0 * dot(&self.residual, c) + fixed)));
         let top = weights.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        let (mut total, mut first, mut second) = (0.0, 0.0, 0.0);
-        for (w, s) in weights.iter_mut().zip(&grid.s) {
+        let (mut total, mut first, mut second) = (0.0, [0.0; 3], [0.0; 3]);
+        for (w, point) in weights.iter_mut().zip(&grid.point) {
             *w = (*w - top).exp();
             total += *w;
-            first += *w * s;
-            second += *w * s * s;
+            for (k, x) in point.iter().enumerate() {
+                first[k] += *w * x;
+                second[k] += *w * x * x;
+            }
         }
         let mut u = rng.random::<f64>() * total;
         let mut pick = weights.len() - 1;
@@ -160,7 +167,7 @@ impl Chain {
         }
         self.node[e] = pick;
         self.residual.iter_mut().zip(&grid.contributions[pick]).for_each(|(r, c)| *r += c);
-        [first / total, second / total]
+        [first.map(|x| x / total), second.map(|x| x / total)]
     }
 }
 
@@ -174,14 +181,15 @@ mod tests {
     use crate::tuning::functional::rest_curve_search::TablePoint;
     use nalgebra::{DMatrix, DVector};
 
-    /// A table of c(s, t) = f(s, t) with slope g(s, t) on `points` nodes over [-1, 1].
+    /// A table of c(s, t) = f(s, t) with slope g(s, t) on `points` nodes over [-1, 1], and
+    /// lengths [s, 1 − 3s] (linear, so interpolated exactly).
     fn table(points: usize, trials: usize, f: impl Fn(f64, usize) -> f64, g: impl Fn(f64, usize) -> f64) -> ContributionTable {
         let spacing = 2.0 / (points - 1) as f64;
         let points = (0..points)
             .map(|i| {
                 let s = -1.0 + spacing * i as f64;
                 let slope: Vec<f64> = (0..trials).map(|t| g(s, t)).collect();
-                Some(TablePoint { value: (0..trials).map(|t| f(s, t)).collect(), left: slope.clone(), right: slope })
+                Some(TablePoint { value: (0..trials).map(|t| f(s, t)).collect(), left: slope.clone(), right: slope, lengths: [s, 1.0 - 3.0 * s] })
             })
             .collect();
         ContributionTable { start: -1.0, spacing, points }
@@ -190,7 +198,8 @@ mod tests {
     /// Linear contributions c_e = A_te·s_e (interpolated exactly) and a Gaussian prior: the
     /// posterior is Gaussian with precision P = AᵀA/σ² + I/τ² and mean P⁻¹(c/τ² − Aᵀb/σ²).
     /// Two chains of 1350 kept sweeps: mean within 5 % and sd within 5 % of the exact sd
-    /// (Monte-Carlo error; the grid's spacing is 1/8 of the sd).
+    /// (Monte-Carlo error; the grid's spacing is 1/8 of the sd); the lengths' sd are the
+    /// coordinate's times their slopes 1 and 3 (the same samples: to 1e-9).
     #[test]
     fn linear_gaussian_posterior_is_recovered() {
         let a = DMatrix::from_row_slice(3, 2, &[20.0, 5.0, 3.0, 15.0, 10.0, 10.0]);
@@ -208,6 +217,8 @@ mod tests {
             let sd = covariance[(e, e)].sqrt();
             assert!((posterior.mean[e] - exact[e]).abs() <= 0.05 * sd, "coordinate {e}: mean {} vs {}", posterior.mean[e], exact[e]);
             assert!((posterior.sd[e] / sd - 1.0).abs() <= 0.05, "coordinate {e}: sd {} vs {sd}", posterior.sd[e]);
+            let [optimal, slack] = posterior.length_sd[e];
+            assert!((optimal - posterior.sd[e]).abs() < 1e-9 && (slack - 3.0 * posterior.sd[e]).abs() < 1e-9, "lengths' sd {optimal}, {slack}");
             assert!(posterior.resolved[e]);
         }
         assert_eq!(posterior.samples, 2 * (1500 - 150));

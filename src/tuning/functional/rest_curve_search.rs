@@ -30,12 +30,14 @@ pub struct ContributionTable {
 }
 
 /// c(s_i, t) and its slopes ∂c/∂s from the left and from the right per trial, N·m (equal but at
-/// the start of the rest curve's clamped branch, where the curve has a corner).
+/// the start of the rest curve's clamped branch, where the curve has a corner), and the curve
+/// point's [L_opt, L_ts], m.
 #[derive(Debug, Clone)]
 pub struct TablePoint {
     pub value: Vec<f64>,
     pub left: Vec<f64>,
     pub right: Vec<f64>,
+    pub lengths: [f64; 2],
 }
 
 impl ContributionTable {
@@ -53,15 +55,15 @@ impl ContributionTable {
                 let s = start + spacing * i as f64;
                 let mut at = |s: f64| {
                     let mut out = vec![0.0; model.trials().len()];
-                    curve.contributions(model, workspace, s, &mut hint, &mut out).map(|_| out)
+                    curve.contributions(model, workspace, s, &mut hint, &mut out).map(|p| (out, [p.optimal_fiber_length, p.tendon_slack_length]))
                 };
-                let (value, plus, minus) = (at(s)?, at(s + step)?, at(s - step)?);
+                let ((value, lengths), (plus, _), (minus, _)) = (at(s)?, at(s + step)?, at(s - step)?);
                 let slope = |a: &[f64], b: &[f64], h: f64| -> Vec<f64> { a.iter().zip(b).map(|(a, b)| (a - b) / h).collect() };
                 Some(match corner {
-                    Some(corner) if (s - corner).abs() < 1e-9 * spacing => TablePoint { left: slope(&value, &minus, step), right: slope(&plus, &value, step), value },
+                    Some(corner) if (s - corner).abs() < 1e-9 * spacing => TablePoint { left: slope(&value, &minus, step), right: slope(&plus, &value, step), value, lengths },
                     _ => {
                         let central = slope(&plus, &minus, 2.0 * step);
-                        TablePoint { value, left: central.clone(), right: central }
+                        TablePoint { value, left: central.clone(), right: central, lengths }
                     }
                 })
             })
@@ -76,14 +78,9 @@ impl ContributionTable {
     /// The cubic Hermite interpolant's value and slope at s for each of `trials` into `value`
     /// and `slope`; false outside the table or next to a missing point.
     pub fn interpolate(&self, s: f64, trials: &[usize], value: &mut [f64], slope: &mut [f64]) -> bool {
-        let u = (s - self.start) / self.spacing;
-        if !(u >= 0.0 && u <= (self.points.len() - 1) as f64) {
-            return false;
-        }
-        let i = (u.floor() as usize).min(self.points.len().saturating_sub(2));
-        let (Some(p0), Some(p1)) = (&self.points[i], &self.points[(i + 1).min(self.points.len() - 1)]) else { return false };
+        let Some((p0, p1, t)) = self.interval(s) else { return false };
         let (c0, d0, c1, d1) = (&p0.value, &p0.right, &p1.value, &p1.left);
-        let (t, h) = (u - i as f64, self.spacing);
+        let h = self.spacing;
         let (t2, t3) = (t * t, t * t * t);
         let (h00, h10, h01, h11) = (2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + t, -2.0 * t3 + 3.0 * t2, t3 - t2);
         let (g00, g10, g01, g11) = (6.0 * t2 - 6.0 * t, 3.0 * t2 - 4.0 * t + 1.0, -6.0 * t2 + 6.0 * t, 3.0 * t2 - 2.0 * t);
@@ -92,6 +89,25 @@ impl ContributionTable {
             slope[j] = (g00 * c0[k] + g01 * c1[k]) / h + g10 * d0[k] + g11 * d1[k];
         }
         true
+    }
+
+    /// The curve's [L_opt, L_ts] at s, m, interpolated linearly; `None` where
+    /// [`Self::interpolate`] is false.
+    pub fn lengths(&self, s: f64) -> Option<[f64; 2]> {
+        let (p0, p1, t) = self.interval(s)?;
+        Some([0, 1].map(|k| (1.0 - t) * p0.lengths[k] + t * p1.lengths[k]))
+    }
+
+    /// The table points around s and s's position between them in [0, 1]; `None` outside the
+    /// table or next to a missing point.
+    fn interval(&self, s: f64) -> Option<(&TablePoint, &TablePoint, f64)> {
+        let u = (s - self.start) / self.spacing;
+        if !(u >= 0.0 && u <= (self.points.len() - 1) as f64) {
+            return None;
+        }
+        let i = (u.floor() as usize).min(self.points.len().saturating_sub(2));
+        let (Some(p0), Some(p1)) = (&self.points[i], &self.points[(i + 1).min(self.points.len() - 1)]) else { return None };
+        Some((p0, p1, u - i as f64))
     }
 }
 
@@ -470,25 +486,29 @@ impl<'a> SurrogateProblem<'a> {
 mod tests {
     use super::*;
 
-    /// c(s) = s³ − s tabulated with exact slopes: the Hermite interpolant reproduces cubics.
+    /// c(s) = s³ − s tabulated with exact slopes: the Hermite interpolant reproduces cubics; the
+    /// lengths [1 + s, 2 − s] are linear and reproduced too.
     #[test]
     fn hermite_interpolation_is_exact_for_cubics() {
         let f = |s: f64| s * s * s - s;
         let df = |s: f64| 3.0 * s * s - 1.0;
-        let point = |s: f64| Some(TablePoint { value: vec![f(s)], left: vec![df(s)], right: vec![df(s)] });
+        let point = |s: f64| Some(TablePoint { value: vec![f(s)], left: vec![df(s)], right: vec![df(s)], lengths: [1.0 + s, 2.0 - s] });
         let table = ContributionTable { start: -1.0, spacing: 0.5, points: (0..5).map(|i| point(-1.0 + 0.5 * i as f64)).collect() };
         let (mut value, mut slope) = ([0.0], [0.0]);
         for s in [-1.0, -0.7, 0.1, 0.99, 1.0] {
             assert!(table.interpolate(s, &[0], &mut value, &mut slope));
             assert!((value[0] - f(s)).abs() < 1e-14 && (slope[0] - df(s)).abs() < 1e-13, "{s}");
+            let [optimal, slack] = table.lengths(s).unwrap();
+            assert!((optimal - 1.0 - s).abs() < 1e-14 && (slack - 2.0 + s).abs() < 1e-14, "{s}");
         }
         assert!(!table.interpolate(1.01, &[0], &mut value, &mut slope));
+        assert!(table.lengths(1.01).is_none());
     }
 
     /// A table of c(s) over [−2, 2] (81 points) with exact slopes dc/ds.
     fn table(c: impl Fn(f64) -> Vec<f64>, dc: impl Fn(f64) -> Vec<f64>) -> ContributionTable {
         let grid = |i: usize| -2.0 + 0.05 * i as f64;
-        ContributionTable { start: -2.0, spacing: 0.05, points: (0..81).map(|i| Some(TablePoint { value: c(grid(i)), left: dc(grid(i)), right: dc(grid(i)) })).collect() }
+        ContributionTable { start: -2.0, spacing: 0.05, points: (0..81).map(|i| Some(TablePoint { value: c(grid(i)), left: dc(grid(i)), right: dc(grid(i)), lengths: [0.0; 2] })).collect() }
     }
 
     /// (c(s) − 0)² with c = (s² − 1)(s − 0.2) has three zeros: the search returns all three as
