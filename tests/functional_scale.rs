@@ -181,6 +181,30 @@ fn refuses_a_non_positive_prior_or_noise_level() {
     }
 }
 
+/// Garner & Pandy on train01's set5 (ten moments, sixteen unknowns) ends with bifemlh_r's fiber
+/// taking up its whole musculotendon length (L_ts → 0, the edge of the method's map), where the
+/// [L̃m_min, L̃m_max] Fisher information's difference step leaves the map's domain. That
+/// analysis is reported as unavailable, with its reason; the fit is a minimum (no step lowers
+/// the cost) and stands: exit 0, the model written, the other analyses reported.
+#[test]
+fn garner_pandy_fit_on_the_edge_of_its_domain_is_written_with_the_analyses_it_allows() {
+    let dir = tempfile::tempdir().unwrap();
+    let (output, report) = (dir.path().join("gp.osim"), dir.path().join("gp.json"));
+    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &["--sets", "set5", "--method", "garner-pandy", "--report", s(&report)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(output.exists());
+    let report: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let bifemlh = report["fitted"].as_array().unwrap().iter().find(|p| p["name"] == "bifemlh_r").unwrap();
+    assert!(bifemlh["tendon_slack_length"].as_f64().unwrap() < 1e-3, "{bifemlh}");
+    let unavailable = report["unavailable"].as_array().unwrap();
+    assert_eq!(unavailable.len(), 1, "{unavailable:?}");
+    assert_eq!(unavailable[0]["analysis"], "[L̃m_min, L̃m_max]");
+    assert!(unavailable[0]["reason"].as_str().unwrap().contains("bifemlh_r"), "{unavailable:?}");
+    assert!(stdout.contains("unavailable at this fit: [L̃m_min, L̃m_max]"), "{stdout}");
+    assert!(report["sensitivity"].is_object() && report["uncertainty"]["cramer_rao"].is_array());
+    assert_eq!(report["identifiability"][0]["parameterisation"], "[L_opt, L_ts]");
+}
+
 /// Options of the rest-curve fit's prior make no sense without the rest-curve fit, nor with no
 /// prior: refused by the argument parser, nothing written.
 #[test]

@@ -64,6 +64,14 @@ pub enum LeastSquaresStatus {
     NonFinite,
 }
 
+impl LeastSquaresStatus {
+    /// A minimum: a stopping test passed, or no step could lower F any more (a minimum to the
+    /// precision of r, possibly on the edge of where r is finite).
+    pub fn at_minimum(self) -> bool {
+        matches!(self, LeastSquaresStatus::Converged | LeastSquaresStatus::Stalled)
+    }
+}
+
 /// What a minimisation did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LeastSquaresReport {

@@ -129,6 +129,9 @@ fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
     print_sets(fit);
     print_sensitivity(fit);
     print_identifiability(fit);
+    for failure in &fit.unavailable {
+        println!("\nunavailable at this fit: {} ({})", failure.analysis, failure.reason);
+    }
     println!("\nmoments per trial (N·m): measured, initial model, fitted model, fitted − measured");
     for t in &fit.trials {
         println!("  {:<24} {:>10.4} {:>10.4} {:>10.4} {:>+9.4}", t.trial, t.measured, t.initial, t.fitted, t.fitted - t.measured);
@@ -152,8 +155,12 @@ fn print_parameters(fit: &FunctionalFit) {
     for (e, (old, new)) in fit.initial.iter().zip(&fit.fitted).enumerate() {
         for (i, parameter) in [Parameter::OptimalFiberLength, Parameter::TendonSlackLength].into_iter().enumerate() {
             let (a, b) = (old.get(parameter), new.get(parameter));
-            let cramer_rao = u.rest_curve.as_ref().map_or(u.cramer_rao[e][i], |r| r.cramer_rao[e][i]);
-            let bound = cramer_rao.map_or("not identifiable".to_string(), |sd| format!("± {sd:.5}"));
+            let cramer_rao = u.rest_curve.as_ref().map_or(u.cramer_rao.as_ref().map(|c| c[e][i]), |r| Some(r.cramer_rao[e][i]));
+            let bound = match cramer_rao {
+                Some(Some(sd)) => format!("± {sd:.5}"),
+                Some(None) => "not identifiable".to_string(),
+                None => "Cramér–Rao unavailable".to_string(),
+            };
             let mark = if mixed && methods[e] == LAPLACE { " L" } else { "" };
             let prior = posterior.map_or(String::new(), |s| format!(", ± {:.5}{mark}", s[e][i]));
             let sigma = u.sigma_points.as_ref().map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
@@ -196,11 +203,12 @@ fn print_sets(fit: &FunctionalFit) {
 }
 
 fn print_sensitivity(fit: &FunctionalFit) {
+    let Some(sensitivity) = &fit.sensitivity else { return };
     println!("\nsensitivity (eq. 3.3–3.4, ±5 %): max over trials, N·m, and class");
     for muscle in &fit.fitted {
         let cells: Vec<String> = Parameter::ALL
             .iter()
-            .filter_map(|&p| fit.sensitivity.entry(&muscle.name, p))
+            .filter_map(|&p| sensitivity.entry(&muscle.name, p))
             .map(|e| match (e.maximum, e.class) {
                 (Some(value), Some(class)) => format!("{} {value:.0} {class:?}", e.parameter.symbol()),
                 _ => format!("{} n/a", e.parameter.symbol()),

@@ -1,33 +1,26 @@
 //! One functional-scaling run, as `osim-tune scale MODEL TRIALS/` does it: the input checks,
-//! the fit (Phase I, hot start and Phase II, then — when every estimated muscle has a reference
-//! rest fiber length — the rest-curve fit that holds those lengths exactly; or the Garner &
-//! Pandy baseline), and the analyses
-//! every fit reports — the single parameter that best explains the initial model's error,
-//! sensitivity classes, identifiability of three parameterisations (thesis
-//! table 6.4; a fourth, the rest-curve coordinates, when the fit held the rest lengths) and the
-//! parameters' uncertainty (Cramér–Rao bounds from the Fisher information, on the rest curves
-//! also the posterior with the prior; optionally the sigma-point propagation of Appendix 6.6).
+//! the single parameter that best explains the initial model's error, the fit (Phase I, hot
+//! start and Phase II, then — when every estimated muscle has a reference rest fiber length —
+//! the rest-curve fit that holds those lengths exactly; or the Garner & Pandy baseline), and the
+//! analyses at the estimate (`analyses.rs`).
 
 use serde::Serialize;
 
+use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
 use super::cause::{single_causes, SingleCause};
 use super::error::FunctionalError;
 use super::feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet};
 use super::garner_pandy::{fit_garner_pandy, GarnerPandyOptions, JointRange};
 use super::hot_start::{hot_start, HotStart};
-use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation};
 use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
 use super::phase_two::{solve_phase_two, PhaseTwoSettings};
-use super::rest_curve_fit::{fit_rest_curves, RestCurveFit, RestCurvePrior, RestCurveSettings};
+use super::rest_curve_fit::{RestCurveFit, RestCurveSettings};
 use super::rest_curve_map::{fit_on_rest_curves, AppliedPrior, RestCurveProblem};
-use super::rest_curve_information::RestCurveInformation;
-use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
-use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
+use super::sensitivity::SensitivityTable;
 use super::trials::{DynamometryData, Direction};
 use crate::io::osim::{format_numbers, OsimDocument, OsimError};
 use crate::model::ModelSpec;
-use crate::solvers::LeastSquaresStatus;
 
 /// Default τ of the rest-curve prior: a subject's L_opt taken to lie within about ±10 % (one
 /// standard deviation) of the linearly scaled model's.
@@ -97,9 +90,12 @@ pub struct FunctionalFit {
     pub prior: Option<AppliedPrior>,
     /// Each single parameter fitted alone from the initial model, best explanation first.
     pub single_causes: Vec<SingleCause>,
-    pub sensitivity: SensitivityTable,
+    /// `None` when unavailable (see `unavailable`).
+    pub sensitivity: Option<SensitivityTable>,
     pub identifiability: Vec<ParameterisationReport>,
     pub uncertainty: Uncertainty,
+    /// The analyses that could not be computed, and why (the fit stands).
+    pub unavailable: Vec<AnalysisFailure>,
 }
 
 /// One trial's moments.
@@ -109,79 +105,6 @@ pub struct TrialFit {
     pub measured: f64,
     pub initial: f64,
     pub fitted: f64,
-}
-
-/// The Fisher information of one parameterisation at the fit (thesis table 6.4).
-#[derive(Debug, Clone, Serialize)]
-pub struct ParameterisationReport {
-    /// e.g. "[L_opt, L_ts]".
-    pub parameterisation: &'static str,
-    /// D- and E-criteria of F in the parameters' units and relative to their values.
-    pub absolute: FisherCriteria,
-    pub relative: FisherCriteria,
-    pub identifiability: Identifiability,
-}
-
-impl ParameterisationReport {
-    fn of(fisher: &FisherInformation) -> ParameterisationReport {
-        ParameterisationReport {
-            parameterisation: fisher.parameterisation,
-            absolute: fisher.absolute,
-            relative: fisher.relative,
-            identifiability: fisher.identifiability.clone(),
-        }
-    }
-}
-
-/// Standard deviations of the fitted (L_opt, L_ts), m.
-#[derive(Debug, Clone, Serialize)]
-pub struct Uncertainty {
-    /// σ of the moment noise used, N·m.
-    pub noise_sd: f64,
-    /// Where σ came from: "given", "subject file", "marginal likelihood" (under the rest-curve
-    /// prior) or "residuals".
-    pub noise_source: &'static str,
-    /// Cramér–Rao bound per muscle [sd L_opt, sd L_ts]; `None` where not identifiable.
-    pub cramer_rao: Vec<[Option<f64>; 2]>,
-    /// With the rest fiber lengths held, when the rest-curve fit made the estimate.
-    pub rest_curve: Option<RestCurveUncertainty>,
-    /// Sigma-point propagation per muscle [sd L_opt, sd L_ts], when run.
-    pub sigma_points: Option<Vec<[f64; 2]>>,
-}
-
-/// Standard deviations of the fitted (L_opt, L_ts) along the rest curves, m (one parameter per
-/// muscle: its curve coordinate).
-#[derive(Debug, Clone, Serialize)]
-pub struct RestCurveUncertainty {
-    /// Cramér–Rao bound from the moments alone (any unbiased estimator), at the report's σ;
-    /// `None` where not identifiable.
-    pub cramer_rao: Vec<[Option<f64>; 2]>,
-    /// Posterior sd with the fit's prior, at the prior's σ, when it had one: of the posterior
-    /// mean from its Gibbs samples; of the MAP fit, and of a coordinate the sampling grid does
-    /// not resolve, the Laplace approximation (linearised at the estimate).
-    pub posterior: Option<Vec<[f64; 2]>>,
-    /// Per muscle, how its posterior sd was found: [`SAMPLED`] or [`LAPLACE`].
-    pub posterior_method: Option<Vec<&'static str>>,
-}
-
-/// A posterior sd from the Gibbs samples.
-pub const SAMPLED: &str = "sampled";
-/// A posterior sd of the Laplace approximation.
-pub const LAPLACE: &str = "Laplace";
-
-impl RestCurveUncertainty {
-    /// `sampled`: each muscle's sampled posterior sd of [L_opt, L_ts], where there is one.
-    fn of(information: &RestCurveInformation, prior: Option<AppliedPrior>, sampled: Option<&[Option<[f64; 2]>]>) -> Result<RestCurveUncertainty, FunctionalError> {
-        let cramer_rao = information.cramer_rao();
-        let Some(prior) = prior else { return Ok(RestCurveUncertainty { cramer_rao, posterior: None, posterior_method: None }) };
-        let laplace = information.posterior(prior.coordinate_sd, prior.noise_sd)?;
-        let per_muscle = laplace.into_iter().enumerate().map(|(e, sd)| match sampled.and_then(|s| s[e]) {
-            Some(sampled) => (sampled, SAMPLED),
-            None => (sd, LAPLACE),
-        });
-        let (posterior, methods) = per_muscle.unzip();
-        Ok(RestCurveUncertainty { cramer_rao, posterior: Some(posterior), posterior_method: Some(methods) })
-    }
 }
 
 impl FunctionalFit {
@@ -267,23 +190,13 @@ pub fn fit(
     check_sign_convention(data, &measured, &initial_moments)?;
     let rest = rest_references(knee, data);
     progress("single causes");
-    let single_causes = single_causes(knee, &initial, &measured)?;
+    let mut unavailable = Vec::new();
+    let single_causes = attempt(&mut unavailable, "single causes", single_causes(knee, &initial, &measured)).unwrap_or_default();
     let estimate = estimate(spec, knee, data, &initial, &measured, settings, progress)?;
     let moments = knee.moments(&estimate.fitted)?;
-    progress("sensitivity and identifiability");
-    let sensitivity = SensitivityTable::compute(knee, &estimate.fitted, DEFAULT_RELATIVE_STEP)?;
-    let residuals: Vec<f64> = moments.iter().zip(&measured).map(|(m, y)| m - y).collect();
-    let (noise_sd, noise_source) = noise_level(settings, data, estimate.prior, &residuals, 2 * initial.len());
-    let fishers = identifiability(spec, knee, data, &estimate, noise_sd)?;
-    let cramer_rao = fishers[0].standard_deviations.chunks(2).map(|c| [c[0], c[1]]).collect();
-    let mut identifiability: Vec<ParameterisationReport> = fishers.iter().map(ParameterisationReport::of).collect();
-    let on_curves = estimate.held_rest_lengths.as_ref().map(|references| RestCurveInformation::new(knee, &estimate.fitted, references, noise_sd)).transpose()?;
-    identifiability.extend(on_curves.as_ref().map(|information| ParameterisationReport::of(&information.fisher)));
-    let rest_curve = on_curves.map(|information| RestCurveUncertainty::of(&information, estimate.prior, estimate.sampled_sd.as_deref())).transpose()?;
-    let sigma_points = match (settings.sigma_points, settings.method) {
-        (true, FitMethod::Functional) => Some(sigma_point_spread(knee, &estimate, &rest, &measured, noise_sd, settings, progress)?),
-        _ => None,
-    };
+    let inputs = FitInputs { spec, knee, data, settings, rest: &rest, measured: &measured };
+    let analyses = analyse(&inputs, &estimate, &moments, progress);
+    unavailable.extend(analyses.unavailable);
     let trials = knee
         .trials()
         .iter()
@@ -303,9 +216,10 @@ pub fn fit(
         active_constraints: estimate.active_constraints,
         prior: estimate.prior,
         single_causes,
-        sensitivity,
-        identifiability,
-        uncertainty: Uncertainty { noise_sd, noise_source, cramer_rao, rest_curve, sigma_points },
+        sensitivity: analyses.sensitivity,
+        identifiability: analyses.identifiability,
+        uncertainty: analyses.uncertainty,
+        unavailable,
     })
 }
 
@@ -381,7 +295,7 @@ fn garner_pandy(
     let result = fit_garner_pandy(knee, &range, measured, initial, &GarnerPandyOptions::default())?;
     Ok(Estimate {
         fitted: result.parameters,
-        converged: result.status == LeastSquaresStatus::Converged,
+        converged: result.status.at_minimum(),
         status: format!("{:?}", result.status),
         iterations: result.iterations,
         feasible_sets: Vec::new(),
@@ -391,71 +305,6 @@ fn garner_pandy(
         held_rest_lengths: None,
         sampled_sd: None,
     })
-}
-
-/// σ: given, else the subject file's (when positive), else the prior's (the fit's own
-/// estimate), else √(RSS/(n − p)) of the fit (0 when the fit is exact or has no degrees of
-/// freedom: then a nominal 1 N·m scales the criteria).
-fn noise_level(settings: &FitSettings, data: &DynamometryData, prior: Option<AppliedPrior>, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
-    if let Some(sd) = settings.noise_sd.filter(|sd| *sd > 0.0) {
-        return (sd, "given");
-    }
-    if let Some(sd) = data.noise_sd.filter(|sd| *sd > 0.0) {
-        return (sd, "subject file");
-    }
-    if let Some(prior) = prior {
-        return (prior.noise_sd, prior.noise_source);
-    }
-    match noise_from_residuals(residuals, parameters) {
-        Ok(sd) if sd > 1e-6 => (sd, "residuals"),
-        _ => (1.0, "nominal (exact fit: 1 N·m)"),
-    }
-}
-
-/// The Fisher information at the fit of [L_opt, L_ts] (first, the uncertainty's basis),
-/// [L_ts/L_opt, δ] (when Phase I gave the lines) and [L̃m_min, L̃m_max].
-fn identifiability(spec: &ModelSpec, knee: &KneeMomentModel, data: &DynamometryData, estimate: &Estimate, noise_sd: f64) -> Result<Vec<FisherInformation>, FunctionalError> {
-    let options = FisherOptions::new(noise_sd);
-    let mut all = vec![fisher_information(knee, &estimate.fitted, &Parameterisation::Hill, &options)?];
-    let lines: Vec<(f64, f64)> = estimate.feasible_sets.iter().map(|s| (s.line.c1, s.line.c2)).collect();
-    if !lines.is_empty() {
-        all.push(fisher_information(knee, &estimate.fitted, &Parameterisation::SlackRatioDelta(&lines), &options)?);
-    }
-    let range = JointRange::compute(spec, data)?;
-    all.push(fisher_information(knee, &estimate.fitted, &Parameterisation::GarnerPandy(&range), &options)?);
-    Ok(all)
-}
-
-/// The fit re-solved from itself at each sigma point of the moments (the rest-curve fit without
-/// its global search, with the fit's prior if it had one, when it made the fit; else Phase II);
-/// sd of (L_opt, L_ts).
-fn sigma_point_spread(
-    knee: &KneeMomentModel,
-    estimate: &Estimate,
-    rest: &[Option<f64>],
-    measured: &[f64],
-    noise_sd: f64,
-    settings: &FitSettings,
-    progress: &mut dyn FnMut(&str),
-) -> Result<Vec<[f64; 2]>, FunctionalError> {
-    let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
-    let references: Option<Vec<f64>> = rest.iter().copied().collect();
-    let local = settings.rest_curve.map(|s| RestCurveSettings { global_search: false, ..s });
-    let model = knee.nominal_parameters();
-    let prior = estimate.prior.map(|applied| RestCurvePrior { model: &model, coordinate_sd: applied.coordinate_sd, noise_sd });
-    progress(&format!("sigma points: {} refits at σ = {noise_sd:.3} N·m", points.len()));
-    let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
-        let parameters = match (&references, &local) {
-            (Some(references), Some(local)) => fit_rest_curves(knee, references, &estimate.fitted, perturbed, std::slice::from_ref(&estimate.fitted), prior, local)?.parameters,
-            _ => solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?.parameters,
-        };
-        Ok(parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())
-    };
-    let propagation = propagate_noise(&points, measured, noise_sd, refit).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
-    let sd = propagation
-        .standard_deviations()
-        .ok_or_else(|| FunctionalError::all_muscles(format!("every one of the {} sigma-point fits failed", propagation.evaluated)))?;
-    Ok(sd.chunks(2).map(|c| [c[0], c[1]]).collect())
 }
 
 /// Every trial angle within its model coordinate's range.

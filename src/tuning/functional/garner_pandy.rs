@@ -31,7 +31,10 @@
 //! central differences per muscle (each variable changes one muscle's contribution only), with
 //! step h = `relative_step`·max(|x|, 1); where one side is infeasible a one-sided difference is
 //! used. The measured moments are an argument, so the fit can be repeated on perturbed moments
-//! (see `sigma_points.rs`).
+//! (see `sigma_points.rs`). The fit is a minimum when a stopping test passes or no step lowers
+//! the cost any more ([`LeastSquaresStatus::at_minimum`]): the latter often on the edge
+//! L_ts → 0 of the map's domain, where the moments alone leave a muscle's fiber to take up
+//! the whole musculotendon length (the method's known degeneracy; the thesis' point).
 
 use serde::Serialize;
 
@@ -236,7 +239,7 @@ impl Default for GarnerPandyOptions {
             upper: 2.0,
             relative_step: 1e-6,
             fitted_muscles: None,
-            least_squares: LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-10, max_iterations: 100, ..LeastSquaresOptions::default() },
+            least_squares: LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-10, cost_tolerance: 1e-10, max_iterations: 100 },
         }
     }
 }

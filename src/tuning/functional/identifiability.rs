@@ -100,12 +100,15 @@ impl TransformedParameter {
     }
 }
 
+/// The name of [`Parameterisation::GarnerPandy`].
+pub const GARNER_PANDY_PARAMETERS: &str = "[L̃m_min, L̃m_max]";
+
 impl Parameterisation<'_> {
     /// `[L_opt, L_ts]`, `[L̃m_min, L̃m_max]` or `[L_ts/L_opt, δ]`.
     pub fn name(&self) -> &'static str {
         match self {
             Parameterisation::Hill => "[L_opt, L_ts]",
-            Parameterisation::GarnerPandy(_) => "[L̃m_min, L̃m_max]",
+            Parameterisation::GarnerPandy(_) => GARNER_PANDY_PARAMETERS,
             Parameterisation::SlackRatioDelta(_) => "[L_ts/L_opt, δ]",
         }
     }

@@ -30,9 +30,12 @@
 //! - `cause.rs`: the single (muscle, parameter) change that best explains the measured moments
 //!   ([`single_causes`]).
 //! - `fit.rs`: one run ([`fit`]): input checks (coordinate ranges, enough angles, sign
-//!   convention), the estimator, sensitivity, identifiability and uncertainty.
+//!   convention), the single causes, the estimator; `analyses.rs` the analyses at the estimate
+//!   ([`analyse`]: sensitivity, identifiability, uncertainty), each reported as unavailable
+//!   rather than failing the fit.
 //! - `error.rs`: [`FunctionalError`].
 
+mod analyses;
 mod cause;
 mod error;
 mod garner_pandy;
@@ -64,7 +67,8 @@ pub use identifiability::{
     ParameterLabel, Parameterisation, TransformedParameter, UnidentifiableParameter, DEFAULT_FISHER_STEP, DEFAULT_RANK_TOLERANCE,
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };
-pub use fit::{estimate, fit, Estimate, FitMethod, FitSettings, FunctionalFit, ParameterisationReport, RestCurveUncertainty, TrialFit, Uncertainty, DEFAULT_PRIOR_SD, LAPLACE, SAMPLED};
+pub use analyses::{analyse, AnalysisFailure, Analyses, FitInputs, ParameterisationReport, RestCurveUncertainty, Uncertainty, LAPLACE, SAMPLED};
+pub use fit::{estimate, fit, Estimate, FitMethod, FitSettings, FunctionalFit, TrialFit, DEFAULT_PRIOR_SD};
 pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};

@@ -101,10 +101,9 @@ pub(crate) struct SearchTables {
 }
 
 impl RestCurveFit {
-    /// The refinement stopped at a minimum: its convergence test passed, or no step could lower
-    /// the cost any more (a minimum to the precision of the moments).
+    /// The refinement stopped at a minimum ([`LeastSquaresStatus::at_minimum`]).
     pub fn converged(&self) -> bool {
-        matches!(self.status, LeastSquaresStatus::Converged | LeastSquaresStatus::Stalled)
+        self.status.at_minimum()
     }
 }
 
