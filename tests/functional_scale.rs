@@ -185,12 +185,15 @@ fn refuses_a_non_positive_prior_or_noise_level() {
 /// taking up its whole musculotendon length (L_ts → 0, the edge of the method's map), where the
 /// [L̃m_min, L̃m_max] Fisher information's difference step leaves the map's domain. That
 /// analysis is reported as unavailable, with its reason; the fit is a minimum (no step lowers
-/// the cost) and stands: exit 0, the model written, the other analyses reported.
+/// the cost) and stands: exit 0, the model written, the other analyses reported — among them
+/// the sigma-point spread of Garner & Pandy's own refits (as the thesis compares the methods),
+/// at a nominal σ since sixteen unknowns leave ten noise-free moments no degree of freedom.
 #[test]
 fn garner_pandy_fit_on_the_edge_of_its_domain_is_written_with_the_analyses_it_allows() {
     let dir = tempfile::tempdir().unwrap();
     let (output, report) = (dir.path().join("gp.osim"), dir.path().join("gp.json"));
-    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &["--sets", "set5", "--method", "garner-pandy", "--report", s(&report)]);
+    let arguments = ["--sets", "set5", "--method", "garner-pandy", "--sigma-points", "--report", s(&report)];
+    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &arguments);
     assert_eq!(code, 0, "{stderr}");
     assert!(output.exists());
     let report: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
@@ -203,6 +206,11 @@ fn garner_pandy_fit_on_the_edge_of_its_domain_is_written_with_the_analyses_it_al
     assert!(stdout.contains("unavailable at this fit: [L̃m_min, L̃m_max]"), "{stdout}");
     assert!(report["sensitivity"].is_object() && report["uncertainty"]["cramer_rao"].is_array());
     assert_eq!(report["identifiability"][0]["parameterisation"], "[L_opt, L_ts]");
+    assert!(report["uncertainty"]["noise_source"].as_str().unwrap().contains("no more trials than parameters"), "{}", report["uncertainty"]);
+    let spread = report["uncertainty"]["sigma_points"].as_array().expect("the sigma-point sd");
+    assert_eq!(spread.len(), 8);
+    let finite = spread.iter().flat_map(|m| m.as_array().unwrap()).filter_map(Value::as_f64).filter(|sd| *sd > 0.0).count();
+    assert!(finite > 0, "{spread:?}");
 }
 
 /// Options of the rest-curve fit's prior make no sense without the rest-curve fit, nor with no

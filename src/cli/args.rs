@@ -1,4 +1,8 @@
 //! Arguments of every command, as plain structs (clap derive).
+//!
+//! The doc comments are the commands' `--help` text, where `<coordinate>` is a placeholder as in
+//! any usage line, not an HTML tag.
+#![allow(rustdoc::invalid_html_tags)]
 
 use std::path::PathBuf;
 
@@ -105,7 +109,7 @@ pub enum Command {
         /// Functional: moment noise σ in N·m, weighed against the rest-curve prior and used for the uncertainty (default: subject.json's, else estimated from the moments by their marginal likelihood under the prior).
         #[arg(long)]
         noise_sd: Option<f64>,
-        /// Functional: propagate the noise through the fit at the 2n²+1 sigma points (slow: one Phase II per point).
+        /// Functional: propagate the noise through the fit at the 2n²+1 sigma points (slow: one refit per point; Garner & Pandy too).
         #[arg(long)]
         sigma_points: bool,
         /// Functional: write the model even when the fit did not converge.

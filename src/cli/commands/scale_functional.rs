@@ -163,7 +163,10 @@ fn print_parameters(fit: &FunctionalFit) {
             };
             let mark = if mixed && methods[e] == LAPLACE { " L" } else { "" };
             let prior = posterior.map_or(String::new(), |s| format!(", ± {:.5}{mark}", s[e][i]));
-            let sigma = u.sigma_points.as_ref().map_or(String::new(), |s| format!(", ± {:.5}", s[e][i]));
+            let sigma = u.sigma_points.as_ref().map_or(String::new(), |s| match s[e][i] {
+                sd if sd.is_finite() => format!(", ± {sd:.5}"),
+                _ => ", ± n/a (negative sigma-point variance)".to_string(),
+            });
             println!("  {:<12} {:<5} {a:.6} → {b:.6} ({:+.2} %) {bound}{prior}{sigma}", new.name, parameter.symbol(), 100.0 * (b / a - 1.0));
         }
     }

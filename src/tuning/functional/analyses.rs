@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use super::error::FunctionalError;
 use super::fit::{Estimate, FitMethod, FitSettings};
-use super::garner_pandy::JointRange;
+use super::garner_pandy::{fit_garner_pandy, GarnerPandyOptions, JointRange};
 use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation, GARNER_PANDY_PARAMETERS};
 use super::knee_moment::KneeMomentModel;
 use super::phase_two::solve_phase_two;
@@ -85,10 +85,7 @@ pub fn analyse(inputs: &FitInputs, estimate: &Estimate, moments: &[f64], progres
     let rest_curve = on_curves.and_then(|information| {
         attempt(&mut unavailable, "rest-curve uncertainty", RestCurveUncertainty::of(&information, estimate.prior, estimate.sampled_sd.as_deref()))
     });
-    let sigma_points = match (settings.sigma_points, settings.method) {
-        (true, FitMethod::Functional) => attempt(&mut unavailable, "sigma points", sigma_point_spread(inputs, estimate, noise_sd, progress)),
-        _ => None,
-    };
+    let sigma_points = settings.sigma_points.then(|| attempt(&mut unavailable, "sigma points", sigma_point_spread(inputs, estimate, noise_sd, progress))).flatten();
     let uncertainty = Uncertainty { noise_sd, noise_source, cramer_rao, rest_curve, sigma_points };
     Analyses { sensitivity, identifiability, uncertainty, unavailable }
 }
@@ -168,8 +165,8 @@ impl RestCurveUncertainty {
 }
 
 /// σ: given, else the subject file's (when positive), else the prior's (the fit's own
-/// estimate), else √(RSS/(n − p)) of the fit (0 when the fit is exact or has no degrees of
-/// freedom: then a nominal 1 N·m scales the criteria).
+/// estimate), else √(RSS/(n − p)) of the fit (when the fit is exact or has no degrees of
+/// freedom, a nominal 1 N·m scales the criteria, and the source says why).
 fn noise_level(settings: &FitSettings, data: &DynamometryData, prior: Option<AppliedPrior>, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
     if let Some(sd) = settings.noise_sd.filter(|sd| *sd > 0.0) {
         return (sd, "given");
@@ -182,7 +179,8 @@ fn noise_level(settings: &FitSettings, data: &DynamometryData, prior: Option<App
     }
     match noise_from_residuals(residuals, parameters) {
         Ok(sd) if sd > 1e-6 => (sd, "residuals"),
-        _ => (1.0, "nominal (exact fit: 1 N·m)"),
+        Ok(_) => (1.0, "nominal (exact fit: 1 N·m)"),
+        Err(_) => (1.0, "nominal (no more trials than parameters: 1 N·m)"),
     }
 }
 
@@ -201,20 +199,25 @@ fn other_parameterisations(inputs: &FitInputs, estimate: &Estimate, options: &Fi
     all
 }
 
-/// The fit re-solved from itself at each sigma point of the moments (the rest-curve fit without
-/// its global search, with the fit's prior if it had one, when it made the fit; else Phase II);
-/// sd of (L_opt, L_ts).
+/// The fit re-solved from itself at each sigma point of the moments (Garner & Pandy's for its
+/// fit; the rest-curve fit without its global search, with the fit's prior if it had one, when
+/// it made the fit; else Phase II); sd of (L_opt, L_ts).
 fn sigma_point_spread(inputs: &FitInputs, estimate: &Estimate, noise_sd: f64, progress: &mut dyn FnMut(&str)) -> Result<Vec<[f64; 2]>, FunctionalError> {
     let FitInputs { knee, settings, rest, measured, .. } = *inputs;
     let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
+    let range = match settings.method {
+        FitMethod::GarnerPandy => Some(JointRange::compute(inputs.spec, inputs.data)?),
+        FitMethod::Functional => None,
+    };
     let references: Option<Vec<f64>> = rest.iter().copied().collect();
     let local = settings.rest_curve.map(|s| RestCurveSettings { global_search: false, ..s });
     let model = knee.nominal_parameters();
     let prior = estimate.prior.map(|applied| RestCurvePrior { model: &model, coordinate_sd: applied.coordinate_sd, noise_sd });
     progress(&format!("sigma points: {} refits at σ = {noise_sd:.3} N·m", points.len()));
     let refit = |perturbed: &[f64]| -> Result<Vec<f64>, FunctionalError> {
-        let parameters = match (&references, &local) {
-            (Some(references), Some(local)) => fit_rest_curves(knee, references, &estimate.fitted, perturbed, std::slice::from_ref(&estimate.fitted), prior, local)?.parameters,
+        let parameters = match (&range, &references, &local) {
+            (Some(range), _, _) => fit_garner_pandy(knee, range, perturbed, &estimate.fitted, &GarnerPandyOptions::default())?.parameters,
+            (None, Some(references), Some(local)) => fit_rest_curves(knee, references, &estimate.fitted, perturbed, std::slice::from_ref(&estimate.fitted), prior, local)?.parameters,
             _ => solve_phase_two(knee, &estimate.feasible_sets, &estimate.fitted, rest, perturbed, &settings.phase_two)?.parameters,
         };
         Ok(parameters.iter().flat_map(|p| [p.optimal_fiber_length, p.tendon_slack_length]).collect())

@@ -51,7 +51,7 @@ pub struct FitSettings {
     /// likelihood under the rest-curve prior, or without one from the residuals); 0: noise-free
     /// moments (no prior).
     pub noise_sd: Option<f64>,
-    /// Propagate the noise through the whole fit at the 2n²+1 sigma points (n trials).
+    /// Propagate the noise through the fit (either method) at the 2n²+1 sigma points (n trials).
     pub sigma_points: bool,
 }
 

@@ -25,7 +25,7 @@ use rand::{Rng, SeedableRng};
 
 use super::rest_curve_search::{ContributionTable, CoordinatePrior};
 
-/// Settings of [`posterior_mean`].
+/// Settings of the Gibbs sampler of the posterior mean (`posterior_mean`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PosteriorSettings {
     /// Sub-intervals per table interval of each muscle's grid.
