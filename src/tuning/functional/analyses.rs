@@ -13,7 +13,7 @@
 use serde::Serialize;
 
 use super::error::FunctionalError;
-use super::fit::{Estimate, FitMethod, FitSettings};
+use super::estimator::{Estimate, FitMethod, FitSettings};
 use super::garner_pandy::{fit_garner_pandy, GarnerPandyOptions, JointRange};
 use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation, GARNER_PANDY_PARAMETERS};
 use super::knee_moment::KneeMomentModel;

@@ -29,15 +29,18 @@
 //!   estimator ([`propagate_noise`]).
 //! - `cause.rs`: the single (muscle, parameter) change that best explains the measured moments
 //!   ([`single_causes`]).
+//! - `estimator.rs`: the estimators and their settings ([`estimate`], [`FitSettings`]): the
+//!   thesis' method with the rest-curve fit, or Garner & Pandy.
+//! - `analyses.rs`: the analyses at an estimate ([`analyse`]: sensitivity, identifiability,
+//!   uncertainty), each reported as unavailable rather than failing the fit.
 //! - `fit.rs`: one run ([`fit`]): input checks (coordinate ranges, enough angles, sign
-//!   convention), the single causes, the estimator; `analyses.rs` the analyses at the estimate
-//!   ([`analyse`]: sensitivity, identifiability, uncertainty), each reported as unavailable
-//!   rather than failing the fit.
+//!   convention), the single causes, the estimator and the analyses.
 //! - `error.rs`: [`FunctionalError`].
 
 mod analyses;
 mod cause;
 mod error;
+mod estimator;
 mod garner_pandy;
 mod identifiability;
 mod feasible_set;
@@ -68,7 +71,8 @@ pub use identifiability::{
     NULL_COMPONENT_CUTOFF, UNIDENTIFIABLE_SHARE,
 };
 pub use analyses::{analyse, AnalysisFailure, Analyses, FitInputs, ParameterisationReport, RestCurveUncertainty, Uncertainty, LAPLACE, SAMPLED};
-pub use fit::{estimate, fit, Estimate, FitMethod, FitSettings, FunctionalFit, TrialFit, DEFAULT_PRIOR_SD};
+pub use estimator::{estimate, Estimate, FitMethod, FitSettings, DEFAULT_PRIOR_SD};
+pub use fit::{fit, FunctionalFit, TrialFit};
 pub use feasible_set::{feasible_sets, FeasibleSetSettings, MuscleFeasibleSet, RegressionLine, DELTA_FLOOR};
 pub use hot_start::{hot_start, HotStart};
 pub use knee_moment::{EquilibriumMethod, EstimatedMuscles, KneeMomentModel, KneeMuscle};
