@@ -11,7 +11,7 @@ use common::fixture;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
-use osim_tune::validation::functional::{fit_errors, relative_errors, thesis_initial_guesses, GroundTruth, StudySubject};
+use osim_tune::validation::functional::{fit_errors, relative_errors, thesis_initial_guesses, Calibration, GroundTruth, StudySubject};
 
 /// The subject's set5 trials, the model, its ground truth and the noise-free moments
 /// (`knee_moment_true_Nm`, which equal the measured ones where the subject has no noise; `None`
@@ -65,7 +65,7 @@ fn train03_noise_free_from_thesis_guesses() {
 #[test]
 fn posterior_mean_beats_the_map_fit_on_generated_subjects() {
     let map = FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() };
-    let (mut mean, mut mode, mut z) = ([0.0; 2], [0.0; 2], Vec::new());
+    let (mut mean, mut mode, mut calibration) = ([0.0; 2], [0.0; 2], Calibration::default());
     for k in 1..=4 {
         let (spec, data, truth, _) = subject(&format!("generated/gen{k:02}"));
         let knee = KneeMomentModel::new(&spec, &data).unwrap();
@@ -75,17 +75,12 @@ fn posterior_mean_beats_the_map_fit_on_generated_subjects() {
         for (estimate, squares) in [(&posterior_mean, &mut mean), (&maximum, &mut mode)] {
             relative_errors(&estimate.fitted, &truth).iter().for_each(|e| (0..2).for_each(|i| squares[i] += e[i] * e[i]));
         }
-        let sampled = posterior_mean.sampled_sd.expect("the posterior mean's sampled sd");
-        for ((fitted, true_value), sd) in posterior_mean.fitted.iter().zip(&truth).zip(&sampled) {
-            let sd = sd.unwrap_or_else(|| panic!("gen{k:02} {}: no sampled sd", fitted.name));
-            z.push((fitted.optimal_fiber_length - true_value.optimal_fiber_length) / sd[0]);
-            z.push((fitted.tendon_slack_length - true_value.tendon_slack_length) / sd[1]);
-        }
+        calibration.add(&posterior_mean.fitted, &truth, posterior_mean.sampled_sd.as_deref());
     }
     let rms = |s: [f64; 2]| s.map(|v| (v / 32.0).sqrt());
     let (mean, mode) = (rms(mean), rms(mode));
     assert!(mean[0] < mode[0] && mean[1] < mode[1], "posterior mean L_opt {:.2} %, L_ts {:.2} %; MAP {:.2} %, {:.2} %", 100.0 * mean[0], 100.0 * mean[1], 100.0 * mode[0], 100.0 * mode[1]);
-    let beyond = z.iter().filter(|z| z.abs() > 2.0).count() as f64 / z.len() as f64;
-    let rms_z = (z.iter().map(|z| z * z).sum::<f64>() / z.len() as f64).sqrt();
+    assert_eq!(calibration.unsampled, 0, "every muscle fit has a sampled sd");
+    let (beyond, rms_z) = (calibration.beyond_two(), calibration.rms());
     assert!(beyond <= 0.15 && (0.5..=2.0).contains(&rms_z), "error / sampled sd: {:.1} % beyond 2, RMS {rms_z:.2}", 100.0 * beyond);
 }

@@ -171,6 +171,40 @@ pub fn fit_errors(subject: &StudySubject, initial: &[MuscleParameters], measured
     Ok((relative_errors(&result.fitted, subject.truth), result.converged))
 }
 
+/// The posterior mean's errors in units of its sampled posterior sd, L_opt and L_ts pooled.
+#[derive(Debug, Default)]
+pub struct Calibration {
+    /// (fitted − true)/sd, L_opt's and L_ts's of each muscle in turn.
+    pub z: Vec<f64>,
+    /// Muscle fits without a sampled sd (left out).
+    pub unsampled: usize,
+}
+
+impl Calibration {
+    /// Adds one fit's errors against `truth`, in units of `sampled` (per muscle [L_opt, L_ts],
+    /// m; `None` where it has none).
+    pub fn add(&mut self, fitted: &[MuscleParameters], truth: &[MuscleParameters], sampled: Option<&[Option<[f64; 2]>]>) {
+        for (e, (fit, true_value)) in fitted.iter().zip(truth).enumerate() {
+            let Some(sd) = sampled.and_then(|s| s[e]) else {
+                self.unsampled += 1;
+                continue;
+            };
+            self.z.push((fit.optimal_fiber_length - true_value.optimal_fiber_length) / sd[0]);
+            self.z.push((fit.tendon_slack_length - true_value.tendon_slack_length) / sd[1]);
+        }
+    }
+
+    /// RMS of z (1 when calibrated).
+    pub fn rms(&self) -> f64 {
+        (self.z.iter().map(|z| z * z).sum::<f64>() / self.z.len().max(1) as f64).sqrt()
+    }
+
+    /// The share of |z| > 2 (4.6 % for normal errors).
+    pub fn beyond_two(&self) -> f64 {
+        self.z.iter().filter(|z| z.abs() > 2.0).count() as f64 / self.z.len().max(1) as f64
+    }
+}
+
 /// fitted/true − 1 per muscle, [L_opt, L_ts].
 pub fn relative_errors(fitted: &[MuscleParameters], truth: &[MuscleParameters]) -> FitErrors {
     fitted

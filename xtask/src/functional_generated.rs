@@ -10,7 +10,7 @@
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
-use osim_tune::validation::functional::{relative_errors, GroundTruth};
+use osim_tune::validation::functional::{relative_errors, Calibration, GroundTruth};
 
 use crate::root;
 use crate::validate::Row;
@@ -24,34 +24,6 @@ const COUNT: usize = 12;
 struct Squares {
     sum: [f64; 2],
     count: usize,
-}
-
-/// The posterior mean's errors in units of its sampled posterior sd, L_opt and L_ts pooled.
-#[derive(Default)]
-struct Calibration {
-    z: Vec<f64>,
-    unsampled: usize,
-}
-
-impl Calibration {
-    fn add(&mut self, fitted: &[MuscleParameters], truth: &[MuscleParameters], sampled: Option<&[Option<[f64; 2]>]>) {
-        for (e, (fit, true_value)) in fitted.iter().zip(truth).enumerate() {
-            let Some(sd) = sampled.and_then(|s| s[e]) else {
-                self.unsampled += 1;
-                continue;
-            };
-            self.z.push((fit.optimal_fiber_length - true_value.optimal_fiber_length) / sd[0]);
-            self.z.push((fit.tendon_slack_length - true_value.tendon_slack_length) / sd[1]);
-        }
-    }
-
-    fn rms(&self) -> f64 {
-        (self.z.iter().map(|z| z * z).sum::<f64>() / self.z.len().max(1) as f64).sqrt()
-    }
-
-    fn beyond_two(&self) -> f64 {
-        self.z.iter().filter(|z| z.abs() > 2.0).count() as f64 / self.z.len().max(1) as f64
-    }
 }
 
 impl Squares {

@@ -60,7 +60,10 @@ impl Options {
             method,
             feasible,
             phase_two,
-            rest_curve: self.rest_curve.then(|| RestCurveSettings { posterior: RestCurveSettings::default().posterior.filter(|_| !self.map), ..RestCurveSettings::default() }),
+            rest_curve: self.rest_curve.then(|| {
+                let defaults = RestCurveSettings::default();
+                RestCurveSettings { posterior: defaults.posterior.filter(|_| !self.map), ..defaults }
+            }),
             prior_sd: (!self.no_prior).then(|| self.prior_sd.unwrap_or(DEFAULT_PRIOR_SD)),
             noise_sd: self.noise_sd,
             sigma_points: self.sigma_points,

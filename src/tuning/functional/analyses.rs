@@ -13,7 +13,7 @@
 use serde::Serialize;
 
 use super::error::FunctionalError;
-use super::estimator::{Estimate, FitMethod, FitSettings};
+use super::estimator::{rest_references, Estimate, FitMethod, FitSettings};
 use super::garner_pandy::{fit_garner_pandy, GarnerPandyOptions, JointRange};
 use super::identifiability::{fisher_information, FisherCriteria, FisherInformation, FisherOptions, Identifiability, Parameterisation, GARNER_PANDY_PARAMETERS};
 use super::knee_moment::KneeMomentModel;
@@ -50,15 +50,13 @@ pub(super) fn attempt<T>(unavailable: &mut Vec<AnalysisFailure>, analysis: &str,
     result.map_err(|e| unavailable.push(AnalysisFailure { analysis: analysis.to_string(), reason: e.to_string() })).ok()
 }
 
-/// What a fit ran on: the model, its knee moments, the trials, the settings, the reference rest
-/// fiber lengths (m, one per estimated muscle, where known) and the measured moments (N·m, one
-/// per trial).
+/// What a fit ran on: the model, its knee moments, the trials, the settings and the measured
+/// moments (N·m, one per trial).
 pub struct FitInputs<'a> {
     pub spec: &'a ModelSpec,
     pub knee: &'a KneeMomentModel,
     pub data: &'a DynamometryData,
     pub settings: &'a FitSettings,
-    pub rest: &'a [Option<f64>],
     pub measured: &'a [f64],
 }
 
@@ -203,7 +201,8 @@ fn other_parameterisations(inputs: &FitInputs, estimate: &Estimate, options: &Fi
 /// fit; the rest-curve fit without its global search, with the fit's prior if it had one, when
 /// it made the fit; else Phase II); sd of (L_opt, L_ts).
 fn sigma_point_spread(inputs: &FitInputs, estimate: &Estimate, noise_sd: f64, progress: &mut dyn FnMut(&str)) -> Result<Vec<[f64; 2]>, FunctionalError> {
-    let FitInputs { knee, settings, rest, measured, .. } = *inputs;
+    let FitInputs { knee, data, settings, measured, .. } = *inputs;
+    let rest = &rest_references(knee, data);
     let points = SigmaPoints::new(measured.len()).map_err(|e| FunctionalError::all_muscles(e.to_string()))?;
     let range = match settings.method {
         FitMethod::GarnerPandy => Some(JointRange::compute(inputs.spec, inputs.data)?),

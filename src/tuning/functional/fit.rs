@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
 use super::cause::{single_causes, SingleCause};
 use super::error::FunctionalError;
-use super::estimator::{estimate, rest_references, FitMethod, FitSettings};
+use super::estimator::{estimate, FitMethod, FitSettings};
 use super::feasible_set::MuscleFeasibleSet;
 use super::hot_start::HotStart;
 use super::knee_moment::KneeMomentModel;
@@ -97,13 +97,12 @@ pub fn fit(
     let measured = data.measured_moments();
     let initial_moments = knee.moments(&initial)?;
     check_sign_convention(data, &measured, &initial_moments)?;
-    let rest = rest_references(knee, data);
     progress("single causes");
     let mut unavailable = Vec::new();
     let single_causes = attempt(&mut unavailable, "single causes", single_causes(knee, &initial, &measured)).unwrap_or_default();
     let estimate = estimate(spec, knee, data, &initial, &measured, settings, progress)?;
     let moments = knee.moments(&estimate.fitted)?;
-    let inputs = FitInputs { spec, knee, data, settings, rest: &rest, measured: &measured };
+    let inputs = FitInputs { spec, knee, data, settings, measured: &measured };
     let analyses = analyse(&inputs, &estimate, &moments, progress);
     unavailable.extend(analyses.unavailable);
     let trials = knee

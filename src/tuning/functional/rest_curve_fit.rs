@@ -166,8 +166,9 @@ pub fn fit_rest_curves(
 /// Moves the fit `fit` to `measured` (N·m, one per trial) to its posterior mean under `prior`,
 /// sampled on `fit`'s search tables (`rest_curve_posterior.rs`) by chains from `fit` and from the
 /// prior's centre: the curve points at the mean coordinates (`fit`'s where the grid does not
-/// resolve the posterior), their residuals and the sampled sd; `fit`'s status stays. Returns the posterior;
-/// `None`, with `fit` unchanged, when `fit` kept no tables or a curve has no point at the mean.
+/// resolve the posterior), their residuals and the sampled sd; `fit`'s status stays. Returns
+/// the posterior; `None`, with `fit` unchanged, when `fit` kept no tables or a curve has no
+/// point at the mean.
 pub(crate) fn move_to_posterior_mean(
     model: &KneeMomentModel,
     fit: &mut RestCurveFit,

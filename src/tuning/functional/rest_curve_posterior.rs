@@ -73,7 +73,10 @@ pub fn posterior_mean(tables: &[ContributionTable], residual_base: &[f64], prior
             for (e, grid) in grids.iter().enumerate() {
                 let [first, second] = chain.resample(e, grid, noise_sd, &mut rng, &mut weights);
                 if kept {
-                    (0..3).for_each(|k| (sum[e][k], squares[e][k]) = (sum[e][k] + first[k], squares[e][k] + second[k]));
+                    for k in 0..3 {
+                        sum[e][k] += first[k];
+                        squares[e][k] += second[k];
+                    }
                 }
             }
             samples += usize::from(kept);
@@ -88,7 +91,7 @@ pub fn posterior_mean(tables: &[ContributionTable], residual_base: &[f64], prior
     Some(CoordinatePosterior { mean, sd, length_sd, resolved, samples })
 }
 
-/// One muscle's nodes: the curve's [s, L_opt, L_ts] (m), contributions c_i (N·m per trial)
+/// One muscle's nodes: the curve's [s, L_opt (m), L_ts (m)], contributions c_i (N·m per trial)
 /// and ‖c_i‖² + w²(s_i − c)², N²·m².
 struct MuscleGrid {
     spacing: f64,
