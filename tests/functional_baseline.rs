@@ -10,9 +10,8 @@ use std::path::Path;
 use nalgebra::{DMatrix, DVector};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::solvers::LeastSquaresStatus;
 use osim_tune::tuning::functional::{
-    fisher_information, fit_garner_pandy, noise_from_residuals, propagate_noise, Direction, DynamometryData, FisherInformation,
+    fisher_information, fit_garner_pandy, noise_from_residuals, propagate_noise, single_causes, Direction, DynamometryData, FisherInformation,
     FisherOptions, GarnerPandyOptions, JointRange, KneeMomentModel, MuscleParameters, ParameterLabel, Parameterisation, SetSelection,
     SigmaPointError, SigmaPoints, TransformedParameter, TrialOptions,
 };
@@ -107,7 +106,7 @@ fn garner_pandy_on_set5_noise_free() {
         let back = range.muscles[e].normalized_fiber_lengths(p).unwrap();
         assert!((back.minimum - lengths.minimum).abs() < 1e-12 && (back.maximum - lengths.maximum).abs() < 1e-12);
     }
-    assert!(matches!(fit.status, LeastSquaresStatus::Converged | LeastSquaresStatus::MaxIterations | LeastSquaresStatus::Stalled));
+    assert!(fit.status.at_minimum(), "{:?}", fit.status);
 
     // Only two muscles fitted, the others fixed at the truth (the thesis' noise study): the
     // truth is then a zero-residual point in reach.
@@ -129,6 +128,30 @@ fn label(muscle: &str, parameter: TransformedParameter, scale: f64) -> Parameter
 }
 
 /// A linear model M = J p: F = JᵀJ/σ² and its criteria in closed form.
+/// On held-out noisy subjects (OpenSim-generated, σ = 10 N·m) Garner & Pandy's fit and every
+/// single-cause fit end at a minimum: with sixteen unknowns and ten trials (gen08, gen12 set5)
+/// the bounded steps' QPs are badly scaled (clarabel gave up on them, the damping ran away and a
+/// crawl stopped short or ran out of iterations), and with all 70 trials (gen09) the fit crawls
+/// along a curved valley for about 160 iterations before the cost test ends it.
+#[test]
+fn garner_pandy_and_single_causes_reach_a_minimum_on_noisy_subjects() {
+    let spec = model();
+    for (subject, sets) in [("gen08", SetSelection::Only(vec!["set5".into()])), ("gen12", SetSelection::Only(vec!["set5".into()])), ("gen09", SetSelection::All)] {
+        let folder = Path::new("fixtures/dynamometry/generated").join(subject);
+        let data = DynamometryData::read(&folder, &TrialOptions { sets, ..TrialOptions::default() }).unwrap();
+        let range = JointRange::compute(&spec, &data).unwrap();
+        let knee = KneeMomentModel::new(&spec, &data).unwrap();
+        let (start, measured) = (knee.nominal_parameters(), data.measured_moments());
+        let fit = fit_garner_pandy(&knee, &range, &measured, &start, &GarnerPandyOptions::default()).unwrap();
+        eprintln!("{subject}, {} trials: {:?} after {} iterations, RMS {:.3} → {:.3} N·m", measured.len(), fit.status, fit.iterations, fit.initial_rms(), fit.rms());
+        assert!(fit.status.at_minimum(), "{subject}: {:?} after {} iterations", fit.status, fit.iterations);
+        assert!(fit.rms() < fit.initial_rms());
+        let causes = single_causes(&knee, &start, &measured).unwrap();
+        let stopped: Vec<String> = causes.iter().filter(|c| !c.at_minimum).map(|c| format!("{} {:?}", c.muscle, c.parameter)).collect();
+        assert!(stopped.is_empty(), "{subject}: single causes short of a minimum: {stopped:?}");
+    }
+}
+
 #[test]
 fn fisher_criteria_of_a_linear_model() {
     // J with orthogonal columns of norms 3 and 0.5 (and a 2 × 2 block): F = diag(9, 0.25)/σ².

@@ -227,6 +227,18 @@ fn refuses_prior_options_without_the_rest_curve_fit() {
     }
 }
 
+/// A trials folder that does not exist is named as such (not as a subject.json it lacks).
+#[test]
+fn refuses_a_trials_folder_that_does_not_exist() {
+    let dir = tempfile::tempdir().unwrap();
+    let output = dir.path().join("out.osim");
+    let missing = dir.path().join("train99");
+    let (code, _, stderr) = run_scale(&missing, &output, &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("train99: no such folder"), "{stderr}");
+    assert!(!output.exists());
+}
+
 #[test]
 fn refuses_a_model_that_lacks_an_estimated_muscle() {
     let dir = tempfile::tempdir().unwrap();

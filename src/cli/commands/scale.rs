@@ -25,6 +25,7 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
     let setup = match (setup, trials) {
         (Some(file), None) => ScaleSetup::read(file)?,
         (None, Some(folder)) if linear => trials_setup(folder)?,
+        (None, Some(folder)) if !folder.is_dir() => return Err(format!("{}: no such folder; expected the trials folder", folder.display()).into()),
         (None, Some(folder)) => {
             let problem = "expected a dynamometry subject.json (with \"trial_files\") for functional scaling, or --linear for OpenSim's linear scaling of a static trial";
             return Err(format!("{}: {problem}", folder.join("subject.json").display()).into());

@@ -3,7 +3,9 @@
 //! (L_opt or L_ts of each muscle) is fitted by one-dimensional least squares on the moments
 //! (factor within [0.5, 1.5] of the model's value) and the candidates are ranked by the RMS
 //! error left. A candidate that leaves almost nothing names the model deficiency; when none
-//! does, the difference has more than one cause.
+//! does, the difference has more than one cause. Each fit stops where the local model sees no
+//! more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step test alone would crawl
+//! on at steps the rounding of the moments decides).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -12,6 +14,10 @@ use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::{MuscleParameters, Parameter};
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem};
+
+/// Stopping rules of each candidate's fit (the cost test as in the rest-curve and Garner & Pandy
+/// fits).
+const CANDIDATE_FIT: LeastSquaresOptions = LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-14, cost_tolerance: 1e-10, max_iterations: 200 };
 
 /// One candidate cause after its fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -24,6 +30,8 @@ pub struct SingleCause {
     /// RMS of M_mod − M_meas before and after, N·m.
     pub rms_before: f64,
     pub rms_after: f64,
+    /// Whether the one-dimensional fit ended at a minimum ([`at_minimum`](crate::solvers::LeastSquaresStatus::at_minimum)).
+    pub at_minimum: bool,
 }
 
 impl SingleCause {
@@ -43,7 +51,7 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
             let mut problem = Candidate::new(model, initial, e, parameter, &moments, measured)?;
             let mut x = [0.0];
             let bounds = Bounds { lower: vec![0.5f64.ln()], upper: vec![1.5f64.ln()] };
-            LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &LeastSquaresOptions::default());
+            let report = LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
             let mut residuals = vec![0.0; measured.len()];
             problem.residuals(x[0], &mut residuals)?;
             causes.push(SingleCause {
@@ -53,6 +61,7 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
                 fitted: initial[e].get(parameter) * x[0].exp(),
                 rms_before,
                 rms_after: rms(residuals.iter().copied()),
+                at_minimum: report.status.at_minimum(),
             });
         }
     }
