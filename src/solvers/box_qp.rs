@@ -166,8 +166,8 @@ mod tests {
     /// Damped Gauss–Newton steps as Garner & Pandy's fit takes them (ten residuals, sixteen
     /// bounded unknowns, P = JᵀJ + λ diag(JᵀJ) with entries ~10⁷, some unknowns at an upper bound
     /// that the gradient pushes against): every step solves, and satisfies the QP's optimality
-    /// conditions (convex, so they certify the minimiser): Pδ + g is zero on free unknowns and
-    /// points out of the box on bounded ones. Without the Jacobi scaling, or with gaps of 10⁻¹²,
+    /// conditions (convex, so they certify the minimiser): Pδ + g is zero on free unknowns, and
+    /// on bounded ones the descent direction −(Pδ + g) points out of the box. Without the Jacobi scaling, or with gaps of 10⁻¹²,
     /// clarabel gives up on many of them (InsufficientProgress: 74 of 100 with neither).
     #[test]
     fn damped_steps_of_an_underdetermined_fit_meet_the_optimality_conditions() {
