@@ -10,7 +10,7 @@ mod common;
 use common::fixture;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
+use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, SetSelection, TrialOptions};
 use osim_tune::validation::functional::{fit_errors, relative_errors, thesis_initial_guesses, Calibration, GroundTruth, StudySubject};
 
 /// The subject's set5 trials, the model, its ground truth and the noise-free moments
@@ -64,7 +64,7 @@ fn train03_noise_free_from_thesis_guesses() {
 /// (`cargo xtask validate` runs all twelve subjects, set5 and all trials).
 #[test]
 fn posterior_mean_beats_the_map_fit_on_generated_subjects() {
-    let map = FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() };
+    let map = FitSettings::maximum_a_posteriori();
     let (mut mean, mut mode, mut calibration) = ([0.0; 2], [0.0; 2], Calibration::default());
     for k in 1..=4 {
         let (spec, data, truth, _) = subject(&format!("generated/gen{k:02}"));

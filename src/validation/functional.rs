@@ -11,7 +11,7 @@ use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
 use crate::model::ModelSpec;
-use crate::tuning::functional::{estimate, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel, MuscleParameters};
+use crate::tuning::functional::{estimate, root_mean_square, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel, MuscleParameters};
 
 /// A public dynamometry subject's `ground_truth.json`: the parameters and the noise-free
 /// moments its data were generated with.
@@ -196,7 +196,7 @@ impl Calibration {
 
     /// RMS of z (1 when calibrated).
     pub fn rms(&self) -> f64 {
-        (self.z.iter().map(|z| z * z).sum::<f64>() / self.z.len().max(1) as f64).sqrt()
+        root_mean_square(self.z.iter().copied())
     }
 
     /// The share of |z| > 2 (4.6 % for normal errors).

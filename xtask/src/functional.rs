@@ -15,7 +15,7 @@ use std::time::Instant;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{
-    single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, RestCurveInformation, RestCurveSettings, SetSelection,
+    single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, RestCurveInformation, SetSelection,
     TrialOptions,
     DEFAULT_PRIOR_SD,
 };
@@ -100,19 +100,16 @@ pub fn rows() -> Vec<Row> {
     rows
 }
 
-/// A column of a noise table: its heading and the settings of its fits at σ (N·m).
+/// A column of a noise table: its heading and the settings of its fits.
 struct Column {
     head: &'static str,
-    settings: fn(f64) -> FitSettings,
+    settings: fn() -> FitSettings,
 }
 
-const OURS: Column = Column { head: "ours", settings: |_| FitSettings::default() };
-const OURS_MAP: Column = Column {
-    head: "ours, MAP fit",
-    settings: |_| FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() },
-};
-const NO_PRIOR: Column = Column { head: "ours, no prior", settings: |_| FitSettings { prior_sd: None, ..FitSettings::default() } };
-const GARNER_PANDY: Column = Column { head: "Garner & Pandy", settings: |_| FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() } };
+const OURS: Column = Column { head: "ours", settings: || FitSettings::default() };
+const OURS_MAP: Column = Column { head: "ours, MAP fit", settings: || FitSettings::maximum_a_posteriori() };
+const NO_PRIOR: Column = Column { head: "ours, no prior", settings: || FitSettings { prior_sd: None, ..FitSettings::default() } };
+const GARNER_PANDY: Column = Column { head: "Garner & Pandy", settings: || FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() } };
 
 /// The noise study at σ = 5 and 10 N·m, `draws` fits per column, its table, its failure row
 /// and the open goals of the first `goal_columns` columns; with `information`, the Fisher
@@ -120,7 +117,7 @@ const GARNER_PANDY: Column = Column { head: "Garner & Pandy", settings: |_| FitS
 fn noise_rows(subject: &StudySubject, label: &str, columns: &[Column], goal_columns: usize, draws: usize, information: bool) -> Vec<Row> {
     let mut rows = Vec::new();
     for sd in [5.0, 10.0] {
-        let results: Vec<StudyResult> = columns.iter().map(|c| noise_study(subject, sd, draws, 20 + sd as u64, &(c.settings)(sd))).collect();
+        let results: Vec<StudyResult> = columns.iter().map(|c| noise_study(subject, sd, draws, 20 + sd as u64, &(c.settings)())).collect();
         println!("{label}, σ = {sd} N·m, {draws} draws from the truth: mean ± sd of the relative error, % (L_opt, L_ts)");
         print_noise_table(subject.truth, sd, columns, &results, draws);
         rows.push(failure_row(&format!("{label}, σ = {sd} N·m"), "train01", &results[0]));

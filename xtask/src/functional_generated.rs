@@ -9,7 +9,7 @@
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, RestCurveSettings, SetSelection, TrialOptions};
+use osim_tune::tuning::functional::{estimate, DynamometryData, FitSettings, KneeMomentModel, MuscleParameters, SetSelection, TrialOptions};
 use osim_tune::validation::functional::{relative_errors, Calibration, GroundTruth};
 
 use crate::root;
@@ -42,7 +42,7 @@ impl Squares {
 pub fn rows() -> Vec<Row> {
     let root = root();
     let spec = ModelSpec::read(&OsimDocument::read(&root.join(MODEL)).expect("the base model")).expect("the base model");
-    let map = FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() };
+    let map = FitSettings::maximum_a_posteriori();
     let mut rows = Vec::new();
     println!("held-out OpenSim-generated subjects gen01–gen12 (σ = 5 / 10 N·m), RMS relative error over 8 muscles × 12 subjects, L_opt / L_ts:");
     for (label, sets) in [("set5", SetSelection::Only(vec!["set5".into()])), ("all 70 trials", SetSelection::All)] {

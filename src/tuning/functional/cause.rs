@@ -13,6 +13,7 @@ use serde::Serialize;
 use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::{MuscleParameters, Parameter};
+use super::trials::root_mean_square;
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem};
 
 /// Stopping rules of each candidate's fit (the cost test as in the rest-curve and Garner & Pandy
@@ -44,7 +45,7 @@ impl SingleCause {
 /// Every (muscle, L_opt | L_ts) candidate fitted alone from `initial`, best first.
 pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
     let moments = model.moments(initial)?;
-    let rms_before = rms(moments.iter().zip(measured).map(|(m, y)| m - y));
+    let rms_before = root_mean_square(moments.iter().zip(measured).map(|(m, y)| m - y));
     let mut causes = Vec::new();
     for e in 0..initial.len() {
         for parameter in [Parameter::TendonSlackLength, Parameter::OptimalFiberLength] {
@@ -60,18 +61,13 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
                 initial: initial[e].get(parameter),
                 fitted: initial[e].get(parameter) * x[0].exp(),
                 rms_before,
-                rms_after: rms(residuals.iter().copied()),
+                rms_after: root_mean_square(residuals.iter().copied()),
                 at_minimum: report.status.at_minimum(),
             });
         }
     }
     causes.sort_by(|a, b| a.rms_after.total_cmp(&b.rms_after));
     Ok(causes)
-}
-
-fn rms(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v * v, n + 1));
-    (sum / n.max(1) as f64).sqrt()
 }
 
 /// One muscle's parameter as ln(factor); the other muscles' contributions stay fixed.

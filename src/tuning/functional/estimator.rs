@@ -65,6 +65,14 @@ impl Default for FitSettings {
     }
 }
 
+impl FitSettings {
+    /// The defaults with the rest-curve fit's maximum a-posteriori estimate under the prior
+    /// instead of the posterior mean (the CLI's `--map`).
+    pub fn maximum_a_posteriori() -> FitSettings {
+        FitSettings { rest_curve: Some(RestCurveSettings { posterior: None, ..RestCurveSettings::default() }), ..FitSettings::default() }
+    }
+}
+
 /// The estimator's result, before the analyses.
 #[derive(Debug, Clone)]
 pub struct Estimate {

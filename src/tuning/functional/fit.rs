@@ -14,7 +14,7 @@ use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
 use super::rest_curve_map::AppliedPrior;
 use super::sensitivity::SensitivityTable;
-use super::trials::{DynamometryData, Direction};
+use super::trials::{root_mean_square, Direction, DynamometryData};
 use crate::io::osim::{format_numbers, OsimDocument, OsimError};
 use crate::model::ModelSpec;
 
@@ -62,7 +62,7 @@ impl FunctionalFit {
     }
 
     pub fn rms_moment_error(&self) -> f64 {
-        (self.trials.iter().map(|t| (t.fitted - t.measured).powi(2)).sum::<f64>() / self.trials.len().max(1) as f64).sqrt()
+        root_mean_square(self.trials.iter().map(|t| t.fitted - t.measured))
     }
 
     /// Writes the fitted L_opt and L_ts into `document` (the model the fit started from, muscles

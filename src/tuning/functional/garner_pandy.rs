@@ -41,7 +41,7 @@ use serde::Serialize;
 use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::MuscleParameters;
-use super::trials::DynamometryData;
+use super::trials::{root_mean_square, DynamometryData};
 use crate::mechanics::{Multibody, MuscleGeometry, PathEvaluation};
 use crate::model::ModelSpec;
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
@@ -268,17 +268,13 @@ pub struct GarnerPandyFit {
 impl GarnerPandyFit {
     /// Root mean square of the final residuals, N·m.
     pub fn rms(&self) -> f64 {
-        rms(&self.residuals)
+        root_mean_square(self.residuals.iter().copied())
     }
 
     /// Root mean square of the residuals at the start, N·m.
     pub fn initial_rms(&self) -> f64 {
-        rms(&self.initial_residuals)
+        root_mean_square(self.initial_residuals.iter().copied())
     }
-}
-
-fn rms(values: &[f64]) -> f64 {
-    (values.iter().map(|v| v * v).sum::<f64>() / values.len().max(1) as f64).sqrt()
 }
 
 /// Fits [L̃m_min, L̃m_max] of the estimated muscles to `measured` (N·m, one per trial of

@@ -2,7 +2,8 @@
 //! measured isometric knee moments.
 //!
 //! - `trials.rs`: a dynamometry subject folder (`subject.json`, one `.mot` per trial set and
-//!   direction) as [`DynamometryData`] of [`IsometricTrial`]s, angles in rad.
+//!   direction) as [`DynamometryData`] of [`IsometricTrial`]s, angles in rad; the RMS of
+//!   moment residuals (`root_mean_square`).
 //! - `knee_moment.rs`: [`KneeMomentModel`], the knee moment Σ F_t·r of every knee-crossing
 //!   muscle in static equilibrium for each trial, with the geometry precomputed; the estimated
 //!   muscles are evaluated through the workspace [`EstimatedMuscles`].
@@ -87,3 +88,4 @@ pub use phase_two::{solve_phase_two, PhaseTwo, PhaseTwoSettings, RATIO_GROUPS};
 pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, SensitivityTable, DEFAULT_RELATIVE_STEP, LOW_BELOW, MEDIUM_BELOW};
 pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};
 pub use trials::{DynamometryData, Direction, IsometricTrial, SetSelection, Side, TrialColumns, TrialOptions, ACTIVATION_SUFFIX, SUBJECT_FILE};
+pub(crate) use trials::root_mean_square;

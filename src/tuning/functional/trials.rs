@@ -446,6 +446,12 @@ fn data_lines(file: &Path) -> Result<Vec<usize>, FunctionalError> {
     Ok(lines.filter(|(_, line)| !line.trim().is_empty()).map(|(number, _)| number).collect())
 }
 
+/// √(Σ v²/n) of `values` (0 for none), in their unit: e.g. of moment residuals, N·m.
+pub(crate) fn root_mean_square(values: impl IntoIterator<Item = f64>) -> f64 {
+    let (sum, n) = values.into_iter().fold((0.0, 0usize), |(s, n), v| (s + v * v, n + 1));
+    (sum / n.max(1) as f64).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
