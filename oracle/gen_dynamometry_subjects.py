@@ -1,7 +1,11 @@
-"""Writes fixtures/dynamometry/generated/gen01..gen12/: noisy synthetic dynamometry subjects made
+"""Writes fixtures/dynamometry/generated/gen01..gen19/: noisy synthetic dynamometry subjects made
 exactly as the public ones (the shared oracle's dynamometry_generate_public.make_perturbed_subject:
-the OpenSim 4.6 subject01 model with its eight knee muscles' L_opt and L_ts perturbed), with other
+an OpenSim 4.6 model with its eight knee muscles' L_opt and L_ts perturbed), with other
 perturbation and noise seeds, for the held-out accuracy study of `cargo xtask validate`.
+gen01..gen12 perturb the scaled subject01 model, as the public subjects do; gen13..gen18 perturb
+the generic gait2392_millard2012muscle model (models/ holds the same file), a second base model.
+gen19 is not held out: it is a generic-model subject of a development run (seeds 77104/88104) on
+which Garner & Pandy's fit needed 1110 iterations, kept as that fit's regression case.
 ground_truth.json keeps only the scoring fields (true parameters, factors, seeds, σ).
 
 Usage: python3 oracle/gen_dynamometry_subjects.py /path/to/shared
@@ -23,9 +27,11 @@ KEEP = ["subject", "noise_sd_Nm", "noise_seed", "perturbation_seed", "true_param
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as scratch:
-        for k in range(1, 13):
-            sid, sd = "gen%02d" % k, (5.0 if k <= 6 else 10.0)
-            G.make_perturbed_subject(Path(scratch), sid, G.SCALED, 13000 + k, sd, 23000 + k, log=lambda *a: None)
+        subjects = [("gen%02d" % k, G.SCALED if k <= 12 else G.GENERIC, 13000 + k,
+                     5.0 if k <= 6 or 13 <= k <= 15 else 10.0, 23000 + k) for k in range(1, 19)]
+        subjects.append(("gen19", G.GENERIC, 77104, 5.0, 88104))
+        for sid, base, perturbation_seed, sd, noise_seed in subjects:
+            G.make_perturbed_subject(Path(scratch), sid, base, perturbation_seed, sd, noise_seed, log=lambda *a: None)
             source, target = Path(scratch) / sid, OUT / sid
             shutil.rmtree(target, ignore_errors=True)
             shutil.copytree(source, target, ignore=shutil.ignore_patterns("ground_truth.json"))
