@@ -227,15 +227,23 @@ fn refuses_prior_options_without_the_rest_curve_fit() {
     }
 }
 
-/// A trials folder that does not exist is named as such (not as a subject.json it lacks).
+/// A trials folder that does not exist, or a file given in its place (the subject.json itself),
+/// is named as such (not as a subject.json it lacks).
 #[test]
-fn refuses_a_trials_folder_that_does_not_exist() {
+fn refuses_a_trials_folder_that_does_not_exist_or_is_a_file() {
     let dir = tempfile::tempdir().unwrap();
     let output = dir.path().join("out.osim");
     let missing = dir.path().join("train99");
     let (code, _, stderr) = run_scale(&missing, &output, &[]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("train99: no such folder"), "{stderr}");
+    assert!(stderr.contains("train99: no such folder; expected the trials folder"), "{stderr}");
+    let file = fixture("dynamometry/train01").join("subject.json");
+    let (code, _, stderr) = run_scale(&file, &output, &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("subject.json: a file, not a folder; expected the trials folder (the one that holds subject.json)"), "{stderr}");
+    let (code, _, stderr) = run_scale(&file, &output, &["--linear"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("subject.json: a file, not a folder"), "{stderr}");
     assert!(!output.exists());
 }
 

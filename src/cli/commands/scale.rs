@@ -21,11 +21,18 @@ pub struct Outputs {
     pub static_pose: Option<PathBuf>,
 }
 
+/// The error for a trials argument that is not a folder: missing, or a file (e.g. the subject.json
+/// itself).
+fn not_a_folder(path: &Path) -> String {
+    let what = if path.exists() { "a file, not a folder" } else { "no such folder" };
+    format!("{}: {what}; expected the trials folder (the one that holds subject.json)", path.display())
+}
+
 pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bool, outputs: &Outputs, json: bool) -> Result<Outcome, Failure> {
     let setup = match (setup, trials) {
         (Some(file), None) => ScaleSetup::read(file)?,
+        (None, Some(folder)) if !folder.is_dir() => return Err(not_a_folder(folder).into()),
         (None, Some(folder)) if linear => trials_setup(folder)?,
-        (None, Some(folder)) if !folder.is_dir() => return Err(format!("{}: no such folder; expected the trials folder", folder.display()).into()),
         (None, Some(folder)) => {
             let problem = "expected a dynamometry subject.json (with \"trial_files\") for functional scaling, or --linear for OpenSim's linear scaling of a static trial";
             return Err(format!("{}: {problem}", folder.join("subject.json").display()).into());
