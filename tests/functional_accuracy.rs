@@ -61,7 +61,8 @@ fn train03_noise_free_from_thesis_guesses() {
 /// centre): RMS relative error over 4 × 8 muscles of the posterior mean below the MAP fit's, for
 /// L_opt and for L_ts; and the posterior mean's sampled sd calibrated on its 64 errors: at most
 /// 15 % beyond 2 sd (4.6 % for normal errors), RMS of error / sd within [1/2, 2]
-/// (`cargo xtask validate` runs all twelve subjects, set5 and all trials).
+/// (`cargo xtask validate` runs all eighteen held-out subjects of both base models, set5 and all
+/// trials).
 #[test]
 fn posterior_mean_beats_the_map_fit_on_generated_subjects() {
     let map = FitSettings::maximum_a_posteriori();

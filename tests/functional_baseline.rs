@@ -129,7 +129,6 @@ fn label(muscle: &str, parameter: TransformedParameter, scale: f64) -> Parameter
     ParameterLabel { muscle: muscle.into(), parameter, value: scale, scale }
 }
 
-/// A linear model M = J p: F = JᵀJ/σ² and its criteria in closed form.
 /// On noisy OpenSim-generated subjects Garner & Pandy's fit and every single-cause fit end at a
 /// minimum: with sixteen unknowns and ten trials (gen08, gen12 set5, σ = 10 N·m) the bounded
 /// steps' QPs are badly scaled (clarabel gave up on them, the damping ran away and a crawl
@@ -156,6 +155,7 @@ fn garner_pandy_and_single_causes_reach_a_minimum_on_noisy_subjects() {
     }
 }
 
+/// A linear model M = J p: F = JᵀJ/σ² and its criteria in closed form.
 #[test]
 fn fisher_criteria_of_a_linear_model() {
     // J with orthogonal columns of norms 3 and 0.5 (and a 2 × 2 block): F = diag(9, 0.25)/σ².

@@ -58,41 +58,42 @@ pub fn rows() -> Vec<Row> {
     println!("held-out OpenSim-generated subjects (σ = 5 / 10 N·m), RMS relative error over 8 muscles × the family's subjects, L_opt / L_ts:");
     let mut rows = Vec::new();
     for family in &FAMILIES {
+        let spec = ModelSpec::read(&OsimDocument::read(&root().join(family.model)).expect("the base model")).expect("the base model");
         for (label, sets) in [("set5", SetSelection::Only(vec!["set5".into()])), ("all 70 trials", SetSelection::All)] {
-            rows.extend(family_rows(family, label, sets));
+            rows.extend(family_rows(family, &spec, label, sets));
         }
     }
     println!();
     rows
 }
 
-/// The rows of one family on one trial selection.
-fn family_rows(family: &Family, label: &str, sets: SetSelection) -> Vec<Row> {
+/// The rows of one family (its model read into `spec`) on one trial selection.
+fn family_rows(family: &Family, spec: &ModelSpec, label: &str, sets: SetSelection) -> Vec<Row> {
     let root = root();
-    let spec = ModelSpec::read(&OsimDocument::read(&root.join(family.model)).expect("the base model")).expect("the base model");
+    // Name, settings, and whether the fit's sampled sd is calibrated (the posterior mean's).
     let estimators = [
-        ("posterior mean", FitSettings::default()),
-        ("MAP", FitSettings::maximum_a_posteriori()),
-        ("Garner & Pandy", FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() }),
+        ("posterior mean", FitSettings::default(), true),
+        ("MAP", FitSettings::maximum_a_posteriori(), false),
+        ("Garner & Pandy", FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() }, false),
     ];
     let (mut model, mut errors, mut failed) = (Squares::default(), [Squares::default(); 3], Vec::new());
     let mut calibration = Calibration::default();
     for k in family.subjects.clone() {
         let folder = root.join(SUBJECTS).join(format!("gen{k:02}"));
         let data = DynamometryData::read(&folder, &TrialOptions { sets: sets.clone(), ..TrialOptions::default() }).expect("a generated subject");
-        let knee = KneeMomentModel::new(&spec, &data).expect("the knee-moment model");
+        let knee = KneeMomentModel::new(spec, &data).expect("the knee-moment model");
         let initial = knee.nominal_parameters();
         let truth = GroundTruth::read(&folder).ok().and_then(|t| t.parameters(&initial)).expect("the subject's true parameters");
         let measured = data.measured_moments();
         model.add(&initial, &truth);
-        for ((name, settings), squares) in estimators.iter().zip(&mut errors) {
-            match estimate(&spec, &knee, &data, &initial, &measured, settings, &mut |_| {}) {
+        for ((name, settings, calibrated), squares) in estimators.iter().zip(&mut errors) {
+            match estimate(spec, &knee, &data, &initial, &measured, settings, &mut |_| {}) {
                 Ok(fit) => {
                     squares.add(&fit.fitted, &truth);
                     if !fit.converged {
                         failed.push(format!("gen{k:02} {name}: {}", fit.status));
                     }
-                    if settings.rest_curve.is_some_and(|r| r.posterior.is_some()) && settings.method == FitMethod::Functional {
+                    if *calibrated {
                         calibration.add(&fit.fitted, &truth, fit.sampled_sd.as_deref());
                     }
                 }
