@@ -1,5 +1,6 @@
 //! Linear scaling against OpenSim 4.6's ScaleTool on the subject01 example
-//! (fixtures/golden/scale, from ../shared/reference/pipelines/gait2392_subject01).
+//! (fixtures/golden/scale, from ../shared/reference/pipelines/gait2392_subject01), and by
+//! manual factors on two other example models (fixtures/golden/scale_zoo, `oracle/gen_scale_zoo.py`).
 
 mod common;
 
@@ -71,6 +72,21 @@ fn subject01_scale_factors_equal_opensims() {
         }
     }
     assert_eq!(outcome.unknown_bodies, ["patella_r", "patella_l"]);
+}
+
+/// leg6dof9musc (mass distribution preserved) and joint_zoo (masses scaled with the volumes,
+/// Ball/Free/Planar/Slider/Gimbal/Pin and oblique CustomJoints on offset frames), each body
+/// scaled by its own anisotropic manual factors: every property as OpenSim 4.6 wrote it.
+#[test]
+fn other_models_scaled_by_manual_factors_equal_opensims() {
+    for model in ["leg6dof9musc", "joint_zoo"] {
+        let setup = ScaleSetup::read(&fixture(&format!("golden/scale_zoo/{model}_setup.xml"))).unwrap();
+        let generic = OsimDocument::read(&fixture(&format!("models/{model}.osim"))).unwrap();
+        let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap();
+        let golden = OsimDocument::read(&fixture(&format!("golden/scale_zoo/{model}_scaled.osim"))).unwrap();
+        let differences = compare_scaled_models(&golden, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
+        assert!(differences.is_empty(), "{model}: {differences:#?}");
+    }
 }
 
 /// OpenSim's static pose (`subject01_static_output.mot`, printed to 8 decimals, rad and m), in

@@ -1,5 +1,6 @@
 //! Scale-step rows of the validation table: OpenSim 4.6's ScaleTool run on subject01
-//! (`fixtures/golden/scale`, from `../shared/reference/pipelines/gait2392_subject01`).
+//! (`fixtures/golden/scale`, from `../shared/reference/pipelines/gait2392_subject01`) and by
+//! manual factors on leg6dof9musc and joint_zoo (`fixtures/golden/scale_zoo`).
 
 use std::process::Command;
 
@@ -35,7 +36,26 @@ pub fn rows() -> Vec<Row> {
     });
     rows.extend(placement_rows(&outcome, &setup, scaled));
     rows.extend(opensim_loads(&outcome));
+    rows.extend(["leg6dof9musc", "joint_zoo"].map(manual_scale_row));
     rows
+}
+
+/// `model` (from `fixtures/models`) scaled by its anisotropic manual factors, every property
+/// against OpenSim's.
+fn manual_scale_row(model: &str) -> Row {
+    let golden = |suffix: &str| root().join(format!("fixtures/golden/scale_zoo/{model}_{suffix}"));
+    let setup = ScaleSetup::read(&golden("setup.xml")).expect("zoo setup");
+    let generic = OsimDocument::read(&root().join(format!("fixtures/models/{model}.osim"))).expect("zoo model");
+    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).expect("the zoo model scales");
+    let opensim = OsimDocument::read(&golden("scaled.osim")).expect("golden scaled model");
+    let differences = compare_scaled_models(&opensim, &outcome.scaled.as_ref().expect("the setup scales").document, SCALED_MODEL_TOLERANCE);
+    Row {
+        what: format!("{model} by manual factors, every property (1e-7 rel. or 1e-9)"),
+        reference: "OpenSim 4.6 ScaleTool, manualScale".into(),
+        worst: differences.len() as f64,
+        tolerance: 0.0,
+        at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
+    }
 }
 
 fn scale_factor_row(outcome: &ScaleOutcome, csv: &str) -> Row {

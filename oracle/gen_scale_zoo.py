@@ -1,0 +1,80 @@
+"""OpenSim 4.6's ScaleTool (manual scale factors; no MarkerPlacer element, since a
+MarkerPlacer with apply false makes ScaleTool.run() return false) on the example models
+leg6dof9musc and joint_zoo: writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
+
+Each body gets anisotropic factors in 0.90-1.12 that differ from body to body, drawn from a
+seeded generator; the subject mass is 1.15 x the model's, with the mass distribution preserved for
+leg6dof9musc and the masses scaled with the volumes for joint_zoo.
+Run from the repository root: python3 oracle/gen_scale_zoo.py
+"""
+import os
+import random
+import shutil
+import tempfile
+from pathlib import Path
+
+import opensim as osim
+
+# arm26 and Rajagopal2016 wrap their paths over objects, which osim-tune does not compute yet.
+MODELS = ["leg6dof9musc", "joint_zoo"]
+OUT = Path("fixtures/golden/scale_zoo")
+
+
+def setup_xml(model_file, bodies, mass, preserve, output):
+    rng = random.Random(len(bodies) * 1000 + int(mass))
+    scales = "".join(
+        "\t\t\t\t\t<Scale>\n\t\t\t\t\t\t<scales> %.4f %.4f %.4f</scales>\n\t\t\t\t\t\t<segment>%s</segment>\n"
+        "\t\t\t\t\t\t<apply>true</apply>\n\t\t\t\t\t</Scale>\n"
+        % (rng.uniform(0.9, 1.12), rng.uniform(0.9, 1.12), rng.uniform(0.9, 1.12), body)
+        for body in bodies)
+    return f"""<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40000">
+\t<ScaleTool name="zoo">
+\t\t<mass>{mass:.6f}</mass>
+\t\t<GenericModelMaker>
+\t\t\t<model_file>{model_file}</model_file>
+\t\t</GenericModelMaker>
+\t\t<ModelScaler>
+\t\t\t<apply>true</apply>
+\t\t\t<scaling_order> manualScale</scaling_order>
+\t\t\t<ScaleSet>
+\t\t\t\t<objects>
+{scales}\t\t\t\t</objects>
+\t\t\t</ScaleSet>
+\t\t\t<preserve_mass_distribution>{"true" if preserve else "false"}</preserve_mass_distribution>
+\t\t\t<output_model_file>{output}</output_model_file>
+\t\t</ModelScaler>
+\t</ScaleTool>
+</OpenSimDocument>
+"""
+
+
+def main():
+    OUT.mkdir(parents=True, exist_ok=True)
+    for name in MODELS:
+        source = Path("fixtures/models") / f"{name}.osim"
+        model = osim.Model(str(source))
+        model.initSystem()
+        bodies = [model.getBodySet().get(i).getName() for i in range(model.getBodySet().getSize())]
+        mass = sum(model.getBodySet().get(i).getMass() for i in range(model.getBodySet().getSize()))
+        preserve = name != "joint_zoo"
+        with tempfile.TemporaryDirectory() as work:
+            work = Path(work)
+            shutil.copy(source, work / source.name)
+            text = setup_xml(source.name, bodies, 1.15 * mass, preserve, "scaled.osim")
+            (work / "setup.xml").write_text(text)
+            cwd = os.getcwd()
+            os.chdir(work)
+            try:
+                ok = osim.ScaleTool("setup.xml").run()
+            finally:
+                os.chdir(cwd)
+            if not ok:
+                raise SystemExit(f"ScaleTool failed on {name}")
+            shutil.copy(work / "scaled.osim", OUT / f"{name}_scaled.osim")
+        (OUT / f"{name}_setup.xml").write_text(setup_xml(f"../../models/{name}.osim", bodies, 1.15 * mass, preserve, f"{name}_scaled.osim"))
+        print(name, len(bodies), "bodies, mass", mass)
+
+
+if __name__ == "__main__":
+    main()
