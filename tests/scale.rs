@@ -10,7 +10,7 @@ use osim_tune::io::table::{MarkerTable, StorageTable};
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
 use osim_tune::review::Tolerance;
-use osim_tune::setup::{ScaleSetup, TimeRange};
+use osim_tune::setup::ScaleSetup;
 use osim_tune::validation::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};
 use osim_tune::tuning::scale::{averaged_frame, move_markers_to_pose, read_marker_set, run_scale_tool, scale_model, update_marker_set, ScaleOutcome, ScaleSet};
 
@@ -89,10 +89,10 @@ fn other_models_scaled_by_manual_factors_equal_opensims() {
     }
 }
 
-/// OpenSim's static pose (`subject01_static_output.mot`, printed to 8 decimals, rad and m), in
-/// the CoordinateSet order of `multibody`.
-fn opensim_static_pose(multibody: &Multibody) -> Vec<f64> {
-    let table = StorageTable::read(&fixture("golden/scale/subject01_static_output.mot")).unwrap();
+/// OpenSim's static pose (`file` in `fixtures/golden`, printed to 8 decimals, rad and m), in the
+/// CoordinateSet order of `multibody`.
+fn opensim_static_pose(multibody: &Multibody, file: &str) -> Vec<f64> {
+    let table = StorageTable::read(&fixture(&format!("golden/{file}"))).unwrap();
     let value = |name: &str| {
         let label = table.labels().iter().find(|l| l.ends_with(&format!("/{name}/value"))).unwrap().clone();
         table.column(&label).unwrap()[0]
@@ -110,27 +110,49 @@ fn subject01_scale_step_gives_opensims_scaled_model() {
 
 /// OpenSim's MarkerPlacer solves the static pose with the assembler's default accuracy, so its
 /// pose is not the minimum of its own objective; ours must be at least as good. Markers moved
-/// at OpenSim's pose must land where OpenSim put them, to the 1e-8 print precision of that pose
-/// (bound 1e-7 m).
-#[test]
-fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
-    let outcome = run_subject01();
+/// at OpenSim's pose (`pose_file`) must land where OpenSim put them (`placed_file`), to the 1e-8
+/// print precision of that pose (bound 1e-7 m). Returns how many markers were moved.
+fn assert_placement_is_opensims_at_a_better_pose(outcome: &ScaleOutcome, setup: &ScaleSetup, pose_file: &str, placed_file: &str) -> usize {
     let scaled = &outcome.scaled.as_ref().unwrap().document;
     let multibody = Multibody::new(&ModelSpec::read(scaled).unwrap()).unwrap();
     let placement = outcome.placement.as_ref().unwrap();
-    let opensim_pose = opensim_static_pose(&multibody);
-    let trial = MarkerTable::read(&fixture("subject01/subject01_static.trc")).unwrap();
-    let static_pose = averaged_frame(&trial.in_meters(), TimeRange { start: 1.0, end: 2.0 }).unwrap();
-    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
-    let tasks = &setup.marker_placer.as_ref().unwrap().ik_tasks;
-    let objective = |q: &[f64]| marker_objective(&multibody, tasks, &static_pose, q).unwrap();
+    let opensim_pose = opensim_static_pose(&multibody, pose_file);
+    let placer = setup.marker_placer.as_ref().unwrap();
+    let trial = MarkerTable::read(&placer.marker_file.as_ref().unwrap().resolved).unwrap();
+    let static_pose = averaged_frame(&trial.in_meters(), placer.time_range).unwrap();
+    let objective = |q: &[f64]| marker_objective(&multibody, &placer.ik_tasks, &static_pose, q).unwrap();
     let (ours, opensim) = (objective(&placement.frame.q), objective(&opensim_pose));
     assert!(ours <= opensim, "static objective {ours} worse than OpenSim's {opensim}");
-    assert_eq!(placement.moved.len(), 39);
     assert!(placement.deleted.is_empty() && placement.without_data.is_empty());
 
     let at_opensim_pose = move_markers_to_pose(scaled, &static_pose, &opensim_pose).unwrap();
-    let golden = OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap();
+    let golden = OsimDocument::read(&fixture(&format!("golden/{placed_file}"))).unwrap();
     let differences = compare_scaled_models(&golden, &at_opensim_pose.document, Tolerance { relative: 0.0, absolute: 1e-7 });
     assert!(differences.is_empty(), "{differences:#?}");
+    placement.moved.len()
+}
+
+#[test]
+fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
+    let outcome = run_subject01();
+    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
+    let moved = assert_placement_is_opensims_at_a_better_pose(&outcome, &setup, "scale/subject01_static_output.mot", "scale/subject01_simbody.osim");
+    assert_eq!(moved, 39);
+}
+
+/// leg6dof9musc and a synthetic static trial (`oracle/gen_scale_measured.py`: the model scaled
+/// anisotropically, 1.5 mm marker noise): five measurements of within- and across-body marker
+/// pairs (one on two axes only), the patella and toes scaled with their neighbours, then marker
+/// placement with one task weighted 10 and one not applied. The scaled model is OpenSim's in
+/// every property; the placement as for subject01.
+#[test]
+fn leg6dof9musc_scaled_by_measurements_and_placed_as_opensim() {
+    let setup = ScaleSetup::read(&fixture("golden/scale_measured/setup.xml")).unwrap();
+    let generic = OsimDocument::read(&fixture("models/leg6dof9musc.osim")).unwrap();
+    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap();
+    let scaled_only = OsimDocument::read(&fixture("golden/scale_measured/scaledOnly.osim")).unwrap();
+    let differences = compare_scaled_models(&scaled_only, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
+    assert!(differences.is_empty(), "{differences:#?}");
+    let moved = assert_placement_is_opensims_at_a_better_pose(&outcome, &setup, "scale_measured/static_pose.mot", "scale_measured/placed.osim");
+    assert_eq!(moved, 12);
 }
