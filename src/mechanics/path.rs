@@ -83,9 +83,9 @@ struct PathWrap {
 enum Source {
     /// `points[k]`.
     Point(usize),
-    /// A tangent point of `wraps[path_wrap]` (a `PathWrapPoint`); `arc` is the surface length
-    /// from the previous point, 0 for the first tangent point.
-    Wrap { path_wrap: usize, object: usize, arc: f64 },
+    /// A tangent point of `wraps[path_wrap]` (a `PathWrapPoint`, the first or `second`); `arc`
+    /// is the surface length from the previous point, 0 for the first tangent point.
+    Wrap { path_wrap: usize, object: usize, second: bool, arc: f64 },
 }
 
 /// A point of the current path, placed.
@@ -93,7 +93,7 @@ enum Source {
 struct ActivePoint {
     source: Source,
     body: usize,
-    /// m, in ground.
+    /// m, in ground, where the point is now.
     location: Vec3,
 }
 
@@ -125,6 +125,28 @@ pub struct PathScratch {
     /// Order in which the wraps are applied, and each one's last action.
     order: Vec<usize>,
     actions: Vec<WrapAction>,
+    /// The ground location OpenSim sees for each `PathWrap`'s two tangent points (see
+    /// [`observed`]).
+    observed: Vec<[Option<Vec3>; 2]>,
+}
+
+impl PathScratch {
+    /// The current path of the last evaluation: each point's body, its location in ground as
+    /// OpenSim reports it (`getLocationInGround`, m) and, for the second tangent point of a
+    /// wrap, the surface length before it (m).
+    pub fn current_path(&self) -> impl Iterator<Item = (usize, Vec3, Option<f64>)> + '_ {
+        self.active.iter().map(|p| {
+            let arc = match p.source {
+                Source::Wrap { second: true, arc, .. } => Some(arc),
+                _ => None,
+            };
+            let location = match p.source {
+                Source::Wrap { path_wrap, second, .. } => self.observed[path_wrap][usize::from(second)].unwrap_or(p.location),
+                Source::Point(_) => p.location,
+            };
+            (p.body, location, arc)
+        })
+    }
 }
 
 /// The best wrap of one `PathWrap` so far: the segment it replaces and its tangent points in
@@ -225,14 +247,15 @@ impl GeometryPath {
     pub fn length(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch) -> f64 {
         self.place(kinematics, q, scratch);
         self.apply_wraps(kinematics, q, scratch);
-        current_length(&scratch.active)
+        current_length(&scratch.active, &mut scratch.observed)
     }
 
     /// Path length (m), and in `moment_arms[k]` the moment arm about `coordinates[k]`: m for a
     /// rotational coordinate, m/m for a translational one; positive when tension drives q up.
     /// For a path without wrapping r = −∂L/∂q, except about `BallJoint`/`FreeJoint` rotations,
     /// where OpenSim's generalized speed is an angular velocity and r the torque about the
-    /// parent frame's axis.
+    /// parent frame's axis. Over a wrap object the tangent points count as fixed on its body,
+    /// and the segments' directions are those OpenSim sees (see [`observed`]).
     ///
     /// Computed as OpenSim does: the unit tension acts at each active point next to a point on
     /// another body, along the segment, and its generalized force is the moment arm; a
@@ -250,7 +273,8 @@ impl GeometryPath {
     ) -> f64 {
         let length = self.length(kinematics, q, scratch);
         scratch.directions.clear();
-        scratch.directions.extend(scratch.active.windows(2).map(|pair| direction(&pair[0].location, &pair[1].location)));
+        let PathScratch { active, directions, observed: seen, .. } = scratch;
+        directions.extend(active.windows(2).map(|pair| direction(&observed(&pair[0], seen), &observed(&pair[1], seen))));
         for (&coordinate, moment_arm) in coordinates.iter().zip(moment_arms.iter_mut()) {
             *moment_arm = 0.0;
             coupling::for_each_coupling(&multibody.couplers, q, coordinate, |c, weight| {
@@ -313,6 +337,8 @@ impl GeometryPath {
         scratch.order.extend(0..count);
         scratch.actions.clear();
         scratch.actions.resize(count, WrapAction::NoWrap);
+        scratch.observed.clear();
+        scratch.observed.resize(count, [None, None]);
         let passes = if count < 2 { 1 } else { 8 };
         let mut last_length = f64::INFINITY;
         for pass in 0..passes {
@@ -355,8 +381,9 @@ impl GeometryPath {
                         CylinderWrap::Wrapped(path) => {
                             scratch.actions[i] = WrapAction::Wrapped;
                             let candidate = placed(&path);
-                            let straight = (a.location - b.location).norm();
-                            let change = (a.location - candidate.r1_ground).norm() + candidate.length + (b.location - candidate.r2_ground).norm() - straight;
+                            let (a_seen, b_seen) = (observed(&a, &mut scratch.observed), observed(&b, &mut scratch.observed));
+                            let straight = (a_seen - b_seen).norm();
+                            let change = (a_seen - candidate.r1_ground).norm() + candidate.length + (b_seen - candidate.r2_ground).norm() - straight;
                             if change < least_change {
                                 best = Some(candidate);
                                 least_change = change;
@@ -367,12 +394,12 @@ impl GeometryPath {
                     }
                 }
                 if let Some(best) = best {
-                    let point = |location: Vec3, arc: f64| ActivePoint { source: Source::Wrap { path_wrap: w, object: wrap.object, arc }, body: wrap.body, location };
-                    scratch.active.insert(best.end, point(best.r1_ground, 0.0));
-                    scratch.active.insert(best.end + 1, point(best.r2_ground, best.length));
+                    let point = |location: Vec3, second: bool, arc: f64| ActivePoint { source: Source::Wrap { path_wrap: w, object: wrap.object, second, arc }, body: wrap.body, location };
+                    scratch.active.insert(best.end, point(best.r1_ground, false, 0.0));
+                    scratch.active.insert(best.end + 1, point(best.r2_ground, true, best.length));
                 }
             }
-            let length = current_length(&scratch.active);
+            let length = current_length(&scratch.active, &mut scratch.observed);
             if (length - last_length).abs() < 0.0005 {
                 break;
             }
@@ -394,16 +421,32 @@ fn remove_wrap_points(active: &mut Vec<ActivePoint>, path_wrap: usize) {
     }
 }
 
-/// `calcLengthAfterPathComputation`: straight segments, and the surface length between the two
-/// tangent points of a wrap object.
-fn current_length(active: &[ActivePoint]) -> f64 {
-    active
-        .windows(2)
-        .map(|pair| match (pair[0].source, pair[1].source) {
+/// The ground location OpenSim uses for a point of the current path (`getLocationInGround`).
+/// OpenSim caches a point's ground location the first time it is asked for in a state, and moving
+/// a `PathWrapPoint` (`setLocation`) does not invalidate that cache: a tangent point keeps the
+/// ground location it had when first measured — by the length at the end of a wrapping pass or
+/// by a length-change comparison — even when a later pass moves it. The straight segments next
+/// to tangent points, and so the path length and the moment arms' directions, use these stale
+/// locations; the wrapping itself and the surface lengths use the current ones.
+fn observed(point: &ActivePoint, observed: &mut [[Option<Vec3>; 2]]) -> Vec3 {
+    match point.source {
+        Source::Point(_) => point.location,
+        Source::Wrap { path_wrap, second, .. } => *observed[path_wrap][usize::from(second)].get_or_insert(point.location),
+    }
+}
+
+/// `calcLengthAfterPathComputation`: straight segments between the observed locations, and the
+/// surface length between the two tangent points of a wrap object.
+fn current_length(active: &[ActivePoint], seen: &mut [[Option<Vec3>; 2]]) -> f64 {
+    let mut length = 0.0;
+    for pair in active.windows(2) {
+        let (from, to) = (observed(&pair[0], seen), observed(&pair[1], seen));
+        length += match (pair[0].source, pair[1].source) {
             (Source::Wrap { object: a, .. }, Source::Wrap { object: b, arc, .. }) if a == b => arc,
-            _ => (pair[1].location - pair[0].location).norm(),
-        })
-        .sum()
+            _ => (to - from).norm(),
+        };
+    }
+    length
 }
 
 /// Unit vector from `from` to `to`, NaN when the points coincide (as OpenSim).
