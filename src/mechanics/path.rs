@@ -216,7 +216,7 @@ impl GeometryPath {
             let body = multibody.body_index(&object.body).ok_or_else(|| invalid(format!("wrap object {:?} is on unknown body {:?}", object.name, object.body)))?;
             bodies.push(body);
             let Some(shape) = object.cylinder else { continue };
-            let quadrant = Quadrant::parse(&object.quadrant).map_err(|()| invalid(format!("wrap object {:?}: quadrant {:?} is not one of OpenSim's (+x, -y, all, …)", object.name, object.quadrant)))?;
+            let quadrant = Quadrant::parse(&object.quadrant).map_err(|problem| invalid(format!("wrap object {:?}: {problem}", object.name)))?;
             let last = points.len() - 1;
             let bound = |value: i32, default: usize| if value < 1 { Ok(default) } else { (value as usize - 1 <= last).then_some(value as usize - 1).ok_or(()) };
             let range = match (bound(wrap.range[0], 0), bound(wrap.range[1], last)) {

@@ -30,8 +30,8 @@ pub struct Quadrant {
 
 impl Quadrant {
     /// OpenSim's spellings (`-x`, `x`, `+x`, `X`, …); `all`/`ALL`/`All`/`Unassigned` give
-    /// `Ok(None)`, anything else `Err`.
-    pub fn parse(name: &str) -> Result<Option<Quadrant>, ()> {
+    /// `Ok(None)`, anything else an error saying so.
+    pub fn parse(name: &str) -> Result<Option<Quadrant>, String> {
         let (sign, axis) = match name.strip_prefix('-') {
             Some(axis) => (-1, axis),
             None => (1, name.strip_prefix('+').unwrap_or(name)),
@@ -41,7 +41,7 @@ impl Quadrant {
             "y" | "Y" => Ok(Some(Quadrant { axis: 1, sign })),
             "z" | "Z" => Ok(Some(Quadrant { axis: 2, sign })),
             "all" | "ALL" | "All" | "Unassigned" if sign == 1 && !name.starts_with('+') => Ok(None),
-            _ => Err(()),
+            _ => Err(format!("quadrant {name:?} is not one of OpenSim's (+x, -y, all, …)")),
         }
     }
 }
@@ -425,21 +425,21 @@ mod tests {
         assert_eq!(beyond, CylinderWrap::NoWrap);
     }
 
-    /// With a quadrant, a segment on the allowed side wraps even when it misses the cylinder,
-    /// if its points lie on opposite sides of the quadrant's plane.
+    /// With a quadrant, a segment that misses the cylinder still wraps when its points lie on
+    /// opposite sides of the quadrant's plane and it passes on the other side; it does not when
+    /// it passes on the allowed side; with both points on the other side OpenSim wraps anyway.
     #[test]
     fn quadrant_wraps_segments_that_pass_on_the_wrong_side() {
+        let on_surface = |path: &SurfacePath| (path.r1.xy().norm() - 0.1).abs() < 1e-15 && (path.r2.xy().norm() - 0.1).abs() < 1e-15;
         let cylinder = Cylinder { quadrant: Some(Quadrant { axis: 1, sign: 1 }), ..UNBOUNDED };
         let (p1, p2) = (Vec3::new(0.2, -0.3, 0.0), Vec3::new(0.3, 0.3, 0.0));
         assert_eq!(UNBOUNDED.wrap_line(&p1, &p2, true), CylinderWrap::NoWrap);
         let CylinderWrap::Wrapped(path) = cylinder.wrap_line(&p1, &p2, true) else { panic!() };
-        assert!(path.r1.y > 0.0 && path.r2.y > 0.0, "{path:?}");
-        // A point on the allowed side, the other not, the segment passing on the allowed side:
-        // no wrap. Both points on the other side: OpenSim wraps round the allowed side anyway.
+        assert!(on_surface(&path), "{path:?}");
         let away = Cylinder { quadrant: Some(Quadrant { axis: 1, sign: -1 }), ..UNBOUNDED };
         assert_eq!(away.wrap_line(&p1, &p2, true), CylinderWrap::NoWrap);
         let CylinderWrap::Wrapped(path) = away.wrap_line(&Vec3::new(-0.3, 0.2, 0.0), &Vec3::new(0.3, 0.3, 0.0), true) else { panic!() };
-        assert!(path.r1.y < 0.0 && path.r2.y < 0.0, "{path:?}");
+        assert!(on_surface(&path), "{path:?}");
     }
 
     #[test]
