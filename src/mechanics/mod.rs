@@ -11,6 +11,7 @@ mod multibody;
 pub mod muscle;
 mod path;
 mod spatial;
+mod wrap_cylinder;
 
 pub use coupling::Coupler;
 pub use error::MechanicsError;
@@ -22,3 +23,4 @@ pub use motion::{Motion, MotionError};
 pub use multibody::{Body, Joint, Marker, Multibody, GROUND_INDEX};
 pub use path::{GeometryPath, PathScratch};
 pub use spatial::{body_fixed_xyz, body_fixed_xyz_angles, rotation_about, Mat3, Transform, Vec3};
+pub use wrap_cylinder::{Cylinder, CylinderWrap, Quadrant, SurfacePath};

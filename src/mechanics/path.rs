@@ -1,13 +1,15 @@
-//! Muscle paths (`GeometryPath`): the active points, the path length and OpenSim's moment arm
-//! (`Muscle::computeMomentArm`, the generalized force a unit tension produces). Wrap objects are
-//! not applied yet: such paths are straight lines through their points and say so.
+//! Muscle paths (`GeometryPath`): the active points, the wrapping over `WrapCylinder`s
+//! (`GeometryPath::applyWrapObjects`), the path length and OpenSim's moment arm
+//! (`Muscle::computeMomentArm`, the generalized force a unit tension produces). Paths that wrap
+//! over other wrap objects are straight lines through their points and say so.
 
 use super::coupling;
 use super::error::MechanicsError;
 use super::function::Function;
 use super::kinematics::Kinematics;
 use super::multibody::Multibody;
-use super::spatial::{Transform, Vec3};
+use super::spatial::{body_fixed_xyz, Transform, Vec3};
+use super::wrap_cylinder::{Cylinder, CylinderWrap, Quadrant, SurfacePath};
 use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind};
 
 /// Simbody's `SignificantReal` (ε^⅞): segments shorter than this have no direction.
@@ -62,13 +64,56 @@ impl PathPoint {
     }
 }
 
+/// A `PathWrap` over a `WrapCylinder`, compiled.
+#[derive(Debug, Clone)]
+struct PathWrap {
+    /// Index of the wrap object in the model (two `PathWrap`s may share one).
+    object: usize,
+    body: usize,
+    /// X_B,wrap: the wrap object's frame in its body (`xyz_body_rotation`, `translation`).
+    frame: Transform,
+    active: bool,
+    cylinder: Cylinder,
+    /// First and last path point (0-based indices into `points`) the wrap may span.
+    range: [usize; 2],
+}
+
+/// Where a point of the current path comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Source {
+    /// `points[k]`.
+    Point(usize),
+    /// A tangent point of `wraps[path_wrap]` (a `PathWrapPoint`, the first or `second`); `arc`
+    /// is the surface length from the previous point, 0 for the first tangent point.
+    Wrap { path_wrap: usize, object: usize, second: bool, arc: f64 },
+}
+
 /// A point of the current path, placed.
 #[derive(Debug, Clone, Copy)]
 struct ActivePoint {
-    point: usize,
+    source: Source,
     body: usize,
-    /// m, in ground.
+    /// m, in ground, where the point is now.
     location: Vec3,
+}
+
+impl ActivePoint {
+    fn wrap_object(&self) -> Option<usize> {
+        match self.source {
+            Source::Wrap { object, .. } => Some(object),
+            Source::Point(_) => None,
+        }
+    }
+}
+
+/// OpenSim's `WrapObject::WrapAction` of the last segment a wrap tried.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+enum WrapAction {
+    #[default]
+    NoWrap,
+    InsideRadius,
+    Wrapped,
+    Mandatory,
 }
 
 /// Scratch space of one path evaluation, reused between calls.
@@ -77,6 +122,42 @@ pub struct PathScratch {
     active: Vec<ActivePoint>,
     /// Unit vector from each active point to the next (NaN when they coincide).
     directions: Vec<Vec3>,
+    /// Order in which the wraps are applied, and each one's last action.
+    order: Vec<usize>,
+    actions: Vec<WrapAction>,
+    /// The ground location OpenSim sees for each `PathWrap`'s two tangent points (see
+    /// [`observed`]).
+    observed: Vec<[Option<Vec3>; 2]>,
+}
+
+impl PathScratch {
+    /// The current path of the last evaluation: each point's body, its location in ground as
+    /// OpenSim reports it (`getLocationInGround`, m) and, for the second tangent point of a
+    /// wrap, the surface length before it (m).
+    pub fn current_path(&self) -> impl Iterator<Item = (usize, Vec3, Option<f64>)> + '_ {
+        self.active.iter().map(|p| {
+            let arc = match p.source {
+                Source::Wrap { second: true, arc, .. } => Some(arc),
+                _ => None,
+            };
+            let location = match p.source {
+                Source::Wrap { path_wrap, second, .. } => self.observed[path_wrap][usize::from(second)].unwrap_or(p.location),
+                Source::Point(_) => p.location,
+            };
+            (p.body, location, arc)
+        })
+    }
+}
+
+/// The best wrap of one `PathWrap` so far: the segment it replaces and its tangent points in
+/// ground.
+#[derive(Debug, Clone, Copy)]
+struct SegmentWrap {
+    /// Index in the current path of the segment's second point.
+    end: usize,
+    r1_ground: Vec3,
+    r2_ground: Vec3,
+    length: f64,
 }
 
 /// A muscle's path compiled for evaluation.
@@ -88,8 +169,11 @@ pub struct GeometryPath {
     /// those of the joints between the bodies its points and wrap objects are on, and those
     /// that move or switch its points.
     pub spanned: Vec<usize>,
-    /// Wrap objects in the path's `PathWrapSet`, which this path does not apply.
+    /// Wrap objects in the path's `PathWrapSet`, which this path does not apply (all of them
+    /// when any is not a `WrapCylinder`).
     pub ignored_wraps: Vec<String>,
+    /// The `PathWrap`s applied (over `WrapCylinder`s), in `PathWrapSet` order.
+    wraps: Vec<PathWrap>,
 }
 
 impl GeometryPath {
@@ -125,9 +209,23 @@ impl GeometryPath {
             bodies.push(body);
             points.push(PathPoint { body, frame, kind });
         }
+        let mut wraps = Vec::with_capacity(force.path_wraps.len());
         for wrap in &force.path_wraps {
-            let object = model.wrap_objects.iter().find(|w| w.name == wrap.wrap_object).ok_or_else(|| invalid(format!("wrap object {:?} does not exist in the model", wrap.wrap_object)))?;
-            bodies.push(multibody.body_index(&object.body).ok_or_else(|| invalid(format!("wrap object {:?} is on unknown body {:?}", object.name, object.body)))?);
+            let index = model.wrap_objects.iter().position(|w| w.name == wrap.wrap_object).ok_or_else(|| invalid(format!("wrap object {:?} does not exist in the model", wrap.wrap_object)))?;
+            let object = &model.wrap_objects[index];
+            let body = multibody.body_index(&object.body).ok_or_else(|| invalid(format!("wrap object {:?} is on unknown body {:?}", object.name, object.body)))?;
+            bodies.push(body);
+            let Some(shape) = object.cylinder else { continue };
+            let quadrant = Quadrant::parse(&object.quadrant).map_err(|problem| invalid(format!("wrap object {:?}: {problem}", object.name)))?;
+            let last = points.len() - 1;
+            let bound = |value: i32, default: usize| if value < 1 { Ok(default) } else { (value as usize - 1 <= last).then_some(value as usize - 1).ok_or(()) };
+            let range = match (bound(wrap.range[0], 0), bound(wrap.range[1], last)) {
+                (Ok(first), Ok(end)) => [first, end],
+                _ => return Err(invalid(format!("path wrap over {:?}: range {} {} goes beyond the path's {} points", object.name, wrap.range[0], wrap.range[1], points.len()))),
+            };
+            let frame = Transform { rotation: body_fixed_xyz(object.xyz_body_rotation), translation: Vec3::from(object.translation) };
+            let cylinder = Cylinder { radius: shape.radius, length: shape.length, quadrant };
+            wraps.push(PathWrap { object: index, body, frame, active: object.active, cylinder, range });
         }
         let mut spanned: Vec<usize> = multibody.joints_spanned(&bodies).into_iter().flat_map(|j| multibody.joints[j].coordinates.iter().copied()).collect();
         spanned.extend(switches);
@@ -135,21 +233,29 @@ impl GeometryPath {
         spanned.extend(coupled);
         spanned.sort_unstable();
         spanned.dedup();
-        let ignored_wraps = force.path_wraps.iter().map(|w| w.wrap_object.clone()).collect();
-        Ok(GeometryPath { name: force.name.clone(), points, spanned, ignored_wraps })
+        let ignored_wraps = if wraps.len() == force.path_wraps.len() {
+            Vec::new()
+        } else {
+            wraps.clear();
+            force.path_wraps.iter().map(|w| w.wrap_object.clone()).collect()
+        };
+        Ok(GeometryPath { name: force.name.clone(), points, spanned, ignored_wraps, wraps })
     }
 
-    /// Path length (m): the sum of the straight segments between active points.
+    /// Path length (m): the straight segments between the points of the current path and the
+    /// surface lengths over the wrap objects.
     pub fn length(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch) -> f64 {
         self.place(kinematics, q, scratch);
-        scratch.active.windows(2).map(|pair| (pair[1].location - pair[0].location).norm()).sum()
+        self.apply_wraps(kinematics, q, scratch);
+        current_length(&scratch.active, &mut scratch.observed)
     }
 
     /// Path length (m), and in `moment_arms[k]` the moment arm about `coordinates[k]`: m for a
     /// rotational coordinate, m/m for a translational one; positive when tension drives q up.
     /// For a path without wrapping r = −∂L/∂q, except about `BallJoint`/`FreeJoint` rotations,
     /// where OpenSim's generalized speed is an angular velocity and r the torque about the
-    /// parent frame's axis.
+    /// parent frame's axis. Over a wrap object the tangent points count as fixed on its body,
+    /// and the segments' directions are those OpenSim sees (see [`observed`]).
     ///
     /// Computed as OpenSim does: the unit tension acts at each active point next to a point on
     /// another body, along the segment, and its generalized force is the moment arm; a
@@ -167,7 +273,8 @@ impl GeometryPath {
     ) -> f64 {
         let length = self.length(kinematics, q, scratch);
         scratch.directions.clear();
-        scratch.directions.extend(scratch.active.windows(2).map(|pair| direction(&pair[0].location, &pair[1].location)));
+        let PathScratch { active, directions, observed: seen, .. } = scratch;
+        directions.extend(active.windows(2).map(|pair| direction(&observed(&pair[0], seen), &observed(&pair[1], seen))));
         for (&coordinate, moment_arm) in coordinates.iter().zip(moment_arms.iter_mut()) {
             *moment_arm = 0.0;
             coupling::for_each_coupling(&multibody.couplers, q, coordinate, |c, weight| {
@@ -196,7 +303,8 @@ impl GeometryPath {
     /// OpenSim's `getdPointdQ` in ground for a `MovingPathPoint` whose x location is driven by
     /// `coordinate` (all three slopes, at the unclamped values); zero otherwise.
     fn moving_work(&self, kinematics: &Kinematics, q: &[f64], active: &ActivePoint, coordinate: usize) -> Vec3 {
-        let point = &self.points[active.point];
+        let Source::Point(index) = active.source else { return Vec3::zeros() };
+        let point = &self.points[index];
         match &point.kind {
             PointKind::Moving(axes) if axes[0].coordinate == coordinate => {
                 let slopes = Vec3::from_fn(|k, _| axes[k].function.derivative(q[axes[k].coordinate]));
@@ -211,9 +319,134 @@ impl GeometryPath {
         scratch.active.clear();
         for (index, point) in self.points.iter().enumerate().filter(|(_, p)| p.is_active(q)) {
             let in_body = point.frame.apply(&point.location(q));
-            scratch.active.push(ActivePoint { point: index, body: point.body, location: kinematics.bodies[point.body].apply(&in_body) });
+            scratch.active.push(ActivePoint { source: Source::Point(index), body: point.body, location: kinematics.bodies[point.body].apply(&in_body) });
         }
     }
+
+    /// `GeometryPath::applyWrapObjects`: inserts each wrap's two tangent points into the current
+    /// path. A path with one wrap is wrapped once; with several, up to 8 passes, each wrap
+    /// re-applied on the path the others left, until the length changes by less than 0.5 mm.
+    /// Each wrap takes the first segment of its range the straight line of which crosses the
+    /// object, else the segment whose wrapping lengthens the path least.
+    fn apply_wraps(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch) {
+        let count = self.wraps.len();
+        if count == 0 {
+            return;
+        }
+        scratch.order.clear();
+        scratch.order.extend(0..count);
+        scratch.actions.clear();
+        scratch.actions.resize(count, WrapAction::NoWrap);
+        scratch.observed.clear();
+        scratch.observed.resize(count, [None, None]);
+        let passes = if count < 2 { 1 } else { 8 };
+        let mut last_length = f64::INFINITY;
+        for pass in 0..passes {
+            for i in 0..count {
+                scratch.actions[i] = WrapAction::NoWrap;
+                let w = scratch.order[i];
+                remove_wrap_points(&mut scratch.active, w);
+                let wrap = &self.wraps[w];
+                if !wrap.active {
+                    continue;
+                }
+                let active_in = |k: usize| self.points[k].is_active(q);
+                let Some(first) = (wrap.range[0]..=wrap.range[1]).find(|&k| active_in(k)) else { return };
+                let Some(last) = (wrap.range[0]..=wrap.range[1]).rev().find(|&k| active_in(k)) else { return };
+                let position = |k: usize| scratch.active.iter().position(|p| p.source == Source::Point(k));
+                let (Some(start), Some(end)) = (position(first), position(last)) else { return };
+                let to_body = &kinematics.bodies[wrap.body];
+                let mut best: Option<SegmentWrap> = None;
+                let mut least_change = f64::INFINITY;
+                for segment in start..end {
+                    let (a, b) = (scratch.active[segment], scratch.active[segment + 1]);
+                    if a.wrap_object().is_some() && a.wrap_object() == b.wrap_object() {
+                        continue;
+                    }
+                    let into_wrap = |p: &Vec3| {
+                        let in_body = to_body.rotation.transpose() * (p - to_body.translation);
+                        wrap.frame.rotation.transpose() * (in_body - wrap.frame.translation)
+                    };
+                    let outcome = wrap.cylinder.wrap_line(&into_wrap(&a.location), &into_wrap(&b.location), count == 1);
+                    let placed = |path: &SurfacePath| {
+                        let (r1, r2) = (wrap.frame.apply(&path.r1), wrap.frame.apply(&path.r2));
+                        SegmentWrap { end: segment + 1, r1_ground: to_body.apply(&r1), r2_ground: to_body.apply(&r2), length: path.length }
+                    };
+                    match outcome {
+                        CylinderWrap::Mandatory(path) => {
+                            scratch.actions[i] = WrapAction::Mandatory;
+                            best = Some(placed(&path));
+                            break;
+                        }
+                        CylinderWrap::Wrapped(path) => {
+                            scratch.actions[i] = WrapAction::Wrapped;
+                            let candidate = placed(&path);
+                            let (a_seen, b_seen) = (observed(&a, &mut scratch.observed), observed(&b, &mut scratch.observed));
+                            let straight = (a_seen - b_seen).norm();
+                            let change = (a_seen - candidate.r1_ground).norm() + candidate.length + (b_seen - candidate.r2_ground).norm() - straight;
+                            if change < least_change {
+                                best = Some(candidate);
+                                least_change = change;
+                            }
+                        }
+                        CylinderWrap::InsideRadius => scratch.actions[i] = WrapAction::InsideRadius,
+                        CylinderWrap::NoWrap => scratch.actions[i] = WrapAction::NoWrap,
+                    }
+                }
+                if let Some(best) = best {
+                    let point = |location: Vec3, second: bool, arc: f64| ActivePoint { source: Source::Wrap { path_wrap: w, object: wrap.object, second, arc }, body: wrap.body, location };
+                    scratch.active.insert(best.end, point(best.r1_ground, false, 0.0));
+                    scratch.active.insert(best.end + 1, point(best.r2_ground, true, best.length));
+                }
+            }
+            let length = current_length(&scratch.active, &mut scratch.observed);
+            if (length - last_length).abs() < 0.0005 {
+                break;
+            }
+            last_length = length;
+            // A first wrap that missed and a second that found a point inside its object: try
+            // them the other way round.
+            if pass == 0 && count > 1 && scratch.actions[0] == WrapAction::NoWrap && scratch.actions[1] == WrapAction::InsideRadius {
+                scratch.order.swap(0, 1);
+                remove_wrap_points(&mut scratch.active, 0);
+            }
+        }
+    }
+}
+
+/// Removes the two tangent points of `path_wrap` from the current path, if it has them.
+fn remove_wrap_points(active: &mut Vec<ActivePoint>, path_wrap: usize) {
+    if let Some(j) = active.iter().position(|p| matches!(p.source, Source::Wrap { path_wrap: w, .. } if w == path_wrap)) {
+        active.drain(j..j + 2);
+    }
+}
+
+/// The ground location OpenSim uses for a point of the current path (`getLocationInGround`).
+/// OpenSim caches a point's ground location the first time it is asked for in a state, and moving
+/// a `PathWrapPoint` (`setLocation`) does not invalidate that cache: a tangent point keeps the
+/// ground location it had when first measured — by the length at the end of a wrapping pass or
+/// by a length-change comparison — even when a later pass moves it. The straight segments next
+/// to tangent points, and so the path length and the moment arms' directions, use these stale
+/// locations; the wrapping itself and the surface lengths use the current ones.
+fn observed(point: &ActivePoint, observed: &mut [[Option<Vec3>; 2]]) -> Vec3 {
+    match point.source {
+        Source::Point(_) => point.location,
+        Source::Wrap { path_wrap, second, .. } => *observed[path_wrap][usize::from(second)].get_or_insert(point.location),
+    }
+}
+
+/// `calcLengthAfterPathComputation`: straight segments between the observed locations, and the
+/// surface length between the two tangent points of a wrap object.
+fn current_length(active: &[ActivePoint], seen: &mut [[Option<Vec3>; 2]]) -> f64 {
+    let mut length = 0.0;
+    for pair in active.windows(2) {
+        let (from, to) = (observed(&pair[0], seen), observed(&pair[1], seen));
+        length += match (pair[0].source, pair[1].source) {
+            (Source::Wrap { object: a, .. }, Source::Wrap { object: b, arc, .. }) if a == b => arc,
+            _ => (to - from).norm(),
+        };
+    }
+    length
 }
 
 /// Unit vector from `from` to `to`, NaN when the points coincide (as OpenSim).

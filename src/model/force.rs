@@ -15,6 +15,9 @@ use crate::io::xml::ElementId;
 pub struct PathWrapSpec {
     pub wrap_object: String,
     pub method: String,
+    /// `range`: the first and last path points (1-based, among all points of the path, active
+    /// or not) between which the path may wrap; a value below 1 means the first (last) point.
+    pub range: [i32; 2],
 }
 
 /// A force element; muscles carry a path.
@@ -47,6 +50,7 @@ impl ForceSpec {
                     path_wraps.push(PathWrapSpec {
                         wrap_object: wrap.text("wrap_object")?,
                         method: wrap.optional_text("method").unwrap_or_else(|| "hybrid".into()),
+                        range: read_range(wrap)?,
                     });
                 }
             }
@@ -59,5 +63,18 @@ impl ForceSpec {
     /// `DeGrooteFregly2016Muscle`, `RigidTendonMuscle`, the deprecated Schutte/Delp muscles, …).
     pub fn is_muscle(&self) -> bool {
         self.class.contains("Muscle")
+    }
+}
+
+/// A `PathWrap`'s `range` (OpenSim's default `-1 -1`: the whole path).
+fn read_range(wrap: ComponentReader) -> Result<[i32; 2], ModelError> {
+    if wrap.child("range").is_none() {
+        return Ok([-1, -1]);
+    }
+    let text = wrap.text("range")?;
+    let values: Vec<i32> = text.split_whitespace().filter_map(|t| t.parse().ok()).collect();
+    match values[..] {
+        [first, last] if text.split_whitespace().count() == 2 => Ok([first, last]),
+        _ => Err(wrap.bad("range", "2 integers", &text)),
     }
 }

@@ -63,7 +63,9 @@ impl ModelSpec {
         for (name, element) in &body_elements {
             let body = model.at(*element);
             if let Some(set) = body.child("WrapObjectSet") {
-                spec.wrap_objects.extend(body.listed_objects(set).into_iter().map(|w| WrapObjectSpec::read(body.at(w), name)));
+                for w in body.listed_objects(set) {
+                    spec.wrap_objects.push(WrapObjectSpec::read(body.at(w), name)?);
+                }
             }
             if name == GROUND {
                 continue;

@@ -47,7 +47,7 @@ pub fn default_pose_lengths(model: &ModelSpec) -> Result<Vec<(String, f64)>, Sca
     let mut lengths = Vec::new();
     for force in model.forces.iter().filter(|f| rescaled(f)) {
         if !force.path_wraps.is_empty() {
-            let problem = format!("{}: its path wraps over objects; osim-tune does not compute wrapping yet, so it cannot rescale its lengths as OpenSim would", force.name);
+            let problem = format!("{}: its path wraps over objects; osim-tune's rescaling of wrapping paths is not yet checked against OpenSim's ScaleTool, so it refuses rather than guess", force.name);
             return Err(ScaleError::Input { file: model.file.clone(), problem });
         }
         let path = GeometryPath::new(&multibody, model, force)?;

@@ -1,0 +1,454 @@
+//! One straight path segment wrapped over a `WrapCylinder`, as OpenSim 4.6's
+//! `WrapCylinder::wrapLine` does it: pure geometry in the cylinder's frame (axis = z through the
+//! origin, the cylinder's length centred on z = 0). The tangent points and the helical surface
+//! length are OpenSim's, including its heuristics: the axial slide of the tangent points through
+//! the plane of the two path points and an "apex", the `quadrant` side rules, and — when a path
+//! has more than one wrap — the iterative tangent adjustment of `_make_spiral_path`.
+
+use super::spatial::{rotation_about, Vec3};
+
+/// Simbody's machine epsilon, below which `WrapMath::NormalizeOrZero` zeroes a vector.
+const EPSILON: f64 = f64::EPSILON;
+/// `ROUNDOFF_ERROR` (SimmMacros.h): lines whose directions' cross product has a smaller squared
+/// norm are parallel.
+const ROUNDOFF_ERROR: f64 = 2e-13;
+/// `LINE_EPSILON` (WrapMath.cpp) of the segment–plane intersection.
+const LINE_EPSILON: f64 = 1e-5;
+/// `TANGENCY_THRESHOLD` of `_adjust_tangent_point`: 0.1° (the source comment says 1°).
+const TANGENCY_THRESHOLD: f64 = 0.1 * std::f64::consts::PI / 180.0;
+/// `MAX_ITERATIONS` of the tangent adjustment.
+const MAX_ITERATIONS: usize = 100;
+/// Length (m) of the surface pieces `_make_spiral_path` samples when it adjusts tangent points.
+const SURFACE_PIECE: f64 = 0.002;
+
+/// `quadrant`: the wrap side. `axis` 0, 1, 2 for x, y, z; `sign` ±1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Quadrant {
+    pub axis: usize,
+    pub sign: i32,
+}
+
+impl Quadrant {
+    /// OpenSim's spellings (`-x`, `x`, `+x`, `X`, …); `all`/`ALL`/`All`/`Unassigned` give
+    /// `Ok(None)`, anything else an error saying so.
+    pub fn parse(name: &str) -> Result<Option<Quadrant>, String> {
+        let (sign, axis) = match name.strip_prefix('-') {
+            Some(axis) => (-1, axis),
+            None => (1, name.strip_prefix('+').unwrap_or(name)),
+        };
+        match axis {
+            "x" | "X" => Ok(Some(Quadrant { axis: 0, sign })),
+            "y" | "Y" => Ok(Some(Quadrant { axis: 1, sign })),
+            "z" | "Z" => Ok(Some(Quadrant { axis: 2, sign })),
+            "all" | "ALL" | "All" | "Unassigned" if sign == 1 && !name.starts_with('+') => Ok(None),
+            _ => Err(format!("quadrant {name:?} is not one of OpenSim's (+x, -y, all, …)")),
+        }
+    }
+}
+
+/// The path over the surface, in the cylinder's frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePath {
+    /// Tangent point next to the segment's first point (m).
+    pub r1: Vec3,
+    /// Tangent point next to the segment's second point (m).
+    pub r2: Vec3,
+    /// Length of the helix from r1 to r2 (m).
+    pub length: f64,
+}
+
+/// OpenSim's `WrapAction` with the surface path of a wrap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CylinderWrap {
+    /// The segment does not wrap.
+    NoWrap,
+    /// A point of the segment lies inside the (infinite) cylinder.
+    InsideRadius,
+    /// The segment wraps; other segments of the path may wrap with a smaller length change.
+    Wrapped(SurfacePath),
+    /// The straight segment passes through the cylinder: this segment must wrap.
+    Mandatory(SurfacePath),
+}
+
+/// A `WrapCylinder` in its own frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cylinder {
+    /// m.
+    pub radius: f64,
+    /// m.
+    pub length: f64,
+    /// `None` wraps on all sides.
+    pub quadrant: Option<Quadrant>,
+}
+
+/// `DSIGN`: +1 for a ≥ 0, else −1.
+fn sign(a: f64) -> i32 {
+    if a >= 0.0 { 1 } else { -1 }
+}
+
+const AXIS_POINT: Vec3 = Vec3::new(0.0, 0.0, -1.0);
+const AXIS: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+
+impl Cylinder {
+    /// Wraps the segment p1–p2 (m, in the cylinder's frame). `single_wrap`: the path has only
+    /// this one `PathWrap`, so OpenSim (without a visualizer) keeps the first tangent points;
+    /// otherwise it adjusts them towards tangency with the helix.
+    pub fn wrap_line(&self, p1: &Vec3, p2: &Vec3, single_wrap: bool) -> CylinderWrap {
+        let radius = self.radius;
+        let r_squared = radius * radius;
+        if distance_squared_to_axis(p1) < r_squared || distance_squared_to_axis(p2) < r_squared {
+            return CylinderWrap::InsideRadius;
+        }
+        let cylinder_start = Vec3::new(0.0, 0.0, -0.5 * self.length);
+        let cylinder_end = Vec3::new(0.0, 0.0, 0.5 * self.length);
+        let (near12, t12, near00) = match intersect_lines(p1, p2, &cylinder_start, &cylinder_end) {
+            Some(closest) => (closest.on_first, closest.s, closest.on_second),
+            None => (Vec3::repeat(f64::NAN), f64::NAN, Vec3::repeat(f64::NAN)),
+        };
+        let crosses = (near12 - near00).norm_squared() < r_squared && t12 > 0.0 && t12 < 1.0;
+        let mut mandatory = false;
+        if self.quadrant.is_none() {
+            if !crosses {
+                return CylinderWrap::NoWrap;
+            }
+            mandatory = true;
+        }
+
+        let (p11, _) = closest_point_on_line(p1, &AXIS_POINT, &AXIS);
+        let (p22, _) = closest_point_on_line(p2, &AXIS_POINT, &AXIS);
+        let (r1a, r1b, p11_distance) = tangent_candidates(p1, &p11, radius);
+        let (r2a, r2b, p22_distance) = tangent_candidates(p2, &p22, radius);
+
+        let (mut r1, mut r2);
+        let mut far_side_wrap = false;
+        let mut long_wrap = false;
+        if let Some(Quadrant { axis, sign: wrap_sign }) = self.quadrant {
+            if sign(p1[axis]) == wrap_sign || sign(p2[axis]) == wrap_sign {
+                if crosses {
+                    mandatory = true;
+                } else if !(sign(p1[axis]) != sign(p2[axis]) && sign(near12[axis]) != wrap_sign) {
+                    return CylinderWrap::NoWrap;
+                }
+            }
+            let (r1am, r1bm, r2am, r2bm) = (r1a - p11, r1b - p11, r2a - p22, r2b - p22);
+            let alpha = (r1am.dot(&r2bm) / (r1am.norm() * r2bm.norm())).acos();
+            let beta = (r1bm.dot(&r2am) / (r1bm.norm() * r2am.norm())).acos();
+            let on_side = |r: &Vec3| sign(r[axis]) == wrap_sign;
+            // (r1, r2) = (r1a, r2b) or (r1b, r2a); `a_b_far`: whether the first pair is the far
+            // side when alpha > beta (the second pair's is the opposite).
+            let a_b = |alpha_gt_beta: bool| (r1a, r2b, alpha_gt_beta);
+            let b_a = |alpha_gt_beta: bool| (r1b, r2a, !alpha_gt_beta);
+            let choice = match (on_side(&r1a), on_side(&r1b)) {
+                (true, true) => {
+                    if on_side(&r2a) { b_a(alpha > beta) } else { a_b(alpha > beta) }
+                }
+                (true, false) => a_b(alpha > beta),
+                (false, true) => b_a(alpha > beta),
+                (false, false) => {
+                    if on_side(&r2a) {
+                        b_a(alpha > beta)
+                    } else if on_side(&r2b) {
+                        a_b(alpha > beta)
+                    } else if alpha > beta {
+                        (r1a, r2b, true)
+                    } else {
+                        (r1b, r2a, true)
+                    }
+                }
+            };
+            (r1, r2, far_side_wrap) = choice;
+            let sum_muscle = (r1 - p1) + (r2 - p2);
+            let sum_radial = (r1 - p11) + (r2 - p22);
+            long_wrap = sum_radial.dot(&sum_muscle) < 0.0;
+        } else {
+            let (r1am, _) = normalize_or_zero(&(r1a - p11));
+            let (r1bm, _) = normalize_or_zero(&(r1b - p11));
+            let (r2am, _) = normalize_or_zero(&(r2a - p22));
+            let (r2bm, _) = normalize_or_zero(&(r2b - p22));
+            let (dot1, dot2, dot3, dot4) = (r1am.dot(&r2am), r1am.dot(&r2bm), r1bm.dot(&r2am), r1bm.dot(&r2bm));
+            (r1, r2) = if dot1 > dot2 && dot1 > dot3 && dot1 > dot4 {
+                (r1a, r2a)
+            } else if dot2 > dot3 && dot2 > dot4 {
+                (r1a, r2b)
+            } else if dot3 > dot4 {
+                (r1b, r2a)
+            } else {
+                (r1b, r2b)
+            };
+        }
+
+        // The apex: where the plane through p1, p2 and the axis point under the segment meets
+        // the surface, on the near side (far side for a far-side wrap).
+        let t = p11_distance / (p11_distance + p22_distance);
+        let middle = p1 + t * (p2 - p1);
+        let (axis_point, _) = closest_point_on_line(&middle, &AXIS_POINT, &AXIS);
+        let (l1, _) = normalize_or_zero(&(p1 - axis_point));
+        let (l2, _) = normalize_or_zero(&(p2 - axis_point));
+        let (plane_normal, _) = normalize_or_zero(&unit(&l1.cross(&l2)));
+        let (vertical1, _) = normalize_or_zero(&AXIS.cross(&plane_normal));
+        let (vertical2, _) = normalize_or_zero(&plane_normal.cross(&AXIS));
+        let apex1 = axis_point + radius * vertical1;
+        let apex2 = axis_point + radius * vertical2;
+        let first_nearer = (middle - apex1).norm_squared() < (middle - apex2).norm_squared();
+        let apex = if first_nearer != far_side_wrap { apex1 } else { apex2 };
+
+        // Slide r1 and r2 along the axis onto the plane through p1, p2 and the apex.
+        let (u, _) = normalize_or_zero(&(p1 - apex));
+        let (v, _) = normalize_or_zero(&(p2 - apex));
+        let plane_normal = unit(&u.cross(&v));
+        let d = -p1[0] * plane_normal[0] - p1[1] * plane_normal[1] - p1[2] * plane_normal[2];
+        let r1_on_plane = intersect_segment_plane(&(r1 - 10.0 * AXIS), &(r1 + 10.0 * AXIS), &plane_normal, d);
+        let r2_on_plane = intersect_segment_plane(&(r2 - 10.0 * AXIS), &(r2 + 10.0 * AXIS), &plane_normal, d);
+        // OpenSim passes p22 (a point) as the line's direction here: the axis, unless p22 = 0.
+        if let Some(r1p) = r1_on_plane {
+            let (r1_axis, _) = closest_point_on_line(&r1p, &p11, &p22);
+            if (r1_axis - p22).norm_squared() < (p11 - p22).norm_squared() {
+                r1 = r1p;
+            }
+        }
+        if let Some(r2p) = r2_on_plane {
+            let (r2_axis, _) = closest_point_on_line(&r2p, &p11, &p22);
+            if (r2_axis - p11).norm_squared() < (p22 - p11).norm_squared() {
+                r2 = r2p;
+            }
+        }
+
+        let half_length = self.length / 2.0;
+        let beyond = |r: &Vec3| r[2] < -half_length || r[2] > half_length;
+        if beyond(&r1) && beyond(&r2) {
+            return CylinderWrap::NoWrap;
+        }
+        let path = self.spiral_path(p1, p2, long_wrap, r1, r2, single_wrap);
+        if mandatory { CylinderWrap::Mandatory(path) } else { CylinderWrap::Wrapped(path) }
+    }
+
+    /// `_make_spiral_path`: the helix from r1 to r2 (the long way round for `long_wrap`); for a
+    /// path with several wraps, r1 and r2 first slide until the lines from p1 and p2 meet the
+    /// helix within [`TANGENCY_THRESHOLD`] of tangency (at most [`MAX_ITERATIONS`] times).
+    fn spiral_path(&self, p1: &Vec3, p2: &Vec3, long_wrap: bool, mut r1: Vec3, mut r2: Vec3, single_wrap: bool) -> SurfacePath {
+        let sense = if long_wrap { -1.0 } else { 1.0 };
+        let mut iterations = 0;
+        loop {
+            let (r1_axis, _) = closest_point_on_line(&r1, &AXIS_POINT, &AXIS);
+            let (r2_axis, _) = closest_point_on_line(&r2, &AXIS_POINT, &AXIS);
+            let axial_distance = (r2_axis - r1_axis).dot(&AXIS);
+            let (u, v) = (r1 - r1_axis, r2 - r2_axis);
+            let mut theta = u.cross(&v).dot(&AXIS).atan2(u.dot(&v));
+            if long_wrap {
+                theta = 2.0 * std::f64::consts::PI - theta;
+            }
+            let x = self.radius * theta;
+            let length = (x * x + axial_distance * axial_distance).sqrt();
+            let pieces = ((length / SURFACE_PIECE) as usize).max(1);
+            if single_wrap || pieces < 2 || iterations >= MAX_ITERATIONS {
+                return SurfacePath { r1, r2, length };
+            }
+            // OpenSim's lambda reads r1 when called: the second point uses the adjusted r1.
+            let helix = |r1: &Vec3, t: f64| rotation_about(&AXIS, sense * t * theta) * r1 + AXIS * (t * axial_distance);
+            let t = 1.0 / pieces as f64;
+            let w1 = helix(&r1, t);
+            let adjusted_r1 = adjust_tangent_point(p1, &mut r1, &w1);
+            let w2 = helix(&r1, 1.0 - t);
+            let adjusted_r2 = adjust_tangent_point(p2, &mut r2, &w2);
+            if !(adjusted_r1 || adjusted_r2) {
+                return SurfacePath { r1, r2, length };
+            }
+            iterations += 1;
+        }
+    }
+}
+
+/// `_adjust_tangent_point`: when the line p–r and the helix direction r–w differ in their
+/// angle to the axis by more than the threshold, moves r 1.5 times towards where the line p–w
+/// crosses the axial line through r; returns whether it moved.
+fn adjust_tangent_point(p: &Vec3, r: &mut Vec3, w: &Vec3) -> bool {
+    let (pr, _) = normalize_or_zero(&(*r - p));
+    let (rw, _) = normalize_or_zero(&(w - *r));
+    let alpha = pr.dot(&AXIS).acos();
+    let omega = rw.dot(&AXIS).acos();
+    if (alpha - omega).abs() <= TANGENCY_THRESHOLD {
+        return false;
+    }
+    let (p_axial, _) = closest_point_on_line(p, r, &AXIS);
+    let (w_axial, _) = closest_point_on_line(w, r, &AXIS);
+    let crossing = intersect_lines(p, w, &p_axial, &w_axial).map_or(Vec3::repeat(f64::NAN), |c| c.on_second);
+    *r += 1.5 * (crossing - *r);
+    true
+}
+
+/// The two tangent points on the circle of the cylinder through `axis_point` (p's foot on the
+/// axis) seen from p, and p's distance from the axis.
+fn tangent_candidates(p: &Vec3, axis_point: &Vec3, radius: f64) -> (Vec3, Vec3, f64) {
+    let (outward, distance) = normalize_or_zero(&(p - axis_point));
+    let sin_theta = radius / distance;
+    let along = radius * sin_theta;
+    let middle = axis_point + along * outward;
+    let across = (radius * radius - along * along).sqrt();
+    let sideways = AXIS.cross(&outward);
+    (middle + across * sideways, middle - across * sideways, distance)
+}
+
+/// `WrapMath::CalcDistanceSquaredPointToLine` for the cylinder's axis.
+fn distance_squared_to_axis(point: &Vec3) -> f64 {
+    let to_line = AXIS_POINT - point;
+    let n = AXIS.normalize();
+    (to_line - to_line.dot(&n) * n).norm_squared()
+}
+
+/// `WrapMath::NormalizeOrZero`: the unit vector and the norm (zero below machine epsilon).
+fn normalize_or_zero(v: &Vec3) -> (Vec3, f64) {
+    let norm = v.norm();
+    if norm >= EPSILON { (v * (1.0 / norm), norm) } else { (Vec3::zeros(), norm) }
+}
+
+/// `UnitVec3(v)`: v divided by its norm (NaN for a zero vector).
+fn unit(v: &Vec3) -> Vec3 {
+    v / v.norm()
+}
+
+/// `WrapMath::GetClosestPointOnLineToPoint`: the point of the line through `line_point` along
+/// `line` (any length) closest to `point`, and its parameter in units of `line`.
+fn closest_point_on_line(point: &Vec3, line_point: &Vec3, line: &Vec3) -> (Vec3, f64) {
+    let (v1, magnitude) = normalize_or_zero(&(point - line_point));
+    let (v2, magnitude2) = normalize_or_zero(line);
+    let t = v1.dot(&v2) * magnitude;
+    (line_point + t * v2, t / magnitude2)
+}
+
+/// The closest points of two lines.
+struct ClosestPoints {
+    on_first: Vec3,
+    /// Parameter of `on_first` from p1 (0) to p2 (1).
+    s: f64,
+    on_second: Vec3,
+}
+
+/// `WrapMath::IntersectLines`: the closest points of the lines p1–p2 and p3–p4; `None` when
+/// they are parallel.
+fn intersect_lines(p1: &Vec3, p2: &Vec3, p3: &Vec3, p4: &Vec3) -> Option<ClosestPoints> {
+    let (direction1, magnitude1) = normalize_or_zero(&(p2 - p1));
+    let (direction2, _) = normalize_or_zero(&(p4 - p3));
+    let cross = direction1.cross(&direction2);
+    let denominator = cross.norm_squared();
+    if denominator.abs() <= ROUNDOFF_ERROR {
+        return None;
+    }
+    let offset = p3 - p1;
+    let t = det3(&offset, &direction1, &cross) / denominator;
+    let s = det3(&offset, &direction2, &cross) / denominator;
+    Some(ClosestPoints { on_first: p1 + s * direction1, s: s / magnitude1, on_second: p3 + t * direction2 })
+}
+
+/// Determinant of the matrix with rows a, b, c.
+fn det3(a: &Vec3, b: &Vec3, c: &Vec3) -> f64 {
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
+}
+
+/// `WrapMath::IntersectLineSegPlane`: where the segment meets the plane n·x + d = 0 (with
+/// OpenSim's tolerances), or `None`.
+fn intersect_segment_plane(from: &Vec3, to: &Vec3, normal: &Vec3, d: f64) -> Option<Vec3> {
+    let segment = to - from;
+    let along = segment.dot(normal);
+    if along.abs() < LINE_EPSILON {
+        return None;
+    }
+    let t = (-d - normal[0] * from[0] - normal[1] * from[1] - normal[2] * from[2]) / along;
+    if !(-LINE_EPSILON..=1.0 + LINE_EPSILON).contains(&t) {
+        return None;
+    }
+    Some(from + t * segment)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    const UNBOUNDED: Cylinder = Cylinder { radius: 0.1, length: 1.0, quadrant: None };
+
+    fn surface(wrap: CylinderWrap) -> SurfacePath {
+        match wrap {
+            CylinderWrap::Wrapped(path) | CylinderWrap::Mandatory(path) => path,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A segment from (−a, h, 0) to (a, h, 0) over a cylinder of radius r (h < r): the
+    /// tangent points from (±a, h) seen at the angle acos(r/d) from the points' directions,
+    /// d = √(a²+h²), and the arc between them r·(π − 2·atan2(h, a) − 2·acos(r/d))… computed here
+    /// from the tangent angles directly.
+    #[test]
+    fn symmetric_segment_wraps_over_the_near_side_by_tangent_lines() {
+        let (r, a, h) = (0.1, 0.3, 0.05);
+        let wrap = UNBOUNDED.wrap_line(&Vec3::new(-a, h, 0.0), &Vec3::new(a, h, 0.0), true);
+        let CylinderWrap::Mandatory(path) = wrap else { panic!("{wrap:?}") };
+        let d = (a * a + h * h).sqrt();
+        // Polar angles (from +x) of the tangent points: φ(p) ∓ acos(r/d), over the +y side.
+        let phi1 = h.atan2(-a) - (r / d).acos();
+        let phi2 = h.atan2(a) + (r / d).acos();
+        assert_relative_eq!(path.r1, Vec3::new(r * phi1.cos(), r * phi1.sin(), 0.0), epsilon = 1e-15);
+        assert_relative_eq!(path.r2, Vec3::new(r * phi2.cos(), r * phi2.sin(), 0.0), epsilon = 1e-15);
+        assert_relative_eq!(path.length, r * (phi1 - phi2), epsilon = 1e-15);
+        // Tangency: the line from each point meets its tangent point at right angles to the radius.
+        assert_relative_eq!((path.r1 - Vec3::new(-a, h, 0.0)).dot(&path.r1), 0.0, epsilon = 1e-15);
+    }
+
+    /// Points offset along the axis: the path is a helix whose length is √((rθ)² + Δz²), and
+    /// the tangent points lie on the plane through the two points and the apex.
+    #[test]
+    fn oblique_segment_follows_a_helix() {
+        let (p1, p2) = (Vec3::new(-0.3, 0.02, -0.1), Vec3::new(0.25, 0.03, 0.15));
+        let path = surface(UNBOUNDED.wrap_line(&p1, &p2, true));
+        let theta = path.r1.xy().angle(&path.r2.xy());
+        let dz = path.r2.z - path.r1.z;
+        assert_relative_eq!(path.length, ((0.1 * theta).powi(2) + dz * dz).sqrt(), epsilon = 1e-15);
+        assert_relative_eq!(path.r1.xy().norm(), 0.1, epsilon = 1e-15);
+        assert_relative_eq!(path.r2.xy().norm(), 0.1, epsilon = 1e-15);
+        // Both straight parts are tangent to the circle in the cross-section.
+        assert_relative_eq!((path.r1 - p1).xy().dot(&path.r1.xy()), 0.0, epsilon = 1e-15);
+        assert_relative_eq!((path.r2 - p2).xy().dot(&path.r2.xy()), 0.0, epsilon = 1e-15);
+        // The tangent adjustment of multi-wrap paths makes the straight parts meet the helix
+        // at its pitch: the angle to the axis of p1→r1 matches the helix direction at r1.
+        let adjusted = surface(UNBOUNDED.wrap_line(&p1, &p2, false));
+        let pitch = (adjusted.r2.z - adjusted.r1.z) / adjusted.length;
+        assert!(((adjusted.r1 - p1).normalize().z - pitch).abs() < 0.01, "{adjusted:?}");
+    }
+
+    #[test]
+    fn segments_that_miss_or_start_inside_do_not_wrap() {
+        let outside = UNBOUNDED.wrap_line(&Vec3::new(-0.3, 0.2, 0.0), &Vec3::new(0.3, 0.2, 0.0), true);
+        assert_eq!(outside, CylinderWrap::NoWrap);
+        let inside = UNBOUNDED.wrap_line(&Vec3::new(-0.05, 0.0, 0.0), &Vec3::new(0.3, 0.2, 0.0), true);
+        assert_eq!(inside, CylinderWrap::InsideRadius);
+        // Beyond the cylinder's ends: the tangent points lie outside its length.
+        let beyond = UNBOUNDED.wrap_line(&Vec3::new(-0.3, 0.05, 0.8), &Vec3::new(0.3, 0.05, 0.8), true);
+        assert_eq!(beyond, CylinderWrap::NoWrap);
+    }
+
+    /// With a quadrant, a segment that misses the cylinder still wraps when its points lie on
+    /// opposite sides of the quadrant's plane and it passes on the other side; it does not when
+    /// it passes on the allowed side; with both points on the other side OpenSim wraps anyway.
+    #[test]
+    fn quadrant_wraps_segments_that_pass_on_the_wrong_side() {
+        let on_surface = |path: &SurfacePath| (path.r1.xy().norm() - 0.1).abs() < 1e-15 && (path.r2.xy().norm() - 0.1).abs() < 1e-15;
+        let cylinder = Cylinder { quadrant: Some(Quadrant { axis: 1, sign: 1 }), ..UNBOUNDED };
+        let (p1, p2) = (Vec3::new(0.2, -0.3, 0.0), Vec3::new(0.3, 0.3, 0.0));
+        assert_eq!(UNBOUNDED.wrap_line(&p1, &p2, true), CylinderWrap::NoWrap);
+        let CylinderWrap::Wrapped(path) = cylinder.wrap_line(&p1, &p2, true) else { panic!() };
+        assert!(on_surface(&path), "{path:?}");
+        let away = Cylinder { quadrant: Some(Quadrant { axis: 1, sign: -1 }), ..UNBOUNDED };
+        assert_eq!(away.wrap_line(&p1, &p2, true), CylinderWrap::NoWrap);
+        let CylinderWrap::Wrapped(path) = away.wrap_line(&Vec3::new(-0.3, 0.2, 0.0), &Vec3::new(0.3, 0.3, 0.0), true) else { panic!() };
+        assert!(on_surface(&path), "{path:?}");
+    }
+
+    #[test]
+    fn quadrant_names_are_opensims() {
+        assert_eq!(Quadrant::parse("-y"), Ok(Some(Quadrant { axis: 1, sign: -1 })));
+        assert_eq!(Quadrant::parse("+X"), Ok(Some(Quadrant { axis: 0, sign: 1 })));
+        assert_eq!(Quadrant::parse("z"), Ok(Some(Quadrant { axis: 2, sign: 1 })));
+        assert_eq!(Quadrant::parse("all"), Ok(None));
+        assert_eq!(Quadrant::parse("Unassigned"), Ok(None));
+        assert!(Quadrant::parse("+all").is_err() && Quadrant::parse("-all").is_err() && Quadrant::parse("xy").is_err());
+    }
+}
