@@ -74,12 +74,14 @@ fn subject01_scale_factors_equal_opensims() {
     assert_eq!(outcome.unknown_bodies, ["patella_r", "patella_l"]);
 }
 
-/// leg6dof9musc (mass distribution preserved) and joint_zoo (masses scaled with the volumes,
-/// Ball/Free/Planar/Slider/Gimbal/Pin and oblique CustomJoints on offset frames), each body
-/// scaled by its own anisotropic manual factors: every property as OpenSim 4.6 wrote it.
+/// leg6dof9musc (mass distribution preserved), joint_zoo (masses scaled with the volumes,
+/// Ball/Free/Planar/Slider/Gimbal/Pin and oblique CustomJoints on offset frames) and
+/// Rajagopal2016 (42 muscles wrapping over `WrapCylinder`s, whose L_opt and L_ts follow their
+/// wrapped path lengths, and the cylinders themselves scaled), each body scaled by its own
+/// anisotropic manual factors: every property as OpenSim 4.6 wrote it.
 #[test]
 fn other_models_scaled_by_manual_factors_equal_opensims() {
-    for model in ["leg6dof9musc", "joint_zoo"] {
+    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016"] {
         let setup = ScaleSetup::read(&fixture(&format!("golden/scale_zoo/{model}_setup.xml"))).unwrap();
         let generic = OsimDocument::read(&fixture(&format!("models/{model}.osim"))).unwrap();
         let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap();
@@ -87,6 +89,17 @@ fn other_models_scaled_by_manual_factors_equal_opensims() {
         let differences = compare_scaled_models(&golden, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
         assert!(differences.is_empty(), "{model}: {differences:#?}");
     }
+}
+
+/// arm26's TRIlong and BIClong also wrap over ellipsoids, whose wrapping is not computed: the
+/// scaling is refused, naming the muscle and the objects, since their L_opt and L_ts would not
+/// follow OpenSim's path lengths.
+#[test]
+fn scaling_a_model_with_ellipsoid_wrapping_is_refused() {
+    let setup = ScaleSetup::read(&fixture("golden/scale_zoo/joint_zoo_setup.xml")).unwrap();
+    let arm = OsimDocument::read(&fixture("models/arm26.osim")).unwrap();
+    let error = run_scale_tool(&arm, &setup, &mut |_| {}).unwrap_err().to_string();
+    assert!(error.contains("arm26.osim") && error.contains("TRIlong: its path wraps over TRI, TRIlonghh, TRIlongglen, not all WrapCylinders"), "{error}");
 }
 
 /// OpenSim's static pose (`file` in `fixtures/golden`, printed to 8 decimals, rad and m), in the

@@ -46,11 +46,12 @@ pub fn default_pose_lengths(model: &ModelSpec) -> Result<Vec<(String, f64)>, Sca
     let mut scratch = PathScratch::default();
     let mut lengths = Vec::new();
     for force in model.forces.iter().filter(|f| rescaled(f)) {
-        if !force.path_wraps.is_empty() {
-            let problem = format!("{}: its path wraps over objects; osim-tune's rescaling of wrapping paths is not yet checked against OpenSim's ScaleTool, so it refuses rather than guess", force.name);
+        let path = GeometryPath::new(&multibody, model, force)?;
+        if !path.ignored_wraps.is_empty() {
+            let objects = path.ignored_wraps.join(", ");
+            let problem = format!("{}: its path wraps over {objects}, not all WrapCylinders; osim-tune does not compute such wrapping yet, so it cannot rescale its lengths as OpenSim would", force.name);
             return Err(ScaleError::Input { file: model.file.clone(), problem });
         }
-        let path = GeometryPath::new(&multibody, model, force)?;
         lengths.push((force.name.clone(), path.length(&kinematics, &q, &mut scratch)));
     }
     Ok(lengths)
