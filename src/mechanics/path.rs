@@ -255,7 +255,7 @@ impl GeometryPath {
     /// For a path without wrapping r = −∂L/∂q, except about `BallJoint`/`FreeJoint` rotations,
     /// where OpenSim's generalized speed is an angular velocity and r the torque about the
     /// parent frame's axis. Over a wrap object the tangent points count as fixed on its body,
-    /// and the segments' directions are those OpenSim sees (see [`observed`]).
+    /// and the segments' directions are those OpenSim sees: OpenSim's stale ground locations of moved tangent points.
     ///
     /// Computed as OpenSim does: the unit tension acts at each active point next to a point on
     /// another body, along the segment, and its generalized force is the moment arm; a
