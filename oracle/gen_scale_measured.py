@@ -9,13 +9,12 @@ and places the markers by IK over the whole trial (one task weighted 10, one not
 Run from the repository root: python3 oracle/gen_scale_measured.py
 """
 import math
-import os
 import random
-import shutil
-import tempfile
 from pathlib import Path
 
 import opensim as osim
+
+from gen_scale_zoo import run_scale_tool
 
 MODEL = Path("fixtures/models/leg6dof9musc.osim")
 OUT = Path("fixtures/golden/scale_measured")
@@ -114,21 +113,8 @@ def main():
     OUT.mkdir(parents=True, exist_ok=True)
     names, frames = subject_markers()
     write_trc(OUT / "static.trc", names, frames)
-    with tempfile.TemporaryDirectory() as work:
-        work = Path(work)
-        shutil.copy(MODEL, work / MODEL.name)
-        shutil.copy(OUT / "static.trc", work / "static.trc")
-        (work / "setup.xml").write_text(setup_xml(MODEL.name, names))
-        cwd = os.getcwd()
-        os.chdir(work)
-        try:
-            ok = osim.ScaleTool("setup.xml").run()
-        finally:
-            os.chdir(cwd)
-        if not ok:
-            raise SystemExit("ScaleTool failed")
-        for name in ["scaledOnly.osim", "placed.osim", "static_pose.mot"]:
-            shutil.copy(work / name, OUT / name)
+    run_scale_tool(setup_xml(MODEL.name, names), [MODEL, OUT / "static.trc"],
+                   {name: OUT / name for name in ["scaledOnly.osim", "placed.osim", "static_pose.mot"]})
     (OUT / "setup.xml").write_text(setup_xml("../../models/leg6dof9musc.osim", names))
     print("written", sorted(p.name for p in OUT.iterdir()))
 

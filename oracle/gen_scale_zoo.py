@@ -49,6 +49,26 @@ def setup_xml(model_file, bodies, mass, preserve, output):
 """
 
 
+def run_scale_tool(setup_text, inputs, outputs):
+    """Runs ScaleTool on `setup_text` in a temporary folder holding copies of `inputs` (paths),
+    then copies its outputs {name in that folder: destination}."""
+    with tempfile.TemporaryDirectory() as work:
+        work = Path(work)
+        for path in inputs:
+            shutil.copy(path, work / Path(path).name)
+        (work / "setup.xml").write_text(setup_text)
+        cwd = os.getcwd()
+        os.chdir(work)
+        try:
+            ok = osim.ScaleTool("setup.xml").run()
+        finally:
+            os.chdir(cwd)
+        if not ok:
+            raise SystemExit("ScaleTool failed")
+        for name, destination in outputs.items():
+            shutil.copy(work / name, destination)
+
+
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     for name in MODELS:
@@ -58,20 +78,8 @@ def main():
         bodies = [model.getBodySet().get(i).getName() for i in range(model.getBodySet().getSize())]
         mass = sum(model.getBodySet().get(i).getMass() for i in range(model.getBodySet().getSize()))
         preserve = name != "joint_zoo"
-        with tempfile.TemporaryDirectory() as work:
-            work = Path(work)
-            shutil.copy(source, work / source.name)
-            text = setup_xml(source.name, bodies, 1.15 * mass, preserve, "scaled.osim")
-            (work / "setup.xml").write_text(text)
-            cwd = os.getcwd()
-            os.chdir(work)
-            try:
-                ok = osim.ScaleTool("setup.xml").run()
-            finally:
-                os.chdir(cwd)
-            if not ok:
-                raise SystemExit(f"ScaleTool failed on {name}")
-            shutil.copy(work / "scaled.osim", OUT / f"{name}_scaled.osim")
+        run_scale_tool(setup_xml(source.name, bodies, 1.15 * mass, preserve, "scaled.osim"), [source],
+                       {"scaled.osim": OUT / f"{name}_scaled.osim"})
         (OUT / f"{name}_setup.xml").write_text(setup_xml(f"../../models/{name}.osim", bodies, 1.15 * mass, preserve, f"{name}_scaled.osim"))
         print(name, len(bodies), "bodies, mass", mass)
 

@@ -54,16 +54,30 @@ fn the_comparison_sees_an_unscaled_model_and_a_single_changed_value() {
     assert_eq!(differences.iter().map(|d| d.path.as_str()).collect::<Vec<_>>(), ["/forceset/vas_int_r/tendon_slack_length"]);
 }
 
+/// The setup `setup` run on the model `model` (both under `fixtures/`).
+fn scale_by(setup: &str, model: &str) -> (ScaleSetup, ScaleOutcome) {
+    let setup = ScaleSetup::read(&fixture(setup)).unwrap();
+    let generic = OsimDocument::read(&fixture(model)).unwrap();
+    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap();
+    (setup, outcome)
+}
+
 /// The subject01 setup as OpenSim 4.6 printed it, run on the generic model from `models/`.
-fn run_subject01() -> ScaleOutcome {
-    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
-    let generic = OsimDocument::read(&fixture("../models/gait2392_millard2012muscle.osim")).unwrap();
-    run_scale_tool(&generic, &setup, &mut |_| {}).unwrap()
+fn run_subject01() -> (ScaleSetup, ScaleOutcome) {
+    scale_by("subject01/subject01_Setup_Scale.xml", "../models/gait2392_millard2012muscle.osim")
+}
+
+/// `outcome`'s scaled model against OpenSim's at `golden` (under `fixtures/golden`): equal in
+/// every property.
+fn assert_scaled_model_is_opensims(outcome: &ScaleOutcome, golden: &str) {
+    let opensim = OsimDocument::read(&fixture(&format!("golden/{golden}"))).unwrap();
+    let differences = compare_scaled_models(&opensim, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
+    assert!(differences.is_empty(), "{golden}: {differences:#?}");
 }
 
 #[test]
 fn subject01_scale_factors_equal_opensims() {
-    let outcome = run_subject01();
+    let (_, outcome) = run_subject01();
     let golden = opensim_scale_set();
     for body in &golden.bodies {
         let ours = outcome.scale_set.factors(&body.body).unwrap();
@@ -82,12 +96,8 @@ fn subject01_scale_factors_equal_opensims() {
 #[test]
 fn other_models_scaled_by_manual_factors_equal_opensims() {
     for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016"] {
-        let setup = ScaleSetup::read(&fixture(&format!("golden/scale_zoo/{model}_setup.xml"))).unwrap();
-        let generic = OsimDocument::read(&fixture(&format!("models/{model}.osim"))).unwrap();
-        let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap();
-        let golden = OsimDocument::read(&fixture(&format!("golden/scale_zoo/{model}_scaled.osim"))).unwrap();
-        let differences = compare_scaled_models(&golden, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
-        assert!(differences.is_empty(), "{model}: {differences:#?}");
+        let (_, outcome) = scale_by(&format!("golden/scale_zoo/{model}_setup.xml"), &format!("models/{model}.osim"));
+        assert_scaled_model_is_opensims(&outcome, &format!("scale_zoo/{model}_scaled.osim"));
     }
 }
 
@@ -115,10 +125,8 @@ fn opensim_static_pose(multibody: &Multibody, file: &str) -> Vec<f64> {
 
 #[test]
 fn subject01_scale_step_gives_opensims_scaled_model() {
-    let outcome = run_subject01();
-    let scaled_only = OsimDocument::read(&fixture("golden/scale/subject01_scaledOnly.osim")).unwrap();
-    let differences = compare_scaled_models(&scaled_only, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
-    assert!(differences.is_empty(), "{differences:#?}");
+    let (_, outcome) = run_subject01();
+    assert_scaled_model_is_opensims(&outcome, "scale/subject01_scaledOnly.osim");
 }
 
 /// OpenSim's MarkerPlacer solves the static pose with the assembler's default accuracy, so its
@@ -147,8 +155,7 @@ fn assert_placement_is_opensims_at_a_better_pose(outcome: &ScaleOutcome, setup: 
 
 #[test]
 fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
-    let outcome = run_subject01();
-    let setup = ScaleSetup::read(&fixture("subject01/subject01_Setup_Scale.xml")).unwrap();
+    let (setup, outcome) = run_subject01();
     let moved = assert_placement_is_opensims_at_a_better_pose(&outcome, &setup, "scale/subject01_static_output.mot", "scale/subject01_simbody.osim");
     assert_eq!(moved, 39);
 }
@@ -160,12 +167,8 @@ fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
 /// every property; the placement as for subject01.
 #[test]
 fn leg6dof9musc_scaled_by_measurements_and_placed_as_opensim() {
-    let setup = ScaleSetup::read(&fixture("golden/scale_measured/setup.xml")).unwrap();
-    let generic = OsimDocument::read(&fixture("models/leg6dof9musc.osim")).unwrap();
-    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap();
-    let scaled_only = OsimDocument::read(&fixture("golden/scale_measured/scaledOnly.osim")).unwrap();
-    let differences = compare_scaled_models(&scaled_only, &outcome.scaled.as_ref().unwrap().document, SCALED_MODEL_TOLERANCE);
-    assert!(differences.is_empty(), "{differences:#?}");
+    let (setup, outcome) = scale_by("golden/scale_measured/setup.xml", "models/leg6dof9musc.osim");
+    assert_scaled_model_is_opensims(&outcome, "scale_measured/scaledOnly.osim");
     let moved = assert_placement_is_opensims_at_a_better_pose(&outcome, &setup, "scale_measured/static_pose.mot", "scale_measured/placed.osim");
     assert_eq!(moved, 12);
 }

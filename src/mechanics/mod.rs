@@ -23,4 +23,3 @@ pub use motion::{Motion, MotionError};
 pub use multibody::{Body, Joint, Marker, Multibody, GROUND_INDEX};
 pub use path::{GeometryPath, PathScratch};
 pub use spatial::{body_fixed_xyz, body_fixed_xyz_angles, rotation_about, Mat3, Transform, Vec3};
-pub use wrap_cylinder::{Cylinder, CylinderWrap, Quadrant, SurfacePath};

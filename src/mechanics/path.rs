@@ -78,6 +78,47 @@ struct PathWrap {
     range: [usize; 2],
 }
 
+impl PathWrap {
+    /// The wrap of the current path's segments `segments` (each by its first point): the first
+    /// one whose straight line crosses the cylinder, else the one whose wrapping lengthens the
+    /// path least (measured at the locations OpenSim sees); with the action of the last segment
+    /// tried. Segments between two tangent points of one wrap object are skipped.
+    fn best_segment(&self, kinematics: &Kinematics, active: &[ActivePoint], segments: std::ops::Range<usize>, seen: &mut [[Option<Vec3>; 2]], single_wrap: bool) -> (Option<SegmentWrap>, WrapAction) {
+        let to_body = &kinematics.bodies[self.body];
+        let into_wrap = |p: &Vec3| {
+            let in_body = to_body.rotation.transpose() * (p - to_body.translation);
+            self.frame.rotation.transpose() * (in_body - self.frame.translation)
+        };
+        let (mut best, mut action, mut least_change) = (None, WrapAction::NoWrap, f64::INFINITY);
+        for segment in segments {
+            let (a, b) = (active[segment], active[segment + 1]);
+            if a.wrap_object().is_some() && a.wrap_object() == b.wrap_object() {
+                continue;
+            }
+            let placed = |path: &SurfacePath| {
+                let (r1, r2) = (self.frame.apply(&path.r1), self.frame.apply(&path.r2));
+                SegmentWrap { end: segment + 1, r1_ground: to_body.apply(&r1), r2_ground: to_body.apply(&r2), length: path.length }
+            };
+            match self.cylinder.wrap_line(&into_wrap(&a.location), &into_wrap(&b.location), single_wrap) {
+                CylinderWrap::Mandatory(path) => return (Some(placed(&path)), WrapAction::Mandatory),
+                CylinderWrap::Wrapped(path) => {
+                    action = WrapAction::Wrapped;
+                    let candidate = placed(&path);
+                    let (a_seen, b_seen) = (observed(&a, seen), observed(&b, seen));
+                    let change = (a_seen - candidate.r1_ground).norm() + candidate.length + (b_seen - candidate.r2_ground).norm() - (a_seen - b_seen).norm();
+                    if change < least_change {
+                        best = Some(candidate);
+                        least_change = change;
+                    }
+                }
+                CylinderWrap::InsideRadius => action = WrapAction::InsideRadius,
+                CylinderWrap::NoWrap => action = WrapAction::NoWrap,
+            }
+        }
+        (best, action)
+    }
+}
+
 /// Where a point of the current path comes from.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Source {
@@ -107,9 +148,8 @@ impl ActivePoint {
 }
 
 /// OpenSim's `WrapObject::WrapAction` of the last segment a wrap tried.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum WrapAction {
-    #[default]
     NoWrap,
     InsideRadius,
     Wrapped,
@@ -355,44 +395,8 @@ impl GeometryPath {
                 let Some(last) = (wrap.range[0]..=wrap.range[1]).rev().find(|&k| active_in(k)) else { return };
                 let position = |k: usize| scratch.active.iter().position(|p| p.source == Source::Point(k));
                 let (Some(start), Some(end)) = (position(first), position(last)) else { return };
-                let to_body = &kinematics.bodies[wrap.body];
-                let mut best: Option<SegmentWrap> = None;
-                let mut least_change = f64::INFINITY;
-                for segment in start..end {
-                    let (a, b) = (scratch.active[segment], scratch.active[segment + 1]);
-                    if a.wrap_object().is_some() && a.wrap_object() == b.wrap_object() {
-                        continue;
-                    }
-                    let into_wrap = |p: &Vec3| {
-                        let in_body = to_body.rotation.transpose() * (p - to_body.translation);
-                        wrap.frame.rotation.transpose() * (in_body - wrap.frame.translation)
-                    };
-                    let outcome = wrap.cylinder.wrap_line(&into_wrap(&a.location), &into_wrap(&b.location), count == 1);
-                    let placed = |path: &SurfacePath| {
-                        let (r1, r2) = (wrap.frame.apply(&path.r1), wrap.frame.apply(&path.r2));
-                        SegmentWrap { end: segment + 1, r1_ground: to_body.apply(&r1), r2_ground: to_body.apply(&r2), length: path.length }
-                    };
-                    match outcome {
-                        CylinderWrap::Mandatory(path) => {
-                            scratch.actions[i] = WrapAction::Mandatory;
-                            best = Some(placed(&path));
-                            break;
-                        }
-                        CylinderWrap::Wrapped(path) => {
-                            scratch.actions[i] = WrapAction::Wrapped;
-                            let candidate = placed(&path);
-                            let (a_seen, b_seen) = (observed(&a, &mut scratch.observed), observed(&b, &mut scratch.observed));
-                            let straight = (a_seen - b_seen).norm();
-                            let change = (a_seen - candidate.r1_ground).norm() + candidate.length + (b_seen - candidate.r2_ground).norm() - straight;
-                            if change < least_change {
-                                best = Some(candidate);
-                                least_change = change;
-                            }
-                        }
-                        CylinderWrap::InsideRadius => scratch.actions[i] = WrapAction::InsideRadius,
-                        CylinderWrap::NoWrap => scratch.actions[i] = WrapAction::NoWrap,
-                    }
-                }
+                let (best, action) = wrap.best_segment(kinematics, &scratch.active, start..end, &mut scratch.observed, count == 1);
+                scratch.actions[i] = action;
                 if let Some(best) = best {
                     let point = |location: Vec3, second: bool, arc: f64| ActivePoint { source: Source::Wrap { path_wrap: w, object: wrap.object, second, arc }, body: wrap.body, location };
                     scratch.active.insert(best.end, point(best.r1_ground, false, 0.0));

@@ -118,100 +118,24 @@ impl Cylinder {
         let (p22, _) = closest_point_on_line(p2, &AXIS_POINT, &AXIS);
         let (r1a, r1b, p11_distance) = tangent_candidates(p1, &p11, radius);
         let (r2a, r2b, p22_distance) = tangent_candidates(p2, &p22, radius);
-
-        let (mut r1, mut r2);
-        let mut far_side_wrap = false;
-        let mut long_wrap = false;
-        if let Some(Quadrant { axis, sign: wrap_sign }) = self.quadrant {
-            if sign(p1[axis]) == wrap_sign || sign(p2[axis]) == wrap_sign {
-                if crosses {
-                    mandatory = true;
-                } else if !(sign(p1[axis]) != sign(p2[axis]) && sign(near12[axis]) != wrap_sign) {
-                    return CylinderWrap::NoWrap;
-                }
-            }
-            let (r1am, r1bm, r2am, r2bm) = (r1a - p11, r1b - p11, r2a - p22, r2b - p22);
-            let alpha = (r1am.dot(&r2bm) / (r1am.norm() * r2bm.norm())).acos();
-            let beta = (r1bm.dot(&r2am) / (r1bm.norm() * r2am.norm())).acos();
-            let on_side = |r: &Vec3| sign(r[axis]) == wrap_sign;
-            // (r1, r2) = (r1a, r2b) or (r1b, r2a); `a_b_far`: whether the first pair is the far
-            // side when alpha > beta (the second pair's is the opposite).
-            let a_b = |alpha_gt_beta: bool| (r1a, r2b, alpha_gt_beta);
-            let b_a = |alpha_gt_beta: bool| (r1b, r2a, !alpha_gt_beta);
-            let choice = match (on_side(&r1a), on_side(&r1b)) {
-                (true, true) => {
-                    if on_side(&r2a) { b_a(alpha > beta) } else { a_b(alpha > beta) }
-                }
-                (true, false) => a_b(alpha > beta),
-                (false, true) => b_a(alpha > beta),
-                (false, false) => {
-                    if on_side(&r2a) {
-                        b_a(alpha > beta)
-                    } else if on_side(&r2b) {
-                        a_b(alpha > beta)
-                    } else if alpha > beta {
-                        (r1a, r2b, true)
-                    } else {
-                        (r1b, r2a, true)
+        let (r1, r2, far_side_wrap, long_wrap) = match self.quadrant {
+            Some(quadrant) => {
+                if sign(p1[quadrant.axis]) == quadrant.sign || sign(p2[quadrant.axis]) == quadrant.sign {
+                    if crosses {
+                        mandatory = true;
+                    } else if !(sign(p1[quadrant.axis]) != sign(p2[quadrant.axis]) && sign(near12[quadrant.axis]) != quadrant.sign) {
+                        return CylinderWrap::NoWrap;
                     }
                 }
-            };
-            (r1, r2, far_side_wrap) = choice;
-            let sum_muscle = (r1 - p1) + (r2 - p2);
-            let sum_radial = (r1 - p11) + (r2 - p22);
-            long_wrap = sum_radial.dot(&sum_muscle) < 0.0;
-        } else {
-            let (r1am, _) = normalize_or_zero(&(r1a - p11));
-            let (r1bm, _) = normalize_or_zero(&(r1b - p11));
-            let (r2am, _) = normalize_or_zero(&(r2a - p22));
-            let (r2bm, _) = normalize_or_zero(&(r2b - p22));
-            let (dot1, dot2, dot3, dot4) = (r1am.dot(&r2am), r1am.dot(&r2bm), r1bm.dot(&r2am), r1bm.dot(&r2bm));
-            (r1, r2) = if dot1 > dot2 && dot1 > dot3 && dot1 > dot4 {
-                (r1a, r2a)
-            } else if dot2 > dot3 && dot2 > dot4 {
-                (r1a, r2b)
-            } else if dot3 > dot4 {
-                (r1b, r2a)
-            } else {
-                (r1b, r2b)
-            };
-        }
-
-        // The apex: where the plane through p1, p2 and the axis point under the segment meets
-        // the surface, on the near side (far side for a far-side wrap).
-        let t = p11_distance / (p11_distance + p22_distance);
-        let middle = p1 + t * (p2 - p1);
-        let (axis_point, _) = closest_point_on_line(&middle, &AXIS_POINT, &AXIS);
-        let (l1, _) = normalize_or_zero(&(p1 - axis_point));
-        let (l2, _) = normalize_or_zero(&(p2 - axis_point));
-        let (plane_normal, _) = normalize_or_zero(&unit(&l1.cross(&l2)));
-        let (vertical1, _) = normalize_or_zero(&AXIS.cross(&plane_normal));
-        let (vertical2, _) = normalize_or_zero(&plane_normal.cross(&AXIS));
-        let apex1 = axis_point + radius * vertical1;
-        let apex2 = axis_point + radius * vertical2;
-        let first_nearer = (middle - apex1).norm_squared() < (middle - apex2).norm_squared();
-        let apex = if first_nearer != far_side_wrap { apex1 } else { apex2 };
-
-        // Slide r1 and r2 along the axis onto the plane through p1, p2 and the apex.
-        let (u, _) = normalize_or_zero(&(p1 - apex));
-        let (v, _) = normalize_or_zero(&(p2 - apex));
-        let plane_normal = unit(&u.cross(&v));
-        let d = -p1[0] * plane_normal[0] - p1[1] * plane_normal[1] - p1[2] * plane_normal[2];
-        let r1_on_plane = intersect_segment_plane(&(r1 - 10.0 * AXIS), &(r1 + 10.0 * AXIS), &plane_normal, d);
-        let r2_on_plane = intersect_segment_plane(&(r2 - 10.0 * AXIS), &(r2 + 10.0 * AXIS), &plane_normal, d);
-        // OpenSim passes p22 (a point) as the line's direction here: the axis, unless p22 = 0.
-        if let Some(r1p) = r1_on_plane {
-            let (r1_axis, _) = closest_point_on_line(&r1p, &p11, &p22);
-            if (r1_axis - p22).norm_squared() < (p11 - p22).norm_squared() {
-                r1 = r1p;
+                quadrant_tangent_points(quadrant, [p1, p2], [&p11, &p22], [r1a, r1b], [r2a, r2b])
             }
-        }
-        if let Some(r2p) = r2_on_plane {
-            let (r2_axis, _) = closest_point_on_line(&r2p, &p11, &p22);
-            if (r2_axis - p11).norm_squared() < (p22 - p11).norm_squared() {
-                r2 = r2p;
+            None => {
+                let (r1, r2) = most_aligned_tangent_points([&p11, &p22], [r1a, r1b], [r2a, r2b]);
+                (r1, r2, false, false)
             }
-        }
+        };
+        let apex = self.apex(p1, p2, p11_distance / (p11_distance + p22_distance), far_side_wrap);
+        let (r1, r2) = slide_onto_apex_plane(p1, p2, &apex, [&p11, &p22], r1, r2);
 
         let half_length = self.length / 2.0;
         let beyond = |r: &Vec3| r[2] < -half_length || r[2] > half_length;
@@ -220,6 +144,22 @@ impl Cylinder {
         }
         let path = self.spiral_path(p1, p2, long_wrap, r1, r2, single_wrap);
         if mandatory { CylinderWrap::Mandatory(path) } else { CylinderWrap::Wrapped(path) }
+    }
+
+    /// The apex: where the plane through p1, p2 and the axis point under the segment (at the
+    /// fraction `t` of it) meets the surface, on the near side (far side for a far-side wrap).
+    fn apex(&self, p1: &Vec3, p2: &Vec3, t: f64, far_side_wrap: bool) -> Vec3 {
+        let middle = p1 + t * (p2 - p1);
+        let (axis_point, _) = closest_point_on_line(&middle, &AXIS_POINT, &AXIS);
+        let (l1, _) = normalize_or_zero(&(p1 - axis_point));
+        let (l2, _) = normalize_or_zero(&(p2 - axis_point));
+        let (plane_normal, _) = normalize_or_zero(&unit(&l1.cross(&l2)));
+        let (vertical1, _) = normalize_or_zero(&AXIS.cross(&plane_normal));
+        let (vertical2, _) = normalize_or_zero(&plane_normal.cross(&AXIS));
+        let apex1 = axis_point + self.radius * vertical1;
+        let apex2 = axis_point + self.radius * vertical2;
+        let first_nearer = (middle - apex1).norm_squared() < (middle - apex2).norm_squared();
+        if first_nearer != far_side_wrap { apex1 } else { apex2 }
     }
 
     /// `_make_spiral_path`: the helix from r1 to r2 (the long way round for `long_wrap`); for a
@@ -256,6 +196,84 @@ impl Cylinder {
             iterations += 1;
         }
     }
+}
+
+/// With a quadrant: OpenSim's choice between the pairs (r1a, r2b) and (r1b, r2a) by which
+/// candidates lie on the quadrant's side, whether the wrap goes round the far side, and whether
+/// it is the long way round. Returns (r1, r2, far side, long wrap).
+fn quadrant_tangent_points(quadrant: Quadrant, [p1, p2]: [&Vec3; 2], [p11, p22]: [&Vec3; 2], [r1a, r1b]: [Vec3; 2], [r2a, r2b]: [Vec3; 2]) -> (Vec3, Vec3, bool, bool) {
+    let (r1am, r1bm, r2am, r2bm) = (r1a - p11, r1b - p11, r2a - p22, r2b - p22);
+    let alpha = (r1am.dot(&r2bm) / (r1am.norm() * r2bm.norm())).acos();
+    let beta = (r1bm.dot(&r2am) / (r1bm.norm() * r2am.norm())).acos();
+    let on_side = |r: &Vec3| sign(r[quadrant.axis]) == quadrant.sign;
+    // The first pair is the far side when alpha > beta, the second when not.
+    let first_far = alpha > beta;
+    let a_b = (r1a, r2b, first_far);
+    let b_a = (r1b, r2a, !first_far);
+    let (r1, r2, far_side_wrap) = match (on_side(&r1a), on_side(&r1b)) {
+        (true, true) => {
+            if on_side(&r2a) { b_a } else { a_b }
+        }
+        (true, false) => a_b,
+        (false, true) => b_a,
+        (false, false) => {
+            if on_side(&r2a) {
+                b_a
+            } else if on_side(&r2b) {
+                a_b
+            } else if first_far {
+                (r1a, r2b, true)
+            } else {
+                (r1b, r2a, true)
+            }
+        }
+    };
+    let sum_muscle = (r1 - p1) + (r2 - p2);
+    let sum_radial = (r1 - p11) + (r2 - p22);
+    (r1, r2, far_side_wrap, sum_radial.dot(&sum_muscle) < 0.0)
+}
+
+/// Without a quadrant: the pair of candidates whose radial directions are most aligned.
+fn most_aligned_tangent_points([p11, p22]: [&Vec3; 2], [r1a, r1b]: [Vec3; 2], [r2a, r2b]: [Vec3; 2]) -> (Vec3, Vec3) {
+    let (r1am, _) = normalize_or_zero(&(r1a - p11));
+    let (r1bm, _) = normalize_or_zero(&(r1b - p11));
+    let (r2am, _) = normalize_or_zero(&(r2a - p22));
+    let (r2bm, _) = normalize_or_zero(&(r2b - p22));
+    let (dot1, dot2, dot3, dot4) = (r1am.dot(&r2am), r1am.dot(&r2bm), r1bm.dot(&r2am), r1bm.dot(&r2bm));
+    if dot1 > dot2 && dot1 > dot3 && dot1 > dot4 {
+        (r1a, r2a)
+    } else if dot2 > dot3 && dot2 > dot4 {
+        (r1a, r2b)
+    } else if dot3 > dot4 {
+        (r1b, r2a)
+    } else {
+        (r1b, r2b)
+    }
+}
+
+/// Slides r1 and r2 along the axis onto the plane through p1, p2 and the apex, where that
+/// keeps each on its own side of the other's foot on the axis.
+fn slide_onto_apex_plane(p1: &Vec3, p2: &Vec3, apex: &Vec3, [p11, p22]: [&Vec3; 2], mut r1: Vec3, mut r2: Vec3) -> (Vec3, Vec3) {
+    let (u, _) = normalize_or_zero(&(p1 - apex));
+    let (v, _) = normalize_or_zero(&(p2 - apex));
+    let plane_normal = unit(&u.cross(&v));
+    let d = -p1.dot(&plane_normal);
+    let on_plane = |r: &Vec3| intersect_segment_plane(&(r - 10.0 * AXIS), &(r + 10.0 * AXIS), &plane_normal, d);
+    let (r1_on_plane, r2_on_plane) = (on_plane(&r1), on_plane(&r2));
+    // OpenSim passes p22 (a point) as the line's direction here: the axis, unless p22 = 0.
+    if let Some(r1p) = r1_on_plane {
+        let (r1_axis, _) = closest_point_on_line(&r1p, p11, p22);
+        if (r1_axis - p22).norm_squared() < (p11 - p22).norm_squared() {
+            r1 = r1p;
+        }
+    }
+    if let Some(r2p) = r2_on_plane {
+        let (r2_axis, _) = closest_point_on_line(&r2p, p11, p22);
+        if (r2_axis - p11).norm_squared() < (p22 - p11).norm_squared() {
+            r2 = r2p;
+        }
+    }
+    (r1, r2)
 }
 
 /// `_adjust_tangent_point`: when the line p–r and the helix direction r–w differ in their
@@ -373,10 +391,9 @@ mod tests {
         }
     }
 
-    /// A segment from (−a, h, 0) to (a, h, 0) over a cylinder of radius r (h < r): the
-    /// tangent points from (±a, h) seen at the angle acos(r/d) from the points' directions,
-    /// d = √(a²+h²), and the arc between them r·(π − 2·atan2(h, a) − 2·acos(r/d))… computed here
-    /// from the tangent angles directly.
+    /// A segment from (−a, h, 0) to (a, h, 0) over a cylinder of radius r (h < r): each tangent
+    /// point lies at the polar angle of its path point ∓ acos(r/d), d = √(a²+h²), over the +y
+    /// side, and the surface length is r times the angle between them.
     #[test]
     fn symmetric_segment_wraps_over_the_near_side_by_tangent_lines() {
         let (r, a, h) = (0.1, 0.3, 0.05);

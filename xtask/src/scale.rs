@@ -4,13 +4,14 @@
 //! measurements with marker placement on leg6dof9musc and a synthetic static trial
 //! (`fixtures/golden/scale_measured`).
 
+use std::path::Path;
 use std::process::Command;
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::{MarkerTable, StorageTable};
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
-use osim_tune::review::Tolerance;
+use osim_tune::review::{Difference, Tolerance};
 use osim_tune::setup::ScaleSetup;
 use osim_tune::tuning::scale::{averaged_frame, move_markers_to_pose, run_scale_tool, ScaleOutcome};
 use osim_tune::validation::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};
@@ -22,20 +23,9 @@ const REFERENCE: &str = "OpenSim 4.6 ScaleTool, subject01";
 
 pub fn rows() -> Vec<Row> {
     let golden = |file: &str| root().join("fixtures/golden/scale").join(file);
-    let setup = ScaleSetup::read(&root().join("fixtures/subject01/subject01_Setup_Scale.xml")).expect("subject01 setup");
-    let generic = OsimDocument::read(&root().join("models/gait2392_millard2012muscle.osim")).expect("generic model");
-    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).expect("subject01 scales");
+    let (setup, outcome) = scale_by(&root().join("fixtures/subject01/subject01_Setup_Scale.xml"), &root().join("models/gait2392_millard2012muscle.osim"));
     let mut rows = vec![scale_factor_row(&outcome, &std::fs::read_to_string(golden("scale_factors.csv")).expect("scale_factors.csv"))];
-    let scaled = &outcome.scaled.as_ref().expect("the setup scales").document;
-    let scaled_only = OsimDocument::read(&golden("subject01_scaledOnly.osim")).expect("golden scaled model");
-    let differences = compare_scaled_models(&scaled_only, scaled, SCALED_MODEL_TOLERANCE);
-    rows.push(Row {
-        what: "scaled model, every property (1e-7 rel. or 1e-9)".into(),
-        reference: REFERENCE.into(),
-        worst: differences.len() as f64,
-        tolerance: 0.0,
-        at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
-    });
+    rows.push(scaled_model_row("scaled model, every property (1e-7 rel. or 1e-9)".into(), REFERENCE, &outcome, &golden("subject01_scaledOnly.osim")));
     rows.extend(placement_rows(&outcome, &setup, Placement { reference: REFERENCE, pose: "scale/subject01_static_output.mot", placed: "scale/subject01_simbody.osim" }));
     rows.extend(opensim_loads(&outcome));
     rows.extend(["leg6dof9musc", "joint_zoo", "Rajagopal2016"].map(manual_scale_row));
@@ -43,22 +33,31 @@ pub fn rows() -> Vec<Row> {
     rows
 }
 
+/// The setup at `setup` run on the model at `model`.
+fn scale_by(setup: &Path, model: &Path) -> (ScaleSetup, ScaleOutcome) {
+    let setup = ScaleSetup::read(setup).expect("scale setup");
+    let generic = OsimDocument::read(model).expect("generic model");
+    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).expect("the model scales");
+    (setup, outcome)
+}
+
+/// A row counting the differences (`at`: the first) of ours from OpenSim's.
+fn differences_row(what: String, reference: &str, differences: &[Difference]) -> Row {
+    Row { what, reference: reference.into(), worst: differences.len() as f64, tolerance: 0.0, at: differences.first().map(|d| d.path.clone()).unwrap_or_default() }
+}
+
+/// The scaled model of `outcome` against OpenSim's at `golden`, every property.
+fn scaled_model_row(what: String, reference: &str, outcome: &ScaleOutcome, golden: &Path) -> Row {
+    let opensim = OsimDocument::read(golden).expect("golden scaled model");
+    differences_row(what, reference, &compare_scaled_models(&opensim, &outcome.scaled.as_ref().expect("the setup scales").document, SCALED_MODEL_TOLERANCE))
+}
+
 /// leg6dof9musc scaled by measurements and its markers placed, against OpenSim's.
 fn measured_leg_rows() -> Vec<Row> {
     const MEASURED: &str = "OpenSim 4.6 ScaleTool, leg6dof9musc";
     let golden = |file: &str| root().join("fixtures/golden/scale_measured").join(file);
-    let setup = ScaleSetup::read(&golden("setup.xml")).expect("leg6dof9musc setup");
-    let generic = OsimDocument::read(&root().join("fixtures/models/leg6dof9musc.osim")).expect("leg6dof9musc");
-    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).expect("leg6dof9musc scales");
-    let scaled = &outcome.scaled.as_ref().expect("the setup scales").document;
-    let differences = compare_scaled_models(&OsimDocument::read(&golden("scaledOnly.osim")).expect("golden"), scaled, SCALED_MODEL_TOLERANCE);
-    let mut rows = vec![Row {
-        what: "leg6dof9musc by measurements, every property".into(),
-        reference: MEASURED.into(),
-        worst: differences.len() as f64,
-        tolerance: 0.0,
-        at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
-    }];
+    let (setup, outcome) = scale_by(&golden("setup.xml"), &root().join("fixtures/models/leg6dof9musc.osim"));
+    let mut rows = vec![scaled_model_row("leg6dof9musc by measurements, every property".into(), MEASURED, &outcome, &golden("scaledOnly.osim"))];
     rows.extend(placement_rows(&outcome, &setup, Placement { reference: MEASURED, pose: "scale_measured/static_pose.mot", placed: "scale_measured/placed.osim" }));
     rows
 }
@@ -67,18 +66,8 @@ fn measured_leg_rows() -> Vec<Row> {
 /// against OpenSim's.
 fn manual_scale_row(model: &str) -> Row {
     let golden = |suffix: &str| root().join(format!("fixtures/golden/scale_zoo/{model}_{suffix}"));
-    let setup = ScaleSetup::read(&golden("setup.xml")).expect("zoo setup");
-    let generic = OsimDocument::read(&root().join(format!("fixtures/models/{model}.osim"))).expect("zoo model");
-    let outcome = run_scale_tool(&generic, &setup, &mut |_| {}).expect("the zoo model scales");
-    let opensim = OsimDocument::read(&golden("scaled.osim")).expect("golden scaled model");
-    let differences = compare_scaled_models(&opensim, &outcome.scaled.as_ref().expect("the setup scales").document, SCALED_MODEL_TOLERANCE);
-    Row {
-        what: format!("{model} by manual factors, every property"),
-        reference: "OpenSim 4.6 ScaleTool, manualScale".into(),
-        worst: differences.len() as f64,
-        tolerance: 0.0,
-        at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
-    }
+    let (_, outcome) = scale_by(&golden("setup.xml"), &root().join(format!("fixtures/models/{model}.osim")));
+    scaled_model_row(format!("{model} by manual factors, every property"), "OpenSim 4.6 ScaleTool, manualScale", &outcome, &golden("scaled.osim"))
 }
 
 fn scale_factor_row(outcome: &ScaleOutcome, csv: &str) -> Row {
@@ -122,13 +111,7 @@ fn placement_rows(outcome: &ScaleOutcome, setup: &ScaleSetup, opensim: Placement
     let objective = |q: &[f64]| marker_objective(&multibody, &placer.ik_tasks, &static_pose, q).unwrap_or(f64::NAN);
     let (ours, theirs) = (objective(ours), objective(&opensim_pose));
     vec![
-        Row {
-            what: "placed markers at OpenSim's static pose (m)".into(),
-            reference: opensim.reference.into(),
-            worst: differences.len() as f64,
-            tolerance: 0.0,
-            at: differences.first().map(|d| d.path.clone()).unwrap_or_default(),
-        },
+        differences_row("placed markers at OpenSim's static pose (m)".into(), opensim.reference, &differences),
         Row {
             what: "static pose objective, ours − OpenSim's (relative)".into(),
             reference: format!("{} (OpenSim {theirs:.6} m²)", opensim.reference),
