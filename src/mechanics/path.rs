@@ -170,25 +170,6 @@ pub struct PathScratch {
     observed: Vec<[Option<Vec3>; 2]>,
 }
 
-impl PathScratch {
-    /// The current path of the last evaluation: each point's body, its location in ground as
-    /// OpenSim reports it (`getLocationInGround`, m) and, for the second tangent point of a
-    /// wrap, the surface length before it (m).
-    pub fn current_path(&self) -> impl Iterator<Item = (usize, Vec3, Option<f64>)> + '_ {
-        self.active.iter().map(|p| {
-            let arc = match p.source {
-                Source::Wrap { second: true, arc, .. } => Some(arc),
-                _ => None,
-            };
-            let location = match p.source {
-                Source::Wrap { path_wrap, second, .. } => self.observed[path_wrap][usize::from(second)].unwrap_or(p.location),
-                Source::Point(_) => p.location,
-            };
-            (p.body, location, arc)
-        })
-    }
-}
-
 /// The best wrap of one `PathWrap` so far: the segment it replaces and its tangent points in
 /// ground.
 #[derive(Debug, Clone, Copy)]
