@@ -24,6 +24,16 @@
 //!   [`PhaseTwoSettings::group_ratio`]; off by default, since real subjects need not obey them;
 //! - optionally, the rest fiber length within ±[`PhaseTwoSettings::rest_tolerance`] of its
 //!   reference (the thesis uses the reference only in Phase I).
+//!
+//! On noisy data the SQP (damped BFGS) can crawl along a flat valley of the min–max fit: on the
+//! held-out subjects 4 of 44 runs end at `MaxIterations` (e.g. gen01, all 70 trials: the largest
+//! error reaches 14.79 N·m by iteration ~100 and still falls by ~10⁻⁴ N·m per iteration at 300).
+//! Tried and not adopted: the exact Lagrangian Hessian (finite differences, 2×2 per muscle) is
+//! indefinite (eigenvalues −109 … 1.9·10⁶), so the shift that makes it positive definite turns
+//! the steps gradient-like; flipping or clipping each block's negative eigenvalues ends most
+//! crawls within 40–60 iterations but stops a noise-free fit at 0.2 N·m and makes two other
+//! runs fail; scaling the variables to their bounds fails more often. A trust region
+//! (Sℓ∞QP) is the remedy left to try.
 
 use super::error::FunctionalError;
 use super::feasible_set::MuscleFeasibleSet;
