@@ -4,7 +4,7 @@
 mod common;
 
 use osim_tune::io::osim::OsimDocument;
-use osim_tune::model::{CoordinateUnit, FunctionSpec, ModelSpec, MotionType, PathPointKind};
+use osim_tune::model::{CoordinateUnit, FunctionSpec, ModelSpec, MotionType, PathPointKind, WrapShape};
 
 const MODELS: [(&str, &str, usize); 6] = [
     ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim", 92),
@@ -77,6 +77,20 @@ fn a_3x_model_reads_into_the_same_form() {
     let vasti = &spec.forces[0];
     assert!(matches!(&vasti.path_points[1].kind, PathPointKind::ConditionalPathPoint { coordinate, range, .. } if coordinate == "knee_angle" && *range == [-2.618, -1.4]));
     assert_eq!(spec.wrap_objects[0].body, "thigh");
+}
+
+/// arm26's wrap objects with their shapes; absent shape properties take OpenSim 4.6's defaults
+/// (`WrapEllipsoid::constructProperties`: dimensions 0.05 0.05 0.05).
+#[test]
+fn wrap_object_shapes_are_read_with_opensims_defaults() {
+    let spec = read("fixtures/models/arm26.osim");
+    let shape = |spec: &ModelSpec, name: &str| spec.wrap_objects.iter().find(|w| w.name == name).unwrap().shape;
+    assert_eq!(shape(&spec, "TRIlonghh"), WrapShape::Ellipsoid { dimensions: [0.035, 0.02, 0.02] });
+    assert_eq!(shape(&spec, "TRI"), WrapShape::Cylinder { radius: 0.016, length: 0.05 });
+    let path = common::root().join("fixtures/models/arm26.osim");
+    let text = std::fs::read_to_string(&path).unwrap().replacen("<dimensions>0.035000000000000003 0.02 0.02</dimensions>", "", 1);
+    let spec = ModelSpec::read(&OsimDocument::parse(text, &path).unwrap()).unwrap();
+    assert_eq!(shape(&spec, "TRIlonghh"), WrapShape::Ellipsoid { dimensions: [0.05; 3] });
 }
 
 #[test]

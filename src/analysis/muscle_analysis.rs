@@ -15,7 +15,7 @@ pub struct MuscleAnalysis {
     pub moment_arms: Vec<(String, StorageTable)>,
     /// `MarkerLocations`: `<marker>_tx/_ty/_tz` in ground (m).
     pub marker_locations: StorageTable,
-    /// Muscles whose values ignore their wrap objects (not all `WrapCylinder`s), with the objects.
+    /// Muscles whose values ignore their wrap objects (some not wrapped over yet), with the objects.
     pub ignored_wraps: Vec<(String, Vec<String>)>,
 }
 

@@ -12,6 +12,9 @@ pub mod muscle;
 mod path;
 mod spatial;
 mod wrap_cylinder;
+mod wrap_ellipsoid;
+mod wrap_math;
+mod wrap_surface;
 
 pub use coupling::Coupler;
 pub use error::MechanicsError;

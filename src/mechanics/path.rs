@@ -1,7 +1,8 @@
-//! Muscle paths (`GeometryPath`): the active points, the wrapping over `WrapCylinder`s
-//! (`GeometryPath::applyWrapObjects`), the path length and OpenSim's moment arm
+//! Muscle paths (`GeometryPath`): the active points, the wrapping over `WrapCylinder`s and
+//! `WrapEllipsoid`s (`GeometryPath::applyWrapObjects`), the path length and OpenSim's moment arm
 //! (`Muscle::computeMomentArm`, the generalized force a unit tension produces). Paths that wrap
-//! over other wrap objects are straight lines through their points and say so.
+//! over other wrap objects (`WrapSphere`, `WrapTorus`, an ellipsoid by the `midpoint` or `axial`
+//! method) are straight lines through their points and say so.
 
 use super::coupling;
 use super::error::MechanicsError;
@@ -9,8 +10,10 @@ use super::function::Function;
 use super::kinematics::Kinematics;
 use super::multibody::Multibody;
 use super::spatial::{body_fixed_xyz, Transform, Vec3};
-use super::wrap_cylinder::{Cylinder, CylinderWrap, Quadrant, SurfacePath};
-use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind};
+use super::wrap_cylinder::Cylinder;
+use super::wrap_ellipsoid::Ellipsoid;
+use super::wrap_surface::{Quadrant, SurfacePath, WrapSurface, Wrapping};
+use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind, PathWrapSpec, WrapObjectSpec, WrapShape};
 
 /// Simbody's `SignificantReal` (ε^⅞): segments shorter than this have no direction.
 const SIGNIFICANT_LENGTH: f64 = 1.8189894035458565e-14;
@@ -64,7 +67,7 @@ impl PathPoint {
     }
 }
 
-/// A `PathWrap` over a `WrapCylinder`, compiled.
+/// A `PathWrap` over a `WrapCylinder` or a `WrapEllipsoid`, compiled.
 #[derive(Debug, Clone)]
 struct PathWrap {
     /// Index of the wrap object in the model (two `PathWrap`s may share one).
@@ -73,7 +76,7 @@ struct PathWrap {
     /// X_B,wrap: the wrap object's frame in its body (`xyz_body_rotation`, `translation`).
     frame: Transform,
     active: bool,
-    cylinder: Cylinder,
+    surface: WrapSurface,
     /// First and last path point (0-based indices into `points`) the wrap may span.
     range: [usize; 2],
 }
@@ -99,9 +102,9 @@ impl PathWrap {
                 let (r1, r2) = (self.frame.apply(&path.r1), self.frame.apply(&path.r2));
                 SegmentWrap { end: segment + 1, r1_ground: to_body.apply(&r1), r2_ground: to_body.apply(&r2), length: path.length }
             };
-            match self.cylinder.wrap_line(&into_wrap(&a.location), &into_wrap(&b.location), single_wrap) {
-                CylinderWrap::Mandatory(path) => return (Some(placed(&path)), WrapAction::Mandatory),
-                CylinderWrap::Wrapped(path) => {
+            match self.surface.wrap_line(&into_wrap(&a.location), &into_wrap(&b.location), single_wrap) {
+                Wrapping::Mandatory(path) => return (Some(placed(&path)), WrapAction::Mandatory),
+                Wrapping::Wrapped(path) => {
                     action = WrapAction::Wrapped;
                     let candidate = placed(&path);
                     let (a_seen, b_seen) = (observed(&a, seen), observed(&b, seen));
@@ -111,8 +114,8 @@ impl PathWrap {
                         least_change = change;
                     }
                 }
-                CylinderWrap::InsideRadius => action = WrapAction::InsideRadius,
-                CylinderWrap::NoWrap => action = WrapAction::NoWrap,
+                Wrapping::InsideRadius => action = WrapAction::InsideRadius,
+                Wrapping::NoWrap => action = WrapAction::NoWrap,
             }
         }
         (best, action)
@@ -191,9 +194,9 @@ pub struct GeometryPath {
     /// that move or switch its points.
     pub spanned: Vec<usize>,
     /// Wrap objects in the path's `PathWrapSet`, which this path does not apply (all of them
-    /// when any is not a `WrapCylinder`).
+    /// when osim-tune does not compute the wrapping over any one).
     pub ignored_wraps: Vec<String>,
-    /// The `PathWrap`s applied (over `WrapCylinder`s), in `PathWrapSet` order.
+    /// The `PathWrap`s applied, in `PathWrapSet` order.
     wraps: Vec<PathWrap>,
 }
 
@@ -236,8 +239,8 @@ impl GeometryPath {
             let object = &model.wrap_objects[index];
             let body = multibody.body_index(&object.body).ok_or_else(|| invalid(format!("wrap object {:?} is on unknown body {:?}", object.name, object.body)))?;
             bodies.push(body);
-            let Some(shape) = object.cylinder else { continue };
             let quadrant = Quadrant::parse(&object.quadrant).map_err(|problem| invalid(format!("wrap object {:?}: {problem}", object.name)))?;
+            let Some(surface) = wrap_surface(object, wrap, quadrant) else { continue };
             let last = points.len() - 1;
             let bound = |value: i32, default: usize| if value < 1 { Ok(default) } else { (value as usize - 1 <= last).then_some(value as usize - 1).ok_or(()) };
             let range = match (bound(wrap.range[0], 0), bound(wrap.range[1], last)) {
@@ -245,8 +248,7 @@ impl GeometryPath {
                 _ => return Err(invalid(format!("path wrap over {:?}: range {} {} goes beyond the path's {} points", object.name, wrap.range[0], wrap.range[1], points.len()))),
             };
             let frame = Transform { rotation: body_fixed_xyz(object.xyz_body_rotation), translation: Vec3::from(object.translation) };
-            let cylinder = Cylinder { radius: shape.radius, length: shape.length, quadrant };
-            wraps.push(PathWrap { object: index, body, frame, active: object.active, cylinder, range });
+            wraps.push(PathWrap { object: index, body, frame, active: object.active, surface, range });
         }
         let mut spanned: Vec<usize> = multibody.joints_spanned(&bodies).into_iter().flat_map(|j| multibody.joints[j].coordinates.iter().copied()).collect();
         spanned.extend(switches);
@@ -396,6 +398,19 @@ impl GeometryPath {
                 remove_wrap_points(&mut scratch.active, 0);
             }
         }
+    }
+}
+
+/// The surface a `PathWrap` wraps over, when osim-tune computes its wrapping: a `WrapCylinder`
+/// (whatever the method: `WrapCylinder::wrapLine` has only one) or a `WrapEllipsoid` with the
+/// `hybrid` method.
+fn wrap_surface(object: &WrapObjectSpec, wrap: &PathWrapSpec, quadrant: Option<Quadrant>) -> Option<WrapSurface> {
+    match object.shape {
+        WrapShape::Cylinder { radius, length } => Some(WrapSurface::Cylinder(Cylinder { radius, length, quadrant })),
+        WrapShape::Ellipsoid { dimensions } if matches!(wrap.method.as_str(), "hybrid" | "Hybrid" | "HYBRID" | "Unassigned") => {
+            Some(WrapSurface::Ellipsoid(Ellipsoid { dimensions: Vec3::from(dimensions), quadrant }))
+        }
+        _ => None,
     }
 }
 

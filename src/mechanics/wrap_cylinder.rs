@@ -6,69 +6,14 @@
 //! has more than one wrap — the iterative tangent adjustment of `_make_spiral_path`.
 
 use super::spatial::{rotation_about, Vec3};
-
-/// Simbody's machine epsilon, below which `WrapMath::NormalizeOrZero` zeroes a vector.
-const EPSILON: f64 = f64::EPSILON;
-/// `ROUNDOFF_ERROR` (SimmMacros.h): lines whose directions' cross product has a smaller squared
-/// norm are parallel.
-const ROUNDOFF_ERROR: f64 = 2e-13;
-/// `LINE_EPSILON` (WrapMath.cpp) of the segment–plane intersection.
-const LINE_EPSILON: f64 = 1e-5;
+use super::wrap_math::{closest_point_on_line, intersect_lines, intersect_segment_plane, normalize_or_zero, sign};
+use super::wrap_surface::{Quadrant, SurfacePath, Wrapping};
 /// `TANGENCY_THRESHOLD` of `_adjust_tangent_point`: 0.1° (the source comment says 1°).
 const TANGENCY_THRESHOLD: f64 = 0.1 * std::f64::consts::PI / 180.0;
 /// `MAX_ITERATIONS` of the tangent adjustment.
 const MAX_ITERATIONS: usize = 100;
 /// Length (m) of the surface pieces `_make_spiral_path` samples when it adjusts tangent points.
 const SURFACE_PIECE: f64 = 0.002;
-
-/// `quadrant`: the wrap side. `axis` 0, 1, 2 for x, y, z; `sign` ±1.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Quadrant {
-    pub axis: usize,
-    pub sign: i32,
-}
-
-impl Quadrant {
-    /// OpenSim's spellings (`-x`, `x`, `+x`, `X`, …); `all`/`ALL`/`All`/`Unassigned` give
-    /// `Ok(None)`, anything else an error saying so.
-    pub fn parse(name: &str) -> Result<Option<Quadrant>, String> {
-        let (sign, axis) = match name.strip_prefix('-') {
-            Some(axis) => (-1, axis),
-            None => (1, name.strip_prefix('+').unwrap_or(name)),
-        };
-        match axis {
-            "x" | "X" => Ok(Some(Quadrant { axis: 0, sign })),
-            "y" | "Y" => Ok(Some(Quadrant { axis: 1, sign })),
-            "z" | "Z" => Ok(Some(Quadrant { axis: 2, sign })),
-            "all" | "ALL" | "All" | "Unassigned" if sign == 1 && !name.starts_with('+') => Ok(None),
-            _ => Err(format!("quadrant {name:?} is not one of OpenSim's (+x, -y, all, …)")),
-        }
-    }
-}
-
-/// The path over the surface, in the cylinder's frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SurfacePath {
-    /// Tangent point next to the segment's first point (m).
-    pub r1: Vec3,
-    /// Tangent point next to the segment's second point (m).
-    pub r2: Vec3,
-    /// Length of the helix from r1 to r2 (m).
-    pub length: f64,
-}
-
-/// OpenSim's `WrapAction` with the surface path of a wrap.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum CylinderWrap {
-    /// The segment does not wrap.
-    NoWrap,
-    /// A point of the segment lies inside the (infinite) cylinder.
-    InsideRadius,
-    /// The segment wraps; other segments of the path may wrap with a smaller length change.
-    Wrapped(SurfacePath),
-    /// The straight segment passes through the cylinder: this segment must wrap.
-    Mandatory(SurfacePath),
-}
 
 /// A `WrapCylinder` in its own frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -81,11 +26,6 @@ pub struct Cylinder {
     pub quadrant: Option<Quadrant>,
 }
 
-/// `DSIGN`: +1 for a ≥ 0, else −1.
-fn sign(a: f64) -> i32 {
-    if a >= 0.0 { 1 } else { -1 }
-}
-
 const AXIS_POINT: Vec3 = Vec3::new(0.0, 0.0, -1.0);
 const AXIS: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 
@@ -93,11 +33,11 @@ impl Cylinder {
     /// Wraps the segment p1–p2 (m, in the cylinder's frame). `single_wrap`: the path has only
     /// this one `PathWrap`, so OpenSim (without a visualizer) keeps the first tangent points;
     /// otherwise it adjusts them towards tangency with the helix.
-    pub fn wrap_line(&self, p1: &Vec3, p2: &Vec3, single_wrap: bool) -> CylinderWrap {
+    pub fn wrap_line(&self, p1: &Vec3, p2: &Vec3, single_wrap: bool) -> Wrapping {
         let radius = self.radius;
         let r_squared = radius * radius;
         if distance_squared_to_axis(p1) < r_squared || distance_squared_to_axis(p2) < r_squared {
-            return CylinderWrap::InsideRadius;
+            return Wrapping::InsideRadius;
         }
         let cylinder_start = Vec3::new(0.0, 0.0, -0.5 * self.length);
         let cylinder_end = Vec3::new(0.0, 0.0, 0.5 * self.length);
@@ -109,7 +49,7 @@ impl Cylinder {
         let mut mandatory = false;
         if self.quadrant.is_none() {
             if !crosses {
-                return CylinderWrap::NoWrap;
+                return Wrapping::NoWrap;
             }
             mandatory = true;
         }
@@ -124,7 +64,7 @@ impl Cylinder {
                     if crosses {
                         mandatory = true;
                     } else if !(sign(p1[quadrant.axis]) != sign(p2[quadrant.axis]) && sign(near12[quadrant.axis]) != quadrant.sign) {
-                        return CylinderWrap::NoWrap;
+                        return Wrapping::NoWrap;
                     }
                 }
                 quadrant_tangent_points(quadrant, [p1, p2], [&p11, &p22], [r1a, r1b], [r2a, r2b])
@@ -140,10 +80,10 @@ impl Cylinder {
         let half_length = self.length / 2.0;
         let beyond = |r: &Vec3| r[2] < -half_length || r[2] > half_length;
         if beyond(&r1) && beyond(&r2) {
-            return CylinderWrap::NoWrap;
+            return Wrapping::NoWrap;
         }
         let path = self.spiral_path(p1, p2, long_wrap, r1, r2, single_wrap);
-        if mandatory { CylinderWrap::Mandatory(path) } else { CylinderWrap::Wrapped(path) }
+        if mandatory { Wrapping::Mandatory(path) } else { Wrapping::Wrapped(path) }
     }
 
     /// The apex: where the plane through p1, p2 and the axis point under the segment (at the
@@ -313,68 +253,9 @@ fn distance_squared_to_axis(point: &Vec3) -> f64 {
     (to_line - to_line.dot(&n) * n).norm_squared()
 }
 
-/// `WrapMath::NormalizeOrZero`: the unit vector and the norm (zero below machine epsilon).
-fn normalize_or_zero(v: &Vec3) -> (Vec3, f64) {
-    let norm = v.norm();
-    if norm >= EPSILON { (v * (1.0 / norm), norm) } else { (Vec3::zeros(), norm) }
-}
-
 /// `UnitVec3(v)`: v divided by its norm (NaN for a zero vector).
 fn unit(v: &Vec3) -> Vec3 {
     v / v.norm()
-}
-
-/// `WrapMath::GetClosestPointOnLineToPoint`: the point of the line through `line_point` along
-/// `line` (any length) closest to `point`, and its parameter in units of `line`.
-fn closest_point_on_line(point: &Vec3, line_point: &Vec3, line: &Vec3) -> (Vec3, f64) {
-    let (v1, magnitude) = normalize_or_zero(&(point - line_point));
-    let (v2, magnitude2) = normalize_or_zero(line);
-    let t = v1.dot(&v2) * magnitude;
-    (line_point + t * v2, t / magnitude2)
-}
-
-/// The closest points of two lines.
-struct ClosestPoints {
-    on_first: Vec3,
-    /// Parameter of `on_first` from p1 (0) to p2 (1).
-    s: f64,
-    on_second: Vec3,
-}
-
-/// `WrapMath::IntersectLines`: the closest points of the lines p1–p2 and p3–p4; `None` when
-/// they are parallel.
-fn intersect_lines(p1: &Vec3, p2: &Vec3, p3: &Vec3, p4: &Vec3) -> Option<ClosestPoints> {
-    let (direction1, magnitude1) = normalize_or_zero(&(p2 - p1));
-    let (direction2, _) = normalize_or_zero(&(p4 - p3));
-    let cross = direction1.cross(&direction2);
-    let denominator = cross.norm_squared();
-    if denominator.abs() <= ROUNDOFF_ERROR {
-        return None;
-    }
-    let offset = p3 - p1;
-    let t = det3(&offset, &direction1, &cross) / denominator;
-    let s = det3(&offset, &direction2, &cross) / denominator;
-    Some(ClosestPoints { on_first: p1 + s * direction1, s: s / magnitude1, on_second: p3 + t * direction2 })
-}
-
-/// Determinant of the matrix with rows a, b, c.
-fn det3(a: &Vec3, b: &Vec3, c: &Vec3) -> f64 {
-    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])
-}
-
-/// `WrapMath::IntersectLineSegPlane`: where the segment meets the plane n·x + d = 0 (with
-/// OpenSim's tolerances), or `None`.
-fn intersect_segment_plane(from: &Vec3, to: &Vec3, normal: &Vec3, d: f64) -> Option<Vec3> {
-    let segment = to - from;
-    let along = segment.dot(normal);
-    if along.abs() < LINE_EPSILON {
-        return None;
-    }
-    let t = (-d - normal[0] * from[0] - normal[1] * from[1] - normal[2] * from[2]) / along;
-    if !(-LINE_EPSILON..=1.0 + LINE_EPSILON).contains(&t) {
-        return None;
-    }
-    Some(from + t * segment)
 }
 
 #[cfg(test)]
@@ -384,9 +265,9 @@ mod tests {
 
     const UNBOUNDED: Cylinder = Cylinder { radius: 0.1, length: 1.0, quadrant: None };
 
-    fn surface(wrap: CylinderWrap) -> SurfacePath {
+    fn surface(wrap: Wrapping) -> SurfacePath {
         match wrap {
-            CylinderWrap::Wrapped(path) | CylinderWrap::Mandatory(path) => path,
+            Wrapping::Wrapped(path) | Wrapping::Mandatory(path) => path,
             other => panic!("{other:?}"),
         }
     }
@@ -398,7 +279,7 @@ mod tests {
     fn symmetric_segment_wraps_over_the_near_side_by_tangent_lines() {
         let (r, a, h) = (0.1, 0.3, 0.05);
         let wrap = UNBOUNDED.wrap_line(&Vec3::new(-a, h, 0.0), &Vec3::new(a, h, 0.0), true);
-        let CylinderWrap::Mandatory(path) = wrap else { panic!("{wrap:?}") };
+        let Wrapping::Mandatory(path) = wrap else { panic!("{wrap:?}") };
         let d = (a * a + h * h).sqrt();
         // Polar angles (from +x) of the tangent points: φ(p) ∓ acos(r/d), over the +y side.
         let phi1 = h.atan2(-a) - (r / d).acos();
@@ -434,12 +315,12 @@ mod tests {
     #[test]
     fn segments_that_miss_or_start_inside_do_not_wrap() {
         let outside = UNBOUNDED.wrap_line(&Vec3::new(-0.3, 0.2, 0.0), &Vec3::new(0.3, 0.2, 0.0), true);
-        assert_eq!(outside, CylinderWrap::NoWrap);
+        assert_eq!(outside, Wrapping::NoWrap);
         let inside = UNBOUNDED.wrap_line(&Vec3::new(-0.05, 0.0, 0.0), &Vec3::new(0.3, 0.2, 0.0), true);
-        assert_eq!(inside, CylinderWrap::InsideRadius);
+        assert_eq!(inside, Wrapping::InsideRadius);
         // Beyond the cylinder's ends: the tangent points lie outside its length.
         let beyond = UNBOUNDED.wrap_line(&Vec3::new(-0.3, 0.05, 0.8), &Vec3::new(0.3, 0.05, 0.8), true);
-        assert_eq!(beyond, CylinderWrap::NoWrap);
+        assert_eq!(beyond, Wrapping::NoWrap);
     }
 
     /// With a quadrant, a segment that misses the cylinder still wraps when its points lie on
@@ -450,22 +331,12 @@ mod tests {
         let on_surface = |path: &SurfacePath| (path.r1.xy().norm() - 0.1).abs() < 1e-15 && (path.r2.xy().norm() - 0.1).abs() < 1e-15;
         let cylinder = Cylinder { quadrant: Some(Quadrant { axis: 1, sign: 1 }), ..UNBOUNDED };
         let (p1, p2) = (Vec3::new(0.2, -0.3, 0.0), Vec3::new(0.3, 0.3, 0.0));
-        assert_eq!(UNBOUNDED.wrap_line(&p1, &p2, true), CylinderWrap::NoWrap);
-        let CylinderWrap::Wrapped(path) = cylinder.wrap_line(&p1, &p2, true) else { panic!() };
+        assert_eq!(UNBOUNDED.wrap_line(&p1, &p2, true), Wrapping::NoWrap);
+        let Wrapping::Wrapped(path) = cylinder.wrap_line(&p1, &p2, true) else { panic!() };
         assert!(on_surface(&path), "{path:?}");
         let away = Cylinder { quadrant: Some(Quadrant { axis: 1, sign: -1 }), ..UNBOUNDED };
-        assert_eq!(away.wrap_line(&p1, &p2, true), CylinderWrap::NoWrap);
-        let CylinderWrap::Wrapped(path) = away.wrap_line(&Vec3::new(-0.3, 0.2, 0.0), &Vec3::new(0.3, 0.3, 0.0), true) else { panic!() };
+        assert_eq!(away.wrap_line(&p1, &p2, true), Wrapping::NoWrap);
+        let Wrapping::Wrapped(path) = away.wrap_line(&Vec3::new(-0.3, 0.2, 0.0), &Vec3::new(0.3, 0.3, 0.0), true) else { panic!() };
         assert!(on_surface(&path), "{path:?}");
-    }
-
-    #[test]
-    fn quadrant_names_are_opensims() {
-        assert_eq!(Quadrant::parse("-y"), Ok(Some(Quadrant { axis: 1, sign: -1 })));
-        assert_eq!(Quadrant::parse("+X"), Ok(Some(Quadrant { axis: 0, sign: 1 })));
-        assert_eq!(Quadrant::parse("z"), Ok(Some(Quadrant { axis: 2, sign: 1 })));
-        assert_eq!(Quadrant::parse("all"), Ok(None));
-        assert_eq!(Quadrant::parse("Unassigned"), Ok(None));
-        assert!(Quadrant::parse("+all").is_err() && Quadrant::parse("-all").is_err() && Quadrant::parse("xy").is_err());
     }
 }

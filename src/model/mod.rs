@@ -33,4 +33,4 @@ pub use muscle::{
 pub use reader::ComponentReader;
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
 pub use spec::{ModelSpec, GROUND};
-pub use wrap_object::{CylinderShape, WrapObjectSpec};
+pub use wrap_object::{WrapObjectSpec, WrapShape};

@@ -1,5 +1,5 @@
 //! Wrap objects (`WrapCylinder`, `WrapEllipsoid`, `WrapSphere`, `WrapTorus`) fixed to bodies:
-//! the properties every class shares and, for `WrapCylinder`, its radius and length.
+//! the properties every class shares and the shape of each class.
 
 use serde::Serialize;
 
@@ -20,27 +20,40 @@ pub struct WrapObjectSpec {
     pub translation: [f64; 3],
     /// The side paths wrap over (`+x`, `-y`, `all`, …); OpenSim's default `Unassigned` means all.
     pub quadrant: String,
-    /// The shape of a `WrapCylinder`; `None` for the other classes.
-    pub cylinder: Option<CylinderShape>,
+    pub shape: WrapShape,
 }
 
-/// A `WrapCylinder`: its axis is the z axis of the wrap object's frame, centred on the origin.
+/// The surface of a wrap object in its own frame, centred on the origin, with OpenSim 4.6's
+/// defaults for absent properties.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct CylinderShape {
-    /// m (OpenSim's default 1).
-    pub radius: f64,
-    /// m, along z (OpenSim's default 1).
-    pub length: f64,
+pub enum WrapShape {
+    /// `WrapCylinder`: axis along z; `radius` and `length` (m, default 1 each).
+    Cylinder { radius: f64, length: f64 },
+    /// `WrapEllipsoid`: `dimensions`, the radii along x, y, z (m, default 0.05 each).
+    Ellipsoid { dimensions: [f64; 3] },
+    /// `WrapSphere`: `radius` (m, default 0.05).
+    Sphere { radius: f64 },
+    /// `WrapTorus`, or a class osim-tune does not know.
+    Other,
+}
+
+impl WrapShape {
+    fn read(reader: &ComponentReader) -> Result<WrapShape, ModelError> {
+        Ok(match reader.class() {
+            "WrapCylinder" => WrapShape::Cylinder { radius: reader.number_or("radius", 1.0)?, length: reader.number_or("length", 1.0)? },
+            "WrapEllipsoid" => {
+                let dimensions = if reader.child("dimensions").is_some() { reader.vec3("dimensions")? } else { [0.05; 3] };
+                WrapShape::Ellipsoid { dimensions }
+            }
+            "WrapSphere" => WrapShape::Sphere { radius: reader.number_or("radius", 0.05)? },
+            _ => WrapShape::Other,
+        })
+    }
 }
 
 impl WrapObjectSpec {
     pub fn read(reader: ComponentReader, body: &str) -> Result<WrapObjectSpec, ModelError> {
         let vec3_or_zero = |property: &str| if reader.child(property).is_some() { reader.vec3(property) } else { Ok([0.0; 3]) };
-        let cylinder = if reader.class() == "WrapCylinder" {
-            Some(CylinderShape { radius: reader.number_or("radius", 1.0)?, length: reader.number_or("length", 1.0)? })
-        } else {
-            None
-        };
         Ok(WrapObjectSpec {
             name: reader.name(),
             class: reader.class().to_string(),
@@ -49,7 +62,7 @@ impl WrapObjectSpec {
             xyz_body_rotation: vec3_or_zero("xyz_body_rotation")?,
             translation: vec3_or_zero("translation")?,
             quadrant: reader.optional_text("quadrant").unwrap_or_else(|| "Unassigned".into()),
-            cylinder,
+            shape: WrapShape::read(&reader)?,
         })
     }
 }

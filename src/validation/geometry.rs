@@ -47,8 +47,9 @@ pub struct GeometryComparison {
     pub skipped: Vec<String>,
 }
 
-/// Compares `geometry` with the goldens in `folder`. Muscles whose paths wrap over objects other
-/// than `WrapCylinder`s are skipped (and listed).
+/// Compares `geometry` with the goldens in `folder`. Muscles whose paths wrap over objects
+/// osim-tune does not wrap over ([`crate::mechanics::GeometryPath::ignored_wraps`]) are skipped
+/// (and listed).
 pub fn compare_geometry(geometry: &MuscleGeometry, folder: &Path) -> Result<GeometryComparison, GoldenError> {
     let multibody = &geometry.multibody;
     let poses = GoldenPoses::read(&folder.join("poses.csv"), multibody)?;

@@ -44,7 +44,7 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
     for mismatch in &comparison.span_mismatches {
         eprintln!("{stem}: {mismatch}");
     }
-    let skipped = if comparison.skipped.is_empty() { String::new() } else { format!(", {} muscles wrapping over non-cylinders skipped", comparison.skipped.len()) };
+    let skipped = if comparison.skipped.is_empty() { String::new() } else { format!(", {} muscles wrapping over objects not computed skipped", comparison.skipped.len()) };
     // `of_muscles`: the row compares muscle values, so skipped muscles are mentioned.
     let row = |what: &str, worst: &Worst, tolerance: f64, of_muscles: bool| {
         (worst.count > 0).then(|| Row {

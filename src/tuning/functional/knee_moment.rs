@@ -290,14 +290,14 @@ impl KneeMomentModel {
 
 impl KneeMuscle {
     /// The muscle of path `path` without geometry yet; refused when it has no muscle mechanics
-    /// or wraps over objects other than `WrapCylinder`s (those are not applied yet, so its moment
-    /// arm would be wrong).
+    /// or wraps over objects whose wrapping osim-tune does not compute (so its moment arm would be
+    /// wrong).
     fn new(model: &ModelSpec, geometry: &MuscleGeometry, path: usize, data: &DynamometryData) -> Result<KneeMuscle, FunctionalError> {
         let path = &geometry.paths[path];
         let name = &path.name;
         let knee = &data.columns.knee_angle;
         if !path.ignored_wraps.is_empty() {
-            let problem = format!("crosses {knee} through wrap objects ({}) that are not all WrapCylinders; osim-tune applies only those yet", path.ignored_wraps.join(", "));
+            let problem = format!("crosses {knee} through wrap objects ({}) some of which osim-tune does not wrap over yet (it wraps over WrapCylinders and, by the hybrid method, WrapEllipsoids)", path.ignored_wraps.join(", "));
             return Err(model_error(model, "muscle", name, problem));
         }
         let force = model.forces.iter().find(|f| &f.name == name);
