@@ -1,10 +1,12 @@
 """OpenSim 4.6's ScaleTool (manual scale factors; no MarkerPlacer element, since a
 MarkerPlacer with apply false makes ScaleTool.run() return false) on the example models
-leg6dof9musc, joint_zoo and Rajagopal2016 (42 muscles wrapping over WrapCylinders): writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
+leg6dof9musc, joint_zoo, Rajagopal2016 (42 muscles wrapping over WrapCylinders) and arm26
+(TRIlong and BIClong also over WrapEllipsoids): writes fixtures/golden/scale_zoo/<model>_setup.xml
+and <model>_scaled.osim.
 
 Each body gets anisotropic factors in 0.90-1.12 that differ from body to body, drawn from a
 seeded generator; the subject mass is 1.15 x the model's, with the mass distribution preserved for
-leg6dof9musc and Rajagopal2016 and the masses scaled with the volumes for joint_zoo.
+leg6dof9musc, Rajagopal2016 and arm26 and the masses scaled with the volumes for joint_zoo.
 Run from the repository root: python3 oracle/gen_scale_zoo.py
 """
 import os
@@ -15,8 +17,7 @@ from pathlib import Path
 
 import opensim as osim
 
-# arm26 wraps two muscles over ellipsoids, which osim-tune does not compute yet.
-MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016"]
+MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26"]
 OUT = Path("fixtures/golden/scale_zoo")
 
 

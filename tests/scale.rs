@@ -1,6 +1,6 @@
 //! Linear scaling against OpenSim 4.6's ScaleTool on the subject01 example
 //! (fixtures/golden/scale, from ../shared/reference/pipelines/gait2392_subject01), and by
-//! manual factors on two other example models (fixtures/golden/scale_zoo, `oracle/gen_scale_zoo.py`).
+//! manual factors on four other example models (fixtures/golden/scale_zoo, `oracle/gen_scale_zoo.py`).
 
 mod common;
 
@@ -89,13 +89,14 @@ fn subject01_scale_factors_equal_opensims() {
 }
 
 /// leg6dof9musc (mass distribution preserved), joint_zoo (masses scaled with the volumes,
-/// Ball/Free/Planar/Slider/Gimbal/Pin and oblique CustomJoints on offset frames) and
+/// Ball/Free/Planar/Slider/Gimbal/Pin and oblique CustomJoints on offset frames),
 /// Rajagopal2016 (42 muscles wrapping over `WrapCylinder`s, whose L_opt and L_ts follow their
-/// wrapped path lengths, and the cylinders themselves scaled), each body scaled by its own
+/// wrapped path lengths, and the cylinders themselves scaled) and arm26 (TRIlong and BIClong
+/// also over `WrapEllipsoid`s, scaled along their own axes), each body scaled by its own
 /// anisotropic manual factors: every property as OpenSim 4.6 wrote it.
 #[test]
 fn other_models_scaled_by_manual_factors_equal_opensims() {
-    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016"] {
+    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26"] {
         let (_, outcome) = scale_by(&format!("golden/scale_zoo/{model}_setup.xml"), &format!("models/{model}.osim"));
         assert_scaled_model_is_opensims(&outcome, &format!("scale_zoo/{model}_scaled.osim"));
     }
