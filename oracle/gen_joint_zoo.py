@@ -421,34 +421,59 @@ def fd_moment_arm(model, s, muscle, coordinate, along_speed, h=FD_H):
     return -(length(h) - length(-h)) / (2 * h)
 
 
-def generate(model):
-    s0 = model.initSystem()
-    coords = coord_list(model)
-    cnames = [c.getName() for c in coords]
-    cs = model.getCoordinateSet()
-
+def write_coordinates(model, s0, out_dir):
+    """coordinates.csv: every coordinate sampled uniformly over its range."""
     rows = []
-    for c in coords:
+    for c in coord_list(model):
         rows.append([c.getName(), c.getJoint().getName(), motion_type_name(c),
                      "translational" if is_translational(c) else "rotational",
                      fmt(c.getRangeMin()), fmt(c.getRangeMax()), fmt(c.getDefaultValue()),
                      str(int(c.getDefaultLocked())), str(int(c.getDefaultClamped())),
                      str(int(c.isDependent(s0))), "", "uniform_range"])
-    write_csv(OUT_DIR / "coordinates.csv",
+    write_csv(out_dir / "coordinates.csv",
               ["coordinate", "joint", "motion_type", "unit_kind", "range_min", "range_max",
                "default_value", "locked", "clamped", "dependent", "independent_coordinates",
                "sampling_rule"], rows)
 
+
+BODY_HEADER = ["pose_id", "body", "px", "py", "pz", "r11", "r12", "r13", "r21", "r22", "r23",
+               "r31", "r32", "r33"]
+
+
+def body_rows(pid, bodies, s):
+    """bodies.csv rows: each body's transform in ground at the posed state."""
+    rows = []
+    for b in bodies:
+        T = b.getTransformInGround(s)
+        p, R = T.p(), T.R()
+        rows.append([pid, b.getName()] + [fmt(p.get(i)) for i in range(3)]
+                    + [fmt(R.get(i, j)) for i in range(3) for j in range(3)])
+    return rows
+
+
+def write_muscle_coordinates(model, spanned, out_dir):
+    """muscle_coordinates.csv from `spanned(model, muscle, tree)` ({coordinate: reason});
+    returns the muscles and their coordinates."""
     muscles = model.getMuscles()
     mlist = [muscles.get(i) for i in range(muscles.getSize())]
     tree = body_tree(model)
-    mcoords = [muscle_coordinates(model, m, tree) for m in mlist]
-    write_csv(OUT_DIR / "muscle_coordinates.csv", ["muscle", "coordinate", "reason"],
+    mcoords = [spanned(model, m, tree) for m in mlist]
+    write_csv(out_dir / "muscle_coordinates.csv", ["muscle", "coordinate", "reason"],
               [[m.getName(), cn, reason] for m, mc in zip(mlist, mcoords) for cn, reason in mc.items()])
+    return mlist, mcoords
+
+
+def generate(model):
+    s0 = model.initSystem()
+    coords = coord_list(model)
+    cnames = [c.getName() for c in coords]
+    cs = model.getCoordinateSet()
+    write_coordinates(model, s0, OUT_DIR)
+    mlist, mcoords = write_muscle_coordinates(model, muscle_coordinates, OUT_DIR)
 
     blist = [model.getBodySet().get(i) for i in range(model.getBodySet().getSize())]
     mklist = [model.getMarkerSet().get(i) for i in range(model.getMarkerSet().getSize())]
-    pose_rows, len_rows, ma_rows, body_rows, marker_rows = [], [], [], [], []
+    pose_rows, len_rows, ma_rows, bodies, marker_rows = [], [], [], [], []
     n_zero_skipped = 0
     worst_fd = (0.0, "")
     worst_q = (0.0, "")
@@ -470,11 +495,7 @@ def generate(model):
                     n_zero_skipped += 1
                     continue
                 ma_rows.append([pid, m.getName(), cn, fmt(ma)])
-        for b in blist:
-            T = b.getTransformInGround(s)
-            p, R = T.p(), T.R()
-            body_rows.append([pid, b.getName()] + [fmt(p.get(i)) for i in range(3)]
-                             + [fmt(R.get(i, j)) for i in range(3) for j in range(3)])
+        bodies.extend(body_rows(pid, blist, s))
         for mk in mklist:
             x = mk.getLocationInGround(s)
             marker_rows.append([pid, mk.getName()] + [fmt(x.get(i)) for i in range(3)])
@@ -482,9 +503,7 @@ def generate(model):
     write_csv(OUT_DIR / "poses.csv", ["pose_id"] + cnames, pose_rows)
     write_csv(OUT_DIR / "lengths.csv", ["pose_id"] + [m.getName() for m in mlist], len_rows)
     write_csv(OUT_DIR / "moment_arms.csv", ["pose_id", "muscle", "coordinate", "moment_arm"], ma_rows)
-    write_csv(OUT_DIR / "bodies.csv",
-              ["pose_id", "body", "px", "py", "pz", "r11", "r12", "r13", "r21", "r22", "r23",
-               "r31", "r32", "r33"], body_rows)
+    write_csv(OUT_DIR / "bodies.csv", BODY_HEADER, bodies)
     write_csv(OUT_DIR / "markers.csv", ["pose_id", "marker", "x", "y", "z"], marker_rows)
     print("joint_zoo: poses=%d muscles=%d pairs=%d ma_rows=%d zero_skipped=%d bodies=%d markers=%d"
           % (len(pose_rows), len(mlist), sum(len(mc) for mc in mcoords), len(ma_rows),

@@ -83,6 +83,20 @@ fn ellipsoid_wrapping_agrees_with_opensim() {
     assert_eq!((c.lengths.count, c.moment_arms.count), (21 * 6, 21 * 9));
 }
 
+/// The wrap zoo (`oracle/gen_wrap_zoo.py`, all 55 poses): muscles over `WrapSphere`s — without
+/// a quadrant (never a mandatory wrap: the segment changing the length least wraps), with the
+/// quadrant −x (mandatory wraps, and flexor_close's far-side wraps, whose length OpenSim makes
+/// negative: down to −0.154 m) — a cylinder and a sphere on one path, and `WrapEllipsoid`s by
+/// the hybrid, midpoint and axial methods with and without a quadrant: lengths ≤ 1.8e-15 m and
+/// moment arms ≤ 5.2e-16 m.
+#[test]
+fn sphere_wrapping_and_every_ellipsoid_method_agree_with_opensim() {
+    let c = compare("wrap_zoo", "fixtures/models/wrap_zoo.osim");
+    assert!(c.skipped.is_empty(), "{:?}", c.skipped);
+    assert_agrees("wrap_zoo", &c);
+    assert_eq!((c.lengths.count, c.moment_arms.count), (55 * 11, 1870));
+}
+
 /// Every Rajagopal2016 muscle, 42 of them wrapping over `WrapCylinder`s (one or, for the
 /// gastrocnemii, two), equals OpenSim. The gastrocnemii at full knee extension (knee_h00_k+000)
 /// need OpenSim's stale ground locations of moved tangent points: without them their lengths
@@ -124,6 +138,8 @@ fn models_the_engine_cannot_compute_are_refused_naming_file_and_component() {
     assert!(message.contains("gait2354_simbody.osim") && message.contains("ground_pelvis") && message.contains("collinear"), "{message}");
     let message = compile_error(gait, &[("<CustomJoint name=\"ground_pelvis\">", "<ScapulothoracicJoint name=\"ground_pelvis\">"), ("</CustomJoint>", "</ScapulothoracicJoint>")]);
     assert!(message.contains("ground_pelvis") && message.contains("ScapulothoracicJoint is not supported"), "{message}");
+    let message = compile_error("fixtures/models/arm26.osim", &[("<method>hybrid</method>", "<method>spiral</method>")]);
+    assert!(message.contains("arm26.osim") && message.contains("TRIlong") && message.contains("\"spiral\" is not one of OpenSim's"), "{message}");
     let legacy = "fixtures/legacy/pendulum_leg_v30000.osim";
     let message = compile_error(legacy, &[("<body>shank</body>", "<body>shin</body>")]);
     assert!(message.contains("pendulum_leg_v30000.osim") && message.contains("vasti") && message.contains("\"shin\" does not exist"), "{message}");

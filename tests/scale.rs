@@ -113,7 +113,7 @@ fn scaling_a_model_with_torus_wrapping_is_refused() {
     let torus = text.replacen("<WrapEllipsoid name=\"TRIlonghh\">", "<WrapTorus name=\"TRIlonghh\">", 1).replacen("</WrapEllipsoid>", "</WrapTorus>", 1);
     let arm = OsimDocument::parse(torus, &path).unwrap();
     let error = run_scale_tool(&arm, &setup, &mut |_| {}).unwrap_err().to_string();
-    assert!(error.contains("arm26.osim") && error.contains("TRIlong: its path wraps over TRI, TRIlonghh, TRIlongglen, some of which osim-tune does not wrap over yet"), "{error}");
+    assert!(error.contains("arm26.osim") && error.contains("TRIlong: its path wraps over TRI, TRIlonghh, TRIlongglen, among which a WrapTorus"), "{error}");
 }
 
 /// OpenSim's static pose (`file` in `fixtures/golden`, printed to 8 decimals, rad and m), in the

@@ -14,6 +14,7 @@ mod spatial;
 mod wrap_cylinder;
 mod wrap_ellipsoid;
 mod wrap_math;
+mod wrap_sphere;
 mod wrap_surface;
 
 pub use coupling::Coupler;

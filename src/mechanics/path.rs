@@ -1,8 +1,8 @@
-//! Muscle paths (`GeometryPath`): the active points, the wrapping over `WrapCylinder`s and
-//! `WrapEllipsoid`s (`GeometryPath::applyWrapObjects`), the path length and OpenSim's moment arm
-//! (`Muscle::computeMomentArm`, the generalized force a unit tension produces). Paths that wrap
-//! over other wrap objects (`WrapSphere`, `WrapTorus`, an ellipsoid by the `midpoint` or `axial`
-//! method) are straight lines through their points and say so.
+//! Muscle paths (`GeometryPath`): the active points, the wrapping over `WrapCylinder`s,
+//! `WrapEllipsoid`s and `WrapSphere`s (`GeometryPath::applyWrapObjects`), the path length and
+//! OpenSim's moment arm (`Muscle::computeMomentArm`, the generalized force a unit tension
+//! produces). Paths that also wrap over a `WrapTorus` are straight lines through their points
+//! and say so.
 
 use super::coupling;
 use super::error::MechanicsError;
@@ -12,8 +12,9 @@ use super::multibody::Multibody;
 use super::spatial::{body_fixed_xyz, Transform, Vec3};
 use super::wrap_cylinder::Cylinder;
 use super::wrap_ellipsoid::Ellipsoid;
-use super::wrap_surface::{Quadrant, SurfacePath, WrapSurface, Wrapping};
-use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind, PathWrapSpec, WrapObjectSpec, WrapShape};
+use super::wrap_sphere::Sphere;
+use super::wrap_surface::{Quadrant, SurfacePath, WrapMethod, WrapSurface, Wrapping};
+use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind, WrapObjectSpec, WrapShape};
 
 /// Simbody's `SignificantReal` (ε^⅞): segments shorter than this have no direction.
 const SIGNIFICANT_LENGTH: f64 = 1.8189894035458565e-14;
@@ -240,7 +241,8 @@ impl GeometryPath {
             let body = multibody.body_index(&object.body).ok_or_else(|| invalid(format!("wrap object {:?} is on unknown body {:?}", object.name, object.body)))?;
             bodies.push(body);
             let quadrant = Quadrant::parse(&object.quadrant).map_err(|problem| invalid(format!("wrap object {:?}: {problem}", object.name)))?;
-            let Some(surface) = wrap_surface(object, wrap, quadrant) else { continue };
+            let method = WrapMethod::parse(&wrap.method).map_err(|problem| invalid(format!("path wrap over {:?}: {problem}", object.name)))?;
+            let Some(surface) = wrap_surface(object, quadrant, method) else { continue };
             let last = points.len() - 1;
             let bound = |value: i32, default: usize| if value < 1 { Ok(default) } else { (value as usize - 1 <= last).then_some(value as usize - 1).ok_or(()) };
             let range = match (bound(wrap.range[0], 0), bound(wrap.range[1], last)) {
@@ -401,16 +403,14 @@ impl GeometryPath {
     }
 }
 
-/// The surface a `PathWrap` wraps over, when osim-tune computes its wrapping: a `WrapCylinder`
-/// (whatever the method: `WrapCylinder::wrapLine` has only one) or a `WrapEllipsoid` with the
-/// `hybrid` method.
-fn wrap_surface(object: &WrapObjectSpec, wrap: &PathWrapSpec, quadrant: Option<Quadrant>) -> Option<WrapSurface> {
+/// The surface a `PathWrap` wraps over, when osim-tune computes its wrapping (not a
+/// `WrapTorus`).
+fn wrap_surface(object: &WrapObjectSpec, quadrant: Option<Quadrant>, method: WrapMethod) -> Option<WrapSurface> {
     match object.shape {
         WrapShape::Cylinder { radius, length } => Some(WrapSurface::Cylinder(Cylinder { radius, length, quadrant })),
-        WrapShape::Ellipsoid { dimensions } if matches!(wrap.method.as_str(), "hybrid" | "Hybrid" | "HYBRID" | "Unassigned") => {
-            Some(WrapSurface::Ellipsoid(Ellipsoid { dimensions: Vec3::from(dimensions), quadrant }))
-        }
-        _ => None,
+        WrapShape::Ellipsoid { dimensions } => Some(WrapSurface::Ellipsoid(Ellipsoid { dimensions: Vec3::from(dimensions), quadrant, method })),
+        WrapShape::Sphere { radius } => Some(WrapSurface::Sphere(Sphere { radius, quadrant })),
+        WrapShape::Other => None,
     }
 }
 

@@ -6,7 +6,7 @@
 //! has more than one wrap — the iterative tangent adjustment of `_make_spiral_path`.
 
 use super::spatial::{rotation_about, Vec3};
-use super::wrap_math::{closest_point_on_line, intersect_lines, intersect_segment_plane, normalize_or_zero, sign};
+use super::wrap_math::{closest_point_on_line, intersect_lines, intersect_segment_plane, normalize_or_zero, sign, within_segment};
 use super::wrap_surface::{Quadrant, SurfacePath, Wrapping};
 /// `TANGENCY_THRESHOLD` of `_adjust_tangent_point`: 0.1° (the source comment says 1°).
 const TANGENCY_THRESHOLD: f64 = 0.1 * std::f64::consts::PI / 180.0;
@@ -45,7 +45,7 @@ impl Cylinder {
             Some(closest) => (closest.on_first, closest.s, closest.on_second),
             None => (Vec3::repeat(f64::NAN), f64::NAN, Vec3::repeat(f64::NAN)),
         };
-        let crosses = (near12 - near00).norm_squared() < r_squared && t12 > 0.0 && t12 < 1.0;
+        let crosses = (near12 - near00).norm_squared() < r_squared && within_segment(t12);
         let mut mandatory = false;
         if self.quadrant.is_none() {
             if !crosses {

@@ -22,6 +22,22 @@ pub(super) fn normalize_or_zero(v: &Vec3) -> (Vec3, f64) {
     if norm >= EPSILON { (v * (1.0 / norm), norm) } else { (Vec3::zeros(), norm) }
 }
 
+/// The parameters l1 ≥ l2 (for a > 0) of the points where a line p2 + l (p1 − p2) meets a
+/// quadric, the roots of a l² + b l + c = 0 as OpenSim's `wrapLine`s compute them; `None` when
+/// the line misses it.
+pub(super) fn line_crossings(a: f64, b: f64, c: f64) -> Option<(f64, f64)> {
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    Some(((-b + disc.sqrt()) / (2.0 * a), (-b - disc.sqrt()) / (2.0 * a)))
+}
+
+/// Whether a line parameter lies strictly between the segment's points (0 and 1).
+pub(super) fn within_segment(l: f64) -> bool {
+    0.0 < l && l < 1.0
+}
+
 /// `WrapMath::GetClosestPointOnLineToPoint`: the point of the line through `line_point` along
 /// `line` (any length) closest to `point`, and its parameter in units of `line`.
 pub(super) fn closest_point_on_line(point: &Vec3, line_point: &Vec3, line: &Vec3) -> (Vec3, f64) {

@@ -1,10 +1,11 @@
-//! What the wrap objects share: the `quadrant` side rule, the path over a surface, OpenSim's
-//! `WrapAction` with that path, and the dispatch of `wrapLine` to the object's class. Everything
-//! is in the wrap object's own frame (m).
+//! What the wrap objects share: the `quadrant` side rule, `PathWrap`'s `method`, the path over a
+//! surface, OpenSim's `WrapAction` with that path, and the dispatch of `wrapLine` to the
+//! object's class. Everything is in the wrap object's own frame (m).
 
 use super::spatial::Vec3;
 use super::wrap_cylinder::Cylinder;
 use super::wrap_ellipsoid::Ellipsoid;
+use super::wrap_sphere::Sphere;
 
 /// `quadrant`: the wrap side. `axis` 0, 1, 2 for x, y, z; `sign` ±1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -27,6 +28,31 @@ impl Quadrant {
             "z" | "Z" => Ok(Some(Quadrant { axis: 2, sign })),
             "all" | "ALL" | "All" | "Unassigned" if sign == 1 && !name.starts_with('+') => Ok(None),
             _ => Err(format!("quadrant {name:?} is not one of OpenSim's (+x, -y, all, …)")),
+        }
+    }
+}
+
+/// `PathWrap`'s `method`: how a `WrapEllipsoid` finds its wrapping plane (the other classes
+/// have one way only).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WrapMethod {
+    /// Frans' axial technique blended with the fan (OpenSim's default).
+    Hybrid,
+    /// Through the closest surface point to the middle of the chord.
+    Midpoint,
+    /// Frans' axial technique alone.
+    Axial,
+}
+
+impl WrapMethod {
+    /// OpenSim's spellings (`hybrid`, `Hybrid`, `HYBRID`, …; `Unassigned` is `hybrid`);
+    /// anything else an error saying so.
+    pub fn parse(name: &str) -> Result<WrapMethod, String> {
+        match name {
+            "hybrid" | "Hybrid" | "HYBRID" | "Unassigned" => Ok(WrapMethod::Hybrid),
+            "midpoint" | "Midpoint" | "MIDPOINT" => Ok(WrapMethod::Midpoint),
+            "axial" | "Axial" | "AXIAL" => Ok(WrapMethod::Axial),
+            _ => Err(format!("wrapping method {name:?} is not one of OpenSim's (hybrid, midpoint, axial)")),
         }
     }
 }
@@ -60,6 +86,7 @@ pub enum Wrapping {
 pub enum WrapSurface {
     Cylinder(Cylinder),
     Ellipsoid(Ellipsoid),
+    Sphere(Sphere),
 }
 
 impl WrapSurface {
@@ -69,6 +96,7 @@ impl WrapSurface {
         match self {
             WrapSurface::Cylinder(cylinder) => cylinder.wrap_line(p1, p2, single_wrap),
             WrapSurface::Ellipsoid(ellipsoid) => ellipsoid.wrap_line(p1, p2),
+            WrapSurface::Sphere(sphere) => sphere.wrap_line(p1, p2),
         }
     }
 }
@@ -85,5 +113,14 @@ mod tests {
         assert_eq!(Quadrant::parse("all"), Ok(None));
         assert_eq!(Quadrant::parse("Unassigned"), Ok(None));
         assert!(Quadrant::parse("+all").is_err() && Quadrant::parse("-all").is_err() && Quadrant::parse("xy").is_err());
+    }
+
+    #[test]
+    fn method_names_are_opensims() {
+        assert_eq!(WrapMethod::parse("HYBRID"), Ok(WrapMethod::Hybrid));
+        assert_eq!(WrapMethod::parse("Unassigned"), Ok(WrapMethod::Hybrid));
+        assert_eq!(WrapMethod::parse("Midpoint"), Ok(WrapMethod::Midpoint));
+        assert_eq!(WrapMethod::parse("axial"), Ok(WrapMethod::Axial));
+        assert!(WrapMethod::parse("aXial").is_err() && WrapMethod::parse("").is_err());
     }
 }

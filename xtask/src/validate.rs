@@ -117,7 +117,7 @@ fn respelled_documents_have_no_diff(documents: &[PathBuf]) -> Row {
 }
 
 /// The models with OpenSim 4.6 geometry goldens: (golden folder name, model file).
-const GOLDEN_MODELS: [(&str, &str); 7] = [
+const GOLDEN_MODELS: [(&str, &str); 8] = [
     ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim"),
     ("gait2354_simbody", "models/gait2354_simbody.osim"),
     ("subject01_simbody", "fixtures/subject01/OutputReference/subject01_simbody.osim"),
@@ -125,6 +125,7 @@ const GOLDEN_MODELS: [(&str, &str); 7] = [
     ("Rajagopal2016", "fixtures/models/Rajagopal2016.osim"),
     ("arm26", "fixtures/models/arm26.osim"),
     ("joint_zoo", "fixtures/models/joint_zoo.osim"),
+    ("wrap_zoo", "fixtures/models/wrap_zoo.osim"),
 ];
 
 /// Coordinate ranges, defaults, motion types and flags against OpenSim 4.6's report.

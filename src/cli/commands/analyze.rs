@@ -150,7 +150,7 @@ fn report(
         );
     }
     if !analysis.ignored_wraps.is_empty() {
-        eprintln!("warning: only WrapCylinder and (hybrid) WrapEllipsoid wrapping is applied yet; lengths and moment arms of these muscles ignore their wrap objects:");
+        eprintln!("warning: WrapTorus wrapping is not applied yet; lengths and moment arms of these muscles ignore their wrap objects:");
         for (muscle, wraps) in &analysis.ignored_wraps {
             eprintln!("  {muscle}: {}", wraps.join(", "));
         }
