@@ -1,12 +1,13 @@
 """OpenSim 4.6's ScaleTool (manual scale factors; no MarkerPlacer element, since a
 MarkerPlacer with apply false makes ScaleTool.run() return false) on the example models
-leg6dof9musc, joint_zoo, Rajagopal2016 (42 muscles wrapping over WrapCylinders) and arm26
-(TRIlong and BIClong also over WrapEllipsoids): writes fixtures/golden/scale_zoo/<model>_setup.xml
-and <model>_scaled.osim.
+leg6dof9musc, joint_zoo, Rajagopal2016 (42 muscles wrapping over WrapCylinders), arm26
+(TRIlong and BIClong also over WrapEllipsoids) and wrap_zoo (spheres, ellipsoids, tori): writes
+fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
 
 Each body gets anisotropic factors in 0.90-1.12 that differ from body to body, drawn from a
 seeded generator; the subject mass is 1.15 x the model's, with the mass distribution preserved for
-leg6dof9musc, Rajagopal2016 and arm26 and the masses scaled with the volumes for joint_zoo.
+leg6dof9musc, Rajagopal2016, arm26 and wrap_zoo and the masses scaled with the volumes for
+joint_zoo.
 Run from the repository root: python3 oracle/gen_scale_zoo.py
 """
 import os
@@ -17,7 +18,7 @@ from pathlib import Path
 
 import opensim as osim
 
-MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26"]
+MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo"]
 OUT = Path("fixtures/golden/scale_zoo")
 
 

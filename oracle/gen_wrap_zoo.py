@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Wrap zoo: a small synthetic arm whose muscles wrap over the wrap objects the bundled models do
-not have (WrapSphere), and its OpenSim 4.6 geometry goldens.
+"""Wrap zoo: a small synthetic arm whose muscles wrap over what the bundled models do not have
+(WrapSphere, WrapTorus, WrapEllipsoid by the midpoint and axial methods), and its OpenSim 4.6
+geometry goldens.
 
     python3 oracle/gen_wrap_zoo.py
 
@@ -17,6 +18,8 @@ forearm, and Thelen2003Muscles wrapping over
                        methods hybrid, midpoint and axial
     elbow_ellipsoid_back  WrapEllipsoid at the elbow, quadrant -x, by each method under anterior
                        muscles (c1 mirrored onto the back)
+    elbow_torus        WrapTorus about the arm's axis at the elbow, all quadrants, and
+    elbow_torus_x      another with quadrant +x: rings the muscles pass through
 Writes (paths relative to the repository root, resolved from this file):
     fixtures/models/wrap_zoo.osim               the model as printed by OpenSim
     fixtures/golden/geometry/wrap_zoo/          coordinates.csv, poses.csv, bodies.csv,
@@ -26,9 +29,11 @@ in the format of ../shared/reference/README.md ("geometry/<stem>/"), computed on
 loaded back from the printed file. Poses: rand_000 ... rand_039 (random.Random(20260407), one
 draw per coordinate per pose in CoordinateSet order, uniform over the coordinate's range) and
 elbow_e+000 ... elbow_e+140 (elbow_rz from 0 to 140 degrees in 10 degree steps, the other
-coordinates at their defaults). path_points.csv is GeometryPath::getCurrentPath (the points,
-their ground locations and, on a wrap's second point, the wrap length). Moment arms are not
-checked against -dL/dq: with wrapping they differ (see the reference README).
+coordinates at their defaults; elbow_rz's default, 1.2, keeps flexor_close off the far side,
+whose negative length would make ScaleTool fail on the model). path_points.csv is
+GeometryPath::getCurrentPath (the points, their ground locations and, on a wrap's second point,
+the wrap length). Moment arms are not checked against -dL/dq: with wrapping they differ (see
+the reference README).
 Prints how many poses wrap each muscle over each object.
 """
 import math
@@ -84,7 +89,7 @@ def build_model():
     set_coordinates(shoulder, [("shoulder_flex", 0.2, 1.2)])
     elbow = osim.BallJoint("elbow", arm, vec(*ELBOW), vec(0.0, 0.0, 0.0),
                            forearm, vec(0.0, 0.0, 0.0), vec(0.0, 0.0, 0.0))
-    set_coordinates(elbow, [("elbow_rx", 0.0, 0.4), ("elbow_ry", 0.0, 0.5), ("elbow_rz", 0.6, 1.2)])
+    set_coordinates(elbow, [("elbow_rx", 0.0, 0.4), ("elbow_ry", 0.0, 0.5), ("elbow_rz", 1.2, 1.2)])
     for j in (shoulder, elbow):
         model.addJoint(j)
     cs = model.getCoordinateSet()
@@ -98,7 +103,12 @@ def build_model():
     ellipsoid.set_xyz_body_rotation(vec(0.3, -0.2, 0.5))
     ellipsoid_back = wrap_object("WrapEllipsoid", "elbow_ellipsoid_back", ELBOW, "-x", dimensions=vec(0.03, 0.04, 0.035))
     ellipsoid_back.set_xyz_body_rotation(vec(-0.1, 0.1, 0.7))
-    for w in (sphere, back, ellipsoid, ellipsoid_back):
+    # Tori about the arm's axis (their z) at the elbow: a ring the muscles pass through.
+    torus = wrap_object("WrapTorus", "elbow_torus", ELBOW, "all", inner_radius=0.012, outer_radius=0.05)
+    torus.set_xyz_body_rotation(vec(math.pi / 2, 0.0, 0.0))
+    torus_x = wrap_object("WrapTorus", "elbow_torus_x", ELBOW, "+x", inner_radius=0.01, outer_radius=0.045)
+    torus_x.set_xyz_body_rotation(vec(math.pi / 2, 0.0, 0.0))
+    for w in (sphere, back, ellipsoid, ellipsoid_back, torus, torus_x):
         arm.addWrapObject(w)
     ground.addWrapObject(cylinder)
 
@@ -123,6 +133,9 @@ def build_model():
                [ellipsoid], method)
         muscle(model, "ellipsoid_back_" + method, [(arm, (0.02, -0.2, 0.0)), (forearm, (0.015, -0.06, 0.005))],
                [ellipsoid_back], method)
+    # Through the rings: pushed against the tube's inner side as the elbow flexes.
+    muscle(model, "through_ring", [(arm, (0.0, -0.15, 0.005)), (forearm, (0.0, -0.12, 0.0))], [torus])
+    muscle(model, "through_ring_x", [(arm, (-0.01, -0.15, 0.0)), (forearm, (-0.03, -0.12, 0.01))], [torus_x])
     model.finalizeConnections()
     return model
 

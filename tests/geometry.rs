@@ -86,15 +86,16 @@ fn ellipsoid_wrapping_agrees_with_opensim() {
 /// The wrap zoo (`oracle/gen_wrap_zoo.py`, all 55 poses): muscles over `WrapSphere`s — without
 /// a quadrant (never a mandatory wrap: the segment changing the length least wraps), with the
 /// quadrant −x (mandatory wraps, and flexor_close's far-side wraps, whose length OpenSim makes
-/// negative: down to −0.154 m) — a cylinder and a sphere on one path, and `WrapEllipsoid`s by
-/// the hybrid, midpoint and axial methods with and without a quadrant: lengths ≤ 1.8e-15 m and
-/// moment arms ≤ 5.2e-16 m.
+/// negative: down to −0.154 m) — a cylinder and a sphere on one path, `WrapEllipsoid`s by the
+/// hybrid, midpoint and axial methods with and without a quadrant, and `WrapTorus`es (OpenSim's
+/// MINPACK iteration for the ring point, then a cylinder) with and without a quadrant: lengths
+/// ≤ 1.8e-15 m and moment arms ≤ 6.2e-15 m.
 #[test]
-fn sphere_wrapping_and_every_ellipsoid_method_agree_with_opensim() {
+fn spheres_tori_and_every_ellipsoid_method_agree_with_opensim() {
     let c = compare("wrap_zoo", "fixtures/models/wrap_zoo.osim");
     assert!(c.skipped.is_empty(), "{:?}", c.skipped);
     assert_agrees("wrap_zoo", &c);
-    assert_eq!((c.lengths.count, c.moment_arms.count), (55 * 11, 1870));
+    assert_eq!((c.lengths.count, c.moment_arms.count), (55 * 13, 2200));
 }
 
 /// Every Rajagopal2016 muscle, 42 of them wrapping over `WrapCylinder`s (one or, for the

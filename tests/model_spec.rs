@@ -79,8 +79,8 @@ fn a_3x_model_reads_into_the_same_form() {
     assert_eq!(spec.wrap_objects[0].body, "thigh");
 }
 
-/// arm26's wrap objects with their shapes; absent shape properties take OpenSim 4.6's defaults
-/// (`WrapEllipsoid::constructProperties`: dimensions 0.05 0.05 0.05).
+/// arm26's and the wrap zoo's wrap objects with their shapes; absent shape properties take
+/// OpenSim 4.6's defaults (`WrapEllipsoid::constructProperties`: dimensions 0.05 0.05 0.05).
 #[test]
 fn wrap_object_shapes_are_read_with_opensims_defaults() {
     let spec = read("fixtures/models/arm26.osim");
@@ -91,6 +91,12 @@ fn wrap_object_shapes_are_read_with_opensims_defaults() {
     let text = std::fs::read_to_string(&path).unwrap().replacen("<dimensions>0.035000000000000003 0.02 0.02</dimensions>", "", 1);
     let spec = ModelSpec::read(&OsimDocument::parse(text, &path).unwrap()).unwrap();
     assert_eq!(shape(&spec, "TRIlonghh"), WrapShape::Ellipsoid { dimensions: [0.05; 3] });
+    let zoo = read("fixtures/models/wrap_zoo.osim");
+    assert_eq!(shape(&zoo, "elbow_sphere"), WrapShape::Sphere { radius: 0.025 });
+    assert_eq!(shape(&zoo, "elbow_torus"), WrapShape::Torus { inner_radius: 0.012, outer_radius: 0.05 });
+    // OpenSim omits the default rotation and translation: zero.
+    let cylinder = zoo.wrap_objects.iter().find(|w| w.name == "shoulder_cylinder").unwrap();
+    assert_eq!((cylinder.xyz_body_rotation, cylinder.translation), ([0.0; 3], [0.0, 1.0, 0.0]));
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Linear scaling against OpenSim 4.6's ScaleTool on the subject01 example
 //! (fixtures/golden/scale, from ../shared/reference/pipelines/gait2392_subject01), and by
-//! manual factors on four other example models (fixtures/golden/scale_zoo, `oracle/gen_scale_zoo.py`).
+//! manual factors on five other example models (fixtures/golden/scale_zoo, `oracle/gen_scale_zoo.py`).
 
 mod common;
 
@@ -91,29 +91,32 @@ fn subject01_scale_factors_equal_opensims() {
 /// leg6dof9musc (mass distribution preserved), joint_zoo (masses scaled with the volumes,
 /// Ball/Free/Planar/Slider/Gimbal/Pin and oblique CustomJoints on offset frames),
 /// Rajagopal2016 (42 muscles wrapping over `WrapCylinder`s, whose L_opt and L_ts follow their
-/// wrapped path lengths, and the cylinders themselves scaled) and arm26 (TRIlong and BIClong
-/// also over `WrapEllipsoid`s, scaled along their own axes), each body scaled by its own
-/// anisotropic manual factors: every property as OpenSim 4.6 wrote it.
+/// wrapped path lengths, and the cylinders themselves scaled), arm26 (TRIlong and BIClong also
+/// over `WrapEllipsoid`s, scaled along their own axes) and the wrap zoo (spheres, ellipsoids by
+/// every method, tori; wrap objects written without their default rotation and translation),
+/// each body scaled by its own anisotropic manual factors: every property as OpenSim 4.6 wrote
+/// it.
 #[test]
 fn other_models_scaled_by_manual_factors_equal_opensims() {
-    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26"] {
+    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo"] {
         let (_, outcome) = scale_by(&format!("golden/scale_zoo/{model}_setup.xml"), &format!("models/{model}.osim"));
         assert_scaled_model_is_opensims(&outcome, &format!("scale_zoo/{model}_scaled.osim"));
     }
 }
 
-/// A muscle wrapping over a `WrapTorus` (arm26 with its ellipsoid TRIlonghh made one), whose
-/// wrapping osim-tune does not compute: the scaling is refused, naming the muscle and its
-/// objects, since its L_opt and L_ts would not follow OpenSim's path lengths.
+/// A muscle wrapping over an object of a class OpenSim 4.6 no longer has (arm26 with its
+/// ellipsoid TRIlonghh made a 3.x `WrapCylinderObst`), whose wrapping osim-tune does not
+/// compute: the scaling is refused, naming the muscle and its objects, since its L_opt and L_ts
+/// would not follow a path length.
 #[test]
-fn scaling_a_model_with_torus_wrapping_is_refused() {
+fn scaling_a_model_with_unknown_wrapping_is_refused() {
     let setup = ScaleSetup::read(&fixture("golden/scale_zoo/joint_zoo_setup.xml")).unwrap();
     let path = fixture("models/arm26.osim");
     let text = std::fs::read_to_string(&path).unwrap();
-    let torus = text.replacen("<WrapEllipsoid name=\"TRIlonghh\">", "<WrapTorus name=\"TRIlonghh\">", 1).replacen("</WrapEllipsoid>", "</WrapTorus>", 1);
-    let arm = OsimDocument::parse(torus, &path).unwrap();
+    let obstacle = text.replacen("<WrapEllipsoid name=\"TRIlonghh\">", "<WrapCylinderObst name=\"TRIlonghh\">", 1).replacen("</WrapEllipsoid>", "</WrapCylinderObst>", 1);
+    let arm = OsimDocument::parse(obstacle, &path).unwrap();
     let error = run_scale_tool(&arm, &setup, &mut |_| {}).unwrap_err().to_string();
-    assert!(error.contains("arm26.osim") && error.contains("TRIlong: its path wraps over TRI, TRIlonghh, TRIlongglen, among which a WrapTorus"), "{error}");
+    assert!(error.contains("arm26.osim") && error.contains("TRIlong: its path wraps over TRI, TRIlonghh, TRIlongglen, among which one of a class OpenSim 4.6 does not have"), "{error}");
 }
 
 /// OpenSim's static pose (`file` in `fixtures/golden`, printed to 8 decimals, rad and m), in the

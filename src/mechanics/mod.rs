@@ -16,6 +16,7 @@ mod wrap_ellipsoid;
 mod wrap_math;
 mod wrap_sphere;
 mod wrap_surface;
+mod wrap_torus;
 
 pub use coupling::Coupler;
 pub use error::MechanicsError;

@@ -1,8 +1,8 @@
-//! Muscle paths (`GeometryPath`): the active points, the wrapping over `WrapCylinder`s,
-//! `WrapEllipsoid`s and `WrapSphere`s (`GeometryPath::applyWrapObjects`), the path length and
-//! OpenSim's moment arm (`Muscle::computeMomentArm`, the generalized force a unit tension
-//! produces). Paths that also wrap over a `WrapTorus` are straight lines through their points
-//! and say so.
+//! Muscle paths (`GeometryPath`): the active points, the wrapping over OpenSim 4.6's wrap
+//! objects (`GeometryPath::applyWrapObjects`), the path length and OpenSim's moment arm
+//! (`Muscle::computeMomentArm`, the generalized force a unit tension produces). Paths that also
+//! wrap over objects of classes OpenSim 4.6 does not have (3.x's `WrapCylinderObst`, …) are
+//! straight lines through their points and say so.
 
 use super::coupling;
 use super::error::MechanicsError;
@@ -14,6 +14,7 @@ use super::wrap_cylinder::Cylinder;
 use super::wrap_ellipsoid::Ellipsoid;
 use super::wrap_sphere::Sphere;
 use super::wrap_surface::{Quadrant, SurfacePath, WrapMethod, WrapSurface, Wrapping};
+use super::wrap_torus::Torus;
 use crate::model::{ForceSpec, ModelSpec, MovingComponent, PathPointKind, WrapObjectSpec, WrapShape};
 
 /// Simbody's `SignificantReal` (ε^⅞): segments shorter than this have no direction.
@@ -68,7 +69,7 @@ impl PathPoint {
     }
 }
 
-/// A `PathWrap` over a `WrapCylinder` or a `WrapEllipsoid`, compiled.
+/// A `PathWrap` over a `WrapCylinder`, `WrapEllipsoid`, `WrapSphere` or `WrapTorus`, compiled.
 #[derive(Debug, Clone)]
 struct PathWrap {
     /// Index of the wrap object in the model (two `PathWrap`s may share one).
@@ -403,13 +404,13 @@ impl GeometryPath {
     }
 }
 
-/// The surface a `PathWrap` wraps over, when osim-tune computes its wrapping (not a
-/// `WrapTorus`).
+/// The surface a `PathWrap` wraps over: `None` for a class OpenSim 4.6 does not have.
 fn wrap_surface(object: &WrapObjectSpec, quadrant: Option<Quadrant>, method: WrapMethod) -> Option<WrapSurface> {
     match object.shape {
         WrapShape::Cylinder { radius, length } => Some(WrapSurface::Cylinder(Cylinder { radius, length, quadrant })),
         WrapShape::Ellipsoid { dimensions } => Some(WrapSurface::Ellipsoid(Ellipsoid { dimensions: Vec3::from(dimensions), quadrant, method })),
         WrapShape::Sphere { radius } => Some(WrapSurface::Sphere(Sphere { radius, quadrant })),
+        WrapShape::Torus { inner_radius, outer_radius } => Some(WrapSurface::Torus(Torus { inner_radius, outer_radius, quadrant })),
         WrapShape::Other => None,
     }
 }

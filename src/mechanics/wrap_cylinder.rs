@@ -8,6 +8,7 @@
 use super::spatial::{rotation_about, Vec3};
 use super::wrap_math::{closest_point_on_line, intersect_lines, intersect_segment_plane, normalize_or_zero, sign, within_segment};
 use super::wrap_surface::{Quadrant, SurfacePath, Wrapping};
+
 /// `TANGENCY_THRESHOLD` of `_adjust_tangent_point`: 0.1° (the source comment says 1°).
 const TANGENCY_THRESHOLD: f64 = 0.1 * std::f64::consts::PI / 180.0;
 /// `MAX_ITERATIONS` of the tangent adjustment.

@@ -6,6 +6,7 @@ use super::spatial::Vec3;
 use super::wrap_cylinder::Cylinder;
 use super::wrap_ellipsoid::Ellipsoid;
 use super::wrap_sphere::Sphere;
+use super::wrap_torus::Torus;
 
 /// `quadrant`: the wrap side. `axis` 0, 1, 2 for x, y, z; `sign` ±1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -87,16 +88,19 @@ pub enum WrapSurface {
     Cylinder(Cylinder),
     Ellipsoid(Ellipsoid),
     Sphere(Sphere),
+    Torus(Torus),
 }
 
 impl WrapSurface {
     /// `WrapObject::wrapLine`: wraps the segment p1–p2 (m, in the object's frame). `single_wrap`:
-    /// the path has only this one `PathWrap` (the cylinder then keeps its first tangent points).
+    /// the path has only this one `PathWrap` (a cylinder, the torus' too, then keeps its first
+    /// tangent points).
     pub fn wrap_line(&self, p1: &Vec3, p2: &Vec3, single_wrap: bool) -> Wrapping {
         match self {
             WrapSurface::Cylinder(cylinder) => cylinder.wrap_line(p1, p2, single_wrap),
             WrapSurface::Ellipsoid(ellipsoid) => ellipsoid.wrap_line(p1, p2),
             WrapSurface::Sphere(sphere) => sphere.wrap_line(p1, p2),
+            WrapSurface::Torus(torus) => torus.wrap_line(p1, p2, single_wrap),
         }
     }
 }

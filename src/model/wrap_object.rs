@@ -33,7 +33,10 @@ pub enum WrapShape {
     Ellipsoid { dimensions: [f64; 3] },
     /// `WrapSphere`: `radius` (m, default 0.05).
     Sphere { radius: f64 },
-    /// `WrapTorus`, or a class osim-tune does not know.
+    /// `WrapTorus`: a ring of radius `outer_radius` about z (default 0.05 m), a tube of radius
+    /// `inner_radius` (default 0.01 m).
+    Torus { inner_radius: f64, outer_radius: f64 },
+    /// A class OpenSim 4.6 does not have, such as 3.x's obstacle-set `WrapCylinderObst`.
     Other,
 }
 
@@ -46,6 +49,7 @@ impl WrapShape {
                 WrapShape::Ellipsoid { dimensions }
             }
             "WrapSphere" => WrapShape::Sphere { radius: reader.number_or("radius", 0.05)? },
+            "WrapTorus" => WrapShape::Torus { inner_radius: reader.number_or("inner_radius", 0.01)?, outer_radius: reader.number_or("outer_radius", 0.05)? },
             _ => WrapShape::Other,
         })
     }

@@ -150,7 +150,7 @@ fn report(
         );
     }
     if !analysis.ignored_wraps.is_empty() {
-        eprintln!("warning: WrapTorus wrapping is not applied yet; lengths and moment arms of these muscles ignore their wrap objects:");
+        eprintln!("warning: wrap objects of classes OpenSim 4.6 does not have are not applied; lengths and moment arms of these muscles ignore their wrap objects:");
         for (muscle, wraps) in &analysis.ignored_wraps {
             eprintln!("  {muscle}: {}", wraps.join(", "));
         }

@@ -297,7 +297,7 @@ impl KneeMuscle {
         let name = &path.name;
         let knee = &data.columns.knee_angle;
         if !path.ignored_wraps.is_empty() {
-            let problem = format!("crosses {knee} through wrap objects ({}) among which a WrapTorus, which osim-tune does not wrap over yet", path.ignored_wraps.join(", "));
+            let problem = format!("crosses {knee} through wrap objects ({}) among which one of a class OpenSim 4.6 does not have, which osim-tune does not wrap over", path.ignored_wraps.join(", "));
             return Err(model_error(model, "muscle", name, problem));
         }
         let force = model.forces.iter().find(|f| &f.name == name);

@@ -127,12 +127,16 @@ impl GeometryScaler<'_> {
         xml.children(axis.element).iter().copied().find(|&c| !matches!(xml.tag(c), "coordinates" | "axis"))
     }
 
-    /// `WrapObject::scale` and the class's own: translation, then the shape's dimensions.
+    /// `WrapObject::scale` and the class's own: translation, then the shape's dimensions. An
+    /// absent `translation` or `xyz_body_rotation` (OpenSim 4.6 omits them at their default,
+    /// zero) stays as it is.
     fn wrap_object(&self, c: ComponentReader, edits: &mut Vec<Edit>) -> Result<(), ScaleError> {
         let Some(frame) = self.owning_frame(c) else { return Ok(()) };
         let Some(factors) = self.frame_factors(frame)? else { return Ok(()) };
-        edits.extend(scaled_vec3_edit(c, "translation", factors)?);
-        let rotation = body_fixed_xyz(c.vec3("xyz_body_rotation")?);
+        if c.child("translation").is_some() {
+            edits.extend(scaled_vec3_edit(c, "translation", factors)?);
+        }
+        let rotation = body_fixed_xyz(if c.child("xyz_body_rotation").is_some() { c.vec3("xyz_body_rotation")? } else { [0.0; 3] });
         let scaled_axis = |k: usize| rotation.column(k).component_mul(&Vec3::from(factors)).norm();
         match c.class() {
             "WrapCylinder" => {

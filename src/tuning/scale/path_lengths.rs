@@ -49,7 +49,7 @@ pub fn default_pose_lengths(model: &ModelSpec) -> Result<Vec<(String, f64)>, Sca
         let path = GeometryPath::new(&multibody, model, force)?;
         if !path.ignored_wraps.is_empty() {
             let objects = path.ignored_wraps.join(", ");
-            let problem = format!("{}: its path wraps over {objects}, among which a WrapTorus, which osim-tune does not wrap over yet, so it cannot rescale its lengths as OpenSim would", force.name);
+            let problem = format!("{}: its path wraps over {objects}, among which one of a class OpenSim 4.6 does not have, which osim-tune does not wrap over, so it cannot rescale its lengths", force.name);
             return Err(ScaleError::Input { file: model.file.clone(), problem });
         }
         lengths.push((force.name.clone(), path.length(&kinematics, &q, &mut scratch)));
