@@ -515,13 +515,19 @@ def generate(model):
     return worst_fd[0]
 
 
-def main():
+def printed(model, path):
+    """`model` printed to `path` (OpenSim's log quietened) and loaded back: goldens are computed
+    on the model as printed."""
     print("OpenSim", osim.GetVersionAndDate(), flush=True)
     osim.Logger.removeFileSink()
     osim.Logger.setLevelString("error")
-    MODEL_FILE.parent.mkdir(parents=True, exist_ok=True)
-    build_model().printToXML(str(MODEL_FILE))
-    worst = generate(osim.Model(str(MODEL_FILE)))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    model.printToXML(str(path))
+    return osim.Model(str(path))
+
+
+def main():
+    worst = generate(printed(build_model(), MODEL_FILE))
     if worst > FD_TOLERANCE:
         sys.exit("moment arms disagree with -dL/dq by %.3e > %g" % (worst, FD_TOLERANCE))
 

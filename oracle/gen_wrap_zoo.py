@@ -45,8 +45,8 @@ import opensim as osim
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from gen_joint_zoo import (BODY_HEADER, add_body, apply_pose, body_rows, coord_list,  # noqa: E402
-                           fmt, joints_between, set_coordinates, vec, write_coordinates, write_csv,
-                           write_muscle_coordinates)
+                           fmt, joints_between, printed, set_coordinates, vec, write_coordinates,
+                           write_csv, write_muscle_coordinates)
 
 REPO = Path(__file__).resolve().parent.parent
 MODEL_FILE = REPO / "fixtures" / "models" / "wrap_zoo.osim"
@@ -212,12 +212,7 @@ def generate(model):
 
 
 def main():
-    print("OpenSim", osim.GetVersionAndDate(), flush=True)
-    osim.Logger.removeFileSink()
-    osim.Logger.setLevelString("error")
-    MODEL_FILE.parent.mkdir(parents=True, exist_ok=True)
-    build_model().printToXML(str(MODEL_FILE))
-    generate(osim.Model(str(MODEL_FILE)))
+    generate(printed(build_model(), MODEL_FILE))
 
 
 if __name__ == "__main__":
