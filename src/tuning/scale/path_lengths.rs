@@ -69,6 +69,12 @@ pub fn rescale_edits(document: &OsimDocument, model: &ModelSpec, before: &[(Stri
         if *length_before <= 0.0 {
             continue;
         }
+        if *length_after <= 0.0 {
+            let problem = format!(
+                "{name}: its path is {length_after} m long at the default pose after scaling ({length_before} m before), so its lengths would be rescaled to negative values; OpenSim's ScaleTool fails on this model too"
+            );
+            return Err(ScaleError::Input { file: model.file.clone(), problem });
+        }
         let rescale = PathRescale { force: name.clone(), length_before: *length_before, length_after: *length_after };
         let reader = ComponentReader::new(document, force.element);
         let properties: &[&str] = if RESTING_LENGTH_FORCES.contains(&force.class.as_str()) { &["resting_length"] } else { &["optimal_fiber_length", "tendon_slack_length"] };
@@ -78,4 +84,24 @@ pub fn rescale_edits(document: &OsimDocument, model: &ModelSpec, before: &[(Stri
         report.push(rescale);
     }
     Ok((edits, report))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A path whose scaled length is not positive (OpenSim's far side of a WrapSphere can make
+    /// it so) is refused, naming the muscle, rather than given a negative L_opt.
+    #[test]
+    fn a_path_not_positive_after_scaling_is_refused() {
+        let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/models/leg6dof9musc.osim");
+        let document = OsimDocument::read(&file).unwrap();
+        let model = ModelSpec::read(&document).unwrap();
+        let before = default_pose_lengths(&model).unwrap();
+        let mut after = before.clone();
+        assert!(rescale_edits(&document, &model, &before, &after).is_ok());
+        after[1].1 = -0.01;
+        let message = rescale_edits(&document, &model, &before, &after).unwrap_err().to_string();
+        assert!(message.contains("leg6dof9musc.osim") && message.contains(&before[1].0) && message.contains("-0.01 m"), "{message}");
+    }
 }
