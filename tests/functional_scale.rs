@@ -129,6 +129,10 @@ fn names_and_recovers_a_hidden_tendon_slack_change() {
     assert_eq!(best["parameter"], "TendonSlackLength");
     let recovered = best["fitted"].as_f64().unwrap() / truth[hidden].tendon_slack_length - 1.0;
     assert!(recovered.abs() < 0.01, "recovered L_ts off by {:.3} %", 100.0 * recovered);
+    // The subject file says noise-free: the verdict weighs the candidates at the moments' resolution.
+    let named = &report["cause_verdict"]["verdict"]["Named"];
+    assert_eq!(named["muscle"], truth[hidden].name.as_str(), "{}", report["cause_verdict"]);
+    assert_eq!(named["parameter"], "TendonSlackLength");
     let runner_up = report["single_causes"][1]["rms_after"].as_f64().unwrap();
     assert!(best["rms_after"].as_f64().unwrap() < 0.01 * runner_up, "the named cause must explain far more than the next: {best} vs {runner_up}");
 }

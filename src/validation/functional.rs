@@ -11,7 +11,10 @@ use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
 use crate::model::ModelSpec;
-use crate::tuning::functional::{estimate, root_mean_square, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel, MuscleParameters};
+use crate::tuning::functional::{
+    cause_verdict, estimate, root_mean_square, single_causes, CauseVerdict, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel,
+    MuscleParameters, NoiseLevel, SingleCause,
+};
 
 /// A public dynamometry subject's `ground_truth.json`: the parameters and the noise-free
 /// moments its data were generated with.
@@ -163,6 +166,21 @@ pub fn hidden_slack_change(nominal: &[MuscleParameters], seed: u64) -> (usize, V
     let mut changed = nominal.to_vec();
     changed[hidden].tendon_slack_length *= 1.0 + sign * rng.random_range(0.02..0.06);
     (hidden, changed)
+}
+
+/// The single causes of `data`'s moments from the model's values, and their verdict at the
+/// subject file's σ (0: noise-free; absent: unknown). `None` for the verdict with fewer than
+/// two candidates.
+pub fn single_cause_verdict(knee: &KneeMomentModel, data: &DynamometryData) -> Result<(Vec<SingleCause>, Option<CauseVerdict>), FunctionalError> {
+    let measured = data.measured_moments();
+    let causes = single_causes(knee, &knee.nominal_parameters(), &measured)?;
+    let noise = match data.noise_sd {
+        Some(sd) if sd > 0.0 => NoiseLevel::Estimated(sd),
+        Some(_) => NoiseLevel::Exact,
+        None => NoiseLevel::Unknown,
+    };
+    let verdict = cause_verdict(&causes, measured.len(), noise, "subject file");
+    Ok((causes, verdict))
 }
 
 /// One fit from `initial` on `measured`: relative errors against the truth and convergence.

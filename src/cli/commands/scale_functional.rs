@@ -10,7 +10,7 @@ use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
     fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
-    TrialOptions, DEFAULT_PRIOR_SD, LAPLACE, SAMPLED, SUBJECT_FILE,
+    TrialOptions, DEFAULT_PRIOR_SD, LAPLACE, SAMPLED, STRONG_EVIDENCE, SUBJECT_FILE,
 };
 
 use super::super::args::ScaleMethodArgument;
@@ -189,6 +189,27 @@ fn print_causes(fit: &FunctionalFit) {
             cause.rms_after,
             if cause.at_minimum { "" } else { " (its fit stopped before a minimum)" }
         );
+    }
+    if let Some(verdict) = &fit.cause_verdict {
+        println!("  verdict: {}", verdict.describe());
+        println!(
+            "    at σ = {} N·m ({}): 2 ln K over the initial model {}, over the runner-up {} (very strong ≥ {STRONG_EVIDENCE}); χ² left {} (≤ {:.1})",
+            if verdict.noise_sd < 1e-2 { format!("{:.0e}", verdict.noise_sd) } else { format!("{:.3}", verdict.noise_sd) },
+            verdict.noise_source,
+            evidence(verdict.evidence_over_initial),
+            evidence(verdict.evidence_over_runner_up),
+            evidence(verdict.best_chi_square),
+            verdict.chi_square_limit
+        );
+    }
+}
+
+/// A 2 ln K or χ² value: one decimal, or three significant digits when large.
+fn evidence(value: f64) -> String {
+    if value.abs() < 1e4 {
+        format!("{value:.1}")
+    } else {
+        format!("{value:.2e}")
     }
 }
 

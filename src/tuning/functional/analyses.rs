@@ -22,6 +22,7 @@ use super::rest_curve_fit::{fit_rest_curves, RestCurvePrior, RestCurveSettings};
 use super::rest_curve_information::RestCurveInformation;
 use super::rest_curve_map::AppliedPrior;
 use super::sensitivity::{SensitivityTable, DEFAULT_RELATIVE_STEP};
+use super::cause_verdict::NoiseLevel;
 use super::sigma_points::{noise_from_residuals, propagate_noise, SigmaPoints};
 use super::trials::DynamometryData;
 use crate::model::ModelSpec;
@@ -127,6 +128,17 @@ pub struct Uncertainty {
     pub sigma_points: Option<Vec<[f64; 2]>>,
 }
 
+impl Uncertainty {
+    /// σ as a noise estimate, not a nominal scale.
+    pub fn noise_level(&self) -> NoiseLevel {
+        match self.noise_source {
+            EXACT_FIT_NOMINAL => NoiseLevel::Exact,
+            NO_DEGREES_NOMINAL => NoiseLevel::Unknown,
+            _ => NoiseLevel::Estimated(self.noise_sd),
+        }
+    }
+}
+
 /// Standard deviations of the fitted (L_opt, L_ts) along the rest curves, m (one parameter per
 /// muscle: its curve coordinate).
 #[derive(Debug, Clone, Serialize)]
@@ -162,6 +174,11 @@ impl RestCurveUncertainty {
     }
 }
 
+/// The source of σ when the fit is exact: a nominal 1 N·m scales the criteria.
+const EXACT_FIT_NOMINAL: &str = "nominal (exact fit: 1 N·m)";
+/// The source of σ when the fit has no degrees of freedom left to estimate it.
+const NO_DEGREES_NOMINAL: &str = "nominal (no more trials than parameters: 1 N·m)";
+
 /// σ: given, else the subject file's (when positive), else the prior's (the fit's own
 /// estimate), else √(RSS/(n − p)) of the fit (when the fit is exact or has no degrees of
 /// freedom, a nominal 1 N·m scales the criteria, and the source says why).
@@ -177,8 +194,8 @@ fn noise_level(settings: &FitSettings, data: &DynamometryData, prior: Option<App
     }
     match noise_from_residuals(residuals, parameters) {
         Ok(sd) if sd > 1e-6 => (sd, "residuals"),
-        Ok(_) => (1.0, "nominal (exact fit: 1 N·m)"),
-        Err(_) => (1.0, "nominal (no more trials than parameters: 1 N·m)"),
+        Ok(_) => (1.0, EXACT_FIT_NOMINAL),
+        Err(_) => (1.0, NO_DEGREES_NOMINAL),
     }
 }
 

@@ -1,11 +1,12 @@
 //! One functional-scaling run, as `osim-tune scale MODEL TRIALS/` does it: the input checks,
-//! the single parameter that best explains the initial model's error, the estimator
+//! the single parameter that best explains the initial model's error and its verdict, the estimator
 //! (`estimator.rs`) and the analyses at its estimate (`analyses.rs`).
 
 use serde::Serialize;
 
 use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
 use super::cause::{single_causes, SingleCause};
+use super::cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel};
 use super::error::FunctionalError;
 use super::estimator::{estimate, FitMethod, FitSettings};
 use super::feasible_set::MuscleFeasibleSet;
@@ -39,6 +40,8 @@ pub struct FunctionalFit {
     pub prior: Option<AppliedPrior>,
     /// Each single parameter fitted alone from the initial model, best explanation first.
     pub single_causes: Vec<SingleCause>,
+    /// Whether the ranking names a cause at the report's σ; `None` without single causes.
+    pub cause_verdict: Option<CauseVerdict>,
     /// `None` when unavailable (see `unavailable`).
     pub sensitivity: Option<SensitivityTable>,
     pub identifiability: Vec<ParameterisationReport>,
@@ -105,6 +108,8 @@ pub fn fit(
     let inputs = FitInputs { spec, knee, data, settings, measured: &measured };
     let analyses = analyse(&inputs, &estimate, &moments, progress);
     unavailable.extend(analyses.unavailable);
+    let (noise, noise_source) = verdict_noise(settings, data, &analyses.uncertainty);
+    let cause_verdict = cause_verdict(&single_causes, measured.len(), noise, noise_source);
     let trials = knee
         .trials()
         .iter()
@@ -124,11 +129,24 @@ pub fn fit(
         active_constraints: estimate.active_constraints,
         prior: estimate.prior,
         single_causes,
+        cause_verdict,
         sensitivity: analyses.sensitivity,
         identifiability: analyses.identifiability,
         uncertainty: analyses.uncertainty,
         unavailable,
     })
+}
+
+/// The noise the single causes are weighed against: the report's σ, except that moments the
+/// subject file calls noise-free (σ = 0, not overridden) are exact.
+fn verdict_noise(settings: &FitSettings, data: &DynamometryData, uncertainty: &Uncertainty) -> (NoiseLevel, &'static str) {
+    if settings.noise_sd.is_none() && data.noise_sd == Some(0.0) {
+        return (NoiseLevel::Exact, "subject file: noise-free; the moments' resolution");
+    }
+    match uncertainty.noise_level() {
+        NoiseLevel::Exact => (NoiseLevel::Exact, "exact fit; the moments' resolution"),
+        level => (level, uncertainty.noise_source),
+    }
 }
 
 /// Every trial angle within its model coordinate's range.

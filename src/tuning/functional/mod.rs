@@ -29,7 +29,8 @@
 //! - `sigma_points.rs`: the 2n²+1 sigma points of Appendix 6.6 and noise propagation through any
 //!   estimator ([`propagate_noise`]).
 //! - `cause.rs`: the single (muscle, parameter) change that best explains the measured moments
-//!   ([`single_causes`]).
+//!   ([`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
+//!   (Bayes factors of the candidates, [`cause_verdict`]).
 //! - `estimator.rs`: the estimators and their settings ([`estimate`], [`FitSettings`]): the
 //!   thesis' method with the rest-curve fit, or Garner & Pandy.
 //! - `analyses.rs`: the analyses at an estimate ([`analyse`]: sensitivity, identifiability,
@@ -40,6 +41,7 @@
 
 mod analyses;
 mod cause;
+mod cause_verdict;
 mod error;
 mod estimator;
 mod garner_pandy;
@@ -62,6 +64,7 @@ mod sigma_points;
 mod trials;
 
 pub use cause::{single_causes, SingleCause};
+pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};
 pub use error::FunctionalError;
 pub use garner_pandy::{
     fit_garner_pandy, GarnerPandyFit, GarnerPandyOptions, JointRange, MusculotendonRange, NormalizedFiberLengthRange, RangeExtreme, RANGE_SAMPLES,
