@@ -10,7 +10,9 @@ mod common;
 use common::fixture;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::tuning::functional::{CauseVerdict, DynamometryData, KneeMomentModel, Parameter, SetSelection, SingleCause, TrialOptions, Verdict};
+use osim_tune::tuning::functional::{
+    held_out_gain, CauseVerdict, DynamometryData, KneeMomentModel, Parameter, SetSelection, SingleCause, TrialOptions, Verdict,
+};
 use osim_tune::validation::functional::single_cause_verdict;
 use serde_json::Value;
 
@@ -26,11 +28,16 @@ fn hidden(subject: &str) -> Hidden {
     Hidden { muscle, tendon_slack_length }
 }
 
-/// The ranking and its verdict at the subject file's σ (noise-free: exact), on `sets`.
-fn verdict(subject: &str, sets: SetSelection) -> (Vec<SingleCause>, CauseVerdict) {
+fn subject_data(subject: &str, sets: SetSelection) -> (DynamometryData, KneeMomentModel) {
     let data = DynamometryData::read(&fixture(&format!("dynamometry/hidden/{subject}")), &TrialOptions { sets, ..TrialOptions::default() }).unwrap();
     let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
     let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    (data, knee)
+}
+
+/// The ranking and its verdict at the subject file's σ (noise-free: exact), on `sets`.
+fn verdict(subject: &str, sets: SetSelection) -> (Vec<SingleCause>, CauseVerdict) {
+    let (data, knee) = subject_data(subject, sets);
     let (causes, verdict) = single_cause_verdict(&knee, &data).unwrap();
     (causes, verdict.unwrap())
 }
@@ -81,4 +88,25 @@ fn noisy_subjects_are_named_only_as_far_as_the_noise_allows_and_never_wrongly() 
     // All 70 trials resolve the 4 % changes at σ = 5 N·m; set5's 10 trials and σ = 10 N·m do not
     // (2 ln K over the unchanged model below 10 there).
     assert_eq!(named, ["hid03 all", "hid04 all"]);
+}
+
+#[test]
+fn the_named_cause_predicts_trials_its_fit_did_not_see() {
+    // Noise-free: each fold's fit recovers the true L_ts, so the other fold is predicted exactly.
+    let truth = hidden("hid01");
+    let (data, knee) = subject_data("hid01", SetSelection::Only(vec!["set5".into()]));
+    let measured = data.measured_moments();
+    let (causes, _) = single_cause_verdict(&knee, &data).unwrap();
+    let gain = held_out_gain(&knee, &knee.nominal_parameters(), &measured, &causes[0]).unwrap();
+    assert!(gain.rms_before > 1.0 && gain.rms_after < 1e-4, "{gain:?}");
+    for fitted in &gain.fitted {
+        assert!((fitted / truth.tendon_slack_length - 1.0).abs() < 1e-4, "{gain:?}");
+    }
+    // σ = 5 N·m, all 70 trials: the prediction error of unseen trials falls to the noise level.
+    let (data, knee) = subject_data("hid03", SetSelection::All);
+    let measured = data.measured_moments();
+    let (causes, _) = single_cause_verdict(&knee, &data).unwrap();
+    let gain = held_out_gain(&knee, &knee.nominal_parameters(), &measured, &causes[0]).unwrap();
+    let sigma = data.noise_sd.unwrap();
+    assert!(gain.rms_before > 1.5 * sigma && gain.rms_after < 1.2 * sigma, "{gain:?}");
 }

@@ -133,6 +133,9 @@ fn names_and_recovers_a_hidden_tendon_slack_change() {
     let named = &report["cause_verdict"]["verdict"]["Named"];
     assert_eq!(named["muscle"], truth[hidden].name.as_str(), "{}", report["cause_verdict"]);
     assert_eq!(named["parameter"], "TendonSlackLength");
+    // Noise-free: the cause fitted to alternate angles predicts the others exactly.
+    let held_out = &report["cause_held_out"];
+    assert!(held_out["rms_before"].as_f64().unwrap() > 1.0 && held_out["rms_after"].as_f64().unwrap() < 1e-4, "{held_out}");
     let runner_up = report["single_causes"][1]["rms_after"].as_f64().unwrap();
     assert!(best["rms_after"].as_f64().unwrap() < 0.01 * runner_up, "the named cause must explain far more than the next: {best} vs {runner_up}");
 }

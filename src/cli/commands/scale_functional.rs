@@ -10,7 +10,7 @@ use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
     fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
-    TrialOptions, DEFAULT_PRIOR_SD, LAPLACE, SAMPLED, STRONG_EVIDENCE, SUBJECT_FILE,
+    TrialOptions, DEFAULT_PRIOR_SD, FOLDS, LAPLACE, SAMPLED, STRONG_EVIDENCE, SUBJECT_FILE,
 };
 
 use super::super::args::ScaleMethodArgument;
@@ -200,6 +200,12 @@ fn print_causes(fit: &FunctionalFit) {
             evidence(verdict.evidence_over_runner_up),
             evidence(verdict.best_chi_square),
             verdict.chi_square_limit
+        );
+    }
+    if let Some(held_out) = &fit.cause_held_out {
+        println!(
+            "  held out ({FOLDS} folds of alternate angles, each predicted by the best cause fitted to the other): RMS {:.4} → {:.4} N·m",
+            held_out.rms_before, held_out.rms_after
         );
     }
 }

@@ -46,28 +46,52 @@ impl SingleCause {
 pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
     let moments = model.moments(initial)?;
     let rms_before = root_mean_square(moments.iter().zip(measured).map(|(m, y)| m - y));
+    let every_trial = vec![true; measured.len()];
     let mut causes = Vec::new();
     for e in 0..initial.len() {
         for parameter in [Parameter::TendonSlackLength, Parameter::OptimalFiberLength] {
-            let mut problem = Candidate::new(model, initial, e, parameter, &moments, measured)?;
-            let mut x = [0.0];
-            let bounds = Bounds { lower: vec![0.5f64.ln()], upper: vec![1.5f64.ln()] };
-            let report = LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
-            let mut residuals = vec![0.0; measured.len()];
-            problem.residuals(x[0], &mut residuals)?;
+            let fit = fit_candidate(model, initial, &moments, (e, parameter), measured, &every_trial)?;
             causes.push(SingleCause {
                 muscle: initial[e].name.clone(),
                 parameter,
                 initial: initial[e].get(parameter),
-                fitted: initial[e].get(parameter) * x[0].exp(),
+                fitted: fit.value,
                 rms_before,
-                rms_after: root_mean_square(residuals.iter().copied()),
-                at_minimum: report.status.at_minimum(),
+                rms_after: root_mean_square(fit.residuals.iter().copied()),
+                at_minimum: fit.at_minimum,
             });
         }
     }
     causes.sort_by(|a, b| a.rms_after.total_cmp(&b.rms_after));
     Ok(causes)
+}
+
+/// One candidate's fit.
+pub(super) struct CandidateFit {
+    /// The fitted value, m.
+    pub value: f64,
+    /// M_mod − M_meas at it for every trial, fitted or not, N·m.
+    pub residuals: Vec<f64>,
+    pub at_minimum: bool,
+}
+
+/// Estimated muscle e's `parameter` fitted alone from `initial` (whose moments are `moments`;
+/// factor within [0.5, 1.5]) to the trials with `fitted[t]` true.
+pub(super) fn fit_candidate(
+    model: &KneeMomentModel,
+    initial: &[MuscleParameters],
+    moments: &[f64],
+    (e, parameter): (usize, Parameter),
+    measured: &[f64],
+    fitted: &[bool],
+) -> Result<CandidateFit, FunctionalError> {
+    let mut problem = Candidate::new(model, initial, e, parameter, moments, measured, fitted)?;
+    let mut x = [0.0];
+    let bounds = Bounds { lower: vec![0.5f64.ln()], upper: vec![1.5f64.ln()] };
+    let report = LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
+    let mut residuals = vec![0.0; measured.len()];
+    problem.residuals(x[0], &mut residuals)?;
+    Ok(CandidateFit { value: initial[e].get(parameter) * x[0].exp(), residuals, at_minimum: report.status.at_minimum() })
 }
 
 /// One muscle's parameter as ln(factor); the other muscles' contributions stay fixed.
@@ -79,6 +103,8 @@ struct Candidate<'a> {
     base: MuscleParameters,
     /// M_mod − M_meas without this muscle's contribution, N·m.
     others: Vec<f64>,
+    /// Whether each trial is fitted (the others' residuals count as 0).
+    fitted: Vec<bool>,
 }
 
 impl<'a> Candidate<'a> {
@@ -89,6 +115,7 @@ impl<'a> Candidate<'a> {
         parameter: Parameter,
         moments: &[f64],
         measured: &[f64],
+        fitted: &[bool],
     ) -> Result<Candidate<'a>, FunctionalError> {
         let workspace = model.estimated_muscles(initial)?;
         let k = model.estimated_knee_index(muscle);
@@ -96,7 +123,7 @@ impl<'a> Candidate<'a> {
         for (t, (m, y)) in moments.iter().zip(measured).enumerate() {
             others.push(m - y - model.contribution(k, workspace.muscle(muscle), t)?);
         }
-        Ok(Candidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others })
+        Ok(Candidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others, fitted: fitted.to_vec() })
     }
 
     fn residuals(&mut self, log_factor: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
@@ -120,6 +147,7 @@ impl LeastSquaresProblem for Candidate<'_> {
     }
 
     /// A parameter without equilibrium somewhere gives infinite residuals (the step is refused).
+    /// Trials not fitted have residual 0.
     fn evaluate(&mut self, x: &[f64], residuals: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
         if self.residuals(x[0], residuals).is_err() {
             residuals.fill(f64::INFINITY);
@@ -129,7 +157,12 @@ impl LeastSquaresProblem for Candidate<'_> {
             let (mut plus, mut minus) = (vec![0.0; residuals.len()], vec![0.0; residuals.len()]);
             let ok = self.residuals(x[0] + h, &mut plus).is_ok() && self.residuals(x[0] - h, &mut minus).is_ok();
             for (t, (p, m)) in plus.iter().zip(&minus).enumerate() {
-                jacobian[(t, 0)] = if ok { (p - m) / (2.0 * h) } else { 0.0 };
+                jacobian[(t, 0)] = if ok && self.fitted[t] { (p - m) / (2.0 * h) } else { 0.0 };
+            }
+        }
+        for (r, &fitted) in residuals.iter_mut().zip(&self.fitted) {
+            if !fitted {
+                *r = 0.0;
             }
         }
     }

@@ -1,11 +1,13 @@
 //! One functional-scaling run, as `osim-tune scale MODEL TRIALS/` does it: the input checks,
-//! the single parameter that best explains the initial model's error and its verdict, the estimator
+//! the single parameter that best explains the initial model's error (its verdict and its gain on
+//! held-out trials), the estimator
 //! (`estimator.rs`) and the analyses at its estimate (`analyses.rs`).
 
 use serde::Serialize;
 
 use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
 use super::cause::{single_causes, SingleCause};
+use super::cause_held_out::{held_out_gain, HeldOutGain};
 use super::cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel};
 use super::error::FunctionalError;
 use super::estimator::{estimate, FitMethod, FitSettings};
@@ -42,6 +44,8 @@ pub struct FunctionalFit {
     pub single_causes: Vec<SingleCause>,
     /// Whether the ranking names a cause at the report's σ; `None` without single causes.
     pub cause_verdict: Option<CauseVerdict>,
+    /// The best single cause's RMS on trials its fit did not see; `None` without single causes.
+    pub cause_held_out: Option<HeldOutGain>,
     /// `None` when unavailable (see `unavailable`).
     pub sensitivity: Option<SensitivityTable>,
     pub identifiability: Vec<ParameterisationReport>,
@@ -103,6 +107,7 @@ pub fn fit(
     progress("single causes");
     let mut unavailable = Vec::new();
     let single_causes = attempt(&mut unavailable, "single causes", single_causes(knee, &initial, &measured)).unwrap_or_default();
+    let cause_held_out = single_causes.first().and_then(|best| attempt(&mut unavailable, "single cause held out", held_out_gain(knee, &initial, &measured, best)));
     let estimate = estimate(spec, knee, data, &initial, &measured, settings, progress)?;
     let moments = knee.moments(&estimate.fitted)?;
     let inputs = FitInputs { spec, knee, data, settings, measured: &measured };
@@ -130,6 +135,7 @@ pub fn fit(
         prior: estimate.prior,
         single_causes,
         cause_verdict,
+        cause_held_out,
         sensitivity: analyses.sensitivity,
         identifiability: analyses.identifiability,
         uncertainty: analyses.uncertainty,

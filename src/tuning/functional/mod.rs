@@ -30,7 +30,8 @@
 //!   estimator ([`propagate_noise`]).
 //! - `cause.rs`: the single (muscle, parameter) change that best explains the measured moments
 //!   ([`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
-//!   (Bayes factors of the candidates, [`cause_verdict`]).
+//!   (Bayes factors of the candidates, [`cause_verdict`]); `cause_held_out.rs` the best
+//!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]).
 //! - `estimator.rs`: the estimators and their settings ([`estimate`], [`FitSettings`]): the
 //!   thesis' method with the rest-curve fit, or Garner & Pandy.
 //! - `analyses.rs`: the analyses at an estimate ([`analyse`]: sensitivity, identifiability,
@@ -41,6 +42,7 @@
 
 mod analyses;
 mod cause;
+mod cause_held_out;
 mod cause_verdict;
 mod error;
 mod estimator;
@@ -64,6 +66,7 @@ mod sigma_points;
 mod trials;
 
 pub use cause::{single_causes, SingleCause};
+pub use cause_held_out::{held_out_gain, HeldOutGain, FOLDS};
 pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};
 pub use error::FunctionalError;
 pub use garner_pandy::{
