@@ -1,11 +1,13 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid06/: synthetic dynamometry subjects made by
-OpenSim 4.6 from the scaled subject01 model with ONE knee muscle's L_ts changed (issue 6's hidden
-effect), as the shared oracle makes the public subjects (dynamometry_lib.generate_subject).
-Per subject, numpy default_rng(31000 + k) draws the muscle (uniform over the eight estimated
-ones), the sign (±, p 0.5) and the magnitude U(0.02, 0.06) of the change; the moment noise is
-σ = 0 (hid01–02), 5 (hid03–04) and 10 N·m (hid05–06), noise seed 32000 + k.
-ground_truth.json keeps the changed muscle, its factor and the true parameters; the fit never
-reads it (tests/functional_hidden.rs compares against it afterwards).
+"""Writes fixtures/dynamometry/hidden/hid01..hid10/: synthetic dynamometry subjects made by
+OpenSim 4.6 from the scaled subject01 model with ONE parameter of one knee muscle changed (the
+hidden effect of issue 6 and of the diagnosis mission), as the shared oracle makes the public
+subjects (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws the
+muscle (uniform over the eight estimated ones), the sign (±, p 0.5) and the magnitude of the
+change: L_ts by U(0.02, 0.06) in hid01–06, L_opt by U(0.05, 0.15) in hid07–08, F_max by
+U(0.10, 0.25) in hid09–10. The moment noise is σ = 0 (hid01–02, 07, 09), 5 (hid03–04, 08, 10)
+and 10 N·m (hid05–06), noise seed 32000 + k.
+ground_truth.json keeps the changed muscle, parameter and factor and the true parameters; the
+fit never reads it (tests/functional_hidden.rs compares against it afterwards).
 
 Usage: python3 oracle/gen_hidden_changes.py /path/to/shared
 """
@@ -23,27 +25,31 @@ import dynamometry_generate_public as G  # noqa: E402
 import dynamometry_lib as L  # noqa: E402
 
 OUT = Path(__file__).resolve().parent.parent / "fixtures" / "dynamometry" / "hidden"
-NOISE = {1: 0.0, 2: 0.0, 3: 5.0, 4: 5.0, 5: 10.0, 6: 10.0}
+TS, OPT, FMAX = "tendon_slack_length", "optimal_fiber_length", "max_isometric_force"
+# subject number: (changed property, magnitude range, moment noise sd in N m)
+SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.02, 0.06), 5.0),
+            4: (TS, (0.02, 0.06), 5.0), 5: (TS, (0.02, 0.06), 10.0), 6: (TS, (0.02, 0.06), 10.0),
+            7: (OPT, (0.05, 0.15), 0.0), 8: (OPT, (0.05, 0.15), 5.0),
+            9: (FMAX, (0.10, 0.25), 0.0), 10: (FMAX, (0.10, 0.25), 5.0)}
 
 
-def hidden_change(k):
-    """(muscle, L_ts factor) of subject k."""
+def hidden_change(k, magnitude):
+    """(muscle, factor) of subject k."""
     rng = np.random.default_rng(31000 + k)
     muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]
     sign = 1.0 if rng.random() < 0.5 else -1.0
-    return muscle, 1.0 + sign * float(rng.uniform(0.02, 0.06))
+    return muscle, 1.0 + sign * float(rng.uniform(*magnitude))
 
 
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     base_p = L.KneeSim(G.SCALED).muscle_params()
     with tempfile.TemporaryDirectory() as scratch:
-        for k, sd in NOISE.items():
+        for k, (prop, magnitude, sd) in SUBJECTS.items():
             sid = "hid%02d" % k
-            muscle, factor = hidden_change(k)
-            factors = {n: (1.0, factor if n == muscle else 1.0) for n in L.EST_MUSCLES}
-            sim = L.KneeSim(G.SCALED, overrides=L.factor_overrides(base_p, factors))
-            truth = {"hidden_muscle": muscle, "tendon_slack_length_factor": factor}
+            muscle, factor = hidden_change(k, magnitude)
+            sim = L.KneeSim(G.SCALED, overrides={muscle: {prop: base_p[muscle][prop] * factor}})
+            truth = {"hidden_muscle": muscle, "hidden_parameter": prop, "factor": factor}
             L.generate_subject(Path(scratch) / sid, sid, sim, base_model_file=G.SCALED.name,
                                base_model_path_in_shared=G.rel_to_shared(G.SCALED), noise_sd=sd,
                                noise_seed=32000 + k if sd > 0 else None, extra_truth=truth, log=lambda *a: None)
@@ -55,7 +61,7 @@ def main():
             kept.update({key: full[key] for key in ["subject", "noise_sd_Nm", "noise_seed", "true_parameters"]})
             kept.update(truth)
             (target / "ground_truth.json").write_text(json.dumps(kept, indent=1))
-            print(sid, muscle, round(factor, 4), sd, flush=True)
+            print(sid, muscle, prop, round(factor, 4), sd, flush=True)
 
 
 if __name__ == "__main__":

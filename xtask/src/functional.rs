@@ -30,6 +30,8 @@ const SUBJECT: &str = "fixtures/dynamometry/train01";
 /// σ = 5 N·m in its files; `ground_truth.json` has the noise-free moments.
 const NOISY_SUBJECT: &str = "fixtures/dynamometry/train03";
 const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
+/// OpenSim subjects with one hidden change, `fixtures/dynamometry/hidden/hid01`…
+const HIDDEN_SUBJECTS: usize = 10;
 const NOISE_DRAWS: usize = 20;
 /// Draws per σ in the thesis' protocol, whose means carry the open goals.
 const THESIS_PROTOCOL_DRAWS: usize = 100;
@@ -299,17 +301,20 @@ fn hidden_change_row(knee: &KneeMomentModel) -> Row {
     Row { what: "hidden L_ts change (8 seeds): verdict names it, relative error of the recovered value".into(), reference: "engine-generated set5".into(), worst, tolerance: 0.01, at }
 }
 
-/// Hidden effect in OpenSim-generated subjects (`fixtures/dynamometry/hidden/`, σ = 0, 5 and
-/// 10 N·m), set5 and all trials: the verdict never names another muscle (nor rejects the single
-/// cause), and where it names the L_ts change the recovered value is within 1 %.
+/// Hidden effects in OpenSim-generated subjects (`fixtures/dynamometry/hidden/`: one L_ts, L_opt
+/// or F_max changed; σ = 0, 5 and 10 N·m), set5 and all trials: the verdict never names another
+/// muscle or parameter (nor rejects the single cause), and where it names the change the
+/// recovered value is within 1 %.
 fn hidden_opensim_row(spec: &ModelSpec) -> Row {
     let (mut worst, mut named, mut wrong) = (0.0f64, Vec::new(), Vec::new());
-    for k in 1..=6 {
+    for k in 1..=HIDDEN_SUBJECTS {
         let subject = format!("hid{k:02}");
         let folder = root().join("fixtures/dynamometry/hidden").join(&subject);
         let truth: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).expect("hidden ground truth")).expect("JSON");
         let muscle = truth["hidden_muscle"].as_str().unwrap_or_default().to_string();
-        let slack = truth["true_parameters"][&muscle]["tendon_slack_length"].as_f64().unwrap_or(f64::NAN);
+        let property = truth["hidden_parameter"].as_str().unwrap_or_default();
+        let parameter = Parameter::ALL.into_iter().find(|p| p.property() == property).expect("a muscle parameter");
+        let value = truth["true_parameters"][&muscle][property].as_f64().unwrap_or(f64::NAN);
         for (label, sets) in [("set5", SetSelection::Only(vec!["set5".into()])), ("all", SetSelection::All)] {
             let case = format!("{subject} {label}");
             let outcome = DynamometryData::read(&folder, &TrialOptions { sets, ..TrialOptions::default() })
@@ -318,12 +323,12 @@ fn hidden_opensim_row(spec: &ModelSpec) -> Row {
                 .and_then(|(knee, data)| single_cause_verdict(&knee, &data).map_err(|e| e.to_string()));
             match outcome {
                 Ok((causes, Some(verdict))) => match &verdict.verdict {
-                    Verdict::Named { muscle: m, parameter } if *m == muscle && *parameter == Parameter::TendonSlackLength => {
-                        worst = worst.max((causes[0].fitted / slack - 1.0).abs());
+                    Verdict::Named { muscle: m, parameter: p } if *m == muscle && *p == parameter => {
+                        worst = worst.max((causes[0].fitted / value - 1.0).abs());
                         named.push(case);
                     }
-                    Verdict::MuscleNamed { muscle: m } if *m == muscle => named.push(case),
-                    Verdict::Ambiguous { candidates } if candidates.iter().any(|(m, _)| *m == muscle) => {}
+                    Verdict::MuscleNamed { muscle: m, parameters } if *m == muscle && parameters.contains(&parameter) => named.push(case),
+                    Verdict::Ambiguous { candidates } if candidates.contains(&(muscle.clone(), parameter)) => {}
                     Verdict::NoEffect => {}
                     _ => wrong.push(format!("{case}: {} (hidden {muscle})", verdict.describe())),
                 },
@@ -332,9 +337,9 @@ fn hidden_opensim_row(spec: &ModelSpec) -> Row {
             }
         }
     }
-    let at = if wrong.is_empty() { format!("named in {} of 12: {}", named.len(), named.join(", ")) } else { wrong.join("; ") };
+    let at = if wrong.is_empty() { format!("named in {} of {}: {}", named.len(), 2 * HIDDEN_SUBJECTS, named.join(", ")) } else { wrong.join("; ") };
     Row {
-        what: "hidden L_ts change (hid01–06, σ 0/5/10 N·m): never a wrong name; recovered L_ts where named".into(),
+        what: "hidden L_ts/L_opt/F_max change (hid01–10, σ 0/5/10 N·m): never a wrong name; recovered value where named".into(),
         reference: "OpenSim 4.6 subjects".into(),
         worst: if wrong.is_empty() { worst } else { f64::INFINITY },
         tolerance: 0.01,

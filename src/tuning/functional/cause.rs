@@ -1,6 +1,6 @@
 //! Single causes: which one parameter of one estimated muscle, changed alone, best explains
 //! the difference between the initial model's and the measured knee moments. Each candidate
-//! (L_opt or L_ts of each muscle) is fitted by one-dimensional least squares on the moments
+//! (L_ts, L_opt or F_max of each muscle, [`CANDIDATE_PARAMETERS`]) is fitted by one-dimensional least squares on the moments
 //! (factor within [0.5, 1.5] of the model's value) and the candidates are ranked by the RMS
 //! error left. A candidate that leaves almost nothing names the model deficiency; when none
 //! does, the difference has more than one cause. Each fit stops where the local model sees no
@@ -20,12 +20,16 @@ use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProb
 /// fits).
 const CANDIDATE_FIT: LeastSquaresOptions = LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-14, cost_tolerance: 1e-10, max_iterations: 200 };
 
+/// The parameters tried per estimated muscle: the two the fit estimates and the strength F_max,
+/// whose change they cannot mimic across the angles.
+pub const CANDIDATE_PARAMETERS: [Parameter; 3] = [Parameter::TendonSlackLength, Parameter::OptimalFiberLength, Parameter::MaxIsometricForce];
+
 /// One candidate cause after its fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SingleCause {
     pub muscle: String,
     pub parameter: Parameter,
-    /// The model's value and the fitted one (m).
+    /// The model's value and the fitted one (m; F_max in N).
     pub initial: f64,
     pub fitted: f64,
     /// RMS of M_mod − M_meas before and after, N·m.
@@ -49,7 +53,7 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
     let every_trial = vec![true; measured.len()];
     let mut causes = Vec::new();
     for e in 0..initial.len() {
-        for parameter in [Parameter::TendonSlackLength, Parameter::OptimalFiberLength] {
+        for parameter in CANDIDATE_PARAMETERS {
             let fit = fit_candidate(model, initial, &moments, (e, parameter), measured, &every_trial)?;
             causes.push(SingleCause {
                 muscle: initial[e].name.clone(),

@@ -53,7 +53,8 @@ pub enum Verdict {
     NoEffect,
     NotSingle,
     Named { muscle: String, parameter: Parameter },
-    MuscleNamed { muscle: String },
+    /// The muscle, and its parameters that explain the moments alike (best first).
+    MuscleNamed { muscle: String, parameters: Vec<Parameter> },
     /// The candidates (muscle, parameter) within [`STRONG_EVIDENCE`] of the best, best first.
     Ambiguous { candidates: Vec<(String, Parameter)> },
 }
@@ -66,7 +67,9 @@ impl CauseVerdict {
             Verdict::NoEffect => "no single change is supported beyond the noise".to_string(),
             Verdict::NotSingle => "no single parameter explains the moments: more than one cause (see the full fit)".to_string(),
             Verdict::Named { muscle, parameter } => format!("named: {}", name(muscle, parameter)),
-            Verdict::MuscleNamed { muscle } => format!("named: {muscle} (its L_opt and L_ts explain the moments alike)"),
+            Verdict::MuscleNamed { muscle, parameters } => {
+                format!("named: {muscle} (its {} explain the moments alike)", parameters.iter().map(|p| p.symbol()).collect::<Vec<_>>().join(" and "))
+            }
             Verdict::Ambiguous { candidates } => {
                 format!("not resolved between {}", candidates.iter().map(|(m, p)| name(m, p)).collect::<Vec<_>>().join(", "))
             }
@@ -112,7 +115,7 @@ pub fn cause_verdict(causes: &[SingleCause], trials: usize, noise: NoiseLevel, n
     } else if close.is_empty() {
         Verdict::Named { muscle: best.muscle.clone(), parameter: best.parameter }
     } else if close.iter().all(|c| c.muscle == best.muscle) {
-        Verdict::MuscleNamed { muscle: best.muscle.clone() }
+        Verdict::MuscleNamed { muscle: best.muscle.clone(), parameters: std::iter::once(best).chain(close).map(|c| c.parameter).collect() }
     } else {
         Verdict::Ambiguous { candidates: std::iter::once(best).chain(close).map(|c| (c.muscle.clone(), c.parameter)).collect() }
     };
@@ -164,7 +167,7 @@ mod tests {
     #[test]
     fn close_candidates_of_one_muscle_name_the_muscle_and_of_two_muscles_name_neither() {
         let one = [cause("a", Parameter::TendonSlackLength, 1.0), cause("a", Parameter::OptimalFiberLength, 1.1), cause("b", Parameter::TendonSlackLength, 2.0)];
-        assert_eq!(cause_verdict(&one, 20, NoiseLevel::Estimated(1.0), "given").unwrap().verdict, Verdict::MuscleNamed { muscle: "a".into() });
+        assert_eq!(cause_verdict(&one, 20, NoiseLevel::Estimated(1.0), "given").unwrap().verdict, Verdict::MuscleNamed { muscle: "a".into(), parameters: vec![Parameter::TendonSlackLength, Parameter::OptimalFiberLength] });
         let two = [cause("a", Parameter::TendonSlackLength, 1.0), cause("b", Parameter::OptimalFiberLength, 1.1), cause("a", Parameter::OptimalFiberLength, 2.0)];
         let expected = Verdict::Ambiguous { candidates: vec![("a".into(), Parameter::TendonSlackLength), ("b".into(), Parameter::OptimalFiberLength)] };
         assert_eq!(cause_verdict(&two, 20, NoiseLevel::Estimated(1.0), "given").unwrap().verdict, expected);

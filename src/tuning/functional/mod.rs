@@ -65,7 +65,7 @@ mod sensitivity;
 mod sigma_points;
 mod trials;
 
-pub use cause::{single_causes, SingleCause};
+pub use cause::{single_causes, SingleCause, CANDIDATE_PARAMETERS};
 pub use cause_held_out::{held_out_gain, HeldOutGain, FOLDS};
 pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};
 pub use error::FunctionalError;
