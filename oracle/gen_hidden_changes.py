@@ -1,13 +1,17 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid10/: synthetic dynamometry subjects made by
-OpenSim 4.6 from the scaled subject01 model with ONE parameter of one knee muscle changed (the
-hidden effect of issue 6 and of the diagnosis mission), as the shared oracle makes the public
-subjects (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws the
-muscle (uniform over the eight estimated ones), the sign (±, p 0.5) and the magnitude of the
-change: L_ts by U(0.02, 0.06) in hid01–06, L_opt by U(0.05, 0.15) in hid07–08, F_max by
-U(0.10, 0.25) in hid09–10. The moment noise is σ = 0 (hid01–02, 07, 09), 5 (hid03–04, 08, 10)
-and 10 N·m (hid05–06), noise seed 32000 + k.
-ground_truth.json keeps the changed muscle, parameter and factor and the true parameters; the
-fit never reads it (tests/functional_hidden.rs compares against it afterwards).
+"""Writes fixtures/dynamometry/hidden/hid01..hid14/: synthetic dynamometry subjects made by
+OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
+and the diagnosis mission's candidates), as the shared oracle makes the public subjects
+(dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
+- hid01–10, one knee muscle's parameter (muscle uniform over the eight estimated ones, sign ±
+  with p 0.5): L_ts by U(0.02, 0.06) in hid01–06, L_opt by U(0.05, 0.15) in hid07–08, F_max by
+  U(0.10, 0.25) in hid09–10;
+- hid11–12, a knee angle offset: the .mot records the simulated angle plus e = ±U(3, 8)°;
+- hid13–14, the agonists of one direction (extension or flexion, p 0.5) simulated at
+  U(0.80, 0.95) times the recorded activation.
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13), 5 (hid03–04, 08, 10, 12, 14) and
+10 N·m (hid05–06), noise seed 32000 + k.
+ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
+(tests/functional_hidden.rs compares against it afterwards).
 
 Usage: python3 oracle/gen_hidden_changes.py /path/to/shared
 """
@@ -31,6 +35,21 @@ SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.0
             4: (TS, (0.02, 0.06), 5.0), 5: (TS, (0.02, 0.06), 10.0), 6: (TS, (0.02, 0.06), 10.0),
             7: (OPT, (0.05, 0.15), 0.0), 8: (OPT, (0.05, 0.15), 5.0),
             9: (FMAX, (0.10, 0.25), 0.0), 10: (FMAX, (0.10, 0.25), 5.0)}
+OFFSETS = {11: 0.0, 12: 5.0}
+ACTIVATIONS = {13: 0.0, 14: 5.0}
+
+
+class ScaledAgonists(L.KneeSim):
+    """KneeSim whose `agonists` trials run at `factor` times the requested activation."""
+
+    def __init__(self, model_path, agonists, factor):
+        super().__init__(model_path)
+        self.scaled, self.factor = agonists, factor
+
+    def trial(self, knee_deg, agonists, level=L.ACTIVATION, **kwargs):
+        if agonists == self.scaled:
+            level = level * self.factor
+        return super().trial(knee_deg, agonists, level=level, **kwargs)
 
 
 def hidden_change(k, magnitude):
@@ -41,27 +60,44 @@ def hidden_change(k, magnitude):
     return muscle, 1.0 + sign * float(rng.uniform(*magnitude))
 
 
+def write(scratch, k, sim, sd, truth, recorded=None):
+    """Generates subject k into fixtures/, keeping the scoring fields and `truth`."""
+    sid = "hid%02d" % k
+    L.generate_subject(Path(scratch) / sid, sid, sim, base_model_file=G.SCALED.name,
+                       base_model_path_in_shared=G.rel_to_shared(G.SCALED), noise_sd=sd,
+                       noise_seed=32000 + k if sd > 0 else None, recorded_angle_sets=recorded,
+                       extra_truth=truth, log=lambda *a: None)
+    source, target = Path(scratch) / sid, OUT / sid
+    shutil.rmtree(target, ignore_errors=True)
+    shutil.copytree(source, target, ignore=shutil.ignore_patterns("ground_truth.json"))
+    full = json.loads((source / "ground_truth.json").read_text())
+    kept = {"note": "scoring fields of the generator's ground_truth.json (oracle/gen_hidden_changes.py)"}
+    kept.update({key: full[key] for key in ["subject", "noise_sd_Nm", "noise_seed", "true_parameters"]})
+    kept.update(truth)
+    (target / "ground_truth.json").write_text(json.dumps(kept, indent=1))
+    print(sid, truth, sd, flush=True)
+
+
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     base_p = L.KneeSim(G.SCALED).muscle_params()
     with tempfile.TemporaryDirectory() as scratch:
         for k, (prop, magnitude, sd) in SUBJECTS.items():
-            sid = "hid%02d" % k
             muscle, factor = hidden_change(k, magnitude)
             sim = L.KneeSim(G.SCALED, overrides={muscle: {prop: base_p[muscle][prop] * factor}})
-            truth = {"hidden_muscle": muscle, "hidden_parameter": prop, "factor": factor}
-            L.generate_subject(Path(scratch) / sid, sid, sim, base_model_file=G.SCALED.name,
-                               base_model_path_in_shared=G.rel_to_shared(G.SCALED), noise_sd=sd,
-                               noise_seed=32000 + k if sd > 0 else None, extra_truth=truth, log=lambda *a: None)
-            source, target = Path(scratch) / sid, OUT / sid
-            shutil.rmtree(target, ignore_errors=True)
-            shutil.copytree(source, target, ignore=shutil.ignore_patterns("ground_truth.json"))
-            full = json.loads((source / "ground_truth.json").read_text())
-            kept = {"note": "scoring fields of the generator's ground_truth.json (oracle/gen_hidden_changes.py)"}
-            kept.update({key: full[key] for key in ["subject", "noise_sd_Nm", "noise_seed", "true_parameters"]})
-            kept.update(truth)
-            (target / "ground_truth.json").write_text(json.dumps(kept, indent=1))
-            print(sid, muscle, prop, round(factor, 4), sd, flush=True)
+            write(scratch, k, sim, sd, {"hidden_muscle": muscle, "hidden_parameter": prop, "factor": factor})
+        for k, sd in OFFSETS.items():
+            rng = np.random.default_rng(31000 + k)
+            offset = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(3.0, 8.0))
+            recorded = {name: [a + offset for a in angles] for name, angles in L.TRIAL_SETS.items()}
+            truth = {"hidden_coordinate": L.KNEE, "recorded_minus_true_deg": offset}
+            write(scratch, k, L.KneeSim(G.SCALED), sd, truth, recorded)
+        for k, sd in ACTIVATIONS.items():
+            rng = np.random.default_rng(31000 + k)
+            direction = "extension" if rng.random() < 0.5 else "flexion"
+            factor = float(rng.uniform(0.80, 0.95))
+            sim = ScaledAgonists(G.SCALED, L.DIRECTIONS[direction], factor)
+            write(scratch, k, sim, sd, {"hidden_activation_direction": direction, "activation_factor": factor})
 
 
 if __name__ == "__main__":

@@ -150,7 +150,7 @@ fn garner_pandy_and_single_causes_reach_a_minimum_on_noisy_subjects() {
         assert!(fit.status.at_minimum(), "{subject}: {:?} after {} iterations", fit.status, fit.iterations);
         assert!(fit.rms() < fit.initial_rms());
         let causes = single_causes(&knee, &start, &measured).unwrap();
-        let stopped: Vec<String> = causes.iter().filter(|c| !c.at_minimum).map(|c| format!("{} {:?}", c.muscle, c.parameter)).collect();
+        let stopped: Vec<String> = causes.iter().filter(|c| !c.at_minimum).map(|c| c.cause.describe()).collect();
         assert!(stopped.is_empty(), "{subject}: single causes short of a minimum: {stopped:?}");
     }
 }

@@ -12,7 +12,7 @@ use rand_distr::{Distribution, Normal};
 
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
-    cause_verdict, estimate, root_mean_square, single_causes, CauseVerdict, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel,
+    candidate_causes, cause_verdict, estimate, root_mean_square, Cause, CauseVerdict, Direction, DynamometryData, FitSettings, FunctionalError, IsometricTrial, KneeMomentModel,
     MuscleParameters, NoiseLevel, SingleCause,
 };
 
@@ -168,12 +168,44 @@ pub fn hidden_slack_change(nominal: &[MuscleParameters], seed: u64) -> (usize, V
     (hidden, changed)
 }
 
-/// The single causes of `data`'s moments from the model's values, and their verdict at the
-/// subject file's σ (0: noise-free; absent: unknown). `None` for the verdict with fewer than
-/// two candidates.
-pub fn single_cause_verdict(knee: &KneeMomentModel, data: &DynamometryData) -> Result<(Vec<SingleCause>, Option<CauseVerdict>), FunctionalError> {
+/// What a hidden-effect subject's `ground_truth.json` (`oracle/gen_hidden_changes.py`) says was
+/// hidden: the cause and its true value in the cause's unit (a muscle parameter's value, the
+/// offset to add to the recorded angles in degrees, the activation factor). `None` when it says
+/// nothing of the kind.
+pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
+    if let Some(muscle) = truth["hidden_muscle"].as_str() {
+        let property = truth["hidden_parameter"].as_str()?;
+        let parameter = crate::tuning::functional::Parameter::ALL.into_iter().find(|p| p.property() == property)?;
+        let value = truth["true_parameters"][muscle][property].as_f64()?;
+        return Some((Cause::Muscle { muscle: muscle.to_string(), parameter }, value));
+    }
+    if let Some(coordinate) = truth["hidden_coordinate"].as_str() {
+        return Some((Cause::AngleOffset { coordinate: coordinate.to_string() }, -truth["recorded_minus_true_deg"].as_f64()?));
+    }
+    let key = truth["hidden_activation_direction"].as_str()?;
+    let direction = Direction::BOTH.into_iter().find(|d| d.key() == key)?;
+    Some((Cause::Activation { direction }, truth["activation_factor"].as_f64()?))
+}
+
+/// How far a recovered hidden value is from the truth, as a fraction of what noisy moments
+/// allow (≤ 1 passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), an
+/// angle offset 0.5°, an activation factor 0.02.
+pub fn hidden_value_error(cause: &Cause, fitted: f64, truth: f64) -> f64 {
+    use crate::tuning::functional::Parameter;
+    match cause {
+        Cause::Muscle { parameter: Parameter::TendonSlackLength, .. } => (fitted / truth - 1.0).abs() / 0.01,
+        Cause::Muscle { .. } => (fitted / truth - 1.0).abs() / 0.05,
+        Cause::AngleOffset { .. } => (fitted - truth).abs() / 0.5,
+        Cause::Activation { .. } => (fitted - truth).abs() / 0.02,
+    }
+}
+
+/// Every candidate cause of `data`'s moments from the model's values (`spec`, whose knee-moment
+/// model is `knee`), and their verdict at the subject file's σ (0: noise-free; absent: unknown).
+/// `None` for the verdict with fewer than two candidates.
+pub fn single_cause_verdict(spec: &ModelSpec, knee: &KneeMomentModel, data: &DynamometryData) -> Result<(Vec<SingleCause>, Option<CauseVerdict>), FunctionalError> {
     let measured = data.measured_moments();
-    let causes = single_causes(knee, &knee.nominal_parameters(), &measured)?;
+    let causes = candidate_causes(spec, knee, data, &knee.nominal_parameters(), &measured)?;
     let noise = match data.noise_sd {
         Some(sd) if sd > 0.0 => NoiseLevel::Estimated(sd),
         Some(_) => NoiseLevel::Exact,

@@ -15,12 +15,12 @@ use std::time::Instant;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{
-    cause_verdict, single_causes, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, RestCurveInformation, SetSelection,
+    cause_verdict, single_causes, Cause, DynamometryData, FitMethod, FitSettings, KneeMomentModel, MuscleParameters, Parameter, PhaseTwoSettings, RestCurveInformation, SetSelection,
     NoiseLevel, TrialOptions, Verdict,
     DEFAULT_PRIOR_SD,
 };
 use osim_tune::validation::functional::{
-    hidden_slack_change, initial_guess_study, single_cause_verdict, model_with, noise_study, relative_errors, thesis_initial_guesses, GroundTruth, StudyResult, StudySubject,
+    hidden_cause, hidden_slack_change, hidden_value_error, initial_guess_study, single_cause_verdict, model_with, noise_study, relative_errors, thesis_initial_guesses, GroundTruth, StudyResult, StudySubject,
 };
 
 use crate::root;
@@ -31,7 +31,7 @@ const SUBJECT: &str = "fixtures/dynamometry/train01";
 const NOISY_SUBJECT: &str = "fixtures/dynamometry/train03";
 const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
 /// OpenSim subjects with one hidden change, `fixtures/dynamometry/hidden/hid01`…
-const HIDDEN_SUBJECTS: usize = 10;
+const HIDDEN_SUBJECTS: usize = 14;
 const NOISE_DRAWS: usize = 20;
 /// Draws per σ in the thesis' protocol, whose means carry the open goals.
 const THESIS_PROTOCOL_DRAWS: usize = 100;
@@ -284,7 +284,7 @@ fn hidden_change_row(knee: &KneeMomentModel) -> Row {
     for seed in 0..8u64 {
         let (hidden, truth) = hidden_slack_change(&nominal, seed);
         let measured = knee.moments(&truth).expect("moments of the changed model");
-        let expected = Verdict::Named { muscle: truth[hidden].name.clone(), parameter: Parameter::TendonSlackLength };
+        let expected = Verdict::Named(Cause::Muscle { muscle: truth[hidden].name.clone(), parameter: Parameter::TendonSlackLength });
         let (error, what) = match single_causes(knee, &nominal, &measured) {
             Ok(causes) => match cause_verdict(&causes, measured.len(), NoiseLevel::Exact, "noise-free") {
                 Some(verdict) if verdict.verdict == expected => {
@@ -302,35 +302,32 @@ fn hidden_change_row(knee: &KneeMomentModel) -> Row {
 }
 
 /// Hidden effects in OpenSim-generated subjects (`fixtures/dynamometry/hidden/`: one L_ts, L_opt
-/// or F_max changed; σ = 0, 5 and 10 N·m), set5 and all trials: the verdict never names another
-/// muscle or parameter (nor rejects the single cause), and where it names the change the
-/// recovered value is within 1 %.
+/// or F_max changed, a knee angle offset, an activation level; σ = 0, 5 and 10 N·m), set5 and
+/// all trials: the verdict never names another cause (nor rejects the single cause), and where it
+/// names the hidden one its value is within what noisy moments allow (`hidden_value_error` ≤ 1).
 fn hidden_opensim_row(spec: &ModelSpec) -> Row {
     let (mut worst, mut named, mut wrong) = (0.0f64, Vec::new(), Vec::new());
     for k in 1..=HIDDEN_SUBJECTS {
         let subject = format!("hid{k:02}");
         let folder = root().join("fixtures/dynamometry/hidden").join(&subject);
         let truth: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).expect("hidden ground truth")).expect("JSON");
-        let muscle = truth["hidden_muscle"].as_str().unwrap_or_default().to_string();
-        let property = truth["hidden_parameter"].as_str().unwrap_or_default();
-        let parameter = Parameter::ALL.into_iter().find(|p| p.property() == property).expect("a muscle parameter");
-        let value = truth["true_parameters"][&muscle][property].as_f64().unwrap_or(f64::NAN);
+        let (cause, value) = hidden_cause(&truth).expect("a hidden cause");
         for (label, sets) in [("set5", SetSelection::Only(vec!["set5".into()])), ("all", SetSelection::All)] {
             let case = format!("{subject} {label}");
             let outcome = DynamometryData::read(&folder, &TrialOptions { sets, ..TrialOptions::default() })
                 .map_err(|e| e.to_string())
                 .and_then(|data| KneeMomentModel::new(spec, &data).map(|knee| (knee, data)).map_err(|e| e.to_string()))
-                .and_then(|(knee, data)| single_cause_verdict(&knee, &data).map_err(|e| e.to_string()));
+                .and_then(|(knee, data)| single_cause_verdict(spec, &knee, &data).map_err(|e| e.to_string()));
             match outcome {
                 Ok((causes, Some(verdict))) => match &verdict.verdict {
-                    Verdict::Named { muscle: m, parameter: p } if *m == muscle && *p == parameter => {
-                        worst = worst.max((causes[0].fitted / value - 1.0).abs());
+                    Verdict::Named(c) if *c == cause => {
+                        worst = worst.max(hidden_value_error(&cause, causes[0].fitted, value));
                         named.push(case);
                     }
-                    Verdict::MuscleNamed { muscle: m, parameters } if *m == muscle && parameters.contains(&parameter) => named.push(case),
-                    Verdict::Ambiguous { candidates } if candidates.contains(&(muscle.clone(), parameter)) => {}
+                    Verdict::MuscleNamed { muscle, parameters } if matches!(&cause, Cause::Muscle { muscle: m, parameter } if m == muscle && parameters.contains(parameter)) => named.push(case),
+                    Verdict::Ambiguous { candidates } if candidates.contains(&cause) => {}
                     Verdict::NoEffect => {}
-                    _ => wrong.push(format!("{case}: {} (hidden {muscle})", verdict.describe())),
+                    _ => wrong.push(format!("{case}: {} (hidden {})", verdict.describe(), cause.describe())),
                 },
                 Ok((_, None)) => wrong.push(format!("{case}: no verdict")),
                 Err(e) => wrong.push(format!("{case}: {e}")),
@@ -339,10 +336,10 @@ fn hidden_opensim_row(spec: &ModelSpec) -> Row {
     }
     let at = if wrong.is_empty() { format!("named in {} of {}: {}", named.len(), 2 * HIDDEN_SUBJECTS, named.join(", ")) } else { wrong.join("; ") };
     Row {
-        what: "hidden L_ts/L_opt/F_max change (hid01–10, σ 0/5/10 N·m): never a wrong name; recovered value where named".into(),
+        what: "hidden cause (hid01–14: L_ts/L_opt/F_max, angle offset, activation; σ 0/5/10 N·m): never a wrong name; value error / allowed where named".into(),
         reference: "OpenSim 4.6 subjects".into(),
         worst: if wrong.is_empty() { worst } else { f64::INFINITY },
-        tolerance: 0.01,
+        tolerance: 1.0,
         at,
     }
 }

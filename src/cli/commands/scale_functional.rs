@@ -176,15 +176,12 @@ fn print_parameters(fit: &FunctionalFit) {
 }
 
 fn print_causes(fit: &FunctionalFit) {
-    println!("\nsingle causes (one parameter changed alone from the initial model; RMS error left):");
+    println!("\nsingle causes (one deficiency changed alone from the initial model; RMS error left):");
     for cause in fit.single_causes.iter().take(3) {
         println!(
-            "  {:<12} {:<5} {:.6} → {:.6} ({:+.2} %): RMS {:.4} → {:.4} N·m{}",
-            cause.muscle,
-            cause.parameter.symbol(),
-            cause.initial,
-            cause.fitted,
-            100.0 * cause.relative_change(),
+            "  {:<34} {}: RMS {:.4} → {:.4} N·m{}",
+            cause.cause.describe(),
+            cause.cause.change(cause.initial, cause.fitted),
             cause.rms_before,
             cause.rms_after,
             if cause.at_minimum { "" } else { " (its fit stopped before a minimum)" }

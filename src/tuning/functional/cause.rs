@@ -1,19 +1,22 @@
-//! Single causes: which one parameter of one estimated muscle, changed alone, best explains
-//! the difference between the initial model's and the measured knee moments. Each candidate
-//! (L_ts, L_opt or F_max of each muscle, [`CANDIDATE_PARAMETERS`]) is fitted by one-dimensional least squares on the moments
-//! (factor within [0.5, 1.5] of the model's value) and the candidates are ranked by the RMS
-//! error left. A candidate that leaves almost nothing names the model deficiency; when none
-//! does, the difference has more than one cause. Each fit stops where the local model sees no
-//! more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step test alone would crawl
-//! on at steps the rounding of the moments decides).
+//! Single causes: which one model deficiency, changed alone, best explains the difference
+//! between the initial model's and the measured knee moments (METHOD.md §8). The candidates
+//! ([`Cause`]): L_ts, L_opt or F_max of one estimated muscle ([`CANDIDATE_PARAMETERS`]; factor
+//! within [0.5, 1.5] of the model's value), and the protocol's deficiencies of
+//! `cause_protocol.rs` (an offset of a recorded angle, the agonists' activation level). Each is
+//! fitted by one-dimensional least squares on the moments and the candidates are ranked by the
+//! RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit stops where the
+//! local model sees no more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step
+//! test alone would crawl on at steps the rounding of the moments decides).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
 
+use super::cause_protocol::protocol_candidates;
 use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::{MuscleParameters, Parameter};
-use super::trials::root_mean_square;
+use super::trials::{root_mean_square, Direction, DynamometryData};
+use crate::model::ModelSpec;
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem};
 
 /// Stopping rules of each candidate's fit (the cost test as in the rest-curve and Garner & Pandy
@@ -24,12 +27,53 @@ const CANDIDATE_FIT: LeastSquaresOptions = LeastSquaresOptions { step_tolerance:
 /// whose change they cannot mimic across the angles.
 pub const CANDIDATE_PARAMETERS: [Parameter; 3] = [Parameter::TendonSlackLength, Parameter::OptimalFiberLength, Parameter::MaxIsometricForce];
 
+/// A candidate model deficiency.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind")]
+pub enum Cause {
+    /// One estimated muscle's parameter (value in m; F_max in N).
+    Muscle { muscle: String, parameter: Parameter },
+    /// A constant offset of a trial coordinate: the model is posed at the recorded angle plus
+    /// the value (degrees; the data's value is 0).
+    AngleOffset { coordinate: String },
+    /// The agonists of one direction activated at the value times their recorded activation
+    /// (the data's value is 1).
+    Activation { direction: Direction },
+}
+
+impl Cause {
+    /// The muscle a muscle parameter belongs to.
+    pub fn muscle(&self) -> Option<&str> {
+        match self {
+            Cause::Muscle { muscle, .. } => Some(muscle),
+            _ => None,
+        }
+    }
+
+    /// e.g. `vas_lat_r L_ts`, `knee_angle_r offset`, `extension agonists' activation`.
+    pub fn describe(&self) -> String {
+        match self {
+            Cause::Muscle { muscle, parameter } => format!("{muscle} {}", parameter.symbol()),
+            Cause::AngleOffset { coordinate } => format!("{coordinate} offset"),
+            Cause::Activation { direction } => format!("{} agonists' activation", direction.key()),
+        }
+    }
+
+    /// `initial → fitted` with the change, in the cause's unit.
+    pub fn change(&self, initial: f64, fitted: f64) -> String {
+        match self {
+            Cause::AngleOffset { .. } => format!("{initial:+.3}° → {fitted:+.3}°"),
+            _ => format!("{initial:.6} → {fitted:.6} ({:+.2} %)", 100.0 * (fitted / initial - 1.0)),
+        }
+    }
+}
+
 /// One candidate cause after its fit.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SingleCause {
-    pub muscle: String,
-    pub parameter: Parameter,
-    /// The model's value and the fitted one (m; F_max in N).
+    #[serde(flatten)]
+    pub cause: Cause,
+    /// The model's (or the data's) value and the fitted one, in the cause's unit.
     pub initial: f64,
     pub fitted: f64,
     /// RMS of M_mod − M_meas before and after, N·m.
@@ -39,127 +83,136 @@ pub struct SingleCause {
     pub at_minimum: bool,
 }
 
-impl SingleCause {
-    /// fitted / initial − 1.
-    pub fn relative_change(&self) -> f64 {
-        self.fitted / self.initial - 1.0
-    }
+/// Every (muscle, parameter) candidate fitted alone from `initial`, best first.
+pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
+    let mut causes = muscle_causes(model, initial, measured)?;
+    sort_causes(&mut causes);
+    Ok(causes)
 }
 
-/// Every (muscle, L_opt | L_ts) candidate fitted alone from `initial`, best first.
-pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
+/// Every candidate — the muscles' parameters and the protocol's deficiencies — fitted alone
+/// from `initial` on `data` (whose knee-moment model is `model`), best first.
+pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &DynamometryData, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
+    let mut causes = muscle_causes(model, initial, measured)?;
+    let rms_before = causes.first().map_or(f64::NAN, |c| c.rms_before);
+    let every_trial = vec![true; measured.len()];
+    for candidate in protocol_candidates(spec, model, data, initial, measured) {
+        let cause = candidate.cause();
+        let fit = fit_candidate(candidate, &every_trial)?;
+        causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
+    }
+    sort_causes(&mut causes);
+    Ok(causes)
+}
+
+fn sort_causes(causes: &mut [SingleCause]) {
+    causes.sort_by(|a, b| a.rms_after.total_cmp(&b.rms_after));
+}
+
+fn muscle_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
     let moments = model.moments(initial)?;
     let rms_before = root_mean_square(moments.iter().zip(measured).map(|(m, y)| m - y));
     let every_trial = vec![true; measured.len()];
     let mut causes = Vec::new();
     for e in 0..initial.len() {
         for parameter in CANDIDATE_PARAMETERS {
-            let fit = fit_candidate(model, initial, &moments, (e, parameter), measured, &every_trial)?;
-            causes.push(SingleCause {
-                muscle: initial[e].name.clone(),
-                parameter,
-                initial: initial[e].get(parameter),
-                fitted: fit.value,
-                rms_before,
-                rms_after: root_mean_square(fit.residuals.iter().copied()),
-                at_minimum: fit.at_minimum,
-            });
+            let fit = fit_candidate(MuscleCandidate::new(model, initial, e, parameter, &moments, measured)?, &every_trial)?;
+            let cause = Cause::Muscle { muscle: initial[e].name.clone(), parameter };
+            causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
         }
     }
-    causes.sort_by(|a, b| a.rms_after.total_cmp(&b.rms_after));
     Ok(causes)
+}
+
+/// A cause as a one-variable model of the moment residuals.
+pub(super) trait Candidate {
+    /// M_mod − M_meas of every trial at the variable x.
+    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError>;
+    /// The bounds on x; x = 0 is the unchanged model.
+    fn bounds(&self) -> [f64; 2];
+    /// The cause's value at x, in its unit.
+    fn value(&self, x: f64) -> f64;
+}
+
+/// The candidate for `cause` (one of `candidate_causes`' list) on `data`.
+pub(super) fn candidate_for<'a>(
+    cause: &Cause,
+    (spec, model, data): (&'a ModelSpec, &'a KneeMomentModel, &'a DynamometryData),
+    initial: &[MuscleParameters],
+    moments: &[f64],
+    measured: &'a [f64],
+) -> Result<Box<dyn Candidate + 'a>, FunctionalError> {
+    if let Cause::Muscle { muscle, parameter } = cause {
+        let e = initial.iter().position(|p| &p.name == muscle).ok_or_else(|| FunctionalError::all_muscles(format!("the cause's muscle {muscle} is not estimated")))?;
+        return Ok(Box::new(MuscleCandidate::new(model, initial, e, *parameter, moments, measured)?));
+    }
+    protocol_candidates(spec, model, data, initial, measured)
+        .into_iter()
+        .find(|c| &c.cause() == cause)
+        .map(|c| Box::new(c) as Box<dyn Candidate + 'a>)
+        .ok_or_else(|| FunctionalError::all_muscles(format!("{} is not a candidate for these trials", cause.describe())))
 }
 
 /// One candidate's fit.
 pub(super) struct CandidateFit {
-    /// The fitted value, m.
+    /// The unchanged and the fitted value, in the cause's unit.
+    pub initial: f64,
     pub value: f64,
     /// M_mod − M_meas at it for every trial, fitted or not, N·m.
     pub residuals: Vec<f64>,
     pub at_minimum: bool,
 }
 
-/// Estimated muscle e's `parameter` fitted alone from `initial` (whose moments are `moments`;
-/// factor within [0.5, 1.5]) to the trials with `fitted[t]` true.
-pub(super) fn fit_candidate(
-    model: &KneeMomentModel,
-    initial: &[MuscleParameters],
-    moments: &[f64],
-    (e, parameter): (usize, Parameter),
-    measured: &[f64],
-    fitted: &[bool],
-) -> Result<CandidateFit, FunctionalError> {
-    let mut problem = Candidate::new(model, initial, e, parameter, moments, measured, fitted)?;
+/// `candidate` fitted to the trials with `fitted[t]` true, from the unchanged model.
+pub(super) fn fit_candidate<C: Candidate>(candidate: C, fitted: &[bool]) -> Result<CandidateFit, FunctionalError> {
+    let [lower, upper] = candidate.bounds();
+    let mut problem = Masked { candidate, fitted: fitted.to_vec() };
     let mut x = [0.0];
-    let bounds = Bounds { lower: vec![0.5f64.ln()], upper: vec![1.5f64.ln()] };
-    let report = LeastSquares::new(1, measured.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
-    let mut residuals = vec![0.0; measured.len()];
-    problem.residuals(x[0], &mut residuals)?;
-    Ok(CandidateFit { value: initial[e].get(parameter) * x[0].exp(), residuals, at_minimum: report.status.at_minimum() })
+    let bounds = Bounds { lower: vec![lower], upper: vec![upper] };
+    let report = LeastSquares::new(1, fitted.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
+    let mut residuals = vec![0.0; fitted.len()];
+    problem.candidate.residuals(x[0], &mut residuals)?;
+    Ok(CandidateFit { initial: problem.candidate.value(0.0), value: problem.candidate.value(x[0]), residuals, at_minimum: report.status.at_minimum() })
 }
 
-/// One muscle's parameter as ln(factor); the other muscles' contributions stay fixed.
-struct Candidate<'a> {
-    model: &'a KneeMomentModel,
-    workspace: EstimatedMuscles,
-    muscle: usize,
-    parameter: Parameter,
-    base: MuscleParameters,
-    /// M_mod − M_meas without this muscle's contribution, N·m.
-    others: Vec<f64>,
-    /// Whether each trial is fitted (the others' residuals count as 0).
+impl<C: Candidate + ?Sized> Candidate for Box<C> {
+    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
+        (**self).residuals(x, out)
+    }
+
+    fn bounds(&self) -> [f64; 2] {
+        (**self).bounds()
+    }
+
+    fn value(&self, x: f64) -> f64 {
+        (**self).value(x)
+    }
+}
+
+/// A candidate's least-squares problem on some trials: the others' residuals count as 0.
+struct Masked<C> {
+    candidate: C,
     fitted: Vec<bool>,
 }
 
-impl<'a> Candidate<'a> {
-    fn new(
-        model: &'a KneeMomentModel,
-        initial: &[MuscleParameters],
-        muscle: usize,
-        parameter: Parameter,
-        moments: &[f64],
-        measured: &[f64],
-        fitted: &[bool],
-    ) -> Result<Candidate<'a>, FunctionalError> {
-        let workspace = model.estimated_muscles(initial)?;
-        let k = model.estimated_knee_index(muscle);
-        let mut others = Vec::with_capacity(measured.len());
-        for (t, (m, y)) in moments.iter().zip(measured).enumerate() {
-            others.push(m - y - model.contribution(k, workspace.muscle(muscle), t)?);
-        }
-        Ok(Candidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others, fitted: fitted.to_vec() })
-    }
-
-    fn residuals(&mut self, log_factor: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
-        let changed = self.base.with(self.parameter, self.base.get(self.parameter) * log_factor.exp());
-        self.workspace.set(self.model, self.muscle, &changed)?;
-        let k = self.model.estimated_knee_index(self.muscle);
-        for (t, r) in out.iter_mut().enumerate() {
-            *r = self.others[t] + self.model.contribution(k, self.workspace.muscle(self.muscle), t)?;
-        }
-        Ok(())
-    }
-}
-
-impl LeastSquaresProblem for Candidate<'_> {
+impl<C: Candidate> LeastSquaresProblem for Masked<C> {
     fn variable_count(&self) -> usize {
         1
     }
 
     fn residual_count(&self) -> usize {
-        self.others.len()
+        self.fitted.len()
     }
 
-    /// A parameter without equilibrium somewhere gives infinite residuals (the step is refused).
-    /// Trials not fitted have residual 0.
+    /// A value without equilibrium somewhere gives infinite residuals (the step is refused).
     fn evaluate(&mut self, x: &[f64], residuals: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
-        if self.residuals(x[0], residuals).is_err() {
+        if self.candidate.residuals(x[0], residuals).is_err() {
             residuals.fill(f64::INFINITY);
         }
         if let Some(jacobian) = jacobian {
             let h = 1e-6;
             let (mut plus, mut minus) = (vec![0.0; residuals.len()], vec![0.0; residuals.len()]);
-            let ok = self.residuals(x[0] + h, &mut plus).is_ok() && self.residuals(x[0] - h, &mut minus).is_ok();
+            let ok = self.candidate.residuals(x[0] + h, &mut plus).is_ok() && self.candidate.residuals(x[0] - h, &mut minus).is_ok();
             for (t, (p, m)) in plus.iter().zip(&minus).enumerate() {
                 jacobian[(t, 0)] = if ok && self.fitted[t] { (p - m) / (2.0 * h) } else { 0.0 };
             }
@@ -169,5 +222,49 @@ impl LeastSquaresProblem for Candidate<'_> {
                 *r = 0.0;
             }
         }
+    }
+}
+
+/// One muscle's parameter as x = ln(factor) within [ln 0.5, ln 1.5]; the other muscles'
+/// contributions stay fixed.
+struct MuscleCandidate<'a> {
+    model: &'a KneeMomentModel,
+    workspace: EstimatedMuscles,
+    muscle: usize,
+    parameter: Parameter,
+    base: MuscleParameters,
+    /// M_mod − M_meas without this muscle's contribution, N·m.
+    others: Vec<f64>,
+}
+
+impl<'a> MuscleCandidate<'a> {
+    fn new(model: &'a KneeMomentModel, initial: &[MuscleParameters], muscle: usize, parameter: Parameter, moments: &[f64], measured: &[f64]) -> Result<MuscleCandidate<'a>, FunctionalError> {
+        let workspace = model.estimated_muscles(initial)?;
+        let k = model.estimated_knee_index(muscle);
+        let mut others = Vec::with_capacity(measured.len());
+        for (t, (m, y)) in moments.iter().zip(measured).enumerate() {
+            others.push(m - y - model.contribution(k, workspace.muscle(muscle), t)?);
+        }
+        Ok(MuscleCandidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others })
+    }
+}
+
+impl Candidate for MuscleCandidate<'_> {
+    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
+        let changed = self.base.with(self.parameter, self.value(x));
+        self.workspace.set(self.model, self.muscle, &changed)?;
+        let k = self.model.estimated_knee_index(self.muscle);
+        for (t, r) in out.iter_mut().enumerate() {
+            *r = self.others[t] + self.model.contribution(k, self.workspace.muscle(self.muscle), t)?;
+        }
+        Ok(())
+    }
+
+    fn bounds(&self) -> [f64; 2] {
+        [0.5f64.ln(), 1.5f64.ln()]
+    }
+
+    fn value(&self, x: f64) -> f64 {
+        self.base.get(self.parameter) * x.exp()
     }
 }

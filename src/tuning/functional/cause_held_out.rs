@@ -7,11 +7,12 @@
 
 use serde::Serialize;
 
-use super::cause::{fit_candidate, SingleCause};
+use super::cause::{candidate_for, fit_candidate, SingleCause};
 use super::error::FunctionalError;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::MuscleParameters;
-use super::trials::root_mean_square;
+use super::trials::{root_mean_square, DynamometryData};
+use crate::model::ModelSpec;
 
 /// Folds of the cross-validation.
 pub const FOLDS: usize = 2;
@@ -23,23 +24,27 @@ pub struct HeldOutGain {
     /// initial model and by the model with the cause fitted to the other fold.
     pub rms_before: f64,
     pub rms_after: f64,
-    /// The value fitted in each fold (trained on the others), m.
+    /// The value fitted in each fold (trained on the others), in the cause's unit.
     pub fitted: Vec<f64>,
 }
 
-/// [`HeldOutGain`] of `cause` (a candidate of [`single_causes`](super::single_causes) on
-/// `measured`, from `initial`).
-pub fn held_out_gain(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64], cause: &SingleCause) -> Result<HeldOutGain, FunctionalError> {
-    let e = initial
-        .iter()
-        .position(|p| p.name == cause.muscle)
-        .ok_or_else(|| FunctionalError::all_muscles(format!("the cause's muscle {} is not estimated", cause.muscle)))?;
+/// [`HeldOutGain`] of `cause` (a candidate of [`candidate_causes`](super::candidate_causes) on
+/// `data`, whose knee-moment model is `model`, from `initial`).
+pub fn held_out_gain(
+    spec: &ModelSpec,
+    model: &KneeMomentModel,
+    data: &DynamometryData,
+    initial: &[MuscleParameters],
+    measured: &[f64],
+    cause: &SingleCause,
+) -> Result<HeldOutGain, FunctionalError> {
     let moments = model.moments(initial)?;
     let fold: Vec<usize> = model.trials().iter().map(|t| (t.number + FOLDS - 1) % FOLDS).collect();
     let (mut predicted, mut fitted) = (vec![0.0; measured.len()], Vec::with_capacity(FOLDS));
     for held in 0..FOLDS {
         let training: Vec<bool> = fold.iter().map(|&f| f != held).collect();
-        let fit = fit_candidate(model, initial, &moments, (e, cause.parameter), measured, &training)?;
+        let candidate = candidate_for(&cause.cause, (spec, model, data), initial, &moments, measured)?;
+        let fit = fit_candidate(candidate, &training)?;
         for (t, r) in fit.residuals.iter().enumerate().filter(|(t, _)| !training[*t]) {
             predicted[t] = *r;
         }

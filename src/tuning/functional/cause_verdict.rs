@@ -18,7 +18,7 @@
 
 use serde::Serialize;
 
-use super::cause::SingleCause;
+use super::cause::{Cause, SingleCause};
 use super::parameters::Parameter;
 
 /// 2 ln K of Kass & Raftery's "very strong" evidence.
@@ -52,26 +52,25 @@ pub struct CauseVerdict {
 pub enum Verdict {
     NoEffect,
     NotSingle,
-    Named { muscle: String, parameter: Parameter },
+    Named(Cause),
     /// The muscle, and its parameters that explain the moments alike (best first).
     MuscleNamed { muscle: String, parameters: Vec<Parameter> },
-    /// The candidates (muscle, parameter) within [`STRONG_EVIDENCE`] of the best, best first.
-    Ambiguous { candidates: Vec<(String, Parameter)> },
+    /// The candidates within [`STRONG_EVIDENCE`] of the best, best first.
+    Ambiguous { candidates: Vec<Cause> },
 }
 
 impl CauseVerdict {
     /// A sentence for the report.
     pub fn describe(&self) -> String {
-        let name = |m: &str, p: &Parameter| format!("{m} {}", p.symbol());
         match &self.verdict {
             Verdict::NoEffect => "no single change is supported beyond the noise".to_string(),
             Verdict::NotSingle => "no single parameter explains the moments: more than one cause (see the full fit)".to_string(),
-            Verdict::Named { muscle, parameter } => format!("named: {}", name(muscle, parameter)),
+            Verdict::Named(cause) => format!("named: {}", cause.describe()),
             Verdict::MuscleNamed { muscle, parameters } => {
                 format!("named: {muscle} (its {} explain the moments alike)", parameters.iter().map(|p| p.symbol()).collect::<Vec<_>>().join(" and "))
             }
             Verdict::Ambiguous { candidates } => {
-                format!("not resolved between {}", candidates.iter().map(|(m, p)| name(m, p)).collect::<Vec<_>>().join(", "))
+                format!("not resolved between {}", candidates.iter().map(Cause::describe).collect::<Vec<_>>().join(", "))
             }
         }
     }
@@ -113,11 +112,11 @@ pub fn cause_verdict(causes: &[SingleCause], trials: usize, noise: NoiseLevel, n
     } else if best_chi_square > chi_square_limit {
         Verdict::NotSingle
     } else if close.is_empty() {
-        Verdict::Named { muscle: best.muscle.clone(), parameter: best.parameter }
-    } else if close.iter().all(|c| c.muscle == best.muscle) {
-        Verdict::MuscleNamed { muscle: best.muscle.clone(), parameters: std::iter::once(best).chain(close).map(|c| c.parameter).collect() }
+        Verdict::Named(best.cause.clone())
+    } else if let Some(parameters) = same_muscle(best, &close) {
+        Verdict::MuscleNamed { muscle: best.cause.muscle().unwrap_or_default().to_string(), parameters }
     } else {
-        Verdict::Ambiguous { candidates: std::iter::once(best).chain(close).map(|c| (c.muscle.clone(), c.parameter)).collect() }
+        Verdict::Ambiguous { candidates: std::iter::once(best).chain(close).map(|c| c.cause.clone()).collect() }
     };
     Some(CauseVerdict {
         verdict,
@@ -128,6 +127,18 @@ pub fn cause_verdict(causes: &[SingleCause], trials: usize, noise: NoiseLevel, n
         best_chi_square,
         chi_square_limit,
     })
+}
+
+/// The parameters of `best` and `close` (best first) when all are parameters of one muscle.
+fn same_muscle(best: &SingleCause, close: &[&SingleCause]) -> Option<Vec<Parameter>> {
+    let muscle = best.cause.muscle()?;
+    std::iter::once(best)
+        .chain(close.iter().copied())
+        .map(|c| match &c.cause {
+            Cause::Muscle { muscle: m, parameter } if m == muscle => Some(*parameter),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The 0.99 quantile of χ²(k) by Wilson & Hilferty's (1931) cube-root normal approximation,
@@ -143,7 +154,7 @@ mod tests {
     use super::*;
 
     fn cause(muscle: &str, parameter: Parameter, rms_after: f64) -> SingleCause {
-        SingleCause { muscle: muscle.into(), parameter, initial: 1.0, fitted: 1.0, rms_before: 10.0, rms_after, at_minimum: true }
+        SingleCause { cause: Cause::Muscle { muscle: muscle.into(), parameter }, initial: 1.0, fitted: 1.0, rms_before: 10.0, rms_after, at_minimum: true }
     }
 
     #[test]
@@ -160,7 +171,7 @@ mod tests {
         let causes = [cause("a", Parameter::TendonSlackLength, 1.0), cause("a", Parameter::OptimalFiberLength, 1.5), cause("b", Parameter::TendonSlackLength, 2.0)];
         // n = 20, σ = 1: 2 ln K over the runner-up 20·(2.25 − 1) = 25.
         let verdict = cause_verdict(&causes, 20, NoiseLevel::Estimated(1.0), "given").unwrap();
-        assert_eq!(verdict.verdict, Verdict::Named { muscle: "a".into(), parameter: Parameter::TendonSlackLength });
+        assert_eq!(verdict.verdict, Verdict::Named(Cause::Muscle { muscle: "a".into(), parameter: Parameter::TendonSlackLength }));
         assert!((verdict.evidence_over_runner_up - 25.0).abs() < 1e-12);
     }
 
@@ -169,7 +180,8 @@ mod tests {
         let one = [cause("a", Parameter::TendonSlackLength, 1.0), cause("a", Parameter::OptimalFiberLength, 1.1), cause("b", Parameter::TendonSlackLength, 2.0)];
         assert_eq!(cause_verdict(&one, 20, NoiseLevel::Estimated(1.0), "given").unwrap().verdict, Verdict::MuscleNamed { muscle: "a".into(), parameters: vec![Parameter::TendonSlackLength, Parameter::OptimalFiberLength] });
         let two = [cause("a", Parameter::TendonSlackLength, 1.0), cause("b", Parameter::OptimalFiberLength, 1.1), cause("a", Parameter::OptimalFiberLength, 2.0)];
-        let expected = Verdict::Ambiguous { candidates: vec![("a".into(), Parameter::TendonSlackLength), ("b".into(), Parameter::OptimalFiberLength)] };
+        let candidates = vec![Cause::Muscle { muscle: "a".into(), parameter: Parameter::TendonSlackLength }, Cause::Muscle { muscle: "b".into(), parameter: Parameter::OptimalFiberLength }];
+        let expected = Verdict::Ambiguous { candidates };
         assert_eq!(cause_verdict(&two, 20, NoiseLevel::Estimated(1.0), "given").unwrap().verdict, expected);
     }
 

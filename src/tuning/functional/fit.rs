@@ -6,7 +6,7 @@
 use serde::Serialize;
 
 use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
-use super::cause::{single_causes, SingleCause};
+use super::cause::{candidate_causes, SingleCause};
 use super::cause_held_out::{held_out_gain, HeldOutGain};
 use super::cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel};
 use super::error::FunctionalError;
@@ -106,8 +106,9 @@ pub fn fit(
     check_sign_convention(data, &measured, &initial_moments)?;
     progress("single causes");
     let mut unavailable = Vec::new();
-    let single_causes = attempt(&mut unavailable, "single causes", single_causes(knee, &initial, &measured)).unwrap_or_default();
-    let cause_held_out = single_causes.first().and_then(|best| attempt(&mut unavailable, "single cause held out", held_out_gain(knee, &initial, &measured, best)));
+    let single_causes = attempt(&mut unavailable, "single causes", candidate_causes(spec, knee, data, &initial, &measured)).unwrap_or_default();
+    let held_out = |best| held_out_gain(spec, knee, data, &initial, &measured, best);
+    let cause_held_out = single_causes.first().and_then(|best| attempt(&mut unavailable, "single cause held out", held_out(best)));
     let estimate = estimate(spec, knee, data, &initial, &measured, settings, progress)?;
     let moments = knee.moments(&estimate.fitted)?;
     let inputs = FitInputs { spec, knee, data, settings, measured: &measured };

@@ -28,8 +28,9 @@
 //!   per parameterisation ([`fisher_information`]).
 //! - `sigma_points.rs`: the 2n²+1 sigma points of Appendix 6.6 and noise propagation through any
 //!   estimator ([`propagate_noise`]).
-//! - `cause.rs`: the single (muscle, parameter) change that best explains the measured moments
-//!   ([`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
+//! - `cause.rs`: the single change that best explains the measured moments ([`Cause`]: a
+//!   muscle's L_ts, L_opt or F_max, or from `cause_protocol.rs` an angle offset or the agonists'
+//!   activation level; [`candidate_causes`], [`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
 //!   (Bayes factors of the candidates, [`cause_verdict`]); `cause_held_out.rs` the best
 //!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]).
 //! - `estimator.rs`: the estimators and their settings ([`estimate`], [`FitSettings`]): the
@@ -42,6 +43,7 @@
 
 mod analyses;
 mod cause;
+mod cause_protocol;
 mod cause_held_out;
 mod cause_verdict;
 mod error;
@@ -65,7 +67,8 @@ mod sensitivity;
 mod sigma_points;
 mod trials;
 
-pub use cause::{single_causes, SingleCause, CANDIDATE_PARAMETERS};
+pub use cause::{candidate_causes, single_causes, Cause, SingleCause, CANDIDATE_PARAMETERS};
+pub use cause_protocol::OFFSET_LIMIT_DEG;
 pub use cause_held_out::{held_out_gain, HeldOutGain, FOLDS};
 pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};
 pub use error::FunctionalError;

@@ -21,7 +21,7 @@ pub const SUBJECT_FILE: &str = "subject.json";
 pub const ACTIVATION_SUFFIX: &str = ".activation";
 
 /// Which way the subject pushes against the dynamometer.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
 pub enum Direction {
     /// Knee extension: the extensors are the agonists (positive moment for `knee_angle_r`).
     Extension,

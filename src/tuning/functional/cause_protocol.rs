@@ -1,0 +1,104 @@
+//! The protocol's deficiencies as single causes (METHOD.md §8): a constant offset of one
+//! recorded angle — knee, hip or ankle, e.g. the dynamometer's axis misaligned with the knee's or
+//! a goniometer's zero off — and the agonists of one direction activated at a factor of their
+//! recorded level. Each evaluation rebuilds the knee-moment model from the trials as the cause
+//! changes them (about 1 ms of geometry for 70 trials).
+
+use super::cause::{Candidate, Cause};
+use super::error::FunctionalError;
+use super::knee_moment::KneeMomentModel;
+use super::parameters::MuscleParameters;
+use super::trials::{Direction, DynamometryData, IsometricTrial};
+use crate::model::ModelSpec;
+
+/// Largest angle offset tried, degrees.
+pub const OFFSET_LIMIT_DEG: f64 = 15.0;
+
+/// Smallest activation factor tried (the largest keeps every activation ≤ 1).
+const LOWEST_ACTIVATION_FACTOR: f64 = 0.5;
+
+/// What a protocol candidate changes in the trials.
+#[derive(Debug, Clone, Copy)]
+enum Protocol {
+    /// Added to the knee (0), hip (1) or ankle (2) angle.
+    Offset(usize),
+    Activation(Direction),
+}
+
+/// A protocol deficiency as a one-variable model of the moment residuals: x is the offset in
+/// degrees, or the logarithm of the activation factor.
+pub(super) struct ProtocolCandidate<'a> {
+    spec: &'a ModelSpec,
+    data: &'a DynamometryData,
+    model: &'a KneeMomentModel,
+    initial: Vec<MuscleParameters>,
+    measured: &'a [f64],
+    protocol: Protocol,
+}
+
+/// The protocol candidates of `data`: the three angle offsets, and the activation of each
+/// direction with trials.
+pub(super) fn protocol_candidates<'a>(
+    spec: &'a ModelSpec,
+    model: &'a KneeMomentModel,
+    data: &'a DynamometryData,
+    initial: &[MuscleParameters],
+    measured: &'a [f64],
+) -> Vec<ProtocolCandidate<'a>> {
+    let directions = Direction::BOTH.into_iter().filter(|d| data.trials.iter().any(|t| t.direction == *d));
+    let protocols = (0..3).map(Protocol::Offset).chain(directions.map(Protocol::Activation));
+    protocols.map(|protocol| ProtocolCandidate { spec, data, model, initial: initial.to_vec(), measured, protocol }).collect()
+}
+
+impl ProtocolCandidate<'_> {
+    pub fn cause(&self) -> Cause {
+        let columns = &self.data.columns;
+        match self.protocol {
+            Protocol::Offset(c) => Cause::AngleOffset { coordinate: [&columns.knee_angle, &columns.hip_flexion, &columns.ankle_angle][c].clone() },
+            Protocol::Activation(direction) => Cause::Activation { direction },
+        }
+    }
+
+    /// The trials as the cause at x makes them.
+    fn changed_trials(&self, x: f64) -> DynamometryData {
+        let mut data = self.data.clone();
+        for trial in &mut data.trials {
+            match self.protocol {
+                Protocol::Offset(c) => *[&mut trial.knee_angle, &mut trial.hip_flexion, &mut trial.ankle_angle][c] += x.to_radians(),
+                Protocol::Activation(direction) if trial.direction == direction => trial.activations.iter_mut().for_each(|(_, a)| *a *= x.exp()),
+                Protocol::Activation(_) => {}
+            }
+        }
+        data
+    }
+
+    /// The highest recorded agonist activation of `direction`'s trials.
+    fn highest_activation(&self, direction: Direction) -> f64 {
+        let trials = self.data.trials.iter().filter(|t: &&IsometricTrial| t.direction == direction);
+        trials.flat_map(|t| t.activations.iter().map(|(_, a)| *a)).fold(0.0, f64::max)
+    }
+}
+
+impl Candidate for ProtocolCandidate<'_> {
+    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
+        let model = KneeMomentModel::with_method(self.spec, &self.changed_trials(x), self.model.method)?;
+        for ((r, m), y) in out.iter_mut().zip(model.moments(&self.initial)?).zip(self.measured) {
+            *r = m - y;
+        }
+        Ok(())
+    }
+
+    fn bounds(&self) -> [f64; 2] {
+        match self.protocol {
+            Protocol::Offset(_) => [-OFFSET_LIMIT_DEG, OFFSET_LIMIT_DEG],
+            Protocol::Activation(direction) => [LOWEST_ACTIVATION_FACTOR.ln(), -self.highest_activation(direction).max(f64::MIN_POSITIVE).ln()],
+        }
+    }
+
+    fn value(&self, x: f64) -> f64 {
+        match self.protocol {
+            Protocol::Offset(_) => x,
+            Protocol::Activation(_) => x.exp(),
+        }
+    }
+}
