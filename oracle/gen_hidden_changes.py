@@ -7,9 +7,11 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
   U(0.10, 0.25) in hid09–10;
 - hid11–12, a knee angle offset: the .mot records the simulated angle plus e = ±U(3, 8)°;
 - hid13–14, the agonists of one direction (extension or flexion, p 0.5) simulated at
-  U(0.80, 0.95) times the recorded activation.
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13), 5 (hid03–04, 08, 10, 12, 14) and
-10 N·m (hid05–06), noise seed 32000 + k.
+  U(0.80, 0.95) times the recorded activation;
+- hid15–16, one factor ±U(0.02, 0.05) on the L_ts of a group: the vasti (hid15), all eight
+  estimated muscles (hid16).
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15), 5 (hid03–04, 08, 10, 12, 14, 16)
+and 10 N·m (hid05–06), noise seed 32000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
@@ -37,6 +39,8 @@ SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.0
             9: (FMAX, (0.10, 0.25), 0.0), 10: (FMAX, (0.10, 0.25), 5.0)}
 OFFSETS = {11: 0.0, 12: 5.0}
 ACTIVATIONS = {13: 0.0, 14: 5.0}
+# subject number: (group name, its muscles, moment noise sd in N m)
+GROUPS = {15: ("vasti", ["vas_int_r", "vas_lat_r", "vas_med_r"], 0.0), 16: ("estimated muscles", L.EST_MUSCLES, 5.0)}
 
 
 class ScaledAgonists(L.KneeSim):
@@ -98,6 +102,12 @@ def main():
             factor = float(rng.uniform(0.80, 0.95))
             sim = ScaledAgonists(G.SCALED, L.DIRECTIONS[direction], factor)
             write(scratch, k, sim, sd, {"hidden_activation_direction": direction, "activation_factor": factor})
+        for k, (group, muscles, sd) in GROUPS.items():
+            rng = np.random.default_rng(31000 + k)
+            factor = 1.0 + (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.02, 0.05))
+            sim = L.KneeSim(G.SCALED, overrides={m: {TS: base_p[m][TS] * factor} for m in muscles})
+            truth = {"hidden_group": group, "hidden_group_muscles": muscles, "hidden_parameter": TS, "factor": factor}
+            write(scratch, k, sim, sd, truth)
 
 
 if __name__ == "__main__":

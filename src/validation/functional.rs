@@ -169,15 +169,22 @@ pub fn hidden_slack_change(nominal: &[MuscleParameters], seed: u64) -> (usize, V
 }
 
 /// What a hidden-effect subject's `ground_truth.json` (`oracle/gen_hidden_changes.py`) says was
-/// hidden: the cause and its true value in the cause's unit (a muscle parameter's value, the
-/// offset to add to the recorded angles in degrees, the activation factor). `None` when it says
+/// hidden: the cause and its true value in the cause's unit (a muscle parameter's value, a
+/// group's factor, the offset to add to the recorded angles in degrees, the activation factor). `None` when it says
 /// nothing of the kind.
 pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
-    if let Some(muscle) = truth["hidden_muscle"].as_str() {
+    let parameter = || {
         let property = truth["hidden_parameter"].as_str()?;
-        let parameter = crate::tuning::functional::Parameter::ALL.into_iter().find(|p| p.property() == property)?;
-        let value = truth["true_parameters"][muscle][property].as_f64()?;
+        crate::tuning::functional::Parameter::ALL.into_iter().find(|p| p.property() == property)
+    };
+    if let Some(muscle) = truth["hidden_muscle"].as_str() {
+        let parameter = parameter()?;
+        let value = truth["true_parameters"][muscle][parameter.property()].as_f64()?;
         return Some((Cause::Muscle { muscle: muscle.to_string(), parameter }, value));
+    }
+    if let Some(group) = truth["hidden_group"].as_str() {
+        let muscles = truth["hidden_group_muscles"].as_array()?.iter().map(|m| m.as_str().map(String::from)).collect::<Option<Vec<_>>>()?;
+        return Some((Cause::Group { group: group.to_string(), muscles, parameter: parameter()? }, truth["factor"].as_f64()?));
     }
     if let Some(coordinate) = truth["hidden_coordinate"].as_str() {
         return Some((Cause::AngleOffset { coordinate: coordinate.to_string() }, -truth["recorded_minus_true_deg"].as_f64()?));
@@ -188,13 +195,15 @@ pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
 }
 
 /// How far a recovered hidden value is from the truth, as a fraction of what noisy moments
-/// allow (≤ 1 passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), an
-/// angle offset 0.5°, an activation factor 0.02.
+/// allow (≤ 1 passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), a
+/// group's factor the same fractions, an angle offset 0.5°, an activation factor 0.02.
 pub fn hidden_value_error(cause: &Cause, fitted: f64, truth: f64) -> f64 {
     use crate::tuning::functional::Parameter;
     match cause {
         Cause::Muscle { parameter: Parameter::TendonSlackLength, .. } => (fitted / truth - 1.0).abs() / 0.01,
         Cause::Muscle { .. } => (fitted / truth - 1.0).abs() / 0.05,
+        Cause::Group { parameter: Parameter::TendonSlackLength, .. } => (fitted - truth).abs() / 0.01,
+        Cause::Group { .. } => (fitted - truth).abs() / 0.05,
         Cause::AngleOffset { .. } => (fitted - truth).abs() / 0.5,
         Cause::Activation { .. } => (fitted - truth).abs() / 0.02,
     }

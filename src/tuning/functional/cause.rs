@@ -1,8 +1,9 @@
 //! Single causes: which one model deficiency, changed alone, best explains the difference
 //! between the initial model's and the measured knee moments (METHOD.md §8). The candidates
 //! ([`Cause`]): L_ts, L_opt or F_max of one estimated muscle ([`CANDIDATE_PARAMETERS`]; factor
-//! within [0.5, 1.5] of the model's value), and the protocol's deficiencies of
-//! `cause_protocol.rs` (an offset of a recorded angle, the agonists' activation level). Each is
+//! within [0.5, 1.5] of the model's value) or of a muscle group together (`cause_group.rs`),
+//! and the protocol's deficiencies of `cause_protocol.rs` (an offset of a recorded angle, the
+//! agonists' activation level). Each is
 //! fitted by one-dimensional least squares on the moments and the candidates are ranked by the
 //! RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit stops where the
 //! local model sees no more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step
@@ -11,6 +12,7 @@
 use nalgebra::DMatrix;
 use serde::Serialize;
 
+use super::cause_group::muscle_groups;
 use super::cause_protocol::protocol_candidates;
 use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
@@ -33,6 +35,9 @@ pub const CANDIDATE_PARAMETERS: [Parameter; 3] = [Parameter::TendonSlackLength, 
 pub enum Cause {
     /// One estimated muscle's parameter (value in m; F_max in N).
     Muscle { muscle: String, parameter: Parameter },
+    /// The parameter of every muscle of a group (`cause_group.rs`) scaled by one factor (the
+    /// value; the model's is 1).
+    Group { group: String, muscles: Vec<String>, parameter: Parameter },
     /// A constant offset of a trial coordinate: the model is posed at the recorded angle plus
     /// the value (degrees; the data's value is 0).
     AngleOffset { coordinate: String },
@@ -54,6 +59,7 @@ impl Cause {
     pub fn describe(&self) -> String {
         match self {
             Cause::Muscle { muscle, parameter } => format!("{muscle} {}", parameter.symbol()),
+            Cause::Group { group, parameter, .. } => format!("{group} {} together", parameter.symbol()),
             Cause::AngleOffset { coordinate } => format!("{coordinate} offset"),
             Cause::Activation { direction } => format!("{} agonists' activation", direction.key()),
         }
@@ -96,6 +102,15 @@ pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &Dynamo
     let mut causes = muscle_causes(model, initial, measured)?;
     let rms_before = causes.first().map_or(f64::NAN, |c| c.rms_before);
     let every_trial = vec![true; measured.len()];
+    let moments = model.moments(initial)?;
+    let names: Vec<String> = initial.iter().map(|p| p.name.clone()).collect();
+    for (group, members) in muscle_groups(data, &names) {
+        for parameter in CANDIDATE_PARAMETERS {
+            let fit = fit_candidate(MuscleCandidate::new(model, initial, members.clone(), parameter, &moments, measured)?, &every_trial)?;
+            let cause = Cause::Group { group: group.clone(), muscles: members.iter().map(|&e| names[e].clone()).collect(), parameter };
+            causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
+        }
+    }
     for candidate in protocol_candidates(spec, model, data, initial, measured) {
         let cause = candidate.cause();
         let fit = fit_candidate(candidate, &every_trial)?;
@@ -116,7 +131,7 @@ fn muscle_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured
     let mut causes = Vec::new();
     for e in 0..initial.len() {
         for parameter in CANDIDATE_PARAMETERS {
-            let fit = fit_candidate(MuscleCandidate::new(model, initial, e, parameter, &moments, measured)?, &every_trial)?;
+            let fit = fit_candidate(MuscleCandidate::new(model, initial, vec![e], parameter, &moments, measured)?, &every_trial)?;
             let cause = Cause::Muscle { muscle: initial[e].name.clone(), parameter };
             causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
         }
@@ -142,9 +157,14 @@ pub(super) fn candidate_for<'a>(
     moments: &[f64],
     measured: &'a [f64],
 ) -> Result<Box<dyn Candidate + 'a>, FunctionalError> {
-    if let Cause::Muscle { muscle, parameter } = cause {
-        let e = initial.iter().position(|p| &p.name == muscle).ok_or_else(|| FunctionalError::all_muscles(format!("the cause's muscle {muscle} is not estimated")))?;
-        return Ok(Box::new(MuscleCandidate::new(model, initial, e, *parameter, moments, measured)?));
+    let index = |muscle: &String| initial.iter().position(|p| &p.name == muscle).ok_or_else(|| FunctionalError::all_muscles(format!("the cause's muscle {muscle} is not estimated")));
+    match cause {
+        Cause::Muscle { muscle, parameter } => return Ok(Box::new(MuscleCandidate::new(model, initial, vec![index(muscle)?], *parameter, moments, measured)?)),
+        Cause::Group { muscles, parameter, .. } => {
+            let members = muscles.iter().map(index).collect::<Result<Vec<_>, _>>()?;
+            return Ok(Box::new(MuscleCandidate::new(model, initial, members, *parameter, moments, measured)?));
+        }
+        _ => {}
     }
     protocol_candidates(spec, model, data, initial, measured)
         .into_iter()
@@ -225,37 +245,43 @@ impl<C: Candidate> LeastSquaresProblem for Masked<C> {
     }
 }
 
-/// One muscle's parameter as x = ln(factor) within [ln 0.5, ln 1.5]; the other muscles'
-/// contributions stay fixed.
+/// The parameter of one muscle, or of a group's muscles together, as x = ln(factor) within
+/// [ln 0.5, ln 1.5]; the other muscles' contributions stay fixed. Its value is the parameter's
+/// for one muscle, the factor for a group.
 struct MuscleCandidate<'a> {
     model: &'a KneeMomentModel,
     workspace: EstimatedMuscles,
-    muscle: usize,
+    muscles: Vec<usize>,
     parameter: Parameter,
-    base: MuscleParameters,
-    /// M_mod − M_meas without this muscle's contribution, N·m.
+    bases: Vec<MuscleParameters>,
+    /// M_mod − M_meas without these muscles' contributions, N·m.
     others: Vec<f64>,
 }
 
 impl<'a> MuscleCandidate<'a> {
-    fn new(model: &'a KneeMomentModel, initial: &[MuscleParameters], muscle: usize, parameter: Parameter, moments: &[f64], measured: &[f64]) -> Result<MuscleCandidate<'a>, FunctionalError> {
+    fn new(model: &'a KneeMomentModel, initial: &[MuscleParameters], muscles: Vec<usize>, parameter: Parameter, moments: &[f64], measured: &[f64]) -> Result<MuscleCandidate<'a>, FunctionalError> {
         let workspace = model.estimated_muscles(initial)?;
-        let k = model.estimated_knee_index(muscle);
-        let mut others = Vec::with_capacity(measured.len());
-        for (t, (m, y)) in moments.iter().zip(measured).enumerate() {
-            others.push(m - y - model.contribution(k, workspace.muscle(muscle), t)?);
+        let mut others: Vec<f64> = moments.iter().zip(measured).map(|(m, y)| m - y).collect();
+        for &e in &muscles {
+            let k = model.estimated_knee_index(e);
+            for (t, other) in others.iter_mut().enumerate() {
+                *other -= model.contribution(k, workspace.muscle(e), t)?;
+            }
         }
-        Ok(MuscleCandidate { model, workspace, muscle, parameter, base: initial[muscle].clone(), others })
+        let bases = muscles.iter().map(|&e| initial[e].clone()).collect();
+        Ok(MuscleCandidate { model, workspace, muscles, parameter, bases, others })
     }
 }
 
 impl Candidate for MuscleCandidate<'_> {
     fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
-        let changed = self.base.with(self.parameter, self.value(x));
-        self.workspace.set(self.model, self.muscle, &changed)?;
-        let k = self.model.estimated_knee_index(self.muscle);
-        for (t, r) in out.iter_mut().enumerate() {
-            *r = self.others[t] + self.model.contribution(k, self.workspace.muscle(self.muscle), t)?;
+        out.copy_from_slice(&self.others);
+        for (&e, base) in self.muscles.iter().zip(&self.bases) {
+            self.workspace.set(self.model, e, &base.with(self.parameter, base.get(self.parameter) * x.exp()))?;
+            let k = self.model.estimated_knee_index(e);
+            for (t, r) in out.iter_mut().enumerate() {
+                *r += self.model.contribution(k, self.workspace.muscle(e), t)?;
+            }
         }
         Ok(())
     }
@@ -265,6 +291,9 @@ impl Candidate for MuscleCandidate<'_> {
     }
 
     fn value(&self, x: f64) -> f64 {
-        self.base.get(self.parameter) * x.exp()
+        match self.bases.as_slice() {
+            [one] => one.get(self.parameter) * x.exp(),
+            _ => x.exp(),
+        }
     }
 }

@@ -29,8 +29,9 @@
 //! - `sigma_points.rs`: the 2n²+1 sigma points of Appendix 6.6 and noise propagation through any
 //!   estimator ([`propagate_noise`]).
 //! - `cause.rs`: the single change that best explains the measured moments ([`Cause`]: a
-//!   muscle's L_ts, L_opt or F_max, or from `cause_protocol.rs` an angle offset or the agonists'
-//!   activation level; [`candidate_causes`], [`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
+//!   muscle's or, with `cause_group.rs`, a muscle group's L_ts, L_opt or F_max, or from
+//!   `cause_protocol.rs` an angle offset or the agonists' activation level;
+//!   [`candidate_causes`], [`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
 //!   (Bayes factors of the candidates, [`cause_verdict`]); `cause_held_out.rs` the best
 //!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]).
 //! - `estimator.rs`: the estimators and their settings ([`estimate`], [`FitSettings`]): the
@@ -44,6 +45,7 @@
 mod analyses;
 mod cause;
 mod cause_protocol;
+mod cause_group;
 mod cause_held_out;
 mod cause_verdict;
 mod error;
