@@ -112,6 +112,11 @@ fn writes_only_the_fitted_lengths_and_reproduces_the_moments() {
     let report: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     assert_eq!(report["converged"], true);
     assert_eq!(report["trials"].as_array().unwrap().len(), 10);
+    // Per direction: five trials each; the initial model misses, the fitted one does not.
+    for direction in report["residuals"].as_array().unwrap() {
+        assert_eq!(direction["trials"], 5, "{direction}");
+        assert!(direction["initial"]["rms"].as_f64().unwrap() > 1.0 && direction["fitted"]["rms"].as_f64().unwrap() < 1e-4, "{direction}");
+    }
 }
 
 #[test]

@@ -127,6 +127,7 @@ fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
     if let Some(prior) = &fit.prior {
         println!("rest-curve prior: L_opt within τ = {:.0} % of the model's, against moment noise σ = {:.3} N·m ({}); estimate: the {}", 100.0 * prior.coordinate_sd, prior.noise_sd, prior.noise_source, prior.estimate);
     }
+    print_residuals(fit);
     print_parameters(fit);
     print_causes(fit);
     print_sets(fit);
@@ -138,6 +139,29 @@ fn print_report(fit: &FunctionalFit, data: &DynamometryData) {
     println!("\nmoments per trial (N·m): measured, initial model, fitted model, fitted − measured");
     for t in &fit.trials {
         println!("  {:<24} {:>10.4} {:>10.4} {:>10.4} {:>+9.4}", t.trial, t.measured, t.initial, t.fitted, t.fitted - t.measured);
+    }
+}
+
+fn print_residuals(fit: &FunctionalFit) {
+    println!("\nwhat the models get wrong (M_mod − M_meas, N·m): RMS, mean, largest at");
+    for group in &fit.residuals {
+        for (model, s) in [("initial", &group.initial), ("fitted", &group.fitted)] {
+            let strength = match (s.mean.abs() < 5e-4, s.too_weak) {
+                (true, _) => "",
+                (false, true) => " (too weak)",
+                (false, false) => " (too strong)",
+            };
+            println!(
+                "  {:<9} {:>2} trials, {model:<7} RMS {:>8.3}, mean {:>+8.3}{strength}, largest {:>+8.3} at {} ({:.1}°)",
+                group.direction.key(),
+                group.trials,
+                s.rms,
+                s.mean,
+                s.largest,
+                s.largest_at,
+                s.largest_knee_angle_deg
+            );
+        }
     }
 }
 

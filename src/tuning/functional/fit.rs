@@ -8,6 +8,7 @@ use serde::Serialize;
 use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
 use super::cause::{candidate_causes, SingleCause};
 use super::cause_held_out::{held_out_gain, HeldOutGain};
+use super::residuals::{residuals_by_direction, DirectionResiduals};
 use super::cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel};
 use super::error::FunctionalError;
 use super::estimator::{estimate, FitMethod, FitSettings};
@@ -34,6 +35,8 @@ pub struct FunctionalFit {
     pub iterations: usize,
     /// Per trial: label, measured, initial-model and fitted-model moment (N·m).
     pub trials: Vec<TrialFit>,
+    /// The initial and the fitted model's errors per direction.
+    pub residuals: Vec<DirectionResiduals>,
     pub feasible_sets: Vec<MuscleFeasibleSet>,
     pub hot_start: Option<HotStart>,
     /// Phase II constraints active at the solution (e.g. a rest length at its tolerance).
@@ -129,6 +132,7 @@ pub fn fit(
         converged: estimate.converged,
         solver_status: estimate.status,
         iterations: estimate.iterations,
+        residuals: residuals_by_direction(knee.trials(), &measured, &initial_moments, &moments),
         trials,
         feasible_sets: estimate.feasible_sets,
         hot_start: estimate.hot_start,

@@ -38,6 +38,8 @@
 //!   thesis' method with the rest-curve fit, or Garner & Pandy.
 //! - `analyses.rs`: the analyses at an estimate ([`analyse`]: sensitivity, identifiability,
 //!   uncertainty), each reported as unavailable rather than failing the fit.
+//! - `residuals.rs`: what the initial and the fitted model get wrong, per direction
+//!   ([`residuals_by_direction`]).
 //! - `fit.rs`: one run ([`fit`]): input checks (coordinate ranges, enough angles, sign
 //!   convention), the single causes, the estimator and the analyses.
 //! - `error.rs`: [`FunctionalError`].
@@ -59,6 +61,7 @@ mod knee_moment;
 mod noise_evidence;
 mod parameters;
 mod phase_two;
+mod residuals;
 mod rest_curve;
 mod rest_curve_fit;
 mod rest_curve_information;
@@ -71,6 +74,7 @@ mod trials;
 
 pub use cause::{candidate_causes, single_causes, Cause, SingleCause, CANDIDATE_PARAMETERS};
 pub use cause_protocol::OFFSET_LIMIT_DEG;
+pub use residuals::{residuals_by_direction, DirectionResiduals, ErrorStatistics};
 pub use cause_held_out::{held_out_gain, HeldOutGain, FOLDS};
 pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};
 pub use error::FunctionalError;
