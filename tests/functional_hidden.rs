@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::fixture;
+use common::{fixture, osim_tune};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{held_out_gain, Cause, CauseVerdict, DynamometryData, KneeMomentModel, SetSelection, SingleCause, TrialOptions, Verdict};
@@ -109,4 +109,36 @@ fn the_named_cause_predicts_trials_its_fit_did_not_see() {
     let gain = held_out_gain(&spec, &knee, &data, &knee.nominal_parameters(), &measured, &causes[0]).unwrap();
     let sigma = data.noise_sd.unwrap();
     assert!(gain.rms_before > 1.5 * sigma && gain.rms_after < 1.2 * sigma, "{gain:?}");
+}
+
+#[test]
+fn the_cause_model_changes_only_the_named_cause() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = fixture("golden/scale/subject01_simbody.osim");
+    let run = |subject: &str| {
+        let (output, cause_model) = (dir.path().join(format!("{subject}.osim")), dir.path().join(format!("{subject}_cause.osim")));
+        let folder = fixture(&format!("dynamometry/hidden/{subject}"));
+        let arguments = ["scale", model.to_str().unwrap(), folder.to_str().unwrap(), "--sets", "set5", "-o", output.to_str().unwrap(), "--cause-model", cause_model.to_str().unwrap()];
+        let (code, _, stderr) = osim_tune(&arguments);
+        assert_eq!(code, 0, "{stderr}");
+        (cause_model, stderr)
+    };
+    // hid15: the vasti's L_ts by one factor; the cause model differs from the input in exactly
+    // those three values, each by the hidden factor.
+    let (Cause::Group { muscles, .. }, factor) = hidden("hid15") else { panic!("hid15 hides a group change") };
+    let (cause_model, _) = run("hid15");
+    let (code, stdout, stderr) = osim_tune(&["diff", model.to_str().unwrap(), cause_model.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 1, "{stderr}");
+    let differences: Value = serde_json::from_str(&stdout).unwrap();
+    let differences = differences["differences"].as_array().unwrap();
+    assert_eq!(differences.len(), 3, "{differences:?}");
+    for difference in differences {
+        let path = difference["path"].as_str().unwrap();
+        assert!(muscles.iter().any(|m| path == format!("/forceset/{m}/tendon_slack_length")), "{path}");
+        let (old, new) = (difference["old"].as_str().unwrap().parse::<f64>().unwrap(), difference["new"].as_str().unwrap().parse::<f64>().unwrap());
+        assert!((new / old / factor - 1.0).abs() < 1e-6, "{difference}");
+    }
+    // hid11: an angle offset is in the trials; no cause model.
+    let (cause_model, stderr) = run("hid11");
+    assert!(!cause_model.exists() && stderr.contains("in the trials, not the model"), "{stderr}");
 }

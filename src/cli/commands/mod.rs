@@ -51,6 +51,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             sigma_points,
             force,
             report,
+            cause_model,
             setup,
             linear,
             output,
@@ -62,7 +63,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             Some(folder) => {
                 let options = scale_functional::Options { method, rest_tolerance, rest_constraint, rest_curve: !no_rest_curve, prior_sd, no_prior, map, group_ratios, noise_sd, sigma_points };
                 let settings = options.settings();
-                let request = scale_functional::Request { sets, settings, force, report, json };
+                let request = scale_functional::Request { sets, settings, force, report, cause_model, json };
                 scale_functional::run(&model, folder, &output, &request)
             }
             None => {

@@ -9,8 +9,8 @@ use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
-    fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
-    TrialOptions, DEFAULT_PRIOR_SD, FOLDS, LAPLACE, SAMPLED, STRONG_EVIDENCE, SUBJECT_FILE,
+    apply_cause, fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
+    TrialOptions, Verdict, DEFAULT_PRIOR_SD, FOLDS, LAPLACE, SAMPLED, STRONG_EVIDENCE, SUBJECT_FILE,
 };
 
 use super::super::args::ScaleMethodArgument;
@@ -21,6 +21,8 @@ pub struct Request {
     pub settings: FitSettings,
     pub force: bool,
     pub report: Option<PathBuf>,
+    /// Where to write the model extended by the named single cause.
+    pub cause_model: Option<PathBuf>,
     pub json: bool,
 }
 
@@ -78,7 +80,7 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     let mut inputs: Vec<PathBuf> = vec![model.to_path_buf(), folder.join(SUBJECT_FILE)];
     inputs.extend(data.trials.iter().map(|t| t.file.clone()));
     let input_refs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    for file in std::iter::once(output).chain(request.report.as_deref()) {
+    for file in std::iter::once(output).chain(request.report.as_deref()).chain(request.cause_model.as_deref()) {
         ensure_not_an_input(file, &input_refs)?;
     }
     let mut document = OsimDocument::read(model)?;
@@ -91,9 +93,12 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     } else {
         print_report(&result, &data);
     }
-    create_output_folders([Some(output), request.report.as_deref()].into_iter().flatten())?;
+    create_output_folders([Some(output), request.report.as_deref(), request.cause_model.as_deref()].into_iter().flatten())?;
     if let Some(file) = &request.report {
         write_atomically(file, report.as_bytes(), &input_refs)?;
+    }
+    if let Some(file) = &request.cause_model {
+        write_cause_model(&result, model, file, &input_refs)?;
     }
     if !result.converged && !request.force {
         eprintln!("scale: the fit did not converge ({}); no model written (--force writes it anyway)", result.solver_status);
@@ -103,6 +108,26 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     write_atomically(output, document.xml.serialize().as_bytes(), &input_refs)?;
     eprintln!("scale: {changed} values changed; wrote {}", output.display());
     Ok(if result.converged { Outcome::Success } else { Outcome::NotConverged })
+}
+
+/// The initial model extended by the cause the verdict names (the best candidate when it names
+/// a muscle without its parameter), or a message why there is none.
+fn write_cause_model(fit: &FunctionalFit, model: &Path, file: &Path, inputs: &[&Path]) -> Result<(), Failure> {
+    let named = fit.cause_verdict.as_ref().filter(|v| matches!(v.verdict, Verdict::Named(_) | Verdict::MuscleNamed { .. }));
+    let (Some(_), Some(best)) = (named, fit.single_causes.first()) else {
+        let verdict = fit.cause_verdict.as_ref().map_or("no verdict".to_string(), |v| v.describe());
+        eprintln!("scale: the verdict names no single cause ({verdict}); no cause model written");
+        return Ok(());
+    };
+    let mut document = OsimDocument::read(model)?;
+    match apply_cause(best, &fit.initial, &mut document)? {
+        Some(changed) => {
+            write_atomically(file, document.xml.serialize().as_bytes(), inputs)?;
+            eprintln!("scale: the model extended by {} ({changed} values changed); wrote {}", best.cause.describe(), file.display());
+        }
+        None => eprintln!("scale: the named cause, {}, is in the trials, not the model; no cause model written", best.cause.describe()),
+    }
+    Ok(())
 }
 
 fn check_settings(settings: &FitSettings) -> Result<(), Failure> {

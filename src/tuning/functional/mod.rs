@@ -33,7 +33,8 @@
 //!   `cause_protocol.rs` an angle offset or the agonists' activation level;
 //!   [`candidate_causes`], [`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
 //!   (Bayes factors of the candidates, [`cause_verdict`]); `cause_held_out.rs` the best
-//!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]).
+//!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]);
+//!   `cause_model.rs` the model extended by it ([`apply_cause`]).
 //! - `estimator.rs`: the estimators and their settings ([`estimate`], [`FitSettings`]): the
 //!   thesis' method with the rest-curve fit, or Garner & Pandy.
 //! - `analyses.rs`: the analyses at an estimate ([`analyse`]: sensitivity, identifiability,
@@ -48,6 +49,7 @@ mod analyses;
 mod cause;
 mod cause_protocol;
 mod cause_group;
+mod cause_model;
 mod cause_held_out;
 mod cause_verdict;
 mod error;
@@ -74,6 +76,7 @@ mod trials;
 
 pub use cause::{candidate_causes, single_causes, Cause, SingleCause, CANDIDATE_PARAMETERS};
 pub use cause_protocol::OFFSET_LIMIT_DEG;
+pub use cause_model::apply_cause;
 pub use residuals::{residuals_by_direction, DirectionResiduals, ErrorStatistics};
 pub use cause_held_out::{held_out_gain, HeldOutGain, FOLDS};
 pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};
