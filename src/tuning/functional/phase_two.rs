@@ -32,8 +32,15 @@
 //! indefinite (eigenvalues −109 … 1.9·10⁶), so the shift that makes it positive definite turns
 //! the steps gradient-like; flipping or clipping each block's negative eigenvalues ends most
 //! crawls within 40–60 iterations but stops a noise-free fit at 0.2 N·m and makes two other
-//! runs fail; scaling the variables to their bounds fails more often. A trust region
-//! (Sℓ∞QP) is the remedy left to try.
+//! runs fail; scaling the variables to their bounds fails more often. Convexifying the exact
+//! Hessian by the augmented Lagrangian instead (W + σ Σ aᵢaᵢᵀ over the rows the last QP held
+//! active) fails as well: 14 of 16 runs of a sweep ended at `MaxIterations` (BFGS: 2), and with
+//! the matching gradient term the elastic QP's multipliers grew with the penalty μ and W with
+//! them, so the steps shrank to 10⁻⁸ at a violated linearisation. A trust region (Sℓ∞QP) is the
+//! remedy left to try. Not every stop short of an exact fit is a crawl: on noise-free train01,
+//! all 70 trials, the SQP ends at a KKT point (measure 10⁻⁷) with a largest error of 1.66 N·m,
+//! a local minimum of the non-convex min–max problem (set5 from the same hot start fits
+//! exactly); the rest-curve fit that follows by default reaches the exact fit.
 
 use super::error::FunctionalError;
 use super::feasible_set::MuscleFeasibleSet;
