@@ -96,8 +96,9 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
     Ok(causes)
 }
 
-/// Every candidate — the muscles' parameters and the protocol's deficiencies — fitted alone
-/// from `initial` on `data` (whose knee-moment model is `model`), best first.
+/// Every candidate — the muscles' and the muscle groups' parameters and the protocol's
+/// deficiencies — fitted alone from `initial` on `data` (whose knee-moment model is `model`),
+/// best first.
 pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &DynamometryData, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
     let mut causes = muscle_causes(model, initial, measured)?;
     let rms_before = causes.first().map_or(f64::NAN, |c| c.rms_before);
@@ -108,13 +109,12 @@ pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &Dynamo
         for parameter in CANDIDATE_PARAMETERS {
             let fit = fit_candidate(MuscleCandidate::new(model, initial, members.clone(), parameter, &moments, measured)?, &every_trial)?;
             let cause = Cause::Group { group: group.clone(), muscles: members.iter().map(|&e| names[e].clone()).collect(), parameter };
-            causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
+            causes.push(fit.into_cause(cause, rms_before));
         }
     }
     for candidate in protocol_candidates(spec, model, data, initial, measured) {
         let cause = candidate.cause();
-        let fit = fit_candidate(candidate, &every_trial)?;
-        causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
+        causes.push(fit_candidate(candidate, &every_trial)?.into_cause(cause, rms_before));
     }
     sort_causes(&mut causes);
     Ok(causes)
@@ -132,8 +132,7 @@ fn muscle_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured
     for e in 0..initial.len() {
         for parameter in CANDIDATE_PARAMETERS {
             let fit = fit_candidate(MuscleCandidate::new(model, initial, vec![e], parameter, &moments, measured)?, &every_trial)?;
-            let cause = Cause::Muscle { muscle: initial[e].name.clone(), parameter };
-            causes.push(SingleCause { cause, initial: fit.initial, fitted: fit.value, rms_before, rms_after: root_mean_square(fit.residuals.iter().copied()), at_minimum: fit.at_minimum });
+            causes.push(fit.into_cause(Cause::Muscle { muscle: initial[e].name.clone(), parameter }, rms_before));
         }
     }
     Ok(causes)
@@ -181,6 +180,14 @@ pub(super) struct CandidateFit {
     /// M_mod − M_meas at it for every trial, fitted or not, N·m.
     pub residuals: Vec<f64>,
     pub at_minimum: bool,
+}
+
+impl CandidateFit {
+    /// The fit as `cause`'s entry of the ranking, from the initial model's RMS error (N·m).
+    fn into_cause(self, cause: Cause, rms_before: f64) -> SingleCause {
+        let rms_after = root_mean_square(self.residuals.iter().copied());
+        SingleCause { cause, initial: self.initial, fitted: self.value, rms_before, rms_after, at_minimum: self.at_minimum }
+    }
 }
 
 /// `candidate` fitted to the trials with `fitted[t]` true, from the unchanged model.
