@@ -80,8 +80,13 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     let mut inputs: Vec<PathBuf> = vec![model.to_path_buf(), folder.join(SUBJECT_FILE)];
     inputs.extend(data.trials.iter().map(|t| t.file.clone()));
     let input_refs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-    for file in std::iter::once(output).chain(request.report.as_deref()).chain(request.cause_model.as_deref()) {
+    let outputs = [("-o", Some(output)), ("--report", request.report.as_deref()), ("--cause-model", request.cause_model.as_deref())];
+    for (k, &(option, file)) in outputs.iter().enumerate() {
+        let Some(file) = file else { continue };
         ensure_not_an_input(file, &input_refs)?;
+        for (other, earlier) in outputs[..k].iter().filter_map(|&(other, earlier)| earlier.map(|f| (other, f))) {
+            ensure_not_an_input(file, &[earlier]).map_err(|_| format!("{}: {option} and {other} name the same file", file.display()))?;
+        }
     }
     let mut document = OsimDocument::read(model)?;
     let spec = ModelSpec::read(&document)?;

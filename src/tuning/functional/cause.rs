@@ -91,7 +91,8 @@ pub struct SingleCause {
 
 /// Every (muscle, parameter) candidate fitted alone from `initial`, best first.
 pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
-    let mut causes = muscle_causes(model, initial, measured)?;
+    let moments = model.moments(initial)?;
+    let mut causes = muscle_causes(model, initial, &moments, measured)?;
     sort_causes(&mut causes);
     Ok(causes)
 }
@@ -100,10 +101,10 @@ pub fn single_causes(model: &KneeMomentModel, initial: &[MuscleParameters], meas
 /// deficiencies — fitted alone from `initial` on `data` (whose knee-moment model is `model`),
 /// best first.
 pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &DynamometryData, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
-    let mut causes = muscle_causes(model, initial, measured)?;
-    let rms_before = causes.first().map_or(f64::NAN, |c| c.rms_before);
-    let every_trial = vec![true; measured.len()];
     let moments = model.moments(initial)?;
+    let mut causes = muscle_causes(model, initial, &moments, measured)?;
+    let rms_before = initial_rms(&moments, measured);
+    let every_trial = vec![true; measured.len()];
     let names: Vec<String> = initial.iter().map(|p| p.name.clone()).collect();
     for (group, members) in muscle_groups(data, &names) {
         for parameter in CANDIDATE_PARAMETERS {
@@ -124,14 +125,19 @@ fn sort_causes(causes: &mut [SingleCause]) {
     causes.sort_by(|a, b| a.rms_after.total_cmp(&b.rms_after));
 }
 
-fn muscle_causes(model: &KneeMomentModel, initial: &[MuscleParameters], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
-    let moments = model.moments(initial)?;
-    let rms_before = root_mean_square(moments.iter().zip(measured).map(|(m, y)| m - y));
+/// RMS of the initial model's errors (its `moments` against `measured`), N·m.
+pub(super) fn initial_rms(moments: &[f64], measured: &[f64]) -> f64 {
+    root_mean_square(moments.iter().zip(measured).map(|(m, y)| m - y))
+}
+
+/// Each estimated muscle's candidates, from the initial model's `moments`.
+fn muscle_causes(model: &KneeMomentModel, initial: &[MuscleParameters], moments: &[f64], measured: &[f64]) -> Result<Vec<SingleCause>, FunctionalError> {
+    let rms_before = initial_rms(moments, measured);
     let every_trial = vec![true; measured.len()];
     let mut causes = Vec::new();
     for e in 0..initial.len() {
         for parameter in CANDIDATE_PARAMETERS {
-            let fit = fit_candidate(MuscleCandidate::new(model, initial, vec![e], parameter, &moments, measured)?, &every_trial)?;
+            let fit = fit_candidate(MuscleCandidate::new(model, initial, vec![e], parameter, moments, measured)?, &every_trial)?;
             causes.push(fit.into_cause(Cause::Muscle { muscle: initial[e].name.clone(), parameter }, rms_before));
         }
     }

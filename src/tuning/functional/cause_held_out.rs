@@ -7,7 +7,7 @@
 
 use serde::Serialize;
 
-use super::cause::{candidate_for, fit_candidate, SingleCause};
+use super::cause::{candidate_for, fit_candidate, initial_rms, SingleCause};
 use super::error::FunctionalError;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::MuscleParameters;
@@ -51,7 +51,7 @@ pub fn held_out_gain(
         fitted.push(fit.value);
     }
     Ok(HeldOutGain {
-        rms_before: root_mean_square(moments.iter().zip(measured).map(|(m, y)| m - y)),
+        rms_before: initial_rms(&moments, measured),
         rms_after: root_mean_square(predicted.iter().copied()),
         fitted,
     })

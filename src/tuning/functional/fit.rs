@@ -1,6 +1,6 @@
 //! One functional-scaling run, as `osim-tune scale MODEL TRIALS/` does it: the input checks,
-//! the single parameter that best explains the initial model's error (its verdict and its gain on
-//! held-out trials), the estimator
+//! the single deficiency that best explains the initial model's error (its verdict and its gain
+//! on held-out trials), the estimator
 //! (`estimator.rs`) and the analyses at its estimate (`analyses.rs`).
 
 use serde::Serialize;
@@ -8,7 +8,6 @@ use serde::Serialize;
 use super::analyses::{analyse, attempt, AnalysisFailure, FitInputs, ParameterisationReport, Uncertainty};
 use super::cause::{candidate_causes, SingleCause};
 use super::cause_held_out::{held_out_gain, HeldOutGain};
-use super::residuals::{residuals_by_direction, DirectionResiduals};
 use super::cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel};
 use super::error::FunctionalError;
 use super::estimator::{estimate, FitMethod, FitSettings};
@@ -16,6 +15,7 @@ use super::feasible_set::MuscleFeasibleSet;
 use super::hot_start::HotStart;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::{MuscleParameters, Parameter};
+use super::residuals::{residuals_by_direction, DirectionResiduals};
 use super::rest_curve_map::AppliedPrior;
 use super::sensitivity::SensitivityTable;
 use super::trials::{root_mean_square, Direction, DynamometryData};
@@ -43,7 +43,7 @@ pub struct FunctionalFit {
     pub active_constraints: Vec<String>,
     /// The rest-curve fit's prior, when it was used.
     pub prior: Option<AppliedPrior>,
-    /// Each single parameter fitted alone from the initial model, best explanation first.
+    /// Each candidate cause fitted alone from the initial model, best explanation first.
     pub single_causes: Vec<SingleCause>,
     /// Whether the ranking names a cause at the report's σ; `None` without single causes.
     pub cause_verdict: Option<CauseVerdict>,
