@@ -1,4 +1,4 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid14/: synthetic dynamometry subjects made by
+"""Writes fixtures/dynamometry/hidden/hid01..hid18/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
 (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
@@ -9,9 +9,11 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
 - hid13–14, the agonists of one direction (extension or flexion, p 0.5) simulated at
   U(0.80, 0.95) times the recorded activation;
 - hid15–16, one factor ±U(0.02, 0.05) on the L_ts of a group: the vasti (hid15), all eight
-  estimated muscles (hid16).
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15), 5 (hid03–04, 08, 10, 12, 14, 16)
-and 10 N·m (hid05–06), noise seed 32000 + k.
+  estimated muscles (hid16);
+- hid17–18, one knee muscle's pennation angle at L_opt changed by ±U(0.06, 0.14) rad (the sign
+  flipped where the angle would fall below 0); its true value joins true_parameters.
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17), 5 (hid03–04, 08, 10, 12, 14, 16,
+18) and 10 N·m (hid05–06), noise seed 32000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
@@ -31,7 +33,7 @@ import dynamometry_generate_public as G  # noqa: E402
 import dynamometry_lib as L  # noqa: E402
 
 OUT = Path(__file__).resolve().parent.parent / "fixtures" / "dynamometry" / "hidden"
-TS, OPT, FMAX = "tendon_slack_length", "optimal_fiber_length", "max_isometric_force"
+TS, OPT, FMAX, PA = "tendon_slack_length", "optimal_fiber_length", "max_isometric_force", "pennation_angle_at_optimal"
 # subject number: (changed property, magnitude range, moment noise sd in N m)
 SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.02, 0.06), 5.0),
             4: (TS, (0.02, 0.06), 5.0), 5: (TS, (0.02, 0.06), 10.0), 6: (TS, (0.02, 0.06), 10.0),
@@ -40,6 +42,7 @@ SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.0
 OFFSETS = {11: 0.0, 12: 5.0}
 ACTIVATIONS = {13: 0.0, 14: 5.0}
 # subject number: (group name, its muscles, moment noise sd in N m)
+PENNATIONS = {17: 0.0, 18: 5.0}
 GROUPS = {15: ("vasti", ["vas_int_r", "vas_lat_r", "vas_med_r"], 0.0), 16: ("estimated muscles", L.EST_MUSCLES, 5.0)}
 
 
@@ -64,8 +67,9 @@ def hidden_change(k, magnitude):
     return muscle, 1.0 + sign * float(rng.uniform(*magnitude))
 
 
-def write(scratch, k, sim, sd, truth, recorded=None):
-    """Generates subject k into fixtures/, keeping the scoring fields and `truth`."""
+def write(scratch, k, sim, sd, truth, recorded=None, pennation=None):
+    """Generates subject k into fixtures/, keeping the scoring fields and `truth` (and the true
+    pennation angle of muscle `pennation`)."""
     sid = "hid%02d" % k
     L.generate_subject(Path(scratch) / sid, sid, sim, base_model_file=G.SCALED.name,
                        base_model_path_in_shared=G.rel_to_shared(G.SCALED), noise_sd=sd,
@@ -78,6 +82,8 @@ def write(scratch, k, sim, sd, truth, recorded=None):
     kept = {"note": "scoring fields of the generator's ground_truth.json (oracle/gen_hidden_changes.py)"}
     kept.update({key: full[key] for key in ["subject", "noise_sd_Nm", "noise_seed", "true_parameters"]})
     kept.update(truth)
+    if pennation is not None:
+        kept["true_parameters"][pennation][PA] = sim.muscle_params()[pennation][PA]
     (target / "ground_truth.json").write_text(json.dumps(kept, indent=1))
     print(sid, truth, sd, flush=True)
 
@@ -102,6 +108,15 @@ def main():
             factor = float(rng.uniform(0.80, 0.95))
             sim = ScaledAgonists(G.SCALED, L.DIRECTIONS[direction], factor)
             write(scratch, k, sim, sd, {"hidden_activation_direction": direction, "activation_factor": factor})
+        for k, sd in PENNATIONS.items():
+            rng = np.random.default_rng(31000 + k)
+            muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]
+            change = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.06, 0.14))
+            if base_p[muscle][PA] + change < 0.0:
+                change = -change
+            sim = L.KneeSim(G.SCALED, overrides={muscle: {PA: base_p[muscle][PA] + change}})
+            truth = {"hidden_muscle": muscle, "hidden_parameter": PA, "change_rad": change}
+            write(scratch, k, sim, sd, truth, pennation=muscle)
         for k, (group, muscles, sd) in GROUPS.items():
             rng = np.random.default_rng(31000 + k)
             factor = 1.0 + (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.02, 0.05))

@@ -195,12 +195,13 @@ pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
 }
 
 /// How far a recovered hidden value is from the truth, as a fraction of what noisy moments
-/// allow (≤ 1 passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), a
-/// group's factor the same fractions, an angle offset 0.5°, an activation factor 0.02.
+/// allow (≤ 1 passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), α_opt
+/// 1°, a group's factor the same fractions, an angle offset 0.5°, an activation factor 0.02.
 pub fn hidden_value_error(cause: &Cause, fitted: f64, truth: f64) -> f64 {
     use crate::tuning::functional::Parameter;
     match cause {
         Cause::Muscle { parameter: Parameter::TendonSlackLength, .. } => (fitted / truth - 1.0).abs() / 0.01,
+        Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => (fitted - truth).abs() / 1f64.to_radians(),
         Cause::Muscle { .. } => (fitted / truth - 1.0).abs() / 0.05,
         Cause::Group { parameter: Parameter::TendonSlackLength, .. } => (fitted - truth).abs() / 0.01,
         Cause::Group { .. } => (fitted - truth).abs() / 0.05,

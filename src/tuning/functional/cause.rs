@@ -1,7 +1,8 @@
 //! Single causes: which one model deficiency, changed alone, best explains the difference
 //! between the initial model's and the measured knee moments (METHOD.md §8). The candidates
-//! ([`Cause`]): L_ts, L_opt or F_max of one estimated muscle ([`CANDIDATE_PARAMETERS`]; factor
-//! within [0.5, 1.5] of the model's value) or of a muscle group together (`cause_group.rs`),
+//! ([`Cause`]): L_ts, L_opt, F_max or α_opt of one estimated muscle ([`CANDIDATE_PARAMETERS`];
+//! a factor within [0.5, 1.5] of the model's value, α_opt within ±[`PENNATION_CHANGE`] of it),
+//! L_ts, L_opt or F_max of a muscle group together (`cause_group.rs`),
 //! and the protocol's deficiencies of `cause_protocol.rs` (an offset of a recorded angle, the
 //! agonists' activation level). Each is
 //! fitted by one-dimensional least squares on the moments and the candidates are ranked by the
@@ -25,9 +26,17 @@ use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProb
 /// fits).
 const CANDIDATE_FIT: LeastSquaresOptions = LeastSquaresOptions { step_tolerance: 1e-10, gradient_tolerance: 1e-14, cost_tolerance: 1e-10, max_iterations: 200 };
 
-/// The parameters tried per estimated muscle: the two the fit estimates and the strength F_max,
-/// whose change they cannot mimic across the angles.
-pub const CANDIDATE_PARAMETERS: [Parameter; 3] = [Parameter::TendonSlackLength, Parameter::OptimalFiberLength, Parameter::MaxIsometricForce];
+/// The parameters tried per estimated muscle: the two the fit estimates, the strength F_max,
+/// whose change they cannot mimic across the angles, and the pennation α_opt (the four muscle
+/// properties of the thesis' sensitivity analysis but v_max, which isometric trials do not see).
+pub const CANDIDATE_PARAMETERS: [Parameter; 4] = [Parameter::TendonSlackLength, Parameter::OptimalFiberLength, Parameter::MaxIsometricForce, Parameter::PennationAngleAtOptimal];
+
+/// The parameters tried per muscle group, one factor on every member's value (a pennation
+/// angle, absent in some members, has no common factor).
+pub const GROUP_PARAMETERS: [Parameter; 3] = [Parameter::TendonSlackLength, Parameter::OptimalFiberLength, Parameter::MaxIsometricForce];
+
+/// The largest change of α_opt tried, rad (20°).
+pub const PENNATION_CHANGE: f64 = 0.349_065_850_398_865_9;
 
 /// A candidate model deficiency.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -65,10 +74,14 @@ impl Cause {
         }
     }
 
-    /// `initial → fitted` with the change, in the cause's unit.
+    /// `initial → fitted` with the change, in the cause's unit (α_opt in degrees).
     pub fn change(&self, initial: f64, fitted: f64) -> String {
         match self {
             Cause::AngleOffset { .. } => format!("{initial:+.3}° → {fitted:+.3}°"),
+            Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => {
+                let [initial, fitted] = [initial.to_degrees(), fitted.to_degrees()];
+                format!("{initial:.3}° → {fitted:.3}° ({:+.3}°)", fitted - initial)
+            }
             _ => format!("{initial:.6} → {fitted:.6} ({:+.2} %)", 100.0 * (fitted / initial - 1.0)),
         }
     }
@@ -107,7 +120,7 @@ pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &Dynamo
     let every_trial = vec![true; measured.len()];
     let names: Vec<String> = initial.iter().map(|p| p.name.clone()).collect();
     for (group, members) in muscle_groups(data, &names) {
-        for parameter in CANDIDATE_PARAMETERS {
+        for parameter in GROUP_PARAMETERS {
             let fit = fit_candidate(MuscleCandidate::new(model, initial, members.clone(), parameter, &moments, measured)?, &every_trial)?;
             let cause = Cause::Group { group: group.clone(), muscles: members.iter().map(|&e| names[e].clone()).collect(), parameter };
             causes.push(fit.into_cause(cause, rms_before));
@@ -259,8 +272,9 @@ impl<C: Candidate> LeastSquaresProblem for Masked<C> {
 }
 
 /// The parameter of one muscle, or of a group's muscles together, as x = ln(factor) within
-/// [ln 0.5, ln 1.5]; the other muscles' contributions stay fixed. Its value is the parameter's
-/// for one muscle, the factor for a group.
+/// [ln 0.5, ln 1.5] — α_opt as x = its change in rad, within ±[`PENNATION_CHANGE`] and ≥ 0 —;
+/// the other muscles' contributions stay fixed. Its value is the parameter's for one muscle,
+/// the factor for a group.
 struct MuscleCandidate<'a> {
     model: &'a KneeMomentModel,
     workspace: EstimatedMuscles,
@@ -290,7 +304,7 @@ impl Candidate for MuscleCandidate<'_> {
     fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
         out.copy_from_slice(&self.others);
         for (&e, base) in self.muscles.iter().zip(&self.bases) {
-            self.workspace.set(self.model, e, &base.with(self.parameter, base.get(self.parameter) * x.exp()))?;
+            self.workspace.set(self.model, e, &base.with(self.parameter, self.changed(base, x)))?;
             let k = self.model.estimated_knee_index(e);
             for (t, r) in out.iter_mut().enumerate() {
                 *r += self.model.contribution(k, self.workspace.muscle(e), t)?;
@@ -300,13 +314,27 @@ impl Candidate for MuscleCandidate<'_> {
     }
 
     fn bounds(&self) -> [f64; 2] {
+        if self.parameter == Parameter::PennationAngleAtOptimal {
+            let smallest = self.bases.iter().map(|b| b.pennation_angle_at_optimal).fold(f64::INFINITY, f64::min);
+            return [-smallest.min(PENNATION_CHANGE), PENNATION_CHANGE];
+        }
         [0.5f64.ln(), 1.5f64.ln()]
     }
 
     fn value(&self, x: f64) -> f64 {
         match self.bases.as_slice() {
-            [one] => one.get(self.parameter) * x.exp(),
+            [one] => self.changed(one, x),
             _ => x.exp(),
+        }
+    }
+}
+
+impl MuscleCandidate<'_> {
+    /// The parameter of `base` at x.
+    fn changed(&self, base: &MuscleParameters, x: f64) -> f64 {
+        match self.parameter {
+            Parameter::PennationAngleAtOptimal => base.pennation_angle_at_optimal + x,
+            parameter => base.get(parameter) * x.exp(),
         }
     }
 }
