@@ -1,4 +1,4 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid18/: synthetic dynamometry subjects made by
+"""Writes fixtures/dynamometry/hidden/hid01..hid20/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
 (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
@@ -11,15 +11,19 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
 - hid15–16, one factor ±U(0.02, 0.05) on the L_ts of a group: the vasti (hid15), all eight
   estimated muscles (hid16);
 - hid17–18, one knee muscle's pennation angle at L_opt changed by ±U(0.06, 0.14) rad (the sign
-  flipped where the angle would fall below 0); its true value joins true_parameters.
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17), 5 (hid03–04, 08, 10, 12, 14, 16,
-18) and 10 N·m (hid05–06), noise seed 32000 + k.
+  flipped where the angle would fall below 0); its true value joins true_parameters;
+- hid19–20, the knee's axis moved by ±U(3, 8) mm along the X or the Y axis (p 0.5) of its parent
+  frame: knee_r's femur_r_offset and tibia_r_offset (both at the body origin, and the joint's
+  rotation zero at rest) translated by the same vector, so the bones are unchanged at rest.
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19), 5 (hid03–04, 08, 10, 12, 14,
+16, 18, 20) and 10 N·m (hid05–06), noise seed 32000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
 Usage: python3 oracle/gen_hidden_changes.py /path/to/shared
 """
 import json
+import re
 import shutil
 import sys
 import tempfile
@@ -43,6 +47,7 @@ OFFSETS = {11: 0.0, 12: 5.0}
 ACTIVATIONS = {13: 0.0, 14: 5.0}
 # subject number: (group name, its muscles, moment noise sd in N m)
 PENNATIONS = {17: 0.0, 18: 5.0}
+AXES = {19: 0.0, 20: 5.0}
 GROUPS = {15: ("vasti", ["vas_int_r", "vas_lat_r", "vas_med_r"], 0.0), 16: ("estimated muscles", L.EST_MUSCLES, 5.0)}
 
 
@@ -57,6 +62,19 @@ class ScaledAgonists(L.KneeSim):
         if agonists == self.scaled:
             level = level * self.factor
         return super().trial(knee_deg, agonists, level=level, **kwargs)
+
+
+def moved_knee_axis(scratch, offset):
+    """The scaled model with knee_r's offset frames translated by `offset` (m), written in scratch."""
+    text = G.SCALED.read_text()
+    start = text.index('<CustomJoint name="knee_r">')
+    end = text.index("</CustomJoint>", start)
+    joint, count = re.subn(r"(<PhysicalOffsetFrame name=\"(?:femur|tibia)_r_offset\">.*?<translation>)0 0 0(</translation>)",
+                           lambda m: m.group(1) + " ".join(repr(c) for c in offset) + m.group(2), text[start:end], flags=re.S)
+    assert count == 2, count
+    path = Path(scratch) / "moved_knee_axis.osim"
+    path.write_text(text[:start] + joint + text[end:])
+    return path
 
 
 def hidden_change(k, magnitude):
@@ -117,6 +135,15 @@ def main():
             sim = L.KneeSim(G.SCALED, overrides={muscle: {PA: base_p[muscle][PA] + change}})
             truth = {"hidden_muscle": muscle, "hidden_parameter": PA, "change_rad": change}
             write(scratch, k, sim, sd, truth, pennation=muscle)
+        for k, sd in AXES.items():
+            rng = np.random.default_rng(31000 + k)
+            axis = int(rng.integers(2))
+            distance = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(3.0, 8.0))
+            direction = [1.0 if i == axis else 0.0 for i in range(3)]
+            sim = L.KneeSim(str(moved_knee_axis(scratch, [distance / 1000.0 * c for c in direction])))
+            truth = {"hidden_joint": "knee_r", "axis_direction_in_parent": direction, "axis_direction_in_child": direction,
+                     "axis_offset_mm": distance}
+            write(scratch, k, sim, sd, truth)
         for k, (group, muscles, sd) in GROUPS.items():
             rng = np.random.default_rng(31000 + k)
             factor = 1.0 + (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.02, 0.05))

@@ -170,8 +170,8 @@ pub fn hidden_slack_change(nominal: &[MuscleParameters], seed: u64) -> (usize, V
 
 /// What a hidden-effect subject's `ground_truth.json` (`oracle/gen_hidden_changes.py`) says was
 /// hidden: the cause and its true value in the cause's unit (a muscle parameter's value, a
-/// group's factor, the offset to add to the recorded angles in degrees, the activation factor). `None` when it says
-/// nothing of the kind.
+/// group's factor, the axis offset in mm, the offset to add to the recorded angles in degrees,
+/// the activation factor). `None` when it says nothing of the kind.
 pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
     let parameter = || {
         let property = truth["hidden_parameter"].as_str()?;
@@ -186,6 +186,14 @@ pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
         let muscles = truth["hidden_group_muscles"].as_array()?.iter().map(|m| m.as_str().map(String::from)).collect::<Option<Vec<_>>>()?;
         return Some((Cause::Group { group: group.to_string(), muscles, parameter: parameter()? }, truth["factor"].as_f64()?));
     }
+    if let Some(joint) = truth["hidden_joint"].as_str() {
+        let direction = |key: &str| -> Option<[f64; 3]> {
+            let v = truth[key].as_array()?.iter().map(|c| c.as_f64()).collect::<Option<Vec<_>>>()?;
+            v.try_into().ok()
+        };
+        let cause = Cause::AxisOffset { joint: joint.to_string(), parent_direction: direction("axis_direction_in_parent")?, child_direction: direction("axis_direction_in_child")? };
+        return Some((cause, truth["axis_offset_mm"].as_f64()?));
+    }
     if let Some(coordinate) = truth["hidden_coordinate"].as_str() {
         return Some((Cause::AngleOffset { coordinate: coordinate.to_string() }, -truth["recorded_minus_true_deg"].as_f64()?));
     }
@@ -196,7 +204,8 @@ pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
 
 /// How far a recovered hidden value is from the truth, as a fraction of what noisy moments
 /// allow (≤ 1 passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), α_opt
-/// 1°, a group's factor the same fractions, an angle offset 0.5°, an activation factor 0.02.
+/// 1°, a group's factor the same fractions, an axis offset 1 mm, an angle offset 0.5°, an
+/// activation factor 0.02.
 pub fn hidden_value_error(cause: &Cause, fitted: f64, truth: f64) -> f64 {
     use crate::tuning::functional::Parameter;
     match cause {
@@ -205,6 +214,7 @@ pub fn hidden_value_error(cause: &Cause, fitted: f64, truth: f64) -> f64 {
         Cause::Muscle { .. } => (fitted / truth - 1.0).abs() / 0.05,
         Cause::Group { parameter: Parameter::TendonSlackLength, .. } => (fitted - truth).abs() / 0.01,
         Cause::Group { .. } => (fitted - truth).abs() / 0.05,
+        Cause::AxisOffset { .. } => (fitted - truth).abs() / 1.0,
         Cause::AngleOffset { .. } => (fitted - truth).abs() / 0.5,
         Cause::Activation { .. } => (fitted - truth).abs() / 0.02,
     }

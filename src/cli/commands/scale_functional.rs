@@ -9,7 +9,7 @@ use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
-    apply_cause, fit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
+    apply_cause, fit, CauseEdit, DynamometryData, FeasibleSetSettings, FitMethod, FitSettings, FunctionalFit, KneeMomentModel, Parameter, PhaseTwoSettings, RestCurveSettings, SetSelection,
     TrialOptions, Verdict, DEFAULT_PRIOR_SD, FOLDS, LAPLACE, SAMPLED, STRONG_EVIDENCE, SUBJECT_FILE,
 };
 
@@ -126,11 +126,11 @@ fn write_cause_model(fit: &FunctionalFit, model: &Path, file: &Path, inputs: &[&
     };
     let mut document = OsimDocument::read(model)?;
     match apply_cause(best, &fit.initial, &mut document)? {
-        Some(changed) => {
+        CauseEdit::Changed(changed) => {
             write_atomically(file, document.xml.serialize().as_bytes(), inputs)?;
             eprintln!("scale: the model extended by {} ({changed} values changed); wrote {}", best.cause.describe(), file.display());
         }
-        None => eprintln!("scale: the named cause, {}, is in the trials, not the model; no cause model written", best.cause.describe()),
+        CauseEdit::NotInModel(reason) => eprintln!("scale: the named cause, {}, {reason}; no cause model written", best.cause.describe()),
     }
     Ok(())
 }

@@ -3,8 +3,8 @@
 //! ([`Cause`]): L_ts, L_opt, F_max or α_opt of one estimated muscle ([`CANDIDATE_PARAMETERS`];
 //! a factor within [0.5, 1.5] of the model's value, α_opt within ±[`PENNATION_CHANGE`] of it),
 //! L_ts, L_opt or F_max of a muscle group together (`cause_group.rs`),
-//! and the protocol's deficiencies of `cause_protocol.rs` (an offset of a recorded angle, the
-//! agonists' activation level). Each is
+//! the knee's axis moved (`cause_axis.rs`), and the protocol's deficiencies of
+//! `cause_protocol.rs` (an offset of a recorded angle, the agonists' activation level). Each is
 //! fitted by one-dimensional least squares on the moments and the candidates are ranked by the
 //! RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit stops where the
 //! local model sees no more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step
@@ -13,6 +13,7 @@
 use nalgebra::DMatrix;
 use serde::Serialize;
 
+use super::cause_axis::axis_candidates;
 use super::cause_group::muscle_groups;
 use super::cause_protocol::protocol_candidates;
 use super::error::FunctionalError;
@@ -47,6 +48,10 @@ pub enum Cause {
     /// The parameter of every muscle of a group (`cause_group.rs`) scaled by one factor (the
     /// value; the model's is 1).
     Group { group: String, muscles: Vec<String>, parameter: Parameter },
+    /// The rotation centre of `joint` moved by the value (mm; the model's is 0) along the unit
+    /// `parent_direction` of its parent frame (`child_direction` in its child frame), the bones
+    /// unchanged at rest (`cause_axis.rs`).
+    AxisOffset { joint: String, parent_direction: [f64; 3], child_direction: [f64; 3] },
     /// A constant offset of a trial coordinate: the model is posed at the recorded angle plus
     /// the value (degrees; the data's value is 0).
     AngleOffset { coordinate: String },
@@ -69,6 +74,7 @@ impl Cause {
         match self {
             Cause::Muscle { muscle, parameter } => format!("{muscle} {}", parameter.symbol()),
             Cause::Group { group, parameter, .. } => format!("{group} {} together", parameter.symbol()),
+            Cause::AxisOffset { joint, parent_direction, .. } => format!("{joint} axis moved along {}", direction_name(parent_direction)),
             Cause::AngleOffset { coordinate } => format!("{coordinate} offset"),
             Cause::Activation { direction } => format!("{} agonists' activation", direction.key()),
         }
@@ -78,12 +84,22 @@ impl Cause {
     pub fn change(&self, initial: f64, fitted: f64) -> String {
         match self {
             Cause::AngleOffset { .. } => format!("{initial:+.3}° → {fitted:+.3}°"),
+            Cause::AxisOffset { .. } => format!("{initial:+.3} mm → {fitted:+.3} mm"),
             Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => {
                 let [initial, fitted] = [initial.to_degrees(), fitted.to_degrees()];
                 format!("{initial:.3}° → {fitted:.3}° ({:+.3}°)", fitted - initial)
             }
             _ => format!("{initial:.6} → {fitted:.6} ({:+.2} %)", 100.0 * (fitted / initial - 1.0)),
         }
+    }
+}
+
+/// `x`, `y` or `z` for a unit axis of the frame (either sense: the fitted distance has a sign),
+/// else the components.
+fn direction_name(direction: &[f64; 3]) -> String {
+    match direction.iter().position(|c| (c.abs() - 1.0).abs() < 1e-12) {
+        Some(k) => format!("its parent frame's {}", ["X", "Y", "Z"][k]),
+        None => format!("({:.3}, {:.3}, {:.3}) in its parent frame", direction[0], direction[1], direction[2]),
     }
 }
 
@@ -125,6 +141,10 @@ pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &Dynamo
             let cause = Cause::Group { group: group.clone(), muscles: members.iter().map(|&e| names[e].clone()).collect(), parameter };
             causes.push(fit.into_cause(cause, rms_before));
         }
+    }
+    for candidate in axis_candidates(spec, model, data, initial, measured)? {
+        let cause = candidate.cause();
+        causes.push(fit_candidate(candidate, &every_trial)?.into_cause(cause, rms_before));
     }
     for candidate in protocol_candidates(spec, model, data, initial, measured) {
         let cause = candidate.cause();
@@ -181,6 +201,10 @@ pub(super) fn candidate_for<'a>(
         Cause::Group { muscles, parameter, .. } => {
             let members = muscles.iter().map(index).collect::<Result<Vec<_>, _>>()?;
             return Ok(Box::new(MuscleCandidate::new(model, initial, members, *parameter, moments, measured)?));
+        }
+        Cause::AxisOffset { .. } => {
+            let found = axis_candidates(spec, model, data, initial, measured)?.into_iter().find(|c| &c.cause() == cause);
+            return found.map(|c| Box::new(c) as Box<dyn Candidate + 'a>).ok_or_else(|| FunctionalError::all_muscles(format!("{} is not a candidate for this model", cause.describe())));
         }
         _ => {}
     }

@@ -29,8 +29,9 @@
 //! - `sigma_points.rs`: the 2n²+1 sigma points of Appendix 6.6 and noise propagation through any
 //!   estimator ([`propagate_noise`]).
 //! - `cause.rs`: the single change that best explains the measured moments ([`Cause`]: a
-//!   muscle's or, with `cause_group.rs`, a muscle group's L_ts, L_opt or F_max, or from
-//!   `cause_protocol.rs` an angle offset or the agonists' activation level;
+//!   muscle's L_ts, L_opt, F_max or α_opt or, with `cause_group.rs`, a muscle group's L_ts, L_opt
+//!   or F_max, the knee's axis moved (`cause_axis.rs`), or from `cause_protocol.rs` an angle
+//!   offset or the agonists' activation level;
 //!   [`candidate_causes`], [`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
 //!   (Bayes factors of the candidates, [`cause_verdict`]); `cause_held_out.rs` the best
 //!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]);
@@ -47,6 +48,7 @@
 
 mod analyses;
 mod cause;
+mod cause_axis;
 mod cause_protocol;
 mod cause_group;
 mod cause_model;
@@ -75,8 +77,9 @@ mod sigma_points;
 mod trials;
 
 pub use cause::{candidate_causes, single_causes, Cause, SingleCause, CANDIDATE_PARAMETERS};
+pub use cause_axis::AXIS_OFFSET_LIMIT_MM;
 pub use cause_protocol::OFFSET_LIMIT_DEG;
-pub use cause_model::apply_cause;
+pub use cause_model::{apply_cause, CauseEdit};
 pub use residuals::{residuals_by_direction, DirectionResiduals, ErrorStatistics};
 pub use cause_held_out::{held_out_gain, HeldOutGain, FOLDS};
 pub use cause_verdict::{cause_verdict, CauseVerdict, NoiseLevel, Verdict, MOMENT_RESOLUTION, STRONG_EVIDENCE};

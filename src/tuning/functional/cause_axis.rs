@@ -1,0 +1,124 @@
+//! An offset of the knee's axis as a single cause (METHOD.md §8): the joint's rotation centre
+//! moved by a distance along one direction perpendicular to the axis, the bones left where they
+//! are at the rest pose (every coordinate 0) — a model whose knee turns about another point than
+//! the subject's (a functional axis, `knee-axis`, would place it). The move is two offsets: d in
+//! the joint's parent frame F and R_FMᵀ d in its child frame M (R_FM at the rest pose), so X_FM
+//! is unchanged at rest and the child body moves by (I − R(q)) d in F elsewhere. Two candidates
+//! per knee, along the two directions perpendicular to the axis at rest: F's X made
+//! perpendicular to it (its Y when the axis lies along X), and the axis × that. Each evaluation
+//! rebuilds the knee-moment model from the moved joint (about 1 ms of geometry for 70 trials).
+
+use super::cause::{Candidate, Cause};
+use super::error::FunctionalError;
+use super::knee_moment::KneeMomentModel;
+use super::parameters::MuscleParameters;
+use super::trials::DynamometryData;
+use crate::mechanics::{Multibody, PartialVelocity, Vec3};
+use crate::model::{ModelSpec, Offset};
+
+/// Largest axis offset tried, mm.
+pub const AXIS_OFFSET_LIMIT_MM: f64 = 20.0;
+
+/// The knee's axis moved along one direction, as a one-variable model of the moment residuals:
+/// x is the distance, mm.
+pub(super) struct AxisCandidate<'a> {
+    spec: &'a ModelSpec,
+    data: &'a DynamometryData,
+    model: &'a KneeMomentModel,
+    initial: Vec<MuscleParameters>,
+    measured: &'a [f64],
+    /// Index of the knee joint in `spec.joints`.
+    joint: usize,
+    /// Unit direction of the move in F and in M.
+    parent_direction: Vec3,
+    child_direction: Vec3,
+}
+
+/// The axis candidates of the joint of `data`'s knee coordinate: none when the coordinate turns
+/// nothing at rest (a translation) or its joint is not in the compiled model.
+pub(super) fn axis_candidates<'a>(
+    spec: &'a ModelSpec,
+    model: &'a KneeMomentModel,
+    data: &'a DynamometryData,
+    initial: &[MuscleParameters],
+    measured: &'a [f64],
+) -> Result<Vec<AxisCandidate<'a>>, FunctionalError> {
+    let multibody = Multibody::new(spec)?;
+    let Some(coordinate) = multibody.coordinate_index(&data.columns.knee_angle) else { return Ok(Vec::new()) };
+    let compiled = &multibody.joints[multibody.coordinate_joint(coordinate)];
+    let Some(joint) = spec.joints.iter().position(|j| j.name == compiled.name) else { return Ok(Vec::new()) };
+    let rest = vec![0.0; compiled.coordinates.len()];
+    let mut partials = vec![PartialVelocity { angular: Vec3::zeros(), linear: Vec3::zeros() }; compiled.coordinates.len()];
+    compiled.mobilizer.partial_velocities(&rest, &mut partials);
+    let k = compiled.coordinates.iter().position(|&c| c == coordinate).expect("the coordinate's joint has it");
+    let Some(axis) = partials[k].angular.try_normalize(1e-12) else { return Ok(Vec::new()) };
+    let rotation = compiled.mobilizer.transform(&rest).rotation;
+    let candidate = |parent_direction: Vec3| AxisCandidate {
+        spec,
+        data,
+        model,
+        initial: initial.to_vec(),
+        measured,
+        joint,
+        parent_direction,
+        child_direction: rotation.transpose() * parent_direction,
+    };
+    let first = perpendicular(&axis);
+    Ok(vec![candidate(first), candidate(axis.cross(&first))])
+}
+
+/// F's X made perpendicular to the unit `axis` (F's Y when the axis lies along X).
+fn perpendicular(axis: &Vec3) -> Vec3 {
+    [Vec3::x(), Vec3::y()].into_iter().map(|e| e - e.dot(axis) * axis).find_map(|v| v.try_normalize(1e-6)).expect("X or Y is off a unit axis")
+}
+
+/// `spec` with joint `joint`'s frames moved by `parent` (m, in F) and `child` (m, in M).
+fn moved_joint(spec: &ModelSpec, joint: usize, parent: Vec3, child: Vec3) -> ModelSpec {
+    let mut moved = spec.clone();
+    let offset = |v: Vec3| Offset { translation: [v.x, v.y, v.z], orientation: [0.0; 3] };
+    moved.joints[joint].parent.offsets.push(offset(parent));
+    moved.joints[joint].child.offsets.push(offset(child));
+    moved
+}
+
+impl AxisCandidate<'_> {
+    pub fn cause(&self) -> Cause {
+        let direction = |v: Vec3| [v.x, v.y, v.z];
+        Cause::AxisOffset { joint: self.spec.joints[self.joint].name.clone(), parent_direction: direction(self.parent_direction), child_direction: direction(self.child_direction) }
+    }
+}
+
+impl Candidate for AxisCandidate<'_> {
+    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
+        let distance = x / 1000.0;
+        let moved = moved_joint(self.spec, self.joint, distance * self.parent_direction, distance * self.child_direction);
+        let model = KneeMomentModel::with_method(&moved, self.data, self.model.method)?;
+        for ((r, m), y) in out.iter_mut().zip(model.moments(&self.initial)?).zip(self.measured) {
+            *r = m - y;
+        }
+        Ok(())
+    }
+
+    fn bounds(&self) -> [f64; 2] {
+        [-AXIS_OFFSET_LIMIT_MM, AXIS_OFFSET_LIMIT_MM]
+    }
+
+    fn value(&self, x: f64) -> f64 {
+        x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn perpendicular_directions_are_unit_and_orthogonal() {
+        for axis in [Vec3::z(), Vec3::x(), Vec3::new(0.3, -0.2, 0.9).normalize()] {
+            let first = perpendicular(&axis);
+            assert!((first.norm() - 1.0).abs() < 1e-15 && first.dot(&axis).abs() < 1e-15, "{axis:?}");
+        }
+        assert_eq!(perpendicular(&Vec3::z()), Vec3::x());
+        assert_eq!(perpendicular(&Vec3::x()), Vec3::y());
+    }
+}
