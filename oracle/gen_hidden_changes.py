@@ -1,4 +1,4 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid20/: synthetic dynamometry subjects made by
+"""Writes fixtures/dynamometry/hidden/hid01..hid22/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
 (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
@@ -14,9 +14,10 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
   flipped where the angle would fall below 0); its true value joins true_parameters;
 - hid19–20, the knee's axis moved by ±U(3, 8) mm along the X or the Y axis (p 0.5) of its parent
   frame: knee_r's femur_r_offset and tibia_r_offset (both at the body origin, and the joint's
-  rotation zero at rest) translated by the same vector, so the bones are unchanged at rest.
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19), 5 (hid03–04, 08, 10, 12, 14,
-16, 18, 20) and 10 N·m (hid05–06), noise seed 32000 + k.
+  rotation zero at rest) translated by the same vector, so the bones are unchanged at rest;
+- hid21–22, the agonists of every trial simulated at U(0.80, 0.95) times the recorded activation.
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21), 5 (hid03–04, 08, 10, 12,
+14, 16, 18, 20, 22) and 10 N·m (hid05–06), noise seed 32000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
@@ -45,6 +46,7 @@ SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.0
             9: (FMAX, (0.10, 0.25), 0.0), 10: (FMAX, (0.10, 0.25), 5.0)}
 OFFSETS = {11: 0.0, 12: 5.0}
 ACTIVATIONS = {13: 0.0, 14: 5.0}
+ALL_ACTIVATIONS = {21: 0.0, 22: 5.0}
 # subject number: (group name, its muscles, moment noise sd in N m)
 PENNATIONS = {17: 0.0, 18: 5.0}
 AXES = {19: 0.0, 20: 5.0}
@@ -52,14 +54,15 @@ GROUPS = {15: ("vasti", ["vas_int_r", "vas_lat_r", "vas_med_r"], 0.0), 16: ("est
 
 
 class ScaledAgonists(L.KneeSim):
-    """KneeSim whose `agonists` trials run at `factor` times the requested activation."""
+    """KneeSim whose `agonists` trials (every trial when None) run at `factor` times the requested
+    activation."""
 
     def __init__(self, model_path, agonists, factor):
         super().__init__(model_path)
         self.scaled, self.factor = agonists, factor
 
     def trial(self, knee_deg, agonists, level=L.ACTIVATION, **kwargs):
-        if agonists == self.scaled:
+        if self.scaled is None or agonists == self.scaled:
             level = level * self.factor
         return super().trial(knee_deg, agonists, level=level, **kwargs)
 
@@ -126,6 +129,10 @@ def main():
             factor = float(rng.uniform(0.80, 0.95))
             sim = ScaledAgonists(G.SCALED, L.DIRECTIONS[direction], factor)
             write(scratch, k, sim, sd, {"hidden_activation_direction": direction, "activation_factor": factor})
+        for k, sd in ALL_ACTIVATIONS.items():
+            factor = float(np.random.default_rng(31000 + k).uniform(0.80, 0.95))
+            sim = ScaledAgonists(G.SCALED, None, factor)
+            write(scratch, k, sim, sd, {"hidden_activation_direction": "both", "activation_factor": factor})
         for k, sd in PENNATIONS.items():
             rng = np.random.default_rng(31000 + k)
             muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]

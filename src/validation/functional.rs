@@ -197,8 +197,10 @@ pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
     if let Some(coordinate) = truth["hidden_coordinate"].as_str() {
         return Some((Cause::AngleOffset { coordinate: coordinate.to_string() }, -truth["recorded_minus_true_deg"].as_f64()?));
     }
-    let key = truth["hidden_activation_direction"].as_str()?;
-    let direction = Direction::BOTH.into_iter().find(|d| d.key() == key)?;
+    let direction = match truth["hidden_activation_direction"].as_str()? {
+        "both" => None,
+        key => Some(Direction::BOTH.into_iter().find(|d| d.key() == key)?),
+    };
     Some((Cause::Activation { direction }, truth["activation_factor"].as_f64()?))
 }
 

@@ -55,9 +55,9 @@ pub enum Cause {
     /// A constant offset of a trial coordinate: the model is posed at the recorded angle plus
     /// the value (degrees; the data's value is 0).
     AngleOffset { coordinate: String },
-    /// The agonists of one direction activated at the value times their recorded activation
-    /// (the data's value is 1).
-    Activation { direction: Direction },
+    /// The agonists of one direction (`None`: of every trial) activated at the value times
+    /// their recorded activation (the data's value is 1).
+    Activation { direction: Option<Direction> },
 }
 
 impl Cause {
@@ -76,7 +76,8 @@ impl Cause {
             Cause::Group { group, parameter, .. } => format!("{group} {} together", parameter.symbol()),
             Cause::AxisOffset { joint, parent_direction, .. } => format!("{joint} axis moved along {}", direction_name(parent_direction)),
             Cause::AngleOffset { coordinate } => format!("{coordinate} offset"),
-            Cause::Activation { direction } => format!("{} agonists' activation", direction.key()),
+            Cause::Activation { direction: Some(direction) } => format!("{} agonists' activation", direction.key()),
+            Cause::Activation { direction: None } => "every trial's agonists' activation".to_string(),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The protocol's deficiencies as single causes (METHOD.md §8): a constant offset of one
 //! recorded angle — knee, hip or ankle, e.g. the dynamometer's axis misaligned with the knee's or
-//! a goniometer's zero off — and the agonists of one direction activated at a factor of their
-//! recorded level. Each evaluation rebuilds the knee-moment model from the trials as the cause
+//! a goniometer's zero off — and the agonists of one direction, or of every trial, activated at
+//! a factor of their recorded level. Each evaluation rebuilds the knee-moment model from the trials as the cause
 //! changes them (about 1 ms of geometry for 70 trials).
 
 use super::cause::{Candidate, Cause};
@@ -22,7 +22,8 @@ const LOWEST_ACTIVATION_FACTOR: f64 = 0.5;
 enum Protocol {
     /// Added to the knee (0), hip (1) or ankle (2) angle.
     Offset(usize),
-    Activation(Direction),
+    /// The agonists' activation of one direction's trials (`None`: of every trial).
+    Activation(Option<Direction>),
 }
 
 /// A protocol deficiency as a one-variable model of the moment residuals: x is the offset in
@@ -36,8 +37,8 @@ pub(super) struct ProtocolCandidate<'a> {
     protocol: Protocol,
 }
 
-/// The protocol candidates of `data`: the three angle offsets, and the activation of each
-/// direction with trials.
+/// The protocol candidates of `data`: the three angle offsets, the activation of each direction
+/// with trials, and of every trial when both directions have some.
 pub(super) fn protocol_candidates<'a>(
     spec: &'a ModelSpec,
     model: &'a KneeMomentModel,
@@ -45,8 +46,10 @@ pub(super) fn protocol_candidates<'a>(
     initial: &[MuscleParameters],
     measured: &'a [f64],
 ) -> Vec<ProtocolCandidate<'a>> {
-    let directions = Direction::BOTH.into_iter().filter(|d| data.trials.iter().any(|t| t.direction == *d));
-    let protocols = (0..3).map(Protocol::Offset).chain(directions.map(Protocol::Activation));
+    let directions: Vec<Direction> = Direction::BOTH.into_iter().filter(|d| data.trials.iter().any(|t| t.direction == *d)).collect();
+    let every_trial = (directions.len() > 1).then_some(None);
+    let activations = directions.into_iter().map(Some).chain(every_trial).map(Protocol::Activation);
+    let protocols = (0..3).map(Protocol::Offset).chain(activations);
     protocols.map(|protocol| ProtocolCandidate { spec, data, model, initial: initial.to_vec(), measured, protocol }).collect()
 }
 
@@ -65,16 +68,16 @@ impl ProtocolCandidate<'_> {
         for trial in &mut data.trials {
             match self.protocol {
                 Protocol::Offset(c) => *[&mut trial.knee_angle, &mut trial.hip_flexion, &mut trial.ankle_angle][c] += x.to_radians(),
-                Protocol::Activation(direction) if trial.direction == direction => trial.activations.iter_mut().for_each(|(_, a)| *a *= x.exp()),
+                Protocol::Activation(direction) if direction.is_none_or(|d| trial.direction == d) => trial.activations.iter_mut().for_each(|(_, a)| *a *= x.exp()),
                 Protocol::Activation(_) => {}
             }
         }
         data
     }
 
-    /// The highest recorded agonist activation of `direction`'s trials.
-    fn highest_activation(&self, direction: Direction) -> f64 {
-        let trials = self.data.trials.iter().filter(|t: &&IsometricTrial| t.direction == direction);
+    /// The highest recorded agonist activation of `direction`'s trials (`None`: of every trial).
+    fn highest_activation(&self, direction: Option<Direction>) -> f64 {
+        let trials = self.data.trials.iter().filter(|t: &&IsometricTrial| direction.is_none_or(|d| t.direction == d));
         trials.flat_map(|t| t.activations.iter().map(|(_, a)| *a)).fold(0.0, f64::max)
     }
 }
