@@ -12,9 +12,9 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
   estimated muscles (hid16);
 - hid17–18, one knee muscle's pennation angle at L_opt changed by ±U(0.06, 0.14) rad (the sign
   flipped where the angle would fall below 0); its true value joins true_parameters;
-- hid19–20, the knee's axis moved by ±U(3, 8) mm along the X or the Y axis (p 0.5) of its parent
-  frame: knee_r's femur_r_offset and tibia_r_offset (both at the body origin, and the joint's
-  rotation zero at rest) translated by the same vector, so the bones are unchanged at rest;
+- hid19–20, the knee's axis moved by U(3, 8) mm in the X-Y plane of its parent frame, at an angle
+  U(0, 360°) from X: knee_r's femur_r_offset and tibia_r_offset (both at the body origin, and the
+  joint's rotation zero at rest) translated by the same vector, so the bones are unchanged at rest;
 - hid21–22, the agonists of every trial simulated at U(0.80, 0.95) times the recorded activation.
 The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21), 5 (hid03–04, 08, 10, 12,
 14, 16, 18, 20, 22) and 10 N·m (hid05–06), noise seed 32000 + k.
@@ -73,7 +73,7 @@ def moved_knee_axis(scratch, offset):
     start = text.index('<CustomJoint name="knee_r">')
     end = text.index("</CustomJoint>", start)
     joint, count = re.subn(r"(<PhysicalOffsetFrame name=\"(?:femur|tibia)_r_offset\">.*?<translation>)0 0 0(</translation>)",
-                           lambda m: m.group(1) + " ".join(repr(c) for c in offset) + m.group(2), text[start:end], flags=re.S)
+                           lambda m: m.group(1) + " ".join(repr(float(c)) for c in offset) + m.group(2), text[start:end], flags=re.S)
     assert count == 2, count
     path = Path(scratch) / "moved_knee_axis.osim"
     path.write_text(text[:start] + joint + text[end:])
@@ -144,12 +144,10 @@ def main():
             write(scratch, k, sim, sd, truth, pennation=muscle)
         for k, sd in AXES.items():
             rng = np.random.default_rng(31000 + k)
-            axis = int(rng.integers(2))
-            distance = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(3.0, 8.0))
-            direction = [1.0 if i == axis else 0.0 for i in range(3)]
-            sim = L.KneeSim(str(moved_knee_axis(scratch, [distance / 1000.0 * c for c in direction])))
-            truth = {"hidden_joint": "knee_r", "axis_direction_in_parent": direction, "axis_direction_in_child": direction,
-                     "axis_offset_mm": distance}
+            distance, angle = float(rng.uniform(3.0, 8.0)), float(rng.uniform(0.0, 2.0 * np.pi))
+            offset = [distance * np.cos(angle), distance * np.sin(angle), 0.0]
+            sim = L.KneeSim(str(moved_knee_axis(scratch, [c / 1000.0 for c in offset])))
+            truth = {"hidden_joint": "knee_r", "axis_offset_in_parent_mm": offset, "axis_offset_in_child_mm": offset}
             write(scratch, k, sim, sd, truth)
         for k, (group, muscles, sd) in GROUPS.items():
             rng = np.random.default_rng(31000 + k)

@@ -20,7 +20,7 @@ use osim_tune::tuning::functional::{
     DEFAULT_PRIOR_SD,
 };
 use osim_tune::validation::functional::{
-    hidden_cause, hidden_slack_change, hidden_value_error, initial_guess_study, single_cause_verdict, model_with, noise_study, relative_errors, thesis_initial_guesses, GroundTruth, StudyResult, StudySubject,
+    hidden_axis_offset, hidden_cause, hidden_slack_change, hidden_value_error, initial_guess_study, single_cause_verdict, model_with, noise_study, relative_errors, thesis_initial_guesses, GroundTruth, StudyResult, StudySubject,
 };
 
 use crate::root;
@@ -322,7 +322,7 @@ fn hidden_opensim_row(spec: &ModelSpec) -> Row {
             match outcome {
                 Ok((causes, Some(verdict))) => match &verdict.verdict {
                     Verdict::Named(c) if *c == cause => {
-                        worst = worst.max(hidden_value_error(&cause, causes[0].fitted, value));
+                        worst = worst.max(hidden_value_error(&causes[0], value, hidden_axis_offset(&truth)));
                         named.push(case);
                     }
                     Verdict::MuscleNamed { muscle, parameters } if matches!(&cause, Cause::Muscle { muscle: m, parameter } if m == muscle && parameters.contains(parameter)) => named.push(case),

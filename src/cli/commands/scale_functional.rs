@@ -235,7 +235,7 @@ fn print_causes(fit: &FunctionalFit) {
         println!(
             "  {:<34} {}: RMS {:.4} → {:.4} N·m{}",
             cause.cause.describe(),
-            cause.cause.change(cause.initial, cause.fitted),
+            cause.change(),
             cause.rms_before,
             cause.rms_after,
             if cause.at_minimum { "" } else { " (its fit stopped before a minimum)" }

@@ -5,15 +5,15 @@
 //! L_ts, L_opt or F_max of a muscle group together (`cause_group.rs`),
 //! the knee's axis moved (`cause_axis.rs`), and the protocol's deficiencies of
 //! `cause_protocol.rs` (an offset of a recorded angle, the agonists' activation level). Each is
-//! fitted by one-dimensional least squares on the moments and the candidates are ranked by the
-//! RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit stops where the
+//! fitted by least squares on the moments in its one variable (two for the axis) and the
+//! candidates are ranked by the RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit stops where the
 //! local model sees no more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step
 //! test alone would crawl on at steps the rounding of the moments decides).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use super::cause_axis::axis_candidates;
+use super::cause_axis::{axis_candidates, AxisMove};
 use super::cause_group::muscle_groups;
 use super::cause_protocol::protocol_candidates;
 use super::error::FunctionalError;
@@ -48,10 +48,10 @@ pub enum Cause {
     /// The parameter of every muscle of a group (`cause_group.rs`) scaled by one factor (the
     /// value; the model's is 1).
     Group { group: String, muscles: Vec<String>, parameter: Parameter },
-    /// The rotation centre of `joint` moved by the value (mm; the model's is 0) along the unit
-    /// `parent_direction` of its parent frame (`child_direction` in its child frame), the bones
-    /// unchanged at rest (`cause_axis.rs`).
-    AxisOffset { joint: String, parent_direction: [f64; 3], child_direction: [f64; 3] },
+    /// The rotation centre of `joint` moved perpendicular to its axis by the value (mm; the
+    /// model's is 0), the bones unchanged at rest (`cause_axis.rs`; the move is the fit's
+    /// [`AxisMove`]).
+    AxisOffset { joint: String },
     /// A constant offset of a trial coordinate: the model is posed at the recorded angle plus
     /// the value (degrees; the data's value is 0).
     AngleOffset { coordinate: String },
@@ -74,7 +74,7 @@ impl Cause {
         match self {
             Cause::Muscle { muscle, parameter } => format!("{muscle} {}", parameter.symbol()),
             Cause::Group { group, parameter, .. } => format!("{group} {} together", parameter.symbol()),
-            Cause::AxisOffset { joint, parent_direction, .. } => format!("{joint} axis moved along {}", direction_name(parent_direction)),
+            Cause::AxisOffset { joint } => format!("{joint} axis moved"),
             Cause::AngleOffset { coordinate } => format!("{coordinate} offset"),
             Cause::Activation { direction: Some(direction) } => format!("{} agonists' activation", direction.key()),
             Cause::Activation { direction: None } => "every trial's agonists' activation".to_string(),
@@ -85,22 +85,13 @@ impl Cause {
     pub fn change(&self, initial: f64, fitted: f64) -> String {
         match self {
             Cause::AngleOffset { .. } => format!("{initial:+.3}° → {fitted:+.3}°"),
-            Cause::AxisOffset { .. } => format!("{initial:+.3} mm → {fitted:+.3} mm"),
+            Cause::AxisOffset { .. } => format!("{initial:.3} mm → {fitted:.3} mm"),
             Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => {
                 let [initial, fitted] = [initial.to_degrees(), fitted.to_degrees()];
                 format!("{initial:.3}° → {fitted:.3}° ({:+.3}°)", fitted - initial)
             }
             _ => format!("{initial:.6} → {fitted:.6} ({:+.2} %)", 100.0 * (fitted / initial - 1.0)),
         }
-    }
-}
-
-/// `x`, `y` or `z` for a unit axis of the frame (either sense: the fitted distance has a sign),
-/// else the components.
-fn direction_name(direction: &[f64; 3]) -> String {
-    match direction.iter().position(|c| (c.abs() - 1.0).abs() < 1e-12) {
-        Some(k) => format!("its parent frame's {}", ["X", "Y", "Z"][k]),
-        None => format!("({:.3}, {:.3}, {:.3}) in its parent frame", direction[0], direction[1], direction[2]),
     }
 }
 
@@ -115,8 +106,24 @@ pub struct SingleCause {
     /// RMS of M_mod − M_meas before and after, N·m.
     pub rms_before: f64,
     pub rms_after: f64,
-    /// Whether the one-dimensional fit ended at a minimum ([`at_minimum`](crate::solvers::LeastSquaresStatus::at_minimum)).
+    /// Whether the fit ended at a minimum ([`at_minimum`](crate::solvers::LeastSquaresStatus::at_minimum)).
     pub at_minimum: bool,
+    /// The number of values fitted (1; 2 for an axis moved in its plane).
+    pub variables: usize,
+    /// An axis cause's fitted move.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis_move: Option<AxisMove>,
+}
+
+impl SingleCause {
+    /// `initial → fitted` with the change ([`Cause::change`]), and an axis move's components.
+    pub fn change(&self) -> String {
+        let change = self.cause.change(self.initial, self.fitted);
+        match &self.axis_move {
+            Some(m) => format!("{change} by ({:+.3}, {:+.3}, {:+.3}) mm in its parent frame", m.in_parent[0], m.in_parent[1], m.in_parent[2]),
+            None => change,
+        }
+    }
 }
 
 /// Every (muscle, parameter) candidate fitted alone from `initial`, best first.
@@ -178,14 +185,23 @@ fn muscle_causes(model: &KneeMomentModel, initial: &[MuscleParameters], moments:
     Ok(causes)
 }
 
-/// A cause as a one-variable model of the moment residuals.
+/// A cause as a model of the moment residuals in a few variables x (one but for an axis moved in
+/// its plane).
 pub(super) trait Candidate {
-    /// M_mod − M_meas of every trial at the variable x.
-    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError>;
-    /// The bounds on x; x = 0 is the unchanged model.
-    fn bounds(&self) -> [f64; 2];
+    /// The number of variables.
+    fn variables(&self) -> usize {
+        1
+    }
+    /// M_mod − M_meas of every trial at the variables x.
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError>;
+    /// The bounds on each variable; x = 0 is the unchanged model.
+    fn bounds(&self) -> Vec<[f64; 2]>;
     /// The cause's value at x, in its unit.
-    fn value(&self, x: f64) -> f64;
+    fn value(&self, x: &[f64]) -> f64;
+    /// An axis cause's move at x.
+    fn axis_move(&self, _x: &[f64]) -> Option<AxisMove> {
+        None
+    }
 }
 
 /// The candidate for `cause` (one of `candidate_causes`' list) on `data`.
@@ -224,39 +240,53 @@ pub(super) struct CandidateFit {
     /// M_mod − M_meas at it for every trial, fitted or not, N·m.
     pub residuals: Vec<f64>,
     pub at_minimum: bool,
+    pub variables: usize,
+    pub axis_move: Option<AxisMove>,
 }
 
 impl CandidateFit {
     /// The fit as `cause`'s entry of the ranking, from the initial model's RMS error (N·m).
     fn into_cause(self, cause: Cause, rms_before: f64) -> SingleCause {
         let rms_after = root_mean_square(self.residuals.iter().copied());
-        SingleCause { cause, initial: self.initial, fitted: self.value, rms_before, rms_after, at_minimum: self.at_minimum }
+        let (variables, axis_move) = (self.variables, self.axis_move);
+        SingleCause { cause, initial: self.initial, fitted: self.value, rms_before, rms_after, at_minimum: self.at_minimum, variables, axis_move }
     }
 }
 
 /// `candidate` fitted to the trials with `fitted[t]` true, from the unchanged model.
 pub(super) fn fit_candidate<C: Candidate>(candidate: C, fitted: &[bool]) -> Result<CandidateFit, FunctionalError> {
-    let [lower, upper] = candidate.bounds();
+    let limits = candidate.bounds();
+    let variables = candidate.variables();
     let mut problem = Masked { candidate, fitted: fitted.to_vec() };
-    let mut x = [0.0];
-    let bounds = Bounds { lower: vec![lower], upper: vec![upper] };
-    let report = LeastSquares::new(1, fitted.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
+    let mut x = vec![0.0; variables];
+    let bounds = Bounds { lower: limits.iter().map(|b| b[0]).collect(), upper: limits.iter().map(|b| b[1]).collect() };
+    let report = LeastSquares::new(variables, fitted.len()).minimize(&mut problem, &mut x, &bounds, &CANDIDATE_FIT);
     let mut residuals = vec![0.0; fitted.len()];
-    problem.candidate.residuals(x[0], &mut residuals)?;
-    Ok(CandidateFit { initial: problem.candidate.value(0.0), value: problem.candidate.value(x[0]), residuals, at_minimum: report.status.at_minimum() })
+    let candidate = &mut problem.candidate;
+    candidate.residuals(&x, &mut residuals)?;
+    let initial = candidate.value(&vec![0.0; variables]);
+    Ok(CandidateFit { initial, value: candidate.value(&x), residuals, at_minimum: report.status.at_minimum(), variables, axis_move: candidate.axis_move(&x) })
 }
 
 impl<C: Candidate + ?Sized> Candidate for Box<C> {
-    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
+    fn variables(&self) -> usize {
+        (**self).variables()
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError> {
         (**self).residuals(x, out)
     }
 
-    fn bounds(&self) -> [f64; 2] {
+    fn bounds(&self) -> Vec<[f64; 2]> {
         (**self).bounds()
     }
 
-    fn value(&self, x: f64) -> f64 {
+    fn value(&self, x: &[f64]) -> f64 {
         (**self).value(x)
+    }
+
+    fn axis_move(&self, x: &[f64]) -> Option<AxisMove> {
+        (**self).axis_move(x)
     }
 }
 
@@ -268,7 +298,7 @@ struct Masked<C> {
 
 impl<C: Candidate> LeastSquaresProblem for Masked<C> {
     fn variable_count(&self) -> usize {
-        1
+        self.candidate.variables()
     }
 
     fn residual_count(&self) -> usize {
@@ -277,15 +307,21 @@ impl<C: Candidate> LeastSquaresProblem for Masked<C> {
 
     /// A value without equilibrium somewhere gives infinite residuals (the step is refused).
     fn evaluate(&mut self, x: &[f64], residuals: &mut [f64], jacobian: Option<&mut DMatrix<f64>>) {
-        if self.candidate.residuals(x[0], residuals).is_err() {
+        if self.candidate.residuals(x, residuals).is_err() {
             residuals.fill(f64::INFINITY);
         }
         if let Some(jacobian) = jacobian {
             let h = 1e-6;
             let (mut plus, mut minus) = (vec![0.0; residuals.len()], vec![0.0; residuals.len()]);
-            let ok = self.candidate.residuals(x[0] + h, &mut plus).is_ok() && self.candidate.residuals(x[0] - h, &mut minus).is_ok();
-            for (t, (p, m)) in plus.iter().zip(&minus).enumerate() {
-                jacobian[(t, 0)] = if ok && self.fitted[t] { (p - m) / (2.0 * h) } else { 0.0 };
+            for k in 0..x.len() {
+                let mut shifted = x.to_vec();
+                shifted[k] = x[k] + h;
+                let ok = self.candidate.residuals(&shifted, &mut plus).is_ok();
+                shifted[k] = x[k] - h;
+                let ok = ok && self.candidate.residuals(&shifted, &mut minus).is_ok();
+                for (t, (p, m)) in plus.iter().zip(&minus).enumerate() {
+                    jacobian[(t, k)] = if ok && self.fitted[t] { (p - m) / (2.0 * h) } else { 0.0 };
+                }
             }
         }
         for (r, &fitted) in residuals.iter_mut().zip(&self.fitted) {
@@ -326,7 +362,8 @@ impl<'a> MuscleCandidate<'a> {
 }
 
 impl Candidate for MuscleCandidate<'_> {
-    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError> {
+        let x = x[0];
         out.copy_from_slice(&self.others);
         for (&e, base) in self.muscles.iter().zip(&self.bases) {
             self.workspace.set(self.model, e, &base.with(self.parameter, self.changed(base, x)))?;
@@ -338,18 +375,18 @@ impl Candidate for MuscleCandidate<'_> {
         Ok(())
     }
 
-    fn bounds(&self) -> [f64; 2] {
+    fn bounds(&self) -> Vec<[f64; 2]> {
         if self.parameter == Parameter::PennationAngleAtOptimal {
             let smallest = self.bases.iter().map(|b| b.pennation_angle_at_optimal).fold(f64::INFINITY, f64::min);
-            return [-smallest.min(PENNATION_CHANGE), PENNATION_CHANGE];
+            return vec![[-smallest.min(PENNATION_CHANGE), PENNATION_CHANGE]];
         }
-        [0.5f64.ln(), 1.5f64.ln()]
+        vec![[0.5f64.ln(), 1.5f64.ln()]]
     }
 
-    fn value(&self, x: f64) -> f64 {
+    fn value(&self, x: &[f64]) -> f64 {
         match self.bases.as_slice() {
-            [one] => self.changed(one, x),
-            _ => x.exp(),
+            [one] => self.changed(one, x[0]),
+            _ => x[0].exp(),
         }
     }
 }

@@ -1,26 +1,36 @@
 //! An offset of the knee's axis as a single cause (METHOD.md §8): the joint's rotation centre
-//! moved by a distance along one direction perpendicular to the axis, the bones left where they
-//! are at the rest pose (every coordinate 0) — a model whose knee turns about another point than
-//! the subject's (a functional axis, `knee-axis`, would place it). The move is two offsets: d in
-//! the joint's parent frame F and R_FMᵀ d in its child frame M (R_FM at the rest pose), so X_FM
-//! is unchanged at rest and the child body moves by (I − R(q)) d in F elsewhere. Two candidates
-//! per knee, along the two directions perpendicular to the axis at rest: F's X made
-//! perpendicular to it (its Y when the axis lies along X), and the axis × that. Each evaluation
-//! rebuilds the knee-moment model from the moved joint (about 1 ms of geometry for 70 trials).
+//! moved by d perpendicular to the axis, the bones left where they are at the rest pose (every
+//! coordinate 0) — a model whose knee turns about another point than the subject's (a
+//! functional axis, `knee-axis`, would place it). The move is two offsets: d in the joint's
+//! parent frame F and R_FMᵀ d in its child frame M (R_FM at the rest pose), so X_FM is unchanged
+//! at rest and the child body moves by (I − R(q)) d in F elsewhere. d = x₁e₁ + x₂e₂ (mm), with
+//! e₁ F's X made perpendicular to the axis at rest (its Y when the axis lies along X) and
+//! e₂ = axis × e₁: one candidate of two variables. Each evaluation rebuilds the knee-moment model
+//! from the moved joint (about 1 ms of geometry for 70 trials).
 
 use super::cause::{Candidate, Cause};
 use super::error::FunctionalError;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::MuscleParameters;
 use super::trials::DynamometryData;
-use crate::mechanics::{Multibody, PartialVelocity, Vec3};
+use serde::Serialize;
+
+use crate::mechanics::{Mat3, Multibody, PartialVelocity, Vec3};
 use crate::model::{ModelSpec, Offset};
 
-/// Largest axis offset tried, mm.
+/// Largest axis offset tried along each direction perpendicular to the axis, mm.
 pub const AXIS_OFFSET_LIMIT_MM: f64 = 20.0;
 
-/// The knee's axis moved along one direction, as a one-variable model of the moment residuals:
-/// x is the distance, mm.
+/// A joint's rotation centre moved: the offset d added to its parent frame and R_FMᵀ d to its
+/// child frame, mm, each in that frame.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AxisMove {
+    pub in_parent: [f64; 3],
+    pub in_child: [f64; 3],
+}
+
+/// The knee's axis moved in the plane perpendicular to it, as a two-variable model of the
+/// moment residuals: x are the distances along e₁ and e₂, mm.
 pub(super) struct AxisCandidate<'a> {
     spec: &'a ModelSpec,
     data: &'a DynamometryData,
@@ -29,12 +39,13 @@ pub(super) struct AxisCandidate<'a> {
     measured: &'a [f64],
     /// Index of the knee joint in `spec.joints`.
     joint: usize,
-    /// Unit direction of the move in F and in M.
-    parent_direction: Vec3,
-    child_direction: Vec3,
+    /// e₁ and e₂ in F.
+    directions: [Vec3; 2],
+    /// R_FM at rest.
+    rest_rotation: Mat3,
 }
 
-/// The axis candidates of the joint of `data`'s knee coordinate: none when the coordinate turns
+/// The axis candidate of the joint of `data`'s knee coordinate: none when the coordinate turns
 /// nothing at rest (a translation) or its joint is not in the compiled model.
 pub(super) fn axis_candidates<'a>(
     spec: &'a ModelSpec,
@@ -52,19 +63,10 @@ pub(super) fn axis_candidates<'a>(
     compiled.mobilizer.partial_velocities(&rest, &mut partials);
     let k = compiled.coordinates.iter().position(|&c| c == coordinate).expect("the coordinate's joint has it");
     let Some(axis) = partials[k].angular.try_normalize(1e-12) else { return Ok(Vec::new()) };
-    let rotation = compiled.mobilizer.transform(&rest).rotation;
-    let candidate = |parent_direction: Vec3| AxisCandidate {
-        spec,
-        data,
-        model,
-        initial: initial.to_vec(),
-        measured,
-        joint,
-        parent_direction,
-        child_direction: rotation.transpose() * parent_direction,
-    };
+    let rest_rotation = compiled.mobilizer.transform(&rest).rotation;
     let first = perpendicular(&axis);
-    Ok(vec![candidate(first), candidate(axis.cross(&first))])
+    let directions = [first, axis.cross(&first)];
+    Ok(vec![AxisCandidate { spec, data, model, initial: initial.to_vec(), measured, joint, directions, rest_rotation }])
 }
 
 /// F's X made perpendicular to the unit `axis` (F's Y when the axis lies along X).
@@ -83,15 +85,24 @@ fn moved_joint(spec: &ModelSpec, joint: usize, parent: Vec3, child: Vec3) -> Mod
 
 impl AxisCandidate<'_> {
     pub fn cause(&self) -> Cause {
-        let direction = |v: Vec3| [v.x, v.y, v.z];
-        Cause::AxisOffset { joint: self.spec.joints[self.joint].name.clone(), parent_direction: direction(self.parent_direction), child_direction: direction(self.child_direction) }
+        Cause::AxisOffset { joint: self.spec.joints[self.joint].name.clone() }
+    }
+
+    /// d in F and R_FMᵀ d in M at x, mm.
+    fn offsets(&self, x: &[f64]) -> [Vec3; 2] {
+        let in_parent = x[0] * self.directions[0] + x[1] * self.directions[1];
+        [in_parent, self.rest_rotation.transpose() * in_parent]
     }
 }
 
 impl Candidate for AxisCandidate<'_> {
-    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
-        let distance = x / 1000.0;
-        let moved = moved_joint(self.spec, self.joint, distance * self.parent_direction, distance * self.child_direction);
+    fn variables(&self) -> usize {
+        2
+    }
+
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError> {
+        let [in_parent, in_child] = self.offsets(x);
+        let moved = moved_joint(self.spec, self.joint, in_parent / 1000.0, in_child / 1000.0);
         let model = KneeMomentModel::with_method(&moved, self.data, self.model.method)?;
         for ((r, m), y) in out.iter_mut().zip(model.moments(&self.initial)?).zip(self.measured) {
             *r = m - y;
@@ -99,12 +110,18 @@ impl Candidate for AxisCandidate<'_> {
         Ok(())
     }
 
-    fn bounds(&self) -> [f64; 2] {
-        [-AXIS_OFFSET_LIMIT_MM, AXIS_OFFSET_LIMIT_MM]
+    fn bounds(&self) -> Vec<[f64; 2]> {
+        vec![[-AXIS_OFFSET_LIMIT_MM, AXIS_OFFSET_LIMIT_MM]; 2]
     }
 
-    fn value(&self, x: f64) -> f64 {
-        x
+    /// The distance moved, mm.
+    fn value(&self, x: &[f64]) -> f64 {
+        x[0].hypot(x[1])
+    }
+
+    fn axis_move(&self, x: &[f64]) -> Option<AxisMove> {
+        let [in_parent, in_child] = self.offsets(x).map(|v| [v.x, v.y, v.z]);
+        Some(AxisMove { in_parent, in_child })
     }
 }
 

@@ -4,6 +4,7 @@
 //! no model property.
 
 use super::cause::{Cause, SingleCause};
+use super::cause_axis::AxisMove;
 use super::parameters::MuscleParameters;
 use crate::io::osim::{format_numbers, Dialect, OsimDocument, OsimError};
 use crate::mechanics::{body_fixed_xyz, Vec3};
@@ -27,7 +28,10 @@ pub fn apply_cause(cause: &SingleCause, initial: &[MuscleParameters], document: 
             let members = initial.iter().filter(|p| muscles.contains(&p.name));
             (parameter, members.map(|p| (p.name.as_str(), p.get(*parameter) * cause.fitted)).collect())
         }
-        Cause::AxisOffset { joint, parent_direction, child_direction } => return move_axis(document, joint, [parent_direction, child_direction], cause.fitted / 1000.0),
+        Cause::AxisOffset { joint } => match &cause.axis_move {
+            Some(axis_move) => return move_axis(document, joint, axis_move),
+            None => return Ok(CauseEdit::NotInModel("has no fitted move".into())),
+        },
         Cause::AngleOffset { .. } | Cause::Activation { .. } => return Ok(CauseEdit::NotInModel("is in the trials, not the model".into())),
     };
     for (muscle, value) in &changes {
@@ -36,9 +40,9 @@ pub fn apply_cause(cause: &SingleCause, initial: &[MuscleParameters], document: 
     Ok(CauseEdit::Changed(changes.len()))
 }
 
-/// Moves `joint`'s parent and child offset frames by `distance` (m) along `directions` (unit, in
-/// the frames): each frame's translation, in its body, gains R(orientation)·distance·direction.
-fn move_axis(document: &mut OsimDocument, joint: &str, directions: [&[f64; 3]; 2], distance: f64) -> Result<CauseEdit, OsimError> {
+/// Moves `joint`'s parent and child offset frames by `axis_move` (mm, each in its frame): each
+/// frame's translation, in its body, gains R(orientation)·offset.
+fn move_axis(document: &mut OsimDocument, joint: &str, axis_move: &AxisMove) -> Result<CauseEdit, OsimError> {
     if document.version.dialect != Dialect::V4 {
         return Ok(CauseEdit::NotInModel(format!("moves joint {joint}, whose frames a 3.x model does not write as offset frames; save the model in OpenSim 4 first")));
     }
@@ -50,12 +54,12 @@ fn move_axis(document: &mut OsimDocument, joint: &str, directions: [&[f64; 3]; 2
             None => return Ok(CauseEdit::NotInModel(format!("moves joint {joint}, whose <{socket}> is not an offset frame the joint owns"))),
         }
     }
-    for (frame, direction) in frames.iter().zip(directions) {
+    for (frame, offset) in frames.iter().zip([axis_move.in_parent, axis_move.in_child]) {
         let [translation, orientation] = ["translation", "orientation"].map(|p| read_vec3(document, &format!("{frame}/{p}")));
         let (Some(translation), Some(orientation)) = (translation?, orientation?) else {
             return Ok(CauseEdit::NotInModel(format!("moves joint {joint}, whose frame {frame} has no three-number translation and orientation")));
         };
-        let moved = translation + body_fixed_xyz(orientation.into()) * (distance * Vec3::from(*direction));
+        let moved = translation + body_fixed_xyz(orientation.into()) * (Vec3::from(offset) / 1000.0);
         document.set_property(&format!("{frame}/translation"), &format_numbers(moved.as_slice()))?;
     }
     Ok(CauseEdit::Changed(2))
@@ -79,8 +83,9 @@ mod tests {
 
     /// knee_r's axis moved 5 mm along `parent_direction` (`child_direction` in the child frame).
     fn moved_knee_axis(parent_direction: [f64; 3], child_direction: [f64; 3]) -> SingleCause {
-        let cause = Cause::AxisOffset { joint: "knee_r".into(), parent_direction, child_direction };
-        SingleCause { cause, initial: 0.0, fitted: 5.0, rms_before: 1.0, rms_after: 0.0, at_minimum: true }
+        let axis_move = Some(AxisMove { in_parent: parent_direction.map(|c| 5.0 * c), in_child: child_direction.map(|c| 5.0 * c) });
+        let cause = Cause::AxisOffset { joint: "knee_r".into() };
+        SingleCause { cause, initial: 0.0, fitted: 5.0, rms_before: 1.0, rms_after: 0.0, at_minimum: true, variables: 2, axis_move }
     }
 
     fn translation(document: &OsimDocument, frame: &str) -> Vec3 {

@@ -83,25 +83,25 @@ impl ProtocolCandidate<'_> {
 }
 
 impl Candidate for ProtocolCandidate<'_> {
-    fn residuals(&mut self, x: f64, out: &mut [f64]) -> Result<(), FunctionalError> {
-        let model = KneeMomentModel::with_method(self.spec, &self.changed_trials(x), self.model.method)?;
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError> {
+        let model = KneeMomentModel::with_method(self.spec, &self.changed_trials(x[0]), self.model.method)?;
         for ((r, m), y) in out.iter_mut().zip(model.moments(&self.initial)?).zip(self.measured) {
             *r = m - y;
         }
         Ok(())
     }
 
-    fn bounds(&self) -> [f64; 2] {
-        match self.protocol {
+    fn bounds(&self) -> Vec<[f64; 2]> {
+        vec![match self.protocol {
             Protocol::Offset(_) => [-OFFSET_LIMIT_DEG, OFFSET_LIMIT_DEG],
             Protocol::Activation(direction) => [LOWEST_ACTIVATION_FACTOR.ln(), -self.highest_activation(direction).max(f64::MIN_POSITIVE).ln()],
-        }
+        }]
     }
 
-    fn value(&self, x: f64) -> f64 {
+    fn value(&self, x: &[f64]) -> f64 {
         match self.protocol {
-            Protocol::Offset(_) => x,
-            Protocol::Activation(_) => x.exp(),
+            Protocol::Offset(_) => x[0],
+            Protocol::Activation(_) => x[0].exp(),
         }
     }
 }

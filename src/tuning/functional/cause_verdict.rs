@@ -8,9 +8,10 @@
 //! approximation of the Bayes factor K). [`STRONG_EVIDENCE`] is Kass & Raftery's (1995)
 //! "very strong" (2 ln K > 10). In order:
 //! 1. [`Verdict::NoEffect`]: the best candidate is not very strongly better than the initial
-//!    model (no change, one parameter fewer);
+//!    model (no change, as many parameters fewer as the candidate fits: one, two for an axis
+//!    moved in its plane);
 //! 2. [`Verdict::NotSingle`]: it leaves more than noise, SSR/σ² above the 99 % quantile of
-//!    χ²(n − 1): no one parameter explains the moments;
+//!    χ²(n − k) for its k parameters: no one cause explains the moments;
 //! 3. [`Verdict::Named`]: it beats every other candidate very strongly;
 //!    [`Verdict::MuscleNamed`]: it beats every candidate of the other muscles, not its
 //!    muscle's other parameter; else [`Verdict::Ambiguous`], listing the candidates within
@@ -38,11 +39,11 @@ pub struct CauseVerdict {
     /// σ, N·m, and where it came from (the report's σ; the moments' rounding when the fit was exact).
     pub noise_sd: f64,
     pub noise_source: String,
-    /// 2 ln K of the best candidate over the initial model (with its ln n penalty) and over the
+    /// 2 ln K of the best candidate over the initial model (with its k·ln n penalty) and over the
     /// runner-up.
     pub evidence_over_initial: f64,
     pub evidence_over_runner_up: f64,
-    /// SSR/σ² of the best candidate and the 99 % quantile of χ²(n − 1) it is held to.
+    /// SSR/σ² of the best candidate and the 99 % quantile of χ²(n − k) it is held to.
     pub best_chi_square: f64,
     pub chi_square_limit: f64,
 }
@@ -85,7 +86,7 @@ pub enum NoiseLevel {
     /// σ is [`MOMENT_RESOLUTION`].
     Exact,
     /// Nothing estimates it (no more trials than the fit's parameters): the best candidate's
-    /// residuals, √(SSR/(n − 1)), stand in for it, so its χ² test cannot fail.
+    /// residuals, √(SSR/(n − k)), stand in for it, so its χ² test cannot fail.
     Unknown,
 }
 
@@ -94,18 +95,19 @@ pub enum NoiseLevel {
 /// [`MOMENT_RESOLUTION`], and `noise_source` says where a known σ came from.
 pub fn cause_verdict(causes: &[SingleCause], trials: usize, noise: NoiseLevel, noise_source: &str) -> Option<CauseVerdict> {
     let (best, runner_up) = (causes.first()?, causes.get(1)?);
+    let degrees = trials.saturating_sub(best.variables).max(1);
     let (noise_sd, noise_source) = match noise {
         NoiseLevel::Estimated(sd) => (sd, noise_source),
         NoiseLevel::Exact => (0.0, noise_source),
-        NoiseLevel::Unknown => (best.rms_after * (trials as f64 / trials.saturating_sub(1).max(1) as f64).sqrt(), "the best candidate's residuals (no noise estimate)"),
+        NoiseLevel::Unknown => (best.rms_after * (trials as f64 / degrees as f64).sqrt(), "the best candidate's residuals (no noise estimate)"),
     };
     let noise_sd = noise_sd.max(MOMENT_RESOLUTION);
     let n = trials as f64;
     let chi_square = |rms: f64| n * rms * rms / (noise_sd * noise_sd);
-    let evidence = |other: &SingleCause| chi_square(other.rms_after) - chi_square(best.rms_after);
-    let evidence_over_initial = chi_square(best.rms_before) - chi_square(best.rms_after) - n.ln();
+    let evidence = |other: &SingleCause| chi_square(other.rms_after) - chi_square(best.rms_after) - (best.variables as f64 - other.variables as f64) * n.ln();
+    let evidence_over_initial = chi_square(best.rms_before) - chi_square(best.rms_after) - best.variables as f64 * n.ln();
     let best_chi_square = chi_square(best.rms_after);
-    let chi_square_limit = chi_square_quantile_99(trials.saturating_sub(1).max(1));
+    let chi_square_limit = chi_square_quantile_99(degrees);
     let close: Vec<&SingleCause> = causes[1..].iter().filter(|c| evidence(c) < STRONG_EVIDENCE).collect();
     let verdict = if evidence_over_initial < STRONG_EVIDENCE {
         Verdict::NoEffect
@@ -154,7 +156,19 @@ mod tests {
     use super::*;
 
     fn cause(muscle: &str, parameter: Parameter, rms_after: f64) -> SingleCause {
-        SingleCause { cause: Cause::Muscle { muscle: muscle.into(), parameter }, initial: 1.0, fitted: 1.0, rms_before: 10.0, rms_after, at_minimum: true }
+        SingleCause { cause: Cause::Muscle { muscle: muscle.into(), parameter }, initial: 1.0, fitted: 1.0, rms_before: 10.0, rms_after, at_minimum: true, variables: 1, axis_move: None }
+    }
+
+    #[test]
+    fn a_two_parameter_cause_pays_for_its_second_parameter() {
+        let axis = SingleCause { cause: Cause::AxisOffset { joint: "knee".into() }, variables: 2, ..cause("a", Parameter::TendonSlackLength, 1.0) };
+        // n = 20, σ = 1: 20·(1.28² − 1) = 12.8 ahead of a one-parameter candidate, less ln 20 = 3.0:
+        // below 10, not named.
+        let causes = [axis, cause("b", Parameter::TendonSlackLength, 1.28)];
+        let verdict = cause_verdict(&causes, 20, NoiseLevel::Estimated(1.0), "given").unwrap();
+        assert!((verdict.evidence_over_runner_up - (20.0 * (1.28f64.powi(2) - 1.0) - 20f64.ln())).abs() < 1e-12, "{verdict:?}");
+        assert!((verdict.evidence_over_initial - (20.0 * 99.0 - 2.0 * 20f64.ln())).abs() < 1e-9, "{verdict:?}");
+        assert!(matches!(verdict.verdict, Verdict::Ambiguous { .. }), "{verdict:?}");
     }
 
     #[test]

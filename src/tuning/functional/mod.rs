@@ -77,7 +77,7 @@ mod sigma_points;
 mod trials;
 
 pub use cause::{candidate_causes, single_causes, Cause, SingleCause, CANDIDATE_PARAMETERS};
-pub use cause_axis::AXIS_OFFSET_LIMIT_MM;
+pub use cause_axis::{AxisMove, AXIS_OFFSET_LIMIT_MM};
 pub use cause_protocol::OFFSET_LIMIT_DEG;
 pub use cause_model::{apply_cause, CauseEdit};
 pub use residuals::{residuals_by_direction, DirectionResiduals, ErrorStatistics};
