@@ -106,8 +106,8 @@ fn noisy_subjects_are_named_where_the_effect_dwarfs_the_noise_and_never_wrongly(
 #[test]
 fn the_named_cause_predicts_trials_its_fit_did_not_see() {
     // Noise-free: each fold's fit recovers the hidden value, so the other fold is predicted
-    // exactly — for a muscle parameter and for an angle offset alike.
-    for subject in ["hid01", "hid11"] {
+    // exactly — for a muscle parameter, an angle offset and an axis move (two variables) alike.
+    for subject in ["hid01", "hid11", "hid19"] {
         let (cause, value) = hidden(subject);
         let (spec, data, knee) = subject_data(subject, SetSelection::Only(vec!["set5".into()]));
         let measured = data.measured_moments();
