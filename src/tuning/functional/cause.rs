@@ -13,7 +13,7 @@
 use nalgebra::DMatrix;
 use serde::Serialize;
 
-use super::cause_axis::{axis_candidates, AxisMove};
+use super::cause_axis::{axis_candidate, AxisMove};
 use super::cause_group::muscle_groups;
 use super::cause_protocol::protocol_candidates;
 use super::error::FunctionalError;
@@ -150,7 +150,7 @@ pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &Dynamo
             causes.push(fit.into_cause(cause, rms_before));
         }
     }
-    for candidate in axis_candidates(spec, model, data, initial, measured)? {
+    if let Some(candidate) = axis_candidate(spec, model, data, initial, measured)? {
         let cause = candidate.cause();
         causes.push(fit_candidate(candidate, &every_trial)?.into_cause(cause, rms_before));
     }
@@ -220,7 +220,7 @@ pub(super) fn candidate_for<'a>(
             return Ok(Box::new(MuscleCandidate::new(model, initial, members, *parameter, moments, measured)?));
         }
         Cause::AxisOffset { .. } => {
-            let found = axis_candidates(spec, model, data, initial, measured)?.into_iter().find(|c| &c.cause() == cause);
+            let found = axis_candidate(spec, model, data, initial, measured)?.filter(|c| &c.cause() == cause);
             return found.map(|c| Box::new(c) as Box<dyn Candidate + 'a>).ok_or_else(|| FunctionalError::all_muscles(format!("{} is not a candidate for this model", cause.describe())));
         }
         _ => {}

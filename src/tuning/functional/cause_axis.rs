@@ -8,13 +8,13 @@
 //! e₂ = axis × e₁: one candidate of two variables. Each evaluation rebuilds the knee-moment model
 //! from the moved joint (about 1 ms of geometry for 70 trials).
 
+use serde::Serialize;
+
 use super::cause::{Candidate, Cause};
 use super::error::FunctionalError;
 use super::knee_moment::KneeMomentModel;
 use super::parameters::MuscleParameters;
 use super::trials::DynamometryData;
-use serde::Serialize;
-
 use crate::mechanics::{Mat3, Multibody, PartialVelocity, Vec3};
 use crate::model::{ModelSpec, Offset};
 
@@ -47,26 +47,26 @@ pub(super) struct AxisCandidate<'a> {
 
 /// The axis candidate of the joint of `data`'s knee coordinate: none when the coordinate turns
 /// nothing at rest (a translation) or its joint is not in the compiled model.
-pub(super) fn axis_candidates<'a>(
+pub(super) fn axis_candidate<'a>(
     spec: &'a ModelSpec,
     model: &'a KneeMomentModel,
     data: &'a DynamometryData,
     initial: &[MuscleParameters],
     measured: &'a [f64],
-) -> Result<Vec<AxisCandidate<'a>>, FunctionalError> {
+) -> Result<Option<AxisCandidate<'a>>, FunctionalError> {
     let multibody = Multibody::new(spec)?;
-    let Some(coordinate) = multibody.coordinate_index(&data.columns.knee_angle) else { return Ok(Vec::new()) };
+    let Some(coordinate) = multibody.coordinate_index(&data.columns.knee_angle) else { return Ok(None) };
     let compiled = &multibody.joints[multibody.coordinate_joint(coordinate)];
-    let Some(joint) = spec.joints.iter().position(|j| j.name == compiled.name) else { return Ok(Vec::new()) };
+    let Some(joint) = spec.joints.iter().position(|j| j.name == compiled.name) else { return Ok(None) };
     let rest = vec![0.0; compiled.coordinates.len()];
     let mut partials = vec![PartialVelocity { angular: Vec3::zeros(), linear: Vec3::zeros() }; compiled.coordinates.len()];
     compiled.mobilizer.partial_velocities(&rest, &mut partials);
     let k = compiled.coordinates.iter().position(|&c| c == coordinate).expect("the coordinate's joint has it");
-    let Some(axis) = partials[k].angular.try_normalize(1e-12) else { return Ok(Vec::new()) };
+    let Some(axis) = partials[k].angular.try_normalize(1e-12) else { return Ok(None) };
     let rest_rotation = compiled.mobilizer.transform(&rest).rotation;
     let first = perpendicular(&axis);
     let directions = [first, axis.cross(&first)];
-    Ok(vec![AxisCandidate { spec, data, model, initial: initial.to_vec(), measured, joint, directions, rest_rotation }])
+    Ok(Some(AxisCandidate { spec, data, model, initial: initial.to_vec(), measured, joint, directions, rest_rotation }))
 }
 
 /// F's X made perpendicular to the unit `axis` (F's Y when the axis lies along X).
