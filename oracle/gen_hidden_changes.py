@@ -1,4 +1,4 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid22/: synthetic dynamometry subjects made by
+"""Writes fixtures/dynamometry/hidden/hid01..hid24/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
 (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
@@ -15,9 +15,11 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
 - hid19–20, the knee's axis moved by U(3, 8) mm in the X-Y plane of its parent frame, at an angle
   U(0, 360°) from X: knee_r's femur_r_offset and tibia_r_offset (both at the body origin, and the
   joint's rotation zero at rest) translated by the same vector, so the bones are unchanged at rest;
-- hid21–22, the agonists of every trial simulated at U(0.80, 0.95) times the recorded activation.
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21), 5 (hid03–04, 08, 10, 12,
-14, 16, 18, 20, 22) and 10 N·m (hid05–06), noise seed 32000 + k.
+- hid21–22, the agonists of every trial simulated at U(0.80, 0.95) times the recorded activation;
+- hid23–24, one agonist (uniform over the eight) simulated at U(0.70, 0.90) times its recorded
+  activation.
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23), 5 (hid03–04, 08, 10,
+12, 14, 16, 18, 20, 22, 24) and 10 N·m (hid05–06), noise seed 32000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
@@ -47,6 +49,7 @@ SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.0
 OFFSETS = {11: 0.0, 12: 5.0}
 ACTIVATIONS = {13: 0.0, 14: 5.0}
 ALL_ACTIVATIONS = {21: 0.0, 22: 5.0}
+MUSCLE_ACTIVATIONS = {23: 0.0, 24: 5.0}
 # subject number: (group name, its muscles, moment noise sd in N m)
 PENNATIONS = {17: 0.0, 18: 5.0}
 AXES = {19: 0.0, 20: 5.0}
@@ -65,6 +68,19 @@ class ScaledAgonists(L.KneeSim):
         if self.scaled is None or agonists == self.scaled:
             level = level * self.factor
         return super().trial(knee_deg, agonists, level=level, **kwargs)
+
+
+class ScaledAgonist(L.KneeSim):
+    """KneeSim whose agonist `muscle` runs at `factor` times the requested activation."""
+
+    def __init__(self, model_path, muscle, factor):
+        super().__init__(model_path)
+        self.muscle, self.factor = muscle, factor
+
+    def set_activations(self, agonists, level):
+        super().set_activations(agonists, level)
+        if self.muscle in agonists:
+            self.muscles.get(self.muscle).setActivation(self.state, level * self.factor)
 
 
 def moved_knee_axis(scratch, offset):
@@ -133,6 +149,12 @@ def main():
             factor = float(np.random.default_rng(31000 + k).uniform(0.80, 0.95))
             sim = ScaledAgonists(G.SCALED, None, factor)
             write(scratch, k, sim, sd, {"hidden_activation_direction": "both", "activation_factor": factor})
+        for k, sd in MUSCLE_ACTIVATIONS.items():
+            rng = np.random.default_rng(31000 + k)
+            muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]
+            factor = float(rng.uniform(0.70, 0.90))
+            sim = ScaledAgonist(G.SCALED, muscle, factor)
+            write(scratch, k, sim, sd, {"hidden_activation_muscle": muscle, "activation_factor": factor})
         for k, sd in PENNATIONS.items():
             rng = np.random.default_rng(31000 + k)
             muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]

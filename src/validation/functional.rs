@@ -193,6 +193,9 @@ pub fn hidden_cause(truth: &serde_json::Value) -> Option<(Cause, f64)> {
     if let Some(coordinate) = truth["hidden_coordinate"].as_str() {
         return Some((Cause::AngleOffset { coordinate: coordinate.to_string() }, -truth["recorded_minus_true_deg"].as_f64()?));
     }
+    if let Some(muscle) = truth["hidden_activation_muscle"].as_str() {
+        return Some((Cause::MuscleActivation { muscle: muscle.to_string() }, truth["activation_factor"].as_f64()?));
+    }
     let direction = match truth["hidden_activation_direction"].as_str()? {
         "both" => None,
         key => Some(Direction::BOTH.into_iter().find(|d| d.key() == key)?),
@@ -226,7 +229,7 @@ pub fn hidden_value_error(best: &SingleCause, truth: f64, axis_offset: Option<[f
         Cause::Group { .. } => (fitted - truth).abs() / 0.05,
         Cause::AxisOffset { .. } => f64::INFINITY,
         Cause::AngleOffset { .. } => (fitted - truth).abs() / 0.5,
-        Cause::Activation { .. } => (fitted - truth).abs() / 0.02,
+        Cause::Activation { .. } | Cause::MuscleActivation { .. } => (fitted - truth).abs() / 0.02,
     }
 }
 

@@ -58,6 +58,8 @@ pub enum Cause {
     /// The agonists of one direction (`None`: of every trial) activated at the value times
     /// their recorded activation (the data's value is 1).
     Activation { direction: Option<Direction> },
+    /// One agonist activated at the value times its recorded activation (the data's value is 1).
+    MuscleActivation { muscle: String },
 }
 
 impl Cause {
@@ -78,6 +80,7 @@ impl Cause {
             Cause::AngleOffset { coordinate } => format!("{coordinate} offset"),
             Cause::Activation { direction: Some(direction) } => format!("{} agonists' activation", direction.key()),
             Cause::Activation { direction: None } => "every trial's agonists' activation".to_string(),
+            Cause::MuscleActivation { muscle } => format!("{muscle} activation"),
         }
     }
 

@@ -1,7 +1,7 @@
 //! The protocol's deficiencies as single causes (METHOD.md §8): a constant offset of one
 //! recorded angle — knee, hip or ankle, e.g. the dynamometer's axis misaligned with the knee's or
-//! a goniometer's zero off — and the agonists of one direction, or of every trial, activated at
-//! a factor of their recorded level. Each evaluation rebuilds the knee-moment model from the trials as the cause
+//! a goniometer's zero off — and the agonists of one direction, of every trial, or one agonist
+//! alone, activated at a factor of their recorded level. Each evaluation rebuilds the knee-moment model from the trials as the cause
 //! changes them (about 1 ms of geometry for 70 trials).
 
 use super::cause::{Candidate, Cause};
@@ -18,12 +18,14 @@ pub const OFFSET_LIMIT_DEG: f64 = 15.0;
 const LOWEST_ACTIVATION_FACTOR: f64 = 0.5;
 
 /// What a protocol candidate changes in the trials.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Protocol {
     /// Added to the knee (0), hip (1) or ankle (2) angle.
     Offset(usize),
     /// The agonists' activation of one direction's trials (`None`: of every trial).
     Activation(Option<Direction>),
+    /// One agonist's activation, in every trial that records it.
+    MuscleActivation(String),
 }
 
 /// A protocol deficiency as a one-variable model of the moment residuals: x is the offset in
@@ -38,7 +40,8 @@ pub(super) struct ProtocolCandidate<'a> {
 }
 
 /// The protocol candidates of `data`: the three angle offsets, the activation of each direction
-/// with trials, and of every trial when both directions have some.
+/// with trials, of every trial when both directions have some, and of each agonist (in the
+/// order the trials first record them).
 pub(super) fn protocol_candidates<'a>(
     spec: &'a ModelSpec,
     model: &'a KneeMomentModel,
@@ -49,16 +52,24 @@ pub(super) fn protocol_candidates<'a>(
     let directions: Vec<Direction> = Direction::BOTH.into_iter().filter(|d| data.trials.iter().any(|t| t.direction == *d)).collect();
     let every_trial = (directions.len() > 1).then_some(None);
     let activations = directions.into_iter().map(Some).chain(every_trial).map(Protocol::Activation);
-    let protocols = (0..3).map(Protocol::Offset).chain(activations);
+    let mut agonists: Vec<&String> = Vec::new();
+    for (muscle, _) in data.trials.iter().flat_map(|t| &t.activations) {
+        if !agonists.contains(&muscle) {
+            agonists.push(muscle);
+        }
+    }
+    let muscle_activations = agonists.into_iter().map(|m| Protocol::MuscleActivation(m.clone()));
+    let protocols = (0..3).map(Protocol::Offset).chain(activations).chain(muscle_activations);
     protocols.map(|protocol| ProtocolCandidate { spec, data, model, initial: initial.to_vec(), measured, protocol }).collect()
 }
 
 impl ProtocolCandidate<'_> {
     pub fn cause(&self) -> Cause {
         let columns = &self.data.columns;
-        match self.protocol {
-            Protocol::Offset(c) => Cause::AngleOffset { coordinate: [&columns.knee_angle, &columns.hip_flexion, &columns.ankle_angle][c].clone() },
-            Protocol::Activation(direction) => Cause::Activation { direction },
+        match &self.protocol {
+            Protocol::Offset(c) => Cause::AngleOffset { coordinate: [&columns.knee_angle, &columns.hip_flexion, &columns.ankle_angle][*c].clone() },
+            Protocol::Activation(direction) => Cause::Activation { direction: *direction },
+            Protocol::MuscleActivation(muscle) => Cause::MuscleActivation { muscle: muscle.clone() },
         }
     }
 
@@ -66,19 +77,32 @@ impl ProtocolCandidate<'_> {
     fn changed_trials(&self, x: f64) -> DynamometryData {
         let mut data = self.data.clone();
         for trial in &mut data.trials {
-            match self.protocol {
-                Protocol::Offset(c) => *[&mut trial.knee_angle, &mut trial.hip_flexion, &mut trial.ankle_angle][c] += x.to_radians(),
-                Protocol::Activation(direction) if direction.is_none_or(|d| trial.direction == d) => trial.activations.iter_mut().for_each(|(_, a)| *a *= x.exp()),
-                Protocol::Activation(_) => {}
+            if let Protocol::Offset(c) = self.protocol {
+                *[&mut trial.knee_angle, &mut trial.hip_flexion, &mut trial.ankle_angle][c] += x.to_radians();
+                continue;
+            }
+            for (muscle, a) in &mut trial.activations {
+                if self.scales(trial.direction, muscle) {
+                    *a *= x.exp();
+                }
             }
         }
         data
     }
 
-    /// The highest recorded agonist activation of `direction`'s trials (`None`: of every trial).
-    fn highest_activation(&self, direction: Option<Direction>) -> f64 {
-        let trials = self.data.trials.iter().filter(|t: &&IsometricTrial| direction.is_none_or(|d| t.direction == d));
-        trials.flat_map(|t| t.activations.iter().map(|(_, a)| *a)).fold(0.0, f64::max)
+    /// Whether an activation candidate scales `muscle`'s activation in a trial of `direction`.
+    fn scales(&self, direction: Direction, muscle: &str) -> bool {
+        match &self.protocol {
+            Protocol::Offset(_) => false,
+            Protocol::Activation(scaled) => scaled.is_none_or(|d| d == direction),
+            Protocol::MuscleActivation(scaled) => scaled == muscle,
+        }
+    }
+
+    /// The highest recorded activation this candidate scales.
+    fn highest_activation(&self) -> f64 {
+        let scaled = self.data.trials.iter().flat_map(|t: &IsometricTrial| t.activations.iter().filter(|(m, _)| self.scales(t.direction, m)));
+        scaled.map(|(_, a)| *a).fold(0.0, f64::max)
     }
 }
 
@@ -94,14 +118,14 @@ impl Candidate for ProtocolCandidate<'_> {
     fn bounds(&self) -> Vec<[f64; 2]> {
         vec![match self.protocol {
             Protocol::Offset(_) => [-OFFSET_LIMIT_DEG, OFFSET_LIMIT_DEG],
-            Protocol::Activation(direction) => [LOWEST_ACTIVATION_FACTOR.ln(), -self.highest_activation(direction).max(f64::MIN_POSITIVE).ln()],
+            _ => [LOWEST_ACTIVATION_FACTOR.ln(), -self.highest_activation().max(f64::MIN_POSITIVE).ln()],
         }]
     }
 
     fn value(&self, x: &[f64]) -> f64 {
         match self.protocol {
             Protocol::Offset(_) => x[0],
-            Protocol::Activation(_) => x[0].exp(),
+            _ => x[0].exp(),
         }
     }
 }
