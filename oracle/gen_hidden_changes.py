@@ -1,4 +1,4 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid24/: synthetic dynamometry subjects made by
+"""Writes fixtures/dynamometry/hidden/hid01..hid26/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
 (dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
@@ -17,9 +17,10 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
   joint's rotation zero at rest) translated by the same vector, so the bones are unchanged at rest;
 - hid21–22, the agonists of every trial simulated at U(0.80, 0.95) times the recorded activation;
 - hid23–24, one agonist (uniform over the eight) simulated at U(0.70, 0.90) times its recorded
-  activation.
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23), 5 (hid03–04, 08, 10,
-12, 14, 16, 18, 20, 22, 24) and 10 N·m (hid05–06), noise seed 32000 + k.
+  activation;
+- hid25–26, every measured moment offset by ±U(2, 6) N·m.
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23, 25), 5 (hid03–04, 08,
+10, 12, 14, 16, 18, 20, 22, 24, 26) and 10 N·m (hid05–06), noise seed 32000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
@@ -50,6 +51,7 @@ OFFSETS = {11: 0.0, 12: 5.0}
 ACTIVATIONS = {13: 0.0, 14: 5.0}
 ALL_ACTIVATIONS = {21: 0.0, 22: 5.0}
 MUSCLE_ACTIVATIONS = {23: 0.0, 24: 5.0}
+MOMENT_OFFSETS = {25: 0.0, 26: 5.0}
 # subject number: (group name, its muscles, moment noise sd in N m)
 PENNATIONS = {17: 0.0, 18: 5.0}
 AXES = {19: 0.0, 20: 5.0}
@@ -81,6 +83,19 @@ class ScaledAgonist(L.KneeSim):
         super().set_activations(agonists, level)
         if self.muscle in agonists:
             self.muscles.get(self.muscle).setActivation(self.state, level * self.factor)
+
+
+class OffsetMoments(L.KneeSim):
+    """KneeSim whose knee moments carry a constant `offset` (N m)."""
+
+    def __init__(self, model_path, offset):
+        super().__init__(model_path)
+        self.offset = offset
+
+    def trial(self, *args, **kwargs):
+        result = super().trial(*args, **kwargs)
+        result["knee_moment_Nm"] += self.offset
+        return result
 
 
 def moved_knee_axis(scratch, offset):
@@ -155,6 +170,10 @@ def main():
             factor = float(rng.uniform(0.70, 0.90))
             sim = ScaledAgonist(G.SCALED, muscle, factor)
             write(scratch, k, sim, sd, {"hidden_activation_muscle": muscle, "activation_factor": factor})
+        for k, sd in MOMENT_OFFSETS.items():
+            rng = np.random.default_rng(31000 + k)
+            offset = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(2.0, 6.0))
+            write(scratch, k, OffsetMoments(G.SCALED, offset), sd, {"hidden_moment_offset_Nm": offset})
         for k, sd in PENNATIONS.items():
             rng = np.random.default_rng(31000 + k)
             muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]

@@ -31,7 +31,7 @@ const SUBJECT: &str = "fixtures/dynamometry/train01";
 const NOISY_SUBJECT: &str = "fixtures/dynamometry/train03";
 const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
 /// OpenSim subjects with one hidden change, `fixtures/dynamometry/hidden/hid01`…
-const HIDDEN_SUBJECTS: usize = 24;
+const HIDDEN_SUBJECTS: usize = 26;
 const NOISE_DRAWS: usize = 20;
 /// Draws per σ in the thesis' protocol, whose means carry the open goals.
 const THESIS_PROTOCOL_DRAWS: usize = 100;
@@ -303,7 +303,8 @@ fn hidden_change_row(knee: &KneeMomentModel) -> Row {
 
 /// Hidden effects in OpenSim-generated subjects (`fixtures/dynamometry/hidden/`: one L_ts, L_opt,
 /// F_max or α_opt changed, the knee's axis moved, a knee angle offset, one direction's, every
-/// trial's or one agonist's activation level, a group's L_ts; σ = 0, 5 and 10 N·m), set5 and
+/// trial's or one agonist's activation level, a group's L_ts, a moment offset; σ = 0, 5 and
+/// 10 N·m), set5 and
 /// all trials: the verdict never names another cause (nor rejects the single cause), and where it
 /// names the hidden one its value is within what noisy moments allow (`hidden_value_error` ≤ 1).
 fn hidden_opensim_row(spec: &ModelSpec) -> Row {
@@ -337,7 +338,7 @@ fn hidden_opensim_row(spec: &ModelSpec) -> Row {
     }
     let at = if wrong.is_empty() { format!("named in {} of {}: {}", named.len(), 2 * HIDDEN_SUBJECTS, named.join(", ")) } else { wrong.join("; ") };
     Row {
-        what: "hidden cause (hid01–24: L_ts/L_opt/F_max/α_opt, knee axis, angle offset, activation, group; σ 0/5/10 N·m): never a wrong name; value error / allowed where named".into(),
+        what: "hidden cause (hid01–26: L_ts/L_opt/F_max/α_opt, knee axis, angle offset, activation, group, moment offset; σ 0/5/10 N·m): never a wrong name; value error / allowed where named".into(),
         reference: "OpenSim 4.6 subjects".into(),
         worst: if wrong.is_empty() { worst } else { f64::INFINITY },
         tolerance: 1.0,

@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use super::cause_axis::{axis_candidate, AxisMove};
 use super::cause_group::muscle_groups;
-use super::cause_protocol::protocol_candidates;
+use super::cause_protocol::{protocol_candidates, MomentOffsetCandidate};
 use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::{MuscleParameters, Parameter};
@@ -60,6 +60,8 @@ pub enum Cause {
     Activation { direction: Option<Direction> },
     /// One agonist activated at the value times its recorded activation (the data's value is 1).
     MuscleActivation { muscle: String },
+    /// Every measured moment offset by the value (N·m; the data's value is 0) from the knee's.
+    MomentOffset,
 }
 
 impl Cause {
@@ -81,6 +83,7 @@ impl Cause {
             Cause::Activation { direction: Some(direction) } => format!("{} agonists' activation", direction.key()),
             Cause::Activation { direction: None } => "every trial's agonists' activation".to_string(),
             Cause::MuscleActivation { muscle } => format!("{muscle} activation"),
+            Cause::MomentOffset => "measured moment offset".to_string(),
         }
     }
 
@@ -88,6 +91,7 @@ impl Cause {
     pub fn change(&self, initial: f64, fitted: f64) -> String {
         match self {
             Cause::AngleOffset { .. } => format!("{initial:+.3}° → {fitted:+.3}°"),
+            Cause::MomentOffset => format!("{initial:+.3} N·m → {fitted:+.3} N·m"),
             Cause::AxisOffset { .. } => format!("{initial:.3} mm → {fitted:.3} mm"),
             Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => {
                 let [initial, fitted] = [initial.to_degrees(), fitted.to_degrees()];
@@ -161,6 +165,7 @@ pub fn candidate_causes(spec: &ModelSpec, model: &KneeMomentModel, data: &Dynamo
         let cause = candidate.cause();
         causes.push(fit_candidate(candidate, &every_trial)?.into_cause(cause, rms_before));
     }
+    causes.push(fit_candidate(MomentOffsetCandidate::new(&moments, measured), &every_trial)?.into_cause(Cause::MomentOffset, rms_before));
     sort_causes(&mut causes);
     Ok(causes)
 }
@@ -222,6 +227,7 @@ pub(super) fn candidate_for<'a>(
             let members = muscles.iter().map(index).collect::<Result<Vec<_>, _>>()?;
             return Ok(Box::new(MuscleCandidate::new(model, initial, members, *parameter, moments, measured)?));
         }
+        Cause::MomentOffset => return Ok(Box::new(MomentOffsetCandidate::new(moments, measured))),
         Cause::AxisOffset { .. } => {
             let found = axis_candidate(spec, model, data, initial, measured)?.filter(|c| &c.cause() == cause);
             return found.map(|c| Box::new(c) as Box<dyn Candidate + 'a>).ok_or_else(|| FunctionalError::all_muscles(format!("{} is not a candidate for this model", cause.describe())));

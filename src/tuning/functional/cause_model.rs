@@ -32,7 +32,7 @@ pub fn apply_cause(cause: &SingleCause, initial: &[MuscleParameters], document: 
             Some(axis_move) => return move_axis(document, joint, axis_move),
             None => return Ok(CauseEdit::NotInModel("has no fitted move".into())),
         },
-        Cause::AngleOffset { .. } | Cause::Activation { .. } | Cause::MuscleActivation { .. } => return Ok(CauseEdit::NotInModel("is in the trials, not the model".into())),
+        Cause::AngleOffset { .. } | Cause::Activation { .. } | Cause::MuscleActivation { .. } | Cause::MomentOffset => return Ok(CauseEdit::NotInModel("is in the trials, not the model".into())),
     };
     for (muscle, value) in &changes {
         document.set_property(&format!("/forceset/{muscle}/{}", parameter.property()), &format_numbers(&[*value]))?;

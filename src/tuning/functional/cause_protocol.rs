@@ -1,7 +1,8 @@
 //! The protocol's deficiencies as single causes (METHOD.md §8): a constant offset of one
 //! recorded angle — knee, hip or ankle, e.g. the dynamometer's axis misaligned with the knee's or
-//! a goniometer's zero off — and the agonists of one direction, of every trial, or one agonist
-//! alone, activated at a factor of their recorded level. Each evaluation rebuilds the knee-moment model from the trials as the cause
+//! a goniometer's zero off —, the agonists of one direction, of every trial, or one agonist
+//! alone, activated at a factor of their recorded level, and a constant offset of the measured
+//! moments (the dynamometer's zero, an uncorrected limb weight near the protocol's angles). Each evaluation rebuilds the knee-moment model from the trials as the cause
 //! changes them (about 1 ms of geometry for 70 trials).
 
 use super::cause::{Candidate, Cause};
@@ -103,6 +104,39 @@ impl ProtocolCandidate<'_> {
     fn highest_activation(&self) -> f64 {
         let scaled = self.data.trials.iter().flat_map(|t: &IsometricTrial| t.activations.iter().filter(|(m, _)| self.scales(t.direction, m)));
         scaled.map(|(_, a)| *a).fold(0.0, f64::max)
+    }
+}
+
+/// A constant offset of the measured moments: x (N·m) is what every measurement carries beyond
+/// the knee's moment, within ± the largest measured |moment|.
+pub(super) struct MomentOffsetCandidate {
+    /// M_mod − M_meas of the initial model, N·m.
+    base: Vec<f64>,
+    limit: f64,
+}
+
+impl MomentOffsetCandidate {
+    /// The candidate from the initial model's `moments` and the `measured` ones (N·m).
+    pub fn new(moments: &[f64], measured: &[f64]) -> MomentOffsetCandidate {
+        let limit = measured.iter().fold(0.0f64, |m, y| m.max(y.abs()));
+        MomentOffsetCandidate { base: moments.iter().zip(measured).map(|(m, y)| m - y).collect(), limit }
+    }
+}
+
+impl Candidate for MomentOffsetCandidate {
+    fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError> {
+        for (r, base) in out.iter_mut().zip(&self.base) {
+            *r = base + x[0];
+        }
+        Ok(())
+    }
+
+    fn bounds(&self) -> Vec<[f64; 2]> {
+        vec![[-self.limit, self.limit]]
+    }
+
+    fn value(&self, x: &[f64]) -> f64 {
+        x[0]
     }
 }
 
