@@ -2,13 +2,13 @@
 //! between the initial model's and the measured knee moments (METHOD.md §8). The candidates
 //! ([`Cause`]): L_ts, L_opt, F_max or α_opt of one estimated muscle ([`CANDIDATE_PARAMETERS`];
 //! a factor within [0.5, 1.5] of the model's value, α_opt within ±[`PENNATION_CHANGE`] of it),
-//! L_ts, L_opt or F_max of a muscle group together (`cause_group.rs`),
-//! the knee's axis moved (`cause_axis.rs`), and the protocol's deficiencies of
-//! `cause_protocol.rs` (an offset of a recorded angle, the agonists' activation level). Each is
-//! fitted by least squares on the moments in its one variable (two for the axis) and the
-//! candidates are ranked by the RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit stops where the
-//! local model sees no more than 10⁻¹⁰ of the cost left to gain (with noisy moments the step
-//! test alone would crawl on at steps the rounding of the moments decides).
+//! L_ts, L_opt or F_max of a muscle group together (`cause_group.rs`), the knee's axis moved
+//! (`cause_axis.rs`), and the protocol's deficiencies of `cause_protocol.rs` (an offset of a
+//! recorded angle, an activation level, an offset of the measured moments). Each is fitted by
+//! least squares on the moments in its one variable (two for the axis) and the candidates are
+//! ranked by the RMS error left; `cause_verdict.rs` says whether that names a cause. Each fit
+//! stops where the local model sees no more than 10⁻¹⁰ of the cost left to gain (with noisy
+//! moments the step test alone would crawl on at steps the rounding of the moments decides).
 
 use nalgebra::DMatrix;
 use serde::Serialize;
