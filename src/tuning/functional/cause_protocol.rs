@@ -2,8 +2,9 @@
 //! recorded angle — knee, hip or ankle, e.g. the dynamometer's axis misaligned with the knee's or
 //! a goniometer's zero off —, the agonists of one direction, of every trial, or one agonist
 //! alone, activated at a factor of their recorded level, and a constant offset of the measured
-//! moments (the dynamometer's zero, an uncorrected limb weight near the protocol's angles). Each evaluation rebuilds the knee-moment model from the trials as the cause
-//! changes them (about 1 ms of geometry for 70 trials).
+//! moments (the dynamometer's zero, an uncorrected limb weight near the protocol's angles). An
+//! angle offset rebuilds the knee-moment model from the changed trials at each evaluation
+//! (about 1 ms of geometry for 70 trials); an activation keeps its geometry.
 
 use super::cause::{Candidate, Cause};
 use super::error::FunctionalError;
@@ -142,7 +143,11 @@ impl Candidate for MomentOffsetCandidate {
 
 impl Candidate for ProtocolCandidate<'_> {
     fn residuals(&mut self, x: &[f64], out: &mut [f64]) -> Result<(), FunctionalError> {
-        let model = KneeMomentModel::with_method(self.spec, &self.changed_trials(x[0]), self.model.method)?;
+        let changed = self.changed_trials(x[0]);
+        let model = match self.protocol {
+            Protocol::Offset(_) => KneeMomentModel::with_method(self.spec, &changed, self.model.method)?,
+            _ => self.model.with_activations(&changed.trials)?,
+        };
         for ((r, m), y) in out.iter_mut().zip(model.moments(&self.initial)?).zip(self.measured) {
             *r = m - y;
         }

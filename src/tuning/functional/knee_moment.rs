@@ -142,14 +142,33 @@ impl KneeMomentModel {
             fixed_moments: Vec::new(),
             nominal,
         };
-        let mut fixed = vec![0.0; data.trials.len()];
-        for k in (0..knee_model.muscles.len()).filter(|&k| knee_model.muscles[k].estimated.is_none()) {
-            for (t, moment) in fixed.iter_mut().enumerate() {
-                *moment += knee_model.contribution(k, &knee_model.nominal[k], t)?;
+        knee_model.fixed_moments = knee_model.not_estimated_moments()?;
+        Ok(knee_model)
+    }
+
+    /// This model for `trials`, which differ from its own in their activations only (same
+    /// poses, same order): no new geometry.
+    pub fn with_activations(&self, trials: &[IsometricTrial]) -> Result<KneeMomentModel, FunctionalError> {
+        let mut model = self.clone();
+        for muscle in &mut model.muscles {
+            for (activation, trial) in muscle.activations.iter_mut().zip(trials) {
+                *activation = trial.activation(&muscle.name).unwrap_or(muscle.minimum_activation);
             }
         }
-        knee_model.fixed_moments = fixed;
-        Ok(knee_model)
+        model.trials = trials.to_vec();
+        model.fixed_moments = model.not_estimated_moments()?;
+        Ok(model)
+    }
+
+    /// Σ F_t·r of the muscles that are not estimated, with the model's parameters, per trial.
+    fn not_estimated_moments(&self) -> Result<Vec<f64>, FunctionalError> {
+        let mut fixed = vec![0.0; self.trials.len()];
+        for k in (0..self.muscles.len()).filter(|&k| self.muscles[k].estimated.is_none()) {
+            for (t, moment) in fixed.iter_mut().enumerate() {
+                *moment += self.contribution(k, &self.nominal[k], t)?;
+            }
+        }
+        Ok(fixed)
     }
 
     /// The trials, in the order of every per-trial vector.
@@ -426,4 +445,29 @@ fn model_error(model: &ModelSpec, what: &'static str, name: &str, problem: Strin
 
 fn construction_error(model: &ModelSpec, muscle: &str, source: MuscleError) -> FunctionalError {
     FunctionalError::Muscle { file: model.file.clone(), muscle: muscle.into(), context: "the model's properties".into(), source: Box::new(source) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::osim::OsimDocument;
+    use crate::tuning::functional::TrialOptions;
+    use std::path::Path;
+
+    #[test]
+    fn new_activations_give_the_moments_of_a_rebuilt_model() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let spec = ModelSpec::read(&OsimDocument::read(&root.join("fixtures/golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
+        let mut data = DynamometryData::read(&root.join("fixtures/dynamometry/train01"), &TrialOptions::default()).unwrap();
+        let model = KneeMomentModel::new(&spec, &data).unwrap();
+        for (t, trial) in data.trials.iter_mut().enumerate() {
+            trial.activations.iter_mut().for_each(|(_, a)| *a *= 0.7 + 0.004 * t as f64);
+        }
+        let parameters = model.nominal_parameters();
+        let reactivated = model.with_activations(&data.trials).unwrap().moments(&parameters).unwrap();
+        let rebuilt = KneeMomentModel::new(&spec, &data).unwrap().moments(&parameters).unwrap();
+        let before = model.moments(&parameters).unwrap();
+        assert!(reactivated.iter().zip(&before).all(|(a, b)| (a - b).abs() > 1.0), "the activations changed every moment");
+        assert_eq!(reactivated, rebuilt);
+    }
 }
