@@ -69,7 +69,7 @@ pub fn analyse(inputs: &FitInputs, estimate: &Estimate, moments: &[f64], progres
     progress("sensitivity and identifiability");
     let sensitivity = attempt(&mut unavailable, "sensitivity", SensitivityTable::compute(knee, &estimate.fitted, DEFAULT_RELATIVE_STEP));
     let residuals: Vec<f64> = moments.iter().zip(measured).map(|(m, y)| m - y).collect();
-    let (noise_sd, noise_source) = noise_level(settings, data, estimate.prior, &residuals, 2 * estimate.fitted.len());
+    let (noise_sd, noise_source, noise_level) = noise(settings, data, estimate.prior, &residuals, 2 * estimate.fitted.len());
     let options = FisherOptions::new(noise_sd);
     let hill = attempt(&mut unavailable, Parameterisation::Hill.name(), fisher_information(knee, &estimate.fitted, &Parameterisation::Hill, &options));
     let cramer_rao = hill.as_ref().map(|f| f.standard_deviations.chunks(2).map(|c| [c[0], c[1]]).collect());
@@ -85,7 +85,7 @@ pub fn analyse(inputs: &FitInputs, estimate: &Estimate, moments: &[f64], progres
         attempt(&mut unavailable, "rest-curve uncertainty", RestCurveUncertainty::of(&information, estimate.prior, estimate.sampled_sd.as_deref()))
     });
     let sigma_points = settings.sigma_points.then(|| attempt(&mut unavailable, "sigma points", sigma_point_spread(inputs, estimate, noise_sd, progress))).flatten();
-    let uncertainty = Uncertainty { noise_sd, noise_source, cramer_rao, rest_curve, sigma_points };
+    let uncertainty = Uncertainty { noise_sd, noise_source, noise_level, cramer_rao, rest_curve, sigma_points };
     Analyses { sensitivity, identifiability, uncertainty, unavailable }
 }
 
@@ -119,6 +119,10 @@ pub struct Uncertainty {
     /// Where σ came from: "given", "subject file", "marginal likelihood" (under the rest-curve
     /// prior) or "residuals".
     pub noise_source: &'static str,
+    /// σ as a noise estimate ([`NoiseLevel::Estimated`]), or a nominal scale of an exact fit
+    /// or of a fit without degrees of freedom.
+    #[serde(skip)]
+    pub noise_level: NoiseLevel,
     /// Cramér–Rao bound per muscle [sd L_opt, sd L_ts]; `None` where not identifiable (the
     /// whole list when the Fisher information is unavailable).
     pub cramer_rao: Option<Vec<[Option<f64>; 2]>>,
@@ -126,17 +130,6 @@ pub struct Uncertainty {
     pub rest_curve: Option<RestCurveUncertainty>,
     /// Sigma-point propagation per muscle [sd L_opt, sd L_ts], when run.
     pub sigma_points: Option<Vec<[f64; 2]>>,
-}
-
-impl Uncertainty {
-    /// σ as a noise estimate, not a nominal scale.
-    pub fn noise_level(&self) -> NoiseLevel {
-        match self.noise_source {
-            EXACT_FIT_NOMINAL => NoiseLevel::Exact,
-            NO_DEGREES_NOMINAL => NoiseLevel::Unknown,
-            _ => NoiseLevel::Estimated(self.noise_sd),
-        }
-    }
 }
 
 /// Standard deviations of the fitted (L_opt, L_ts) along the rest curves, m (one parameter per
@@ -181,22 +174,23 @@ const NO_DEGREES_NOMINAL: &str = "nominal (no more trials than parameters: 1 N·
 
 /// σ: given, else the subject file's (when positive), else the prior's (the fit's own
 /// estimate), else √(RSS/(n − p)) of the fit (when the fit is exact or has no degrees of
-/// freedom, a nominal 1 N·m scales the criteria, and the source says why).
-fn noise_level(settings: &FitSettings, data: &DynamometryData, prior: Option<AppliedPrior>, residuals: &[f64], parameters: usize) -> (f64, &'static str) {
-    if let Some(sd) = settings.noise_sd.filter(|sd| *sd > 0.0) {
-        return (sd, "given");
-    }
-    if let Some(sd) = data.noise_sd.filter(|sd| *sd > 0.0) {
-        return (sd, "subject file");
-    }
-    if let Some(prior) = prior {
-        return (prior.noise_sd, prior.noise_source);
-    }
-    match noise_from_residuals(residuals, parameters) {
-        Ok(sd) if sd > 1e-6 => (sd, "residuals"),
-        Ok(_) => (1.0, EXACT_FIT_NOMINAL),
-        Err(_) => (1.0, NO_DEGREES_NOMINAL),
-    }
+/// freedom, a nominal 1 N·m scales the criteria, and the source says why), its source and
+/// what it is ([`NoiseLevel`]).
+fn noise(settings: &FitSettings, data: &DynamometryData, prior: Option<AppliedPrior>, residuals: &[f64], parameters: usize) -> (f64, &'static str, NoiseLevel) {
+    let (sd, source) = if let Some(sd) = settings.noise_sd.filter(|sd| *sd > 0.0) {
+        (sd, "given")
+    } else if let Some(sd) = data.noise_sd.filter(|sd| *sd > 0.0) {
+        (sd, "subject file")
+    } else if let Some(prior) = prior {
+        (prior.noise_sd, prior.noise_source)
+    } else {
+        match noise_from_residuals(residuals, parameters) {
+            Ok(sd) if sd > 1e-6 => (sd, "residuals"),
+            Ok(_) => return (1.0, EXACT_FIT_NOMINAL, NoiseLevel::Exact),
+            Err(_) => return (1.0, NO_DEGREES_NOMINAL, NoiseLevel::Unknown),
+        }
+    };
+    (sd, source, NoiseLevel::Estimated(sd))
 }
 
 /// The Fisher information at the fit of [L_ts/L_opt, δ] (when Phase I gave the lines) and

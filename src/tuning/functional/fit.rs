@@ -154,7 +154,7 @@ fn verdict_noise(settings: &FitSettings, data: &DynamometryData, uncertainty: &U
     if settings.noise_sd.is_none() && data.noise_sd == Some(0.0) {
         return (NoiseLevel::Exact, "subject file: noise-free; the moments' resolution");
     }
-    match uncertainty.noise_level() {
+    match uncertainty.noise_level {
         NoiseLevel::Exact => (NoiseLevel::Exact, "exact fit; the moments' resolution"),
         level => (level, uncertainty.noise_source),
     }
