@@ -1,7 +1,7 @@
 //! The model extended by a named single cause (METHOD.md §8): the initial model with only that
 //! cause's muscle parameter(s), or its knee joint's offset frames, set to the fitted value, for
-//! the user to carry on with. Causes in the trials (an angle offset, an activation level) change
-//! no model property.
+//! the user to carry on with. Causes in the trials (an angle offset, an activation level) or in
+//! the measured moments (an offset) change no model property.
 
 use super::cause::{Cause, SingleCause};
 use super::cause_axis::AxisMove;
@@ -32,7 +32,8 @@ pub fn apply_cause(cause: &SingleCause, initial: &[MuscleParameters], document: 
             Some(axis_move) => return move_axis(document, joint, axis_move),
             None => return Ok(CauseEdit::NotInModel("has no fitted move".into())),
         },
-        Cause::AngleOffset { .. } | Cause::Activation { .. } | Cause::MuscleActivation { .. } | Cause::MomentOffset => return Ok(CauseEdit::NotInModel("is in the trials, not the model".into())),
+        Cause::AngleOffset { .. } | Cause::Activation { .. } | Cause::MuscleActivation { .. } => return Ok(CauseEdit::NotInModel("is in the trials, not the model".into())),
+        Cause::MomentOffset => return Ok(CauseEdit::NotInModel("is in the measured moments, not the model".into())),
     };
     for (muscle, value) in &changes {
         document.set_property(&format!("/forceset/{muscle}/{}", parameter.property()), &format_numbers(&[*value]))?;
