@@ -118,7 +118,7 @@ pub enum Command {
         /// Functional: also write the report as JSON to this file.
         #[arg(long)]
         report: Option<PathBuf>,
-        /// Functional: also write the model extended by the single cause the report's verdict names (a muscle's or a group's parameter set to its fitted value, nothing else changed); when the verdict names none, or a cause in the trials (an angle offset, an activation level), it says so and writes nothing.
+        /// Functional: also write the model extended by the single cause the report's verdict names (a muscle's or a group's parameter set to its fitted value, or the knee's two offset frames moved with its axis; nothing else changed); when the verdict names none, or a cause in the trials or the measured moments (an angle offset, an activation level, a moment offset), it says so and writes nothing.
         #[arg(long)]
         cause_model: Option<PathBuf>,
         /// ScaleTool setup file.

@@ -218,7 +218,8 @@ pub fn hidden_axis_offset(truth: &serde_json::Value) -> Option<[f64; 3]> {
 /// factor the same fractions, an axis move 2 mm (the distance between the fitted and the true
 /// offset; σ = 5 N·m on 70 trials spreads the fit of hid20's 5.4 mm move by 0.6 mm sd over 12
 /// noise draws), an angle offset 0.5°, an activation factor 0.02, a moment offset 2 N·m (σ/√n is
-/// 1.6 N·m on set5 at σ = 5 N·m).
+/// 1.6 N·m on set5 at σ = 5 N·m). An axis cause without a fitted move or without `axis_offset`
+/// is infinitely off.
 pub fn hidden_value_error(best: &SingleCause, truth: f64, axis_offset: Option<[f64; 3]>) -> f64 {
     use crate::tuning::functional::Parameter;
     let fitted = best.fitted;

@@ -146,7 +146,7 @@ impl Candidate for ProtocolCandidate<'_> {
         let changed = self.changed_trials(x[0]);
         let model = match self.protocol {
             Protocol::Offset(_) => KneeMomentModel::with_method(self.spec, &changed, self.model.method)?,
-            _ => self.model.with_activations(&changed.trials)?,
+            _ => self.model.with_activations(changed.trials)?,
         };
         for ((r, m), y) in out.iter_mut().zip(model.moments(&self.initial)?).zip(self.measured) {
             *r = m - y;

@@ -148,14 +148,14 @@ impl KneeMomentModel {
 
     /// This model for `trials`, which differ from its own in their activations only (same
     /// poses, same order): no new geometry.
-    pub fn with_activations(&self, trials: &[IsometricTrial]) -> Result<KneeMomentModel, FunctionalError> {
+    pub fn with_activations(&self, trials: Vec<IsometricTrial>) -> Result<KneeMomentModel, FunctionalError> {
         let mut model = self.clone();
         for muscle in &mut model.muscles {
-            for (activation, trial) in muscle.activations.iter_mut().zip(trials) {
+            for (activation, trial) in muscle.activations.iter_mut().zip(&trials) {
                 *activation = trial.activation(&muscle.name).unwrap_or(muscle.minimum_activation);
             }
         }
-        model.trials = trials.to_vec();
+        model.trials = trials;
         model.fixed_moments = model.not_estimated_moments()?;
         Ok(model)
     }
@@ -464,7 +464,7 @@ mod tests {
             trial.activations.iter_mut().for_each(|(_, a)| *a *= 0.7 + 0.004 * t as f64);
         }
         let parameters = model.nominal_parameters();
-        let reactivated = model.with_activations(&data.trials).unwrap().moments(&parameters).unwrap();
+        let reactivated = model.with_activations(data.trials.clone()).unwrap().moments(&parameters).unwrap();
         let rebuilt = KneeMomentModel::new(&spec, &data).unwrap().moments(&parameters).unwrap();
         let before = model.moments(&parameters).unwrap();
         assert!(reactivated.iter().zip(&before).all(|(a, b)| (a - b).abs() > 1.0), "the activations changed every moment");

@@ -31,7 +31,7 @@
 //! - `cause.rs`: the single change that best explains the measured moments ([`Cause`]: a
 //!   muscle's L_ts, L_opt, F_max or α_opt or, with `cause_group.rs`, a muscle group's L_ts, L_opt
 //!   or F_max, the knee's axis moved (`cause_axis.rs`), or from `cause_protocol.rs` an angle
-//!   offset or the agonists' activation level;
+//!   offset, an activation level or an offset of the measured moments;
 //!   [`candidate_causes`], [`single_causes`]); `cause_verdict.rs` whether that names the cause at the noise σ
 //!   (Bayes factors of the candidates, [`cause_verdict`]); `cause_held_out.rs` the best
 //!   cause's gain on trials its fit did not see (two-fold cross-validation, [`held_out_gain`]);
