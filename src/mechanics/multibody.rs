@@ -9,8 +9,8 @@ use super::coupling::Coupler;
 use super::error::MechanicsError;
 use super::function::Function;
 use super::mobilizer::{Mobilizer, TransformAxis};
-use super::spatial::{Transform, Vec3};
-use crate::model::{CoordinateSpec, FrameChain, JointSpec, ModelSpec, GROUND};
+use super::spatial::{Mat3, Transform, Vec3};
+use crate::model::{BodySpec, CoordinateSpec, FrameChain, JointSpec, ModelSpec, GROUND};
 
 /// Index of ground in [`Multibody::bodies`].
 pub const GROUND_INDEX: usize = 0;
@@ -21,6 +21,20 @@ pub struct Body {
     pub name: String,
     /// Index of the joint that carries the body (into [`Multibody::joints`]).
     pub joint: Option<usize>,
+    /// kg (0 for ground).
+    pub mass: f64,
+    /// m, in the body frame.
+    pub mass_center: Vec3,
+    /// kg·m² about the mass center, in the body frame.
+    pub inertia: Mat3,
+}
+
+impl Body {
+    fn new(spec: &BodySpec) -> Body {
+        let [xx, yy, zz, xy, xz, yz] = spec.inertia;
+        let inertia = Mat3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
+        Body { name: spec.name.clone(), joint: None, mass: spec.mass, mass_center: Vec3::from(spec.mass_center), inertia }
+    }
 }
 
 /// A joint compiled for evaluation: X_GB(child) = X_GB(parent) · X_PF · X_FM(q) · X_MB.
@@ -58,6 +72,8 @@ pub struct Multibody {
     pub markers: Vec<Marker>,
     /// Enforced `CoordinateCouplerConstraint`s.
     pub couplers: Vec<Coupler>,
+    /// The model's gravity, m/s² in ground.
+    pub gravity: Vec3,
     /// `moved_by[body][joint]`: whether the joint's coordinates move the body.
     moved_by: Vec<Vec<bool>>,
     /// The joint of each coordinate.
@@ -67,8 +83,8 @@ pub struct Multibody {
 impl Multibody {
     pub fn new(spec: &ModelSpec) -> Result<Multibody, MechanicsError> {
         let file = spec.file.clone();
-        let mut bodies = vec![Body { name: GROUND.to_string(), joint: None }];
-        bodies.extend(spec.bodies.iter().map(|b| Body { name: b.name.clone(), joint: None }));
+        let ground = BodySpec { name: GROUND.to_string(), mass: 0.0, mass_center: [0.0; 3], inertia: [0.0; 6] };
+        let mut bodies: Vec<Body> = std::iter::once(&ground).chain(&spec.bodies).map(Body::new).collect();
         let names: Vec<String> = bodies.iter().map(|b| b.name.clone()).collect();
         let body_index: HashMap<&str, usize> = names.iter().enumerate().map(|(i, name)| (name.as_str(), i)).collect();
         let coordinates: Vec<CoordinateSpec> = spec.coordinates().cloned().collect();
@@ -94,7 +110,7 @@ impl Multibody {
             }
         }
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
-        let mut multibody = Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, moved_by: Vec::new(), coordinate_joints };
+        let mut multibody = Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
         multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;

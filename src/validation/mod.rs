@@ -5,6 +5,7 @@ pub mod functional;
 mod geometry;
 mod golden;
 pub mod ik;
+mod inverse_dynamics;
 pub mod knee_axis;
 mod muscle;
 mod muscle_degroote;
@@ -13,6 +14,7 @@ mod scale;
 
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};
+pub use inverse_dynamics::compare_inverse_dynamics;
 pub use muscle::{
     compare_equilibrium, compare_millard_curves, default_force_velocity_inverse, CurveComparison, EquilibriumComparison,
     EquilibriumSolution, EquilibriumValidationError, FIBER_LENGTH_TOLERANCE, STATIC_FIBER_LENGTH_TOLERANCE,
