@@ -1,14 +1,17 @@
 //! Inverse dynamics against OpenSim 4.6's `InverseDynamicsSolver` at 8 random states per model
 //! (`fixtures/golden/inverse_dynamics/`): CustomJoints with spline-driven translations
 //! (gait2392, Rajagopal2016 with its patellae coupled, leg6dof9musc), arm26 and the joint zoo's
-//! Ball, Free, Gimbal, Planar, Slider, Pin and oblique custom joints; and first principles for
-//! applied loads.
+//! Ball, Free, Gimbal, Planar, Slider, Pin and oblique custom joints; first principles for
+//! applied loads; and OpenSim's InverseDynamicsTool on subject01's walk.
 
 mod common;
 
+use osim_tune::analysis::{inverse_dynamics, ExternalLoads, InverseDynamicsSettings};
 use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::{BodyLoad, MotionState, Multibody, Vec3};
 use osim_tune::model::ModelSpec;
+use osim_tune::setup::ExternalLoadsSetup;
 use osim_tune::validation::compare_inverse_dynamics;
 
 fn multibody(model: &str) -> Multibody {
@@ -63,5 +66,29 @@ fn an_applied_force_is_balanced_by_its_virtual_work() {
         let turning = if model.is_moved_by(body, model.coordinate_joint(c)) { kinematics.axes[c].angular } else { Vec3::zeros() };
         let expected = -(load.force.dot(&velocity) + load.torque.dot(&turning));
         assert!((loaded[c] - unloaded[c] - expected).abs() < 1e-6, "{}: {} vs {expected}", model.coordinates[c].name, loaded[c] - unloaded[c]);
+    }
+}
+
+/// OpenSim 4.6's InverseDynamicsTool on subject01's walk (the pipeline golden: subject01's
+/// setup, IK from 0 s, GRF on both feet, 6 Hz low-pass): the same 76 frames (0.398 + k·0.016 s,
+/// OpenSim's padded and resampled grid) and every generalized force within 6e-9 — OpenSim prints
+/// 8 decimals, so rounding alone is up to 5e-9.
+#[test]
+fn the_tool_reproduces_opensims_walking_inverse_dynamics() {
+    let model = multibody("fixtures/golden/scale/subject01_simbody.osim");
+    let setup = ExternalLoadsSetup::read(&common::fixture("subject01/subject01_walk1_grf.xml")).unwrap();
+    let data_file = setup.datafile.clone().unwrap().resolved;
+    let loads = ExternalLoads::new(&setup, &StorageTable::read(&data_file).unwrap(), &data_file, &model).unwrap();
+    let ik = common::fixture("golden/ik/subject01_walk1_ik.mot");
+    let settings = InverseDynamicsSettings { time_range: [0.4, 1.6], lowpass_cutoff: Some(6.0) };
+    let result = inverse_dynamics(&model, &StorageTable::read(&ik).unwrap(), &ik, Some(&loads), &settings).unwrap();
+    let golden = StorageTable::read(&common::fixture("golden/inverse_dynamics/subject01_walk1_InverseDynamics.sto")).unwrap();
+    assert_eq!(result.forces.labels(), golden.labels());
+    assert_eq!(result.forces.n_rows(), golden.n_rows());
+    assert!(result.defaulted.is_empty() && result.ignored_columns.is_empty());
+    for (ours, theirs) in result.forces.rows().zip(golden.rows()) {
+        for (label, (a, b)) in golden.labels().iter().zip(ours.iter().zip(theirs)) {
+            assert!((a - b).abs() <= 6e-9, "t = {}: {label} {a} vs OpenSim's {b}", theirs[0]);
+        }
     }
 }

@@ -1,12 +1,18 @@
 //! Analyses along a motion, in the spirit of OpenSim's analyses (`MuscleAnalysis`, …).
 
 mod activation;
+mod external_loads;
 mod fiber_analysis;
+mod inverse_dynamics;
 mod muscle_analysis;
+mod signal;
 
 pub use activation::{ActivationError, Activations};
+pub use external_loads::{ExternalLoads, ExternalLoadsError};
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
+pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use muscle_analysis::MuscleAnalysis;
+pub use signal::{spline, Series, SignalError};
 
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::MuscleGeometry;

@@ -205,6 +205,38 @@ pub enum Command {
         #[arg(long)]
         errors: Option<PathBuf>,
     },
+    /// Inverse dynamics like OpenSim 4.6's InverseDynamicsTool: the coordinates (degrees per the
+    /// header) are padded and low-pass filtered when a cutoff is given (OpenSim's 3rd-order
+    /// Butterworth run forward and backward, resampled at the smallest step first), q, q̇ and q̈
+    /// come from degree-5 GCV splines, and the generalized forces that produce them with gravity
+    /// and the external loads are written in Simbody's coordinate order (`<coordinate>_moment`,
+    /// N·m, or `_force`, N). Model forces (muscles, springs, …) are not applied: a setup's
+    /// forces_to_exclude must exclude them. Exit 0 success, 2 error.
+    Id {
+        /// The model (.osim).
+        model: PathBuf,
+        /// Coordinate trajectories (.mot or .sto), e.g. an inverse kinematics result.
+        coordinates: PathBuf,
+        /// An OpenSim ExternalLoads file (.xml) with its datafile (force-plate forces, points,
+        /// torques); overrides the setup's.
+        #[arg(long)]
+        external_loads: Option<PathBuf>,
+        /// An OpenSim InverseDynamicsTool setup: its time range, coordinate cutoff and external
+        /// loads are used (its model and coordinates file names are not; --time, --lowpass and
+        /// --external-loads override it).
+        #[arg(long)]
+        setup: Option<PathBuf>,
+        /// Time range in seconds (clipped to the coordinates; each end goes to the frame at or
+        /// before it).
+        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+        time: Option<Vec<f64>>,
+        /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
+        #[arg(long)]
+        lowpass: Option<f64>,
+        /// Output generalized forces (.sto).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Functional knee axis from a flexion–extension trial (thesis ch. 4): segment poses from
     /// the femur and tibia marker clusters, then GaL (Gamage & Lasenby) or SARA (Ehrig). Prints
     /// the axis in the lab frame of the trial's first frame and in both segment frames; with

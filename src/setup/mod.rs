@@ -1,12 +1,15 @@
-//! Typed views of OpenSim tool setup files — `<ScaleTool>` and `<InverseKinematicsTool>` — in
+//! Typed views of OpenSim tool setup files — `<ScaleTool>`, `<InverseKinematicsTool>`,
+//! `<InverseDynamicsTool>` and the `<ExternalLoads>` it names — in
 //! the 2.x/3.x and 4.x dialects, read through `io::osim::OsimDocument` with OpenSim's defaults
 //! for absent properties. Objects given by reference (`<IKTaskSet file="…"/>`) are read from
 //! their files; file names resolve against the setup file's directory, as OpenSim resolves them;
 //! empty and `Unassigned` names are `None`.
 
 mod error;
+mod external_loads;
 mod ik;
 mod ik_tasks;
+mod inverse_dynamics;
 mod marker_placer;
 mod measurement;
 mod model_scaler;
@@ -17,7 +20,9 @@ mod scale;
 mod time_range;
 
 pub use error::SetupError;
+pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};
 pub use ik::IkSetup;
+pub use inverse_dynamics::IdSetup;
 pub use ik_tasks::{CoordinateTarget, CoordinateTask, IkTaskSet, MarkerTask};
 pub use marker_placer::MarkerPlacer;
 pub use measurement::{BodyScale, Measurement};

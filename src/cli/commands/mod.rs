@@ -4,6 +4,7 @@ mod analyze;
 mod axis;
 mod diff;
 mod flatten;
+mod id;
 mod ik;
 mod info;
 mod scale;
@@ -31,6 +32,10 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
+        Command::Id { model, coordinates, external_loads, setup, time, lowpass, output } => {
+            let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
+            id::run(&model, &coordinates, &request)
+        }
         Command::Ik { model, trial, setup, time, weights, output, errors } => {
             let time = time.map(|t| [t[0], t[1]]);
             ik::run(&model, &trial, setup.as_deref(), time, &weights, &ik::Outputs { motion: output, errors })

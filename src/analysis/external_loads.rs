@@ -1,0 +1,116 @@
+//! External loads as OpenSim's `ExternalForce` applies them: force, point and torque columns of
+//! a data table, interpolated in time, expressed in named frames and applied to a body.
+
+use std::path::{Path, PathBuf};
+
+use super::signal::spline;
+use crate::io::table::StorageTable;
+use crate::mechanics::{BodyLoad, Function, Kinematics, Multibody, Vec3, GROUND_INDEX};
+use crate::model::{FunctionSpec, GROUND};
+use crate::setup::{ExternalForceSpec, ExternalLoadsSetup};
+
+/// Why external loads cannot be applied to a model.
+#[derive(Debug, thiserror::Error)]
+pub enum ExternalLoadsError {
+    #[error("{}:{line}: ExternalForce {force}: {problem}", file.display())]
+    Force { file: PathBuf, line: usize, force: String, problem: String },
+    #[error("{}: {problem}", file.display())]
+    Data { file: PathBuf, problem: String },
+}
+
+/// The loads of an `ExternalLoads` file on a model, ready to evaluate at any time.
+#[derive(Debug, Clone)]
+pub struct ExternalLoads {
+    forces: Vec<AppliedForce>,
+}
+
+/// One `ExternalForce`: frames as body indices, columns as functions of time.
+#[derive(Debug, Clone)]
+struct AppliedForce {
+    body: usize,
+    force_frame: usize,
+    point_frame: usize,
+    force: Option<[Function; 3]>,
+    point: Option<[Function; 3]>,
+    torque: Option<[Function; 3]>,
+}
+
+impl ExternalLoads {
+    /// Compiles `setup`'s forces on `multibody` with their columns from `data` (read from
+    /// `data_file`). Columns are found by their identifier as a prefix and must be exactly
+    /// three; they are interpolated as OpenSim does: constant for one row, piecewise linear for
+    /// two or three, else an interpolating cubic GCV spline.
+    pub fn new(setup: &ExternalLoadsSetup, data: &StorageTable, data_file: &Path, multibody: &Multibody) -> Result<ExternalLoads, ExternalLoadsError> {
+        if setup.model_kinematics_file.is_some() {
+            return Err(ExternalLoadsError::Data {
+                file: setup.file.clone(),
+                problem: "external_loads_model_kinematics_file (points re-expressed through a motion, OpenSim 3.x) is not supported; express the points in ground or in the bodies".into(),
+            });
+        }
+        let times = data.times();
+        if times.is_empty() {
+            return Err(ExternalLoadsError::Data { file: data_file.into(), problem: "the table has no rows".into() });
+        }
+        if let Some(row) = (1..times.len()).find(|&i| times[i].partial_cmp(&times[i - 1]) != Some(std::cmp::Ordering::Greater)) {
+            return Err(ExternalLoadsError::Data { file: data_file.into(), problem: format!("times must increase strictly, but row {} is at {} s after {} s", row + 1, times[row], times[row - 1]) });
+        }
+        let forces = setup.forces.iter().map(|spec| AppliedForce::new(spec, &setup.file, data, data_file, &times, multibody)).collect::<Result<_, _>>()?;
+        Ok(ExternalLoads { forces })
+    }
+
+    /// The loads at `time` (s), in ground, for the pose in `kinematics`.
+    pub fn at(&self, time: f64, kinematics: &Kinematics) -> Vec<BodyLoad> {
+        self.forces.iter().map(|f| f.at(time, kinematics)).collect()
+    }
+}
+
+impl AppliedForce {
+    fn new(spec: &ExternalForceSpec, file: &Path, data: &StorageTable, data_file: &Path, times: &[f64], multibody: &Multibody) -> Result<AppliedForce, ExternalLoadsError> {
+        let problem = |problem: String| ExternalLoadsError::Force { file: file.into(), line: spec.line, force: spec.name.clone(), problem };
+        let frame = |name: &str, what: &str| {
+            let bare = name.strip_prefix("./bodyset/").or_else(|| name.strip_prefix("/bodyset/")).unwrap_or(name);
+            let bare = if bare == "/ground" { GROUND } else { bare };
+            multibody.body_index(bare).ok_or_else(|| problem(format!("{what} {name:?} is not a body of the model {}", multibody.file.display())))
+        };
+        let columns = |identifier: &Option<String>| -> Result<Option<[Function; 3]>, ExternalLoadsError> {
+            let Some(identifier) = identifier else { return Ok(None) };
+            let found: Vec<usize> = data.labels().iter().enumerate().skip(1).filter(|(_, l)| l.starts_with(identifier.as_str())).map(|(i, _)| i).collect();
+            if found.len() != 3 {
+                let labels: Vec<&str> = found.iter().map(|&i| data.labels()[i].as_str()).collect();
+                return Err(problem(format!("{} must hold exactly 3 columns starting with {identifier:?}, found {} {labels:?}", data_file.display(), found.len())));
+            }
+            let function = |column: usize| {
+                let values: Vec<f64> = data.rows().map(|row| row[column]).collect();
+                interpolate(times, &values).map_err(|e| problem(format!("{}: {e}", data_file.display())))
+            };
+            Ok(Some([function(found[0])?, function(found[1])?, function(found[2])?]))
+        };
+        Ok(AppliedForce {
+            body: frame(&spec.applied_to_body, "applied_to_body")?,
+            force_frame: frame(&spec.force_expressed_in_body, "force_expressed_in_body")?,
+            point_frame: if spec.point_identifier.is_some() { frame(&spec.point_expressed_in_body, "point_expressed_in_body")? } else { GROUND_INDEX },
+            force: columns(&spec.force_identifier)?,
+            point: columns(&spec.point_identifier)?,
+            torque: columns(&spec.torque_identifier)?,
+        })
+    }
+
+    fn at(&self, time: f64, kinematics: &Kinematics) -> BodyLoad {
+        let value = |functions: &Option<[Function; 3]>| functions.as_ref().map_or(Vec3::zeros(), |f| Vec3::new(f[0].value(time), f[1].value(time), f[2].value(time)));
+        let rotation = kinematics.bodies[self.force_frame].rotation;
+        let point = match &self.point {
+            Some(_) => kinematics.bodies[self.point_frame].apply(&value(&self.point)),
+            None => kinematics.bodies[self.body].translation,
+        };
+        BodyLoad { body: self.body, force: rotation * value(&self.force), point, torque: rotation * value(&self.torque) }
+    }
+}
+
+/// OpenSim's choice by the number of rows: constant, piecewise linear, or cubic GCV spline.
+fn interpolate(times: &[f64], values: &[f64]) -> Result<Function, super::signal::SignalError> {
+    match times.len() {
+        1 => Ok(Function::new(&FunctionSpec::Constant { value: values[0] })),
+        2 | 3 => Ok(Function::new(&FunctionSpec::PiecewiseLinearFunction { x: times.to_vec(), y: values.to_vec() })),
+        _ => spline(3, times, values),
+    }
+}

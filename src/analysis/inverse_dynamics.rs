@@ -1,0 +1,133 @@
+//! OpenSim's `InverseDynamicsTool` along a motion: coordinates padded and low-pass filtered (when
+//! asked), differentiated by degree-5 GCV splines, and the generalized forces that give those
+//! accelerations with gravity and the external loads, in Simbody's mobility order.
+
+use std::path::{Path, PathBuf};
+
+use super::external_loads::ExternalLoads;
+use super::signal::{Series, SignalError};
+use crate::io::table::{StorageTable, TableError};
+use crate::mechanics::{Function, Motion, MotionError, MotionState, Multibody};
+use crate::model::MotionType;
+
+/// Why inverse dynamics cannot run.
+#[derive(Debug, thiserror::Error)]
+pub enum InverseDynamicsError {
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    #[error("{}: {source}", file.display())]
+    Signal { file: PathBuf, source: SignalError },
+    #[error("{}: no frame lies in the time range {start}–{end} s (the coordinates span {first}–{last} s)", file.display())]
+    NoFrames { file: PathBuf, start: f64, end: f64, first: f64, last: f64 },
+    #[error(transparent)]
+    Table(#[from] TableError),
+}
+
+/// How the tool runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InverseDynamicsSettings {
+    /// s; clipped to the coordinates' times.
+    pub time_range: [f64; 2],
+    /// Low-pass cutoff for the coordinates, Hz (`None`: no filtering).
+    pub lowpass_cutoff: Option<f64>,
+}
+
+/// The generalized forces along the motion and what the coordinates file lacked.
+#[derive(Debug, Clone)]
+pub struct InverseDynamicsResult {
+    /// `<coordinate>_moment` (N·m) or `<coordinate>_force` (N) per coordinate, Simbody's order.
+    pub forces: StorageTable,
+    /// Coordinates held at their default value (not in the file).
+    pub defaulted: Vec<String>,
+    /// Columns that are no coordinate of the model.
+    pub ignored_columns: Vec<String>,
+}
+
+/// Runs inverse dynamics on the coordinates in `table` (read from `file`) with `loads`.
+pub fn inverse_dynamics(multibody: &Multibody, table: &StorageTable, file: &Path, loads: Option<&ExternalLoads>, settings: &InverseDynamicsSettings) -> Result<InverseDynamicsResult, InverseDynamicsError> {
+    let motion = Motion::from_table(table, file, multibody, true)?;
+    let signal = |source| InverseDynamicsError::Signal { file: file.into(), source };
+    let measured: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| !motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
+    let columns = measured.iter().map(|&c| (0..motion.len()).map(|i| motion.pose(i)[c]).collect()).collect();
+    let mut series = Series::new(motion.times.clone(), columns, 6).map_err(signal)?;
+    if let Some(cutoff) = settings.lowpass_cutoff {
+        series = series.pad(series.times.len() / 2).lowpass(cutoff).map_err(signal)?;
+    }
+    let splines = series.splines().map_err(signal)?;
+    let frames = frames_in_range(&series.times, settings.time_range).ok_or_else(|| InverseDynamicsError::NoFrames {
+        file: file.into(),
+        start: settings.time_range[0],
+        end: settings.time_range[1],
+        first: series.times[0],
+        last: series.times[series.times.len() - 1],
+    })?;
+    let order = tree_order(multibody);
+    let mut values = Vec::with_capacity(series.times[frames.clone()].len() * (order.len() + 1));
+    let mut kinematics = multibody.kinematics();
+    for &time in &series.times[frames] {
+        let state = State::at(multibody, &measured, &splines, time);
+        multibody.realize(&state.q, &mut kinematics);
+        let applied = loads.map(|l| l.at(time, &kinematics)).unwrap_or_default();
+        let forces = multibody.inverse_dynamics(&MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
+        values.push(time);
+        values.extend(order.iter().map(|&c| forces[c]));
+    }
+    let labels = std::iter::once("time".to_string()).chain(order.iter().map(|&c| label(multibody, c))).collect();
+    let forces = StorageTable::new("Inverse Dynamics Generalized Forces", labels, values)?.with_in_degrees(false);
+    Ok(InverseDynamicsResult { forces, defaulted: motion.defaulted, ignored_columns: motion.ignored_columns })
+}
+
+/// q, u and u̇ of every coordinate at one time: the splines' value and derivatives for the
+/// coordinates in the file, the default value at rest for the others.
+struct State {
+    q: Vec<f64>,
+    u: Vec<f64>,
+    udot: Vec<f64>,
+}
+
+impl State {
+    fn at(multibody: &Multibody, measured: &[usize], splines: &[Function], time: f64) -> State {
+        let n = multibody.coordinates.len();
+        let mut state = State { q: multibody.default_pose(), u: vec![0.0; n], udot: vec![0.0; n] };
+        for (&c, spline) in measured.iter().zip(splines) {
+            (state.q[c], state.u[c], state.udot[c]) = (spline.value(time), spline.derivative(time), spline.second_derivative(time));
+        }
+        state
+    }
+}
+
+/// The rows OpenSim solves: from the last time at or before max(start, first time) to the last
+/// time at or before min(end, last time) (`Storage::findIndex`).
+fn frames_in_range(times: &[f64], range: [f64; 2]) -> Option<std::ops::RangeInclusive<usize>> {
+    let (first, last) = (times[0], times[times.len() - 1]);
+    let (start, end) = (range[0].max(first), range[1].min(last));
+    if start > end {
+        return None;
+    }
+    let index = |t: f64| times.iter().position(|&time| t < time).unwrap_or(times.len()).saturating_sub(1);
+    Some(index(start)..=index(end))
+}
+
+/// Coordinates in Simbody's mobility order: joints by their depth below ground, then in the
+/// model's order (`Model::getCoordinatesInMultibodyTreeOrder`).
+fn tree_order(multibody: &Multibody) -> Vec<usize> {
+    let depth = |c: usize| {
+        let mut joint = multibody.coordinate_joint(c);
+        let mut depth = 0;
+        while let Some(parent) = multibody.bodies[multibody.joints[joint].parent].joint {
+            joint = parent;
+            depth += 1;
+        }
+        depth
+    };
+    let mut order: Vec<usize> = (0..multibody.coordinates.len()).collect();
+    order.sort_by_key(|&c| (depth(c), c));
+    order
+}
+
+/// OpenSim's column name: `_moment` for a rotational coordinate, else `_force`.
+fn label(multibody: &Multibody, c: usize) -> String {
+    let coordinate = &multibody.coordinates[c];
+    let suffix = if coordinate.motion_type == MotionType::Rotational { "moment" } else { "force" };
+    format!("{}_{suffix}", coordinate.name)
+}

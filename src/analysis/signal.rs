@@ -1,0 +1,170 @@
+//! OpenSim's `Storage` signal operations that its tools apply to coordinates before
+//! differentiating them: `pad` (reflect and negate), `lowpassIIR` (resampled first when the
+//! sampling is not uniform) and the GCV splines that resample and differentiate.
+
+use crate::mechanics::Function;
+use crate::model::FunctionSpec;
+
+/// Largest number of samples `Storage::resample` makes (OpenSim's `MAX_RESAMPLE_SIZE`).
+const MAX_RESAMPLE_SIZE: f64 = 100_000.0;
+/// SimTK's `Eps`: the step irregularity above which `lowpassIIR` resamples.
+const EPS: f64 = f64::EPSILON;
+
+/// Samples of several signals at shared times (s), strictly increasing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    pub times: Vec<f64>,
+    /// One per signal, each as long as `times`.
+    pub columns: Vec<Vec<f64>>,
+}
+
+/// Why a series cannot be processed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SignalError {
+    #[error("times must increase strictly, but row {row} is at {time} s after {previous} s")]
+    TimesNotIncreasing { row: usize, time: f64, previous: f64 },
+    #[error("{needed} samples are needed, found {found}")]
+    TooFewSamples { needed: usize, found: usize },
+}
+
+impl Series {
+    /// Checks the times and the number of samples (`needed` at least).
+    pub fn new(times: Vec<f64>, columns: Vec<Vec<f64>>, needed: usize) -> Result<Series, SignalError> {
+        if times.len() < needed {
+            return Err(SignalError::TooFewSamples { needed, found: times.len() });
+        }
+        if let Some(row) = (1..times.len()).find(|&i| times[i].partial_cmp(&times[i - 1]) != Some(std::cmp::Ordering::Greater)) {
+            return Err(SignalError::TimesNotIncreasing { row, time: times[row], previous: times[row - 1] });
+        }
+        Ok(Series { times, columns })
+    }
+
+    /// `Storage::pad(n)` for n < the number of samples: n samples before and after, the times
+    /// and each signal reflected about its end sample and negated (`Signal::Pad`).
+    pub fn pad(&self, n: usize) -> Series {
+        Series { times: reflect(&self.times, n), columns: self.columns.iter().map(|c| reflect(c, n)).collect() }
+    }
+
+    /// `Storage::lowpassIIR(cutoff)`: resampled at the smallest step by degree-5 GCV splines when
+    /// the steps differ, then each signal through `Signal::LowpassIIR` (Hz).
+    pub fn lowpass(&self, cutoff: f64) -> Result<Series, SignalError> {
+        let n = self.times.len();
+        let step = self.times.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+        let average = (self.times[n - 1] - self.times[0]) / (n - 1) as f64;
+        let (series, step) = if average - step > EPS { self.resample(step)? } else { (self.clone(), step) };
+        if series.times.len() < 4 {
+            return Err(SignalError::TooFewSamples { needed: 4, found: series.times.len() });
+        }
+        let columns = series.columns.iter().map(|c| butterworth(step, cutoff, c)).collect();
+        Ok(Series { times: series.times, columns })
+    }
+
+    /// Degree-5 interpolating GCV splines of each signal (`GCVSplineSet(5, storage)`).
+    pub fn splines(&self) -> Result<Vec<Function>, SignalError> {
+        self.columns.iter().map(|c| spline(5, &self.times, c)).collect()
+    }
+
+    /// `Storage::resample(step, 5)`: the splines sampled from the first time at `step`
+    /// (accumulated, as `GCVSplineSet::constructStorage` steps) up to the last.
+    fn resample(&self, step: f64) -> Result<(Series, f64), SignalError> {
+        let (first, last) = (self.times[0], self.times[self.times.len() - 1]);
+        let step = if (last - first) / step > MAX_RESAMPLE_SIZE { (last - first) / MAX_RESAMPLE_SIZE } else { step };
+        let splines = self.splines()?;
+        let mut times = Vec::new();
+        let mut x = first;
+        while x <= last {
+            times.push(x);
+            x += step;
+        }
+        let columns = splines.iter().map(|s| times.iter().map(|&t| s.value(t)).collect()).collect();
+        Ok((Series { times, columns }, step))
+    }
+}
+
+/// An interpolating GCV spline of `degree` through (times, values), as OpenSim builds one
+/// (`GCVSpline(degree, n, x, y)`, error variance 0).
+pub fn spline(degree: usize, times: &[f64], values: &[f64]) -> Result<Function, SignalError> {
+    if times.len() <= degree {
+        return Err(SignalError::TooFewSamples { needed: degree + 1, found: times.len() });
+    }
+    Ok(Function::new(&FunctionSpec::GCVSpline { degree, error_variance: 0.0, x: times.to_vec(), y: values.to_vec() }))
+}
+
+/// `Signal::Pad`: s[−k] = 2·s[0] − s[k] and s[n−1+k] = 2·s[n−1] − s[n−1−k], k = 1…`pad`.
+fn reflect(signal: &[f64], pad: usize) -> Vec<f64> {
+    let n = signal.len();
+    let before = (1..=pad).rev().map(|k| 2.0 * signal[0] - signal[k]);
+    let after = (1..=pad).map(|k| 2.0 * signal[n - 1] - signal[n - 1 - k]);
+    before.chain(signal.iter().copied()).chain(after).collect()
+}
+
+/// `Signal::LowpassIIR`: a third-order Butterworth low-pass (bilinear transform with frequency
+/// warping) run forward and then backward, sample step `step` (s), cutoff `cutoff` (Hz; lowered
+/// to 0.49 of the sampling rate if it is not below half of it). The first four samples of each
+/// pass are copied, as OpenSim does.
+fn butterworth(step: f64, cutoff: f64, signal: &[f64]) -> Vec<f64> {
+    let rate = 1.0 / step;
+    let cutoff = if cutoff >= 0.5 * rate { 0.49 * rate } else { cutoff };
+    let wa = (2.0 * std::f64::consts::PI * cutoff * step / 2.0).tan();
+    let (wa2, wa3) = (wa * wa, wa * wa * wa);
+    let denominator = (wa + 1.0) * (wa * wa + wa + 1.0);
+    let a = [wa3 / denominator, 3.0 * wa3 / denominator, 3.0 * wa3 / denominator, wa3 / denominator];
+    let b = [
+        1.0,
+        (3.0 * wa3 + 2.0 * wa2 - 2.0 * wa - 3.0) / denominator,
+        (3.0 * wa3 - 2.0 * wa2 - 2.0 * wa + 3.0) / denominator,
+        (wa - 1.0) * (wa2 - wa + 1.0) / denominator,
+    ];
+    let pass = |input: &[f64]| {
+        let mut output = input.to_vec();
+        for i in 3..input.len() {
+            output[i] = a[0] * input[i] + a[1] * input[i - 1] + a[2] * input[i - 2] + a[3] * input[i - 3] - b[1] * output[i - 1] - b[2] * output[i - 2] - b[3] * output[i - 3];
+        }
+        output
+    };
+    let mut forward = pass(signal);
+    forward.reverse();
+    let mut both = pass(&forward);
+    both.reverse();
+    both
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn padding_reflects_and_negates_about_the_end_samples() {
+        let padded = reflect(&[1.0, 2.0, 4.0, 7.0], 2);
+        assert_eq!(padded, vec![-2.0, 0.0, 1.0, 2.0, 4.0, 7.0, 10.0, 12.0]);
+    }
+
+    /// A constant passes unchanged (unit DC gain) and a tone far above the cutoff is removed.
+    #[test]
+    fn the_filter_keeps_a_constant_and_removes_a_high_tone() {
+        let step = 0.01;
+        let constant = butterworth(step, 6.0, &[2.5; 200]);
+        assert!(constant.iter().all(|v| (v - 2.5).abs() < 1e-12));
+        let tone: Vec<f64> = (0..400).map(|i| (2.0 * std::f64::consts::PI * 40.0 * i as f64 * step).sin()).collect();
+        let filtered = butterworth(step, 6.0, &tone);
+        assert!(filtered[100..300].iter().all(|v| v.abs() < 0.01), "{:?}", &filtered[100..110]);
+    }
+
+    #[test]
+    fn irregular_steps_are_resampled_at_the_smallest() {
+        let times = vec![0.0, 0.017, 0.033, 0.05, 0.067, 0.083, 0.1, 0.117];
+        let series = Series::new(times.clone(), vec![times.iter().map(|t| 3.0 * t).collect()], 6).unwrap();
+        let (resampled, step) = series.resample(0.016).unwrap();
+        assert_eq!(step, 0.016);
+        assert_eq!(resampled.times.len(), 8);
+        for (t, v) in resampled.times.iter().zip(&resampled.columns[0]) {
+            assert!((v - 3.0 * t).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn times_must_increase() {
+        let error = Series::new(vec![0.0, 0.1, 0.1], vec![vec![0.0; 3]], 2).unwrap_err();
+        assert_eq!(error, SignalError::TimesNotIncreasing { row: 2, time: 0.1, previous: 0.1 });
+    }
+}

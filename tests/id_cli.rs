@@ -1,0 +1,75 @@
+//! `osim-tune id`: OpenSim's InverseDynamicsTool run from the command line, and its refusals.
+
+mod common;
+
+use std::path::Path;
+
+use common::osim_tune;
+use osim_tune::io::table::StorageTable;
+
+const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
+const IK: &str = "fixtures/golden/ik/subject01_walk1_ik.mot";
+const SETUP: &str = "fixtures/subject01/subject01_Setup_InverseDynamics.xml";
+
+fn path(relative: &str) -> String {
+    common::root().join(relative).display().to_string()
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The setup's time range, cutoff and external loads give OpenSim's table (8 printed decimals).
+#[test]
+fn the_setup_runs_opensims_inverse_dynamics() {
+    let folder = tempfile::tempdir().unwrap();
+    let output = folder.path().join("id.sto");
+    let (code, stdout, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--setup", &path(SETUP), "-o", s(&output)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("76 frames") && stdout.contains("low-pass 6 Hz"), "{stdout}");
+    let ours = StorageTable::read(&output).unwrap();
+    let golden = StorageTable::read(&common::fixture("golden/inverse_dynamics/subject01_walk1_InverseDynamics.sto")).unwrap();
+    assert_eq!(ours.labels(), golden.labels());
+    let worst = ours.values().iter().zip(golden.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst <= 6e-9, "{worst:e}");
+}
+
+/// A setup that keeps the muscles in is refused (we apply gravity and external loads only).
+#[test]
+fn forces_left_in_the_model_are_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let setup = folder.path().join("setup.xml");
+    let text = std::fs::read_to_string(path(SETUP)).unwrap().replace("<forces_to_exclude> muscles </forces_to_exclude>", "<forces_to_exclude> </forces_to_exclude>");
+    std::fs::write(&setup, text).unwrap();
+    let output = folder.path().join("id.sto");
+    let (code, _, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--setup", s(&setup), "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"), "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("forces_to_exclude leaves 92 force(s)") && stderr.contains("glut_med1_r (Millard2012EquilibriumMuscle)") && stderr.contains("and 87 more"), "{stderr}");
+    assert!(!output.exists());
+}
+
+/// A load on a body the model lacks names the loads file, the line and the body.
+#[test]
+fn a_load_on_an_unknown_body_is_refused_with_its_line() {
+    let folder = tempfile::tempdir().unwrap();
+    let loads = folder.path().join("grf.xml");
+    let text = std::fs::read_to_string(path("fixtures/subject01/subject01_walk1_grf.xml")).unwrap();
+    let text = text.replace("<applied_to_body> calcn_l </applied_to_body>", "<applied_to_body> calcn_x </applied_to_body>");
+    std::fs::write(&loads, text.replace("subject01_walk1_grf.mot", &path("fixtures/subject01/subject01_walk1_grf.mot"))).unwrap();
+    let output = folder.path().join("id.sto");
+    let (code, _, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--external-loads", s(&loads), "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("grf.xml:") && stderr.contains("ExternalForce_2") && stderr.contains("\"calcn_x\" is not a body"), "{stderr}");
+    assert!(!output.exists());
+}
+
+#[test]
+fn the_output_may_not_overwrite_an_input() {
+    let folder = tempfile::tempdir().unwrap();
+    let coordinates = folder.path().join("ik.mot");
+    std::fs::copy(path(IK), &coordinates).unwrap();
+    let before = std::fs::read(&coordinates).unwrap();
+    let (code, _, stderr) = osim_tune(&["id", &path(MODEL), s(&coordinates), "-o", s(&coordinates)]);
+    assert_eq!(code, 2, "{stderr}");
+    assert_eq!(std::fs::read(&coordinates).unwrap(), before);
+}
