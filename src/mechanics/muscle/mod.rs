@@ -93,6 +93,28 @@ impl HillMuscle {
         }
     }
 
+    /// OpenSim's `calcInextensibleTendonActiveFiberForce`: the active fiber force along the tendon (N)
+    /// at `activation` with the tendon at its slack length, for a path of length `mt_length` (m)
+    /// lengthening at `lengthening_speed` (m/s). StaticOptimization (use_muscle_physiology) takes
+    /// it as the muscle's force at activation 1. Each class keeps OpenSim's quirks: Millard
+    /// evaluates the pennation at the normalised fiber length, Thelen inverts its force–velocity
+    /// relation iteratively (NaN where OpenSim throws), DeGroote returns the force along the
+    /// fiber and does not clamp the activation; Millard and Thelen give 0 at the minimum fiber
+    /// length.
+    pub fn inextensible_tendon_active_fiber_force(
+        &self,
+        activation: f64,
+        mt_length: f64,
+        lengthening_speed: f64,
+    ) -> f64 {
+        let (a, length, speed) = (activation, mt_length, lengthening_speed);
+        match self {
+            HillMuscle::Millard(m) => m.inextensible_tendon_active_fiber_force(a, length, speed),
+            HillMuscle::Thelen(m) => m.inextensible_tendon_active_fiber_force(a, length, speed),
+            HillMuscle::DeGroote(m) => m.inextensible_tendon_active_fiber_force(a, length, speed),
+        }
+    }
+
     /// dL_m/dt (m/s) at activation `activation`, fiber length `fiber_length` (m) and path
     /// length `mt_length` (m), the path at rest: the state derivative OpenSim's forward
     /// simulation uses (Millard, Thelen and implicit-mode DeGroote balance fiber and tendon

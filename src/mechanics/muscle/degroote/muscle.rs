@@ -126,6 +126,16 @@ impl DeGrooteFregly2016Muscle {
             self.curves
                 .calc_tendon_force_length_inverse_curve(normalized_tendon_force)
         };
+        self.length_info_at_tendon_length(mt_length, normalized_tendon_length)
+    }
+
+    /// [`Self::length_info`] with the tendon at normalized length `normalized_tendon_length`
+    /// (L_t / L_ts), whatever the muscle's tendon compliance.
+    pub(super) fn length_info_at_tendon_length(
+        &self,
+        mt_length: f64,
+        normalized_tendon_length: f64,
+    ) -> LengthInfo {
         let tendon_length = self.tendon_slack_length * normalized_tendon_length;
         let fiber_length_along_tendon = mt_length - tendon_length;
         let fiber_length = (fiber_length_along_tendon * fiber_length_along_tendon

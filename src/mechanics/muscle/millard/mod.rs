@@ -1,9 +1,11 @@
 //! `Millard2012EquilibriumMuscle`: quintic-Bézier curves (`bezier`, `smooth_function`,
 //! `curves`) and the muscle (`muscle`: parameters as OpenSim finalises them, static
-//! equilibrium, OpenSim's own equilibrium iteration, fiber velocity).
+//! equilibrium, OpenSim's own equilibrium iteration, fiber velocity; `inextensible`: the active
+//! fiber force with a rigid tendon).
 
 mod bezier;
 mod curves;
+mod inextensible;
 mod muscle;
 mod opensim_equilibrium;
 mod smooth_function;

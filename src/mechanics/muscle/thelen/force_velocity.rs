@@ -9,6 +9,7 @@
 //! direction; the multiplier f_V(ṽ) is its exact inverse, which does not depend on f_L.
 
 use super::ThelenCurves;
+use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
 
 impl ThelenCurves {
     /// ṽ, the normalized fiber velocity at which the fiber develops active force
@@ -42,6 +43,38 @@ impl ThelenCurves {
             .extrapolation_anchor(isometric, active_force)
             .unwrap_or(active_force);
         self.thelen_velocity(activation, isometric, at).1
+    }
+
+    /// f_V at normalized fiber velocity `normalized_fiber_velocity` as OpenSim's `calcfvInv`
+    /// finds it: Newton steps on the active force F, from F = a f_L (f_V = 1), until the
+    /// velocity error |ṽ(F) − ṽ| < `tolerance` or `max_iterations` steps are taken (a step with
+    /// |∂ṽ/∂F| ≤ SignificantReal leaves F unchanged). The error is that of F before the last
+    /// step, which is still applied. Returns max(0, F / (a f_L)); `None` when the error is not
+    /// below `tolerance` (OpenSim throws). [`ThelenCurves::force_velocity`] is the exact inverse.
+    pub fn force_velocity_by_newton(
+        &self,
+        activation: f64,
+        active_force_length: f64,
+        normalized_fiber_velocity: f64,
+        tolerance: f64,
+        max_iterations: usize,
+    ) -> Option<f64> {
+        let mut force = activation * active_force_length;
+        let mut error = 1.0_f64;
+        let mut iterations = 0;
+        while error.abs() >= tolerance && iterations < max_iterations {
+            error = self.normalized_fiber_velocity(activation, active_force_length, force)
+                - normalized_fiber_velocity;
+            let slope =
+                self.normalized_fiber_velocity_derivative(activation, active_force_length, force);
+            if slope.abs() > SIGNIFICANT_REAL {
+                force += -error / slope;
+            }
+            iterations += 1;
+        }
+        // OpenSim's std::max(0.0, x): 0 unless x > 0 (NaN included).
+        let multiplier = force / (activation * active_force_length);
+        (error.abs() < tolerance).then_some(if 0.0 < multiplier { multiplier } else { 0.0 })
     }
 
     /// f_V(ṽ), the force–velocity multiplier at normalized fiber velocity ṽ and activation
@@ -181,6 +214,23 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// OpenSim's iteration lands on the exact inverse (clipped at 0 past maximum shortening)
+    /// on all four pieces; it fails when it cannot reach its tolerance.
+    #[test]
+    fn newton_force_velocity_converges_to_the_exact_inverse() {
+        let c = gait2392_curves();
+        for a in ACTIVATIONS {
+            for i in 0..=70 {
+                let v = -1.5 + 0.05 * f64::from(i);
+                let iterated = c.force_velocity_by_newton(a, 0.8, v, 1e-6, 100).unwrap();
+                let exact = c.force_velocity(a, v).max(0.0);
+                assert!((iterated - exact).abs() < 1e-8, "a {a} v {v}: {iterated} vs {exact}");
+            }
+            assert_eq!(c.force_velocity_by_newton(a, 0.8, 0.5, 1e-6, 0), None);
+            assert_eq!(c.force_velocity_by_newton(a, 0.8, f64::NAN, 1e-6, 100), None);
         }
     }
 

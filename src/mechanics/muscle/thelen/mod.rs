@@ -1,10 +1,11 @@
 //! OpenSim 4.6's `Thelen2003Muscle`: the Thelen (2003) curves with OpenSim's exact tendon-toe
 //! constants and linear force–velocity extrapolation (`curves.rs`, `force_velocity.rs`), fixed-width
 //! pennation, the static fiber–tendon equilibrium and the fiber-length state derivative
-//! (`muscle.rs`).
+//! (`muscle.rs`), and the active fiber force with a rigid tendon (`inextensible.rs`).
 
 mod curves;
 mod force_velocity;
+mod inextensible;
 mod muscle;
 
 pub use curves::ThelenCurves;
