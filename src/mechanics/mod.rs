@@ -1,5 +1,6 @@
 //! Mechanics compiled from the model view: functions, kinematics, muscle paths.
 
+mod actuator;
 mod coupling;
 mod error;
 pub mod function;
@@ -21,6 +22,7 @@ mod wrap_sphere;
 mod wrap_surface;
 mod wrap_torus;
 
+pub use actuator::Actuator;
 pub use coupling::Coupler;
 pub use error::MechanicsError;
 pub use function::Function;

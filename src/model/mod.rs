@@ -1,7 +1,9 @@
 //! Typed view of an OpenSim model document: bodies, frames, joints, coordinates, functions,
-//! markers, forces with their paths, constraints and wrap objects, read from either the 4.x or
-//! the 3.x layout into one form. Elements keep their `ElementId` where later edits need it.
+//! markers, forces with their paths, actuators, constraints and wrap objects, read from either
+//! the 4.x or the 3.x layout into one form. Elements keep their `ElementId` where later edits
+//! need it.
 
+mod actuator;
 mod body;
 mod constraint;
 mod coordinate;
@@ -17,6 +19,7 @@ mod reader;
 mod spec;
 mod wrap_object;
 
+pub use actuator::{read_force_set, ActuatorKind, ActuatorSpec};
 pub use body::BodySpec;
 pub use constraint::{ConstraintSpec, CouplerSpec};
 pub use coordinate::{CoordinateSpec, CoordinateUnit, MotionType};

@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
+use super::actuator::ActuatorSpec;
 use super::body::BodySpec;
 use super::constraint::ConstraintSpec;
 use super::coordinate::CoordinateSpec;
@@ -32,6 +33,9 @@ pub struct ModelSpec {
     pub joints: Vec<JointSpec>,
     pub markers: Vec<MarkerSpec>,
     pub forces: Vec<ForceSpec>,
+    /// The ForceSet's `CoordinateActuator`s, `PointActuator`s and `TorqueActuator`s (also in
+    /// `forces`).
+    pub actuators: Vec<ActuatorSpec>,
     pub constraints: Vec<ConstraintSpec>,
     pub wrap_objects: Vec<WrapObjectSpec>,
 }
@@ -57,6 +61,7 @@ impl ModelSpec {
             joints: Vec::new(),
             markers: Vec::new(),
             forces: Vec::new(),
+            actuators: Vec::new(),
             constraints: Vec::new(),
             wrap_objects: Vec::new(),
         };
@@ -85,6 +90,7 @@ impl ModelSpec {
         }
         for force in set_members(model, "ForceSet") {
             spec.forces.push(ForceSpec::read(model.at(force), dialect, &frames)?);
+            spec.actuators.extend(ActuatorSpec::read(model.at(force))?);
         }
         for constraint in set_members(model, "ConstraintSet") {
             spec.constraints.push(ConstraintSpec::read(model.at(constraint))?);
