@@ -27,6 +27,8 @@ pub struct ExternalLoads {
 /// One `ExternalForce`: frames as body indices, columns as functions of time.
 #[derive(Debug, Clone)]
 struct AppliedForce {
+    /// `<body>_<force>`, the prefix of OpenSim's record labels.
+    label: String,
     body: usize,
     force_frame: usize,
     point_frame: usize,
@@ -62,6 +64,39 @@ impl ExternalLoads {
     pub fn at(&self, time: f64, kinematics: &Kinematics) -> Vec<BodyLoad> {
         self.forces.iter().map(|f| f.at(time, kinematics)).collect()
     }
+
+    /// OpenSim's `ForceReporter` labels: per force `<body>_<name>_F{x,y,z}`, `_p{x,y,z}` when it
+    /// has a point and `_T{x,y,z}` when it has a torque.
+    pub fn record_labels(&self) -> Vec<String> {
+        let mut labels = Vec::new();
+        for force in &self.forces {
+            for (prefix, present) in [("F", force.force.is_some()), ("p", force.point.is_some()), ("T", force.torque.is_some())] {
+                if present {
+                    labels.extend(["x", "y", "z"].map(|axis| format!("{}_{prefix}{axis}", force.label)));
+                }
+            }
+        }
+        labels
+    }
+
+    /// The values of [`ExternalLoads::record_labels`] at `time`: force and torque in ground (N,
+    /// N·m), the point in the body it acts on (m).
+    pub fn record_values(&self, time: f64, kinematics: &Kinematics) -> Vec<f64> {
+        let mut values = Vec::new();
+        for force in &self.forces {
+            let load = force.at(time, kinematics);
+            if force.force.is_some() {
+                values.extend(load.force.iter());
+            }
+            if force.point.is_some() {
+                values.extend(kinematics.bodies[force.body].inverse().apply(&load.point).iter());
+            }
+            if force.torque.is_some() {
+                values.extend(load.torque.iter());
+            }
+        }
+        values
+    }
 }
 
 impl AppliedForce {
@@ -86,6 +121,7 @@ impl AppliedForce {
             Ok(Some([function(found[0])?, function(found[1])?, function(found[2])?]))
         };
         Ok(AppliedForce {
+            label: format!("{}_{}", spec.applied_to_body, spec.name),
             body: frame(&spec.applied_to_body, "applied_to_body")?,
             force_frame: frame(&spec.force_expressed_in_body, "force_expressed_in_body")?,
             point_frame: if spec.point_identifier.is_some() { frame(&spec.point_expressed_in_body, "point_expressed_in_body")? } else { GROUND_INDEX },

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use super::external_loads::ExternalLoads;
-use super::signal::{Series, SignalError};
+use super::signal::{rows_in_range, Series, SignalError};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Function, Motion, MotionError, MotionState, Multibody};
 use crate::model::MotionType;
@@ -54,7 +54,7 @@ pub fn inverse_dynamics(multibody: &Multibody, table: &StorageTable, file: &Path
         series = series.pad(series.times.len() / 2).lowpass(cutoff).map_err(signal)?;
     }
     let splines = series.splines().map_err(signal)?;
-    let frames = frames_in_range(&series.times, settings.time_range).ok_or_else(|| InverseDynamicsError::NoFrames {
+    let frames = rows_in_range(&series.times, settings.time_range).ok_or_else(|| InverseDynamicsError::NoFrames {
         file: file.into(),
         start: settings.time_range[0],
         end: settings.time_range[1],
@@ -94,18 +94,6 @@ impl State {
         }
         state
     }
-}
-
-/// The rows OpenSim solves: from the last time at or before max(start, first time) to the last
-/// time at or before min(end, last time) (`Storage::findIndex`).
-fn frames_in_range(times: &[f64], range: [f64; 2]) -> Option<std::ops::RangeInclusive<usize>> {
-    let (first, last) = (times[0], times[times.len() - 1]);
-    let (start, end) = (range[0].max(first), range[1].min(last));
-    if start > end {
-        return None;
-    }
-    let index = |t: f64| times.iter().position(|&time| t < time).unwrap_or(times.len()).saturating_sub(1);
-    Some(index(start)..=index(end))
 }
 
 /// Coordinates in Simbody's mobility order: joints by their depth below ground, then in the

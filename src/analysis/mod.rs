@@ -1,11 +1,13 @@
 //! Analyses along a motion, in the spirit of OpenSim's analyses (`MuscleAnalysis`, …).
 
 mod activation;
+mod analyze_states;
 mod external_loads;
 mod fiber_analysis;
 mod inverse_dynamics;
 mod muscle_analysis;
 mod signal;
+mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
@@ -13,6 +15,8 @@ pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use muscle_analysis::MuscleAnalysis;
 pub use signal::{spline, Series, SignalError};
+pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};
+pub use analyze_states::StatesError;
 
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::MuscleGeometry;

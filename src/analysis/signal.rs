@@ -81,6 +81,19 @@ impl Series {
     }
 }
 
+/// The rows OpenSim's tools solve for `range` (s): from the last time at or before
+/// max(start, first time) to the last at or before min(end, last time) (`Storage::findIndex`);
+/// `None` when the range misses the times.
+pub fn rows_in_range(times: &[f64], range: [f64; 2]) -> Option<std::ops::RangeInclusive<usize>> {
+    let (first, last) = (times[0], times[times.len() - 1]);
+    let (start, end) = (range[0].max(first), range[1].min(last));
+    if start > end {
+        return None;
+    }
+    let index = |t: f64| times.iter().position(|&time| t < time).unwrap_or(times.len()).saturating_sub(1);
+    Some(index(start)..=index(end))
+}
+
 /// An interpolating GCV spline of `degree` through (times, values), as OpenSim builds one
 /// (`GCVSpline(degree, n, x, y)`, error variance 0).
 pub fn spline(degree: usize, times: &[f64], values: &[f64]) -> Result<Function, SignalError> {

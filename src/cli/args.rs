@@ -237,6 +237,52 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Static optimisation like OpenSim 4.6's StaticOptimization (AnalyzeTool): the coordinates
+    /// are filtered and differentiated as the AnalyzeTool does (a coordinate the file lacks is
+    /// held at 0), and per frame the muscle activations and actuator controls a minimise Σa²
+    /// while their forces (a·F, F a muscle's active force at activation 1 with a rigid tendon, or
+    /// an actuator's optimal force) give the tracked accelerations with gravity and the external
+    /// loads, each control within its min/max_control — a convex QP solved to its optimum (OpenSim's
+    /// IPOPT stops at its convergence criterion). Writes OpenSim's
+    /// <NAME>_StaticOptimization_activation.sto and _force.sto into DIR. Exit 0 success, 1 some
+    /// frame has no solution (its row is NaN), 2 error.
+    So {
+        /// The model (.osim).
+        model: PathBuf,
+        /// Coordinate trajectories (.mot or .sto), e.g. an inverse kinematics result.
+        coordinates: PathBuf,
+        /// An OpenSim AnalyzeTool setup with a StaticOptimization: its time range, cutoff,
+        /// external loads, force_set_files (replace_force_set), step_interval and
+        /// use_muscle_physiology are used (its model and coordinates file names are not).
+        #[arg(long)]
+        setup: Option<PathBuf>,
+        /// An OpenSim ExternalLoads file (.xml) with its datafile; overrides the setup's.
+        #[arg(long)]
+        external_loads: Option<PathBuf>,
+        /// ForceSet files of Coordinate-, Point- and TorqueActuators (residuals, reserves) added to
+        /// the model's muscles and actuators, comma separated; override the setup's.
+        #[arg(long, value_delimiter = ',')]
+        actuators: Vec<PathBuf>,
+        /// Time range in seconds (each end goes to the row at or before it).
+        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+        time: Option<Vec<f64>>,
+        /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
+        #[arg(long)]
+        lowpass: Option<f64>,
+        /// Solve the first and last rows and every row whose index is a multiple of N.
+        #[arg(long)]
+        step_interval: Option<usize>,
+        /// Another solution's activations (e.g. OpenSim's _activation.sto) to judge on this
+        /// problem: how far its controls miss the constraints and bounds, and its Σa² against ours.
+        #[arg(long)]
+        compare: Option<PathBuf>,
+        /// Prefix of the output files (default: the setup's name, else the coordinates file's stem).
+        #[arg(long)]
+        name: Option<String>,
+        /// Output folder (created if needed).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Functional knee axis from a flexion–extension trial (thesis ch. 4): segment poses from
     /// the femur and tibia marker clusters, then GaL (Gamage & Lasenby) or SARA (Ehrig). Prints
     /// the axis in the lab frame of the trial's first frame and in both segment frames; with

@@ -45,3 +45,24 @@ pub(crate) fn create_output_folders<'a>(files: impl IntoIterator<Item = &'a Path
     }
     Ok(())
 }
+
+/// Checks `--time START END` (START ≤ END) and `--lowpass HZ` (> 0), shared by the commands that
+/// read a motion.
+pub(crate) fn check_time_and_cutoff(time: Option<[f64; 2]>, lowpass: Option<f64>) -> Result<(), Failure> {
+    if let Some(cutoff) = lowpass.filter(|c| !(c.is_finite() && *c > 0.0)) {
+        return Err(format!("--lowpass {cutoff}: expected a cutoff frequency > 0 Hz").into());
+    }
+    if let Some([start, end]) = time.filter(|[s, e]| !matches!(s.partial_cmp(e), Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal))) {
+        return Err(format!("--time {start} {end}: expected START ≤ END").into());
+    }
+    Ok(())
+}
+
+/// An `ExternalLoads` file and its datafile on `multibody`; both files join `inputs`.
+pub(crate) fn read_external_loads(file: &Path, multibody: &crate::mechanics::Multibody, inputs: &mut Vec<std::path::PathBuf>) -> Result<crate::analysis::ExternalLoads, Failure> {
+    let setup = crate::setup::ExternalLoadsSetup::read(file)?;
+    let data_file = setup.datafile.as_ref().ok_or_else(|| format!("{}: the ExternalLoads names no datafile", file.display()))?.resolved.clone();
+    let data = crate::io::table::StorageTable::read(&data_file)?;
+    inputs.extend([file.to_path_buf(), data_file.clone()]);
+    Ok(crate::analysis::ExternalLoads::new(&setup, &data, &data_file, multibody)?)
+}

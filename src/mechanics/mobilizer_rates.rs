@@ -70,7 +70,7 @@ fn euler_xyz_rates(n: usize, q: &[f64], u: &[f64], udot: &[f64]) -> [Mat3; 3] {
     (0..n).fold([Mat3::identity(), Mat3::zeros(), Mat3::zeros()], |r, k| product_rates(&r, &turn(&Vec3::ith(k, 1.0), [q[k], u[k], udot[k]])))
 }
 
-/// Body-fixed X-Y-Z angles `q[..3]` with u = ω in F: Ṙ = [u]×·R, R̈ = [u̇]×·R + [u]×·Ṙ.
+/// Body-fixed X-Y-Z angles `q[..3]` with u = ω in F: Ṙ = U·R, R̈ = U̇·R + U·Ṙ with U, U̇ the cross-product matrices of u, u̇.
 fn angular_velocity_rates(q: &[f64], u: &[f64], udot: &[f64]) -> [Mat3; 3] {
     let rotation = body_fixed_xyz([q[0], q[1], q[2]]);
     let (omega, alpha) = (Vec3::from_column_slice(&u[..3]).cross_matrix(), Vec3::from_column_slice(&udot[..3]).cross_matrix());

@@ -60,7 +60,7 @@ impl TransformRates {
         }
     }
 
-    /// ω of B in A, expressed in A (rad/s): Ṙ·Rᵀ = [ω]×.
+    /// ω of B in A, expressed in A (rad/s): Ṙ·Rᵀ = ω×, the cross-product matrix of ω.
     pub fn angular_velocity(&self) -> Vec3 {
         axial(&(self.rotation_rate * self.transform.rotation.transpose()))
     }
@@ -76,7 +76,8 @@ impl TransformRates {
     }
 }
 
-/// [θ̇ and θ̈ given] R(θ) about the unit `axis` with Ṙ = θ̇·[a]×·R and R̈ = (θ̈·[a]× + θ̇²·[a]×²)·R.
+/// R(θ) about the unit `axis` a, with the given θ̇ (`rate`) and θ̈ (`acceleration`): Ṙ = θ̇·K·R
+/// and R̈ = (θ̈·K + θ̇²·K²)·R, K the cross-product matrix of a.
 pub fn rotation_rates(rotation: Mat3, axis: &Vec3, rate: f64, acceleration: f64) -> [Mat3; 3] {
     let k = axis.cross_matrix();
     [rotation, rate * k * rotation, (acceleration * k + rate * rate * k * k) * rotation]
@@ -87,7 +88,7 @@ pub fn product_rates(a: &[Mat3; 3], b: &[Mat3; 3]) -> [Mat3; 3] {
     [a[0] * b[0], a[1] * b[0] + a[0] * b[1], a[2] * b[0] + 2.0 * a[1] * b[1] + a[0] * b[2]]
 }
 
-/// [ω]× = skew part of `m`; ω.
+/// ω from its cross-product matrix: the skew part of `m`.
 fn axial(m: &Mat3) -> Vec3 {
     Vec3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)]) / 2.0
 }

@@ -32,6 +32,10 @@ pub struct ForceSpec {
     pub path_wraps: Vec<PathWrapSpec>,
     /// Hill-muscle properties when the class is one osim-tune evaluates.
     pub muscle: Option<MuscleSpec>,
+    /// `appliesForce` (4.x) or not `isDisabled` (2.x/3.x); default true.
+    pub applies_force: bool,
+    /// An actuator's `min_control` and `max_control` as written (`None` when absent).
+    pub controls: [Option<f64>; 2],
 }
 
 impl ForceSpec {
@@ -56,7 +60,10 @@ impl ForceSpec {
             }
         }
         let muscle = MuscleSpec::read(reader)?;
-        Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps, muscle })
+        let applies_force = if dialect == Dialect::V4 { reader.boolean_or("appliesForce", true)? } else { !reader.boolean_or("isDisabled", false)? };
+        let control = |property: &str| reader.child(property).map(|_| reader.number(property)).transpose();
+        let controls = [control("min_control")?, control("max_control")?];
+        Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps, muscle, applies_force, controls })
     }
 
     /// Whether the class is a muscle (`Thelen2003Muscle`, `Millard2012EquilibriumMuscle`,

@@ -1,10 +1,11 @@
 //! Typed views of OpenSim tool setup files — `<ScaleTool>`, `<InverseKinematicsTool>`,
-//! `<InverseDynamicsTool>` and the `<ExternalLoads>` it names — in
-//! the 2.x/3.x and 4.x dialects, read through `io::osim::OsimDocument` with OpenSim's defaults
+//! `<InverseDynamicsTool>`, `<AnalyzeTool>` (static optimisation) and the `<ExternalLoads>` they
+//! name — in the 2.x/3.x and 4.x dialects, read through `io::osim::OsimDocument` with OpenSim's defaults
 //! for absent properties. Objects given by reference (`<IKTaskSet file="…"/>`) are read from
 //! their files; file names resolve against the setup file's directory, as OpenSim resolves them;
 //! empty and `Unassigned` names are `None`.
 
+mod analyze;
 mod error;
 mod external_loads;
 mod ik;
@@ -19,6 +20,7 @@ mod property;
 mod scale;
 mod time_range;
 
+pub use analyze::{AnalyzeSetup, StaticOptimizationSetup};
 pub use error::SetupError;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};
 pub use ik::IkSetup;

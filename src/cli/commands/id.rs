@@ -2,14 +2,14 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{inverse_dynamics, ExternalLoads, InverseDynamicsResult, InverseDynamicsSettings};
-use crate::cli::{create_output_folders, Failure, Outcome};
+use crate::analysis::{inverse_dynamics, InverseDynamicsResult, InverseDynamicsSettings};
+use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::Multibody;
 use crate::model::{ModelSpec, MUSCLE_CLASSES};
-use crate::setup::{ExternalLoadsSetup, IdSetup};
+use crate::setup::IdSetup;
 
 /// What the command line asks for besides the model and the coordinates.
 pub struct Request {
@@ -29,16 +29,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     }
     let loads_file = request.external_loads.clone().or_else(|| setup.as_ref().and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
     let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
-    let loads = match &loads_file {
-        Some(file) => {
-            let loads_setup = ExternalLoadsSetup::read(file)?;
-            let data_file = loads_setup.datafile.as_ref().ok_or_else(|| format!("{}: the ExternalLoads names no datafile", file.display()))?.resolved.clone();
-            let data = StorageTable::read(&data_file)?;
-            inputs.extend([file.clone(), data_file.clone()]);
-            Some(ExternalLoads::new(&loads_setup, &data, &data_file, &multibody)?)
-        }
-        None => None,
-    };
+    let loads = loads_file.as_deref().map(|file| read_external_loads(file, &multibody, &mut inputs)).transpose()?;
     let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     ensure_not_an_input(&request.output, &input_paths)?;
     let settings = settings(request, setup.as_ref())?;
@@ -52,12 +43,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
 
 /// The command line's time range and cutoff, else the setup's, else all frames unfiltered.
 fn settings(request: &Request, setup: Option<&IdSetup>) -> Result<InverseDynamicsSettings, Failure> {
-    if let Some(cutoff) = request.lowpass.filter(|c| !(c.is_finite() && *c > 0.0)) {
-        return Err(format!("--lowpass {cutoff}: expected a cutoff frequency > 0 Hz").into());
-    }
-    if let Some([start, end]) = request.time.filter(|[s, e]| !(s <= e)) {
-        return Err(format!("--time {start} {end}: expected START ≤ END").into());
-    }
+    check_time_and_cutoff(request.time, request.lowpass)?;
     let from_setup = setup.map(|s| (s.time_range, s.lowpass_cutoff_frequency_for_coordinates));
     let time_range = request.time.or(from_setup.map(|(r, _)| [r.start, r.end])).unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
     let lowpass_cutoff = request.lowpass.or(from_setup.map(|(_, c)| c).filter(|&c| c >= 0.0));

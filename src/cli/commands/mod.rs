@@ -10,6 +10,7 @@ mod info;
 mod scale;
 mod scale_functional;
 mod set;
+mod so;
 
 use super::{Command, Failure, Outcome};
 
@@ -35,6 +36,10 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Id { model, coordinates, external_loads, setup, time, lowpass, output } => {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
             id::run(&model, &coordinates, &request)
+        }
+        Command::So { model, coordinates, setup, external_loads, actuators, time, lowpass, step_interval, compare, name, output } => {
+            let request = so::Request { setup, external_loads, actuators, time: time.map(|t| [t[0], t[1]]), lowpass, step_interval, compare, name, output };
+            so::run(&model, &coordinates, &request)
         }
         Command::Ik { model, trial, setup, time, weights, output, errors } => {
             let time = time.map(|t| [t[0], t[1]]);

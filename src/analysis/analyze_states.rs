@@ -1,0 +1,74 @@
+//! The states OpenSim's `AnalyzeTool` forms from a coordinates file, and the accelerations its
+//! `StaticOptimization` tracks: coordinates padded and low-pass filtered (when asked), a
+//! coordinate the file lacks held at 0 (`SimbodyEngine::formCompleteStorages`), speeds u the
+//! derivatives of degree-5 GCV splines through the coordinates at the rows, and accelerations u̇
+//! the derivatives of degree-5 GCV splines through those speeds (`GCVSplineSet(5, states)`).
+
+use std::path::{Path, PathBuf};
+
+use super::signal::{Series, SignalError};
+use crate::io::table::StorageTable;
+use crate::mechanics::{Motion, MotionError, Multibody};
+
+/// Why the states cannot be formed.
+#[derive(Debug, thiserror::Error)]
+pub enum StatesError {
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    #[error("{}: {source}", file.display())]
+    Signal { file: PathBuf, source: SignalError },
+}
+
+/// Coordinates (rad or m), speeds and accelerations per row, [`Multibody::coordinates`] order.
+#[derive(Debug, Clone)]
+pub struct AnalyzeStates {
+    /// s, the filtered (padded, resampled) grid when filtered.
+    pub times: Vec<f64>,
+    pub q: Vec<Vec<f64>>,
+    pub u: Vec<Vec<f64>>,
+    pub udot: Vec<Vec<f64>>,
+    /// Coordinates the file lacks (held at 0, as OpenSim does).
+    pub missing: Vec<String>,
+    /// Columns that are no coordinate of the model.
+    pub ignored_columns: Vec<String>,
+}
+
+impl AnalyzeStates {
+    /// Forms the states from `table` (read from `file`), low-pass filtered at `cutoff` Hz.
+    pub fn new(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>) -> Result<AnalyzeStates, StatesError> {
+        let signal = |source| StatesError::Signal { file: file.into(), source };
+        let motion = Motion::from_table(table, file, multibody, true)?;
+        let columns = (0..multibody.coordinates.len())
+            .map(|c| {
+                let missing = motion.defaulted.contains(&multibody.coordinates[c].name);
+                (0..motion.len()).map(|i| if missing { 0.0 } else { motion.pose(i)[c] }).collect()
+            })
+            .collect();
+        let mut q = Series::new(motion.times.clone(), columns, 6).map_err(signal)?;
+        if let Some(cutoff) = cutoff {
+            q = q.pad(q.times.len() / 2).lowpass(cutoff).map_err(signal)?;
+        }
+        let u = derivatives(&q).map_err(signal)?;
+        let udot = derivatives(&u).map_err(signal)?;
+        Ok(AnalyzeStates {
+            q: rows(&q),
+            u: rows(&u),
+            udot: rows(&udot),
+            times: q.times,
+            missing: motion.defaulted,
+            ignored_columns: motion.ignored_columns,
+        })
+    }
+
+}
+
+/// The derivative at each row of the degree-5 GCV spline through each signal.
+fn derivatives(series: &Series) -> Result<Series, SignalError> {
+    let columns = series.splines()?.iter().map(|s| series.times.iter().map(|&t| s.derivative(t)).collect()).collect();
+    Ok(Series { times: series.times.clone(), columns })
+}
+
+/// Per row, every signal's value.
+fn rows(series: &Series) -> Vec<Vec<f64>> {
+    (0..series.times.len()).map(|i| series.columns.iter().map(|c| c[i]).collect()).collect()
+}

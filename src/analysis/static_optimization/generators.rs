@@ -1,0 +1,115 @@
+//! What static optimisation distributes the generalized forces over: the model's muscles and
+//! scalar actuators (ForceSet order, then the actuators of added force-set files), each with
+//! its control bounds and its generalized forces per unit control in a state.
+
+use crate::mechanics::muscle::HillMuscle;
+use crate::mechanics::{Actuator, MechanicsError, MuscleGeometry, PathEvaluation};
+use crate::model::{ActuatorSpec, ModelSpec, MuscleModelSpec};
+
+use super::StaticOptimizationError;
+
+/// A muscle (force a·F₁ along its path, F₁ its force at activation 1) or a scalar actuator
+/// (force a·optimal_force).
+#[derive(Debug, Clone)]
+pub struct Generator {
+    pub name: String,
+    /// [min_control, max_control].
+    pub bounds: [f64; 2],
+    kind: Kind,
+}
+
+#[derive(Debug, Clone)]
+enum Kind {
+    /// `path` indexes `MuscleGeometry::paths`, `slot` the muscles of the `PathEvaluation` built
+    /// from [`Generator::path`] in generator order.
+    Muscle { muscle: Box<HillMuscle>, path: usize, slot: usize, max_isometric_force: f64 },
+    Actuator { actuator: Actuator, optimal_force: f64 },
+}
+
+/// The generators of `spec` (unless `replace`, which keeps only `added`) and of `added`; forces
+/// that apply no force are left out, and any other force is refused (we cannot apply it).
+pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
+    let mut generators = Vec::new();
+    for force in spec.forces.iter().filter(|f| !replace && f.applies_force) {
+        if force.is_muscle() {
+            let muscle = HillMuscle::from_force(force).map_err(|e| StaticOptimizationError::Model(e.to_string()))?;
+            let muscle_spec = force.muscle.as_ref().ok_or_else(|| StaticOptimizationError::Model(format!("{}: no muscle properties", force.name)))?;
+            let path = geometry.path_index(&force.name).ok_or_else(|| StaticOptimizationError::Model(format!("muscle {} has no path", force.name)))?;
+            let minimum = match &muscle_spec.model {
+                MuscleModelSpec::Millard2012(m) => m.minimum_activation,
+                MuscleModelSpec::Thelen2003(t) => t.minimum_activation,
+                MuscleModelSpec::DeGrooteFregly2016(_) => 0.0,
+            };
+            let bounds = [force.controls[0].unwrap_or(minimum), force.controls[1].unwrap_or(1.0)];
+            let slot = generators.iter().filter(|g: &&Generator| g.path().is_some()).count();
+            let kind = Kind::Muscle { muscle: Box::new(muscle), path, slot, max_isometric_force: muscle_spec.max_isometric_force };
+            generators.push(Generator { name: force.name.clone(), bounds, kind });
+        } else if let Some(actuator) = spec.actuators.iter().find(|a| a.name == force.name) {
+            generators.push(actuator_generator(actuator, geometry)?);
+        } else {
+            return Err(StaticOptimizationError::Model(format!(
+                "{}: force {} ({}) is neither a muscle nor a Coordinate-, Point- or TorqueActuator; osim-tune's static optimisation cannot apply it",
+                spec.file.display(),
+                force.name,
+                force.class
+            )));
+        }
+    }
+    for actuator in added.iter().filter(|a| a.applies_force) {
+        generators.push(actuator_generator(actuator, geometry)?);
+    }
+    Ok(generators)
+}
+
+fn actuator_generator(spec: &ActuatorSpec, geometry: &MuscleGeometry) -> Result<Generator, StaticOptimizationError> {
+    let actuator = Actuator::new(spec, &geometry.multibody).map_err(|e: MechanicsError| StaticOptimizationError::Model(e.to_string()))?;
+    Ok(Generator { name: spec.name.clone(), bounds: [spec.min_control, spec.max_control], kind: Kind::Actuator { actuator, optimal_force: spec.optimal_force } })
+}
+
+impl Generator {
+    /// The muscle-path index of a muscle generator.
+    pub fn path(&self) -> Option<usize> {
+        match &self.kind {
+            Kind::Muscle { path, .. } => Some(*path),
+            Kind::Actuator { .. } => None,
+        }
+    }
+
+    /// The force at control 1 (N or N·m): a muscle's active fiber force along the tendon with a
+    /// rigid tendon at activation 1 (`physiology`, OpenSim's `use_muscle_physiology`) or F_max, at
+    /// its path's `length` (m) and `lengthening_speed` (m/s); an actuator's optimal force.
+    pub fn unit_force(&self, physiology: bool, length: f64, lengthening_speed: f64) -> f64 {
+        match &self.kind {
+            Kind::Muscle { muscle, max_isometric_force, .. } => {
+                if physiology {
+                    muscle.inextensible_tendon_active_fiber_force(1.0, length, lengthening_speed)
+                } else {
+                    *max_isometric_force
+                }
+            }
+            Kind::Actuator { optimal_force, .. } => *optimal_force,
+        }
+    }
+
+    /// A muscle's path and its slot among the evaluated paths.
+    pub fn muscle_path(&self) -> Option<(usize, usize)> {
+        match &self.kind {
+            Kind::Muscle { path, slot, .. } => Some((*path, *slot)),
+            Kind::Actuator { .. } => None,
+        }
+    }
+
+    /// Generalized forces per unit force (N·m or N per N or N·m) on every coordinate at the pose
+    /// `paths` was evaluated at (whose body poses are `paths.kinematics()`).
+    pub fn generalized_forces(&self, geometry: &MuscleGeometry, paths: &PathEvaluation, out: &mut [f64]) {
+        out.fill(0.0);
+        match &self.kind {
+            Kind::Muscle { path, slot, .. } => {
+                for (&c, r) in geometry.paths[*path].spanned.iter().zip(paths.moment_arms(*slot)) {
+                    out[c] = *r;
+                }
+            }
+            Kind::Actuator { actuator, .. } => actuator.generalized_forces(&geometry.multibody, paths.kinematics(), out),
+        }
+    }
+}

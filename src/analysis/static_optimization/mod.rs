@@ -1,0 +1,243 @@
+//! OpenSim's `StaticOptimization` (run by the `AnalyzeTool`): per frame, the controls a of the
+//! muscles and actuators that minimise Σ aᵢ² while their forces (aᵢ·Fᵢ, Fᵢ a muscle's active
+//! force at activation 1 with a rigid tendon, or an actuator's optimal force; passive fiber
+//! forces are not applied) produce the tracked accelerations with gravity and the external
+//! loads, each control within its bounds.
+//!
+//! OpenSim constrains the forward-dynamics accelerations of the unconstrained coordinates to the
+//! tracked ones; without constraints other than locks that is the same as requiring the
+//! generalized forces to equal inverse dynamics at those accelerations, which is what we solve:
+//! a convex QP (clarabel), to the optimum. OpenSim solves it with IPOPT to its convergence
+//! criterion (default 1e-4), so its controls sit within about that of ours.
+
+mod generators;
+
+use std::path::{Path, PathBuf};
+
+use nalgebra::{DMatrix, DVector};
+
+pub use generators::{generators, Generator};
+
+use super::analyze_states::{AnalyzeStates, StatesError};
+use super::external_loads::ExternalLoads;
+use super::signal::rows_in_range;
+use crate::io::table::{StorageTable, TableError};
+use crate::mechanics::{MotionState, MuscleGeometry, PathEvaluation};
+use crate::solvers::qp::{DenseQp, QpSettings};
+
+/// Why static optimisation cannot run.
+#[derive(Debug, thiserror::Error)]
+pub enum StaticOptimizationError {
+    #[error("{0}")]
+    Model(String),
+    #[error(transparent)]
+    States(#[from] StatesError),
+    #[error("{}: no row lies in the time range {start}–{end} s", file.display())]
+    NoFrames { file: PathBuf, start: f64, end: f64 },
+    #[error(transparent)]
+    Table(#[from] TableError),
+}
+
+/// How the analysis runs (OpenSim's AnalyzeTool and StaticOptimization properties).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StaticOptimizationSettings {
+    /// s: from the row at or before the start to the row at or before the end.
+    pub time_range: [f64; 2],
+    /// Low-pass cutoff for the coordinates, Hz (`None`: no filtering).
+    pub lowpass_cutoff: Option<f64>,
+    /// Solve the first and last rows and every row whose index is a multiple of this.
+    pub step_interval: usize,
+    /// Muscle forces from their curves (else F_max).
+    pub use_muscle_physiology: bool,
+}
+
+/// A frame whose QP has no solution within the bounds (its controls are written as NaN).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameFailure {
+    /// s.
+    pub time: f64,
+    /// How the solver ended.
+    pub status: String,
+}
+
+/// Controls and forces per solved frame.
+#[derive(Debug, Clone)]
+pub struct StaticOptimizationResult {
+    /// Control of every generator (`<name>_activation.sto` in OpenSim).
+    pub activations: StorageTable,
+    /// Force of every generator (N or N·m), then the external loads' records (`_force.sto`).
+    pub forces: StorageTable,
+    pub failures: Vec<FrameFailure>,
+    /// Largest |generalized force − inverse dynamics| over the solved frames, N·m or N.
+    pub max_violation: f64,
+    /// Coordinates the file lacks (held at 0, as OpenSim does).
+    pub missing: Vec<String>,
+    pub ignored_columns: Vec<String>,
+    /// Other controls (e.g. OpenSim's) judged on our problem, per frame they have.
+    pub reference: Vec<ReferenceFrame>,
+}
+
+/// Another solution's controls at one frame, judged on our problem.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ReferenceFrame {
+    /// s.
+    pub time: f64,
+    /// max |Σ aⱼ·Fⱼ·Rⱼ − τ_ID|, N·m or N.
+    pub violation: f64,
+    /// How far its controls leave their bounds (0 when within).
+    pub bound_violation: f64,
+    /// Its Σ a² and ours.
+    pub objective: f64,
+    pub our_objective: f64,
+}
+
+/// Controls of another solution (a table with a column per generator, e.g. OpenSim's
+/// `_activation.sto`) to judge on our problem at the frames whose times it has.
+#[derive(Debug, Clone, Copy)]
+pub struct ReferenceControls<'a> {
+    pub table: &'a StorageTable,
+    pub file: &'a Path,
+}
+
+/// Runs static optimisation over the coordinates in `table` (read from `file`).
+pub fn static_optimization(
+    geometry: &MuscleGeometry,
+    generators: &[Generator],
+    table: &StorageTable,
+    file: &Path,
+    loads: Option<&ExternalLoads>,
+    settings: &StaticOptimizationSettings,
+    reference: Option<ReferenceControls>,
+) -> Result<StaticOptimizationResult, StaticOptimizationError> {
+    let multibody = &geometry.multibody;
+    if !multibody.couplers.is_empty() {
+        return Err(StaticOptimizationError::Model(format!("{}: CoordinateCouplerConstraints are not supported by static optimisation", multibody.file.display())));
+    }
+    let states = AnalyzeStates::new(multibody, table, file, settings.lowpass_cutoff)?;
+    let range = rows_in_range(&states.times, settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start: settings.time_range[0], end: settings.time_range[1] })?;
+    let (first, last) = (*range.start(), *range.end());
+    let rows: Vec<usize> = range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect();
+    let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
+    let mut frame = Frame::new(geometry, generators, loads, settings.use_muscle_physiology);
+    let mut judged = Vec::new();
+    let (mut activations, mut forces) = (Vec::new(), Vec::new());
+    let (mut failures, mut max_violation) = (Vec::new(), 0.0f64);
+    for &i in &rows {
+        let time = states.times[i];
+        let state = MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] };
+        let other = reference.zip(columns.as_ref()).and_then(|(r, columns)| r.table.rows().find(|row| (row[0] - time).abs() <= 1e-9).map(|row| columns.iter().map(|&c| row[c]).collect::<Vec<f64>>()));
+        let solved = frame.solve(&state, time, other.as_deref());
+        judged.extend(solved.reference);
+        match solved.failure {
+            Some(status) => failures.push(FrameFailure { time, status }),
+            None => max_violation = max_violation.max(solved.violation),
+        }
+        activations.push(time);
+        activations.extend(&solved.controls);
+        forces.push(time);
+        forces.extend(solved.controls.iter().zip(&solved.unit_forces).map(|(a, f)| a * f));
+        if let Some(loads) = loads {
+            forces.extend(loads.record_values(time, frame.paths.kinematics()));
+        }
+    }
+    let names: Vec<String> = std::iter::once("time".to_string()).chain(generators.iter().map(|g| g.name.clone())).collect();
+    let mut force_labels = names.clone();
+    force_labels.extend(loads.map(ExternalLoads::record_labels).unwrap_or_default());
+    Ok(StaticOptimizationResult {
+        activations: StorageTable::new("Static Optimization", names, activations)?.with_in_degrees(false).with_comment("This file contains static optimization results.")?,
+        forces: StorageTable::new("ModelForces", force_labels, forces)?.with_in_degrees(false),
+        failures,
+        max_violation,
+        missing: states.missing,
+        ignored_columns: states.ignored_columns,
+        reference: judged,
+    })
+}
+
+/// The column of each generator in the reference table; a missing one is an error.
+fn reference_columns(reference: ReferenceControls, generators: &[Generator]) -> Result<Vec<usize>, StaticOptimizationError> {
+    generators
+        .iter()
+        .map(|g| reference.table.column_index(&g.name).ok_or_else(|| StaticOptimizationError::Model(format!("{}: no column {} to compare", reference.file.display(), g.name))))
+        .collect()
+}
+
+/// What every frame's problem shares, and its buffers.
+struct Frame<'a> {
+    geometry: &'a MuscleGeometry,
+    generators: &'a [Generator],
+    loads: Option<&'a ExternalLoads>,
+    /// OpenSim's `use_muscle_physiology`.
+    physiology: bool,
+    paths: PathEvaluation,
+    /// Coordinates whose accelerations are tracked (not locked).
+    rows: Vec<usize>,
+    column: Vec<f64>,
+}
+
+/// One frame's solution.
+struct Solved {
+    controls: Vec<f64>,
+    /// Each generator's force at control 1.
+    unit_forces: Vec<f64>,
+    violation: f64,
+    failure: Option<String>,
+    reference: Option<ReferenceFrame>,
+}
+
+impl<'a> Frame<'a> {
+    fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, physiology: bool) -> Frame<'a> {
+        let muscles: Vec<usize> = generators.iter().filter_map(Generator::path).collect();
+        let rows = geometry.multibody.coordinates.iter().enumerate().filter(|(_, c)| !c.locked).map(|(i, _)| i).collect();
+        let (paths, column) = (PathEvaluation::new(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
+        Frame { geometry, generators, loads, physiology, paths, rows, column }
+    }
+
+    /// min Σ a² subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds.
+    /// `other`: another solution's controls at this frame, to judge.
+    fn solve(&mut self, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
+        let (geometry, generators, physiology) = (self.geometry, self.generators, self.physiology);
+        self.paths.evaluate(geometry, state.q);
+        let applied = self.loads.map(|l| l.at(time, self.paths.kinematics())).unwrap_or_default();
+        let demand = geometry.multibody.inverse_dynamics(state, &applied);
+        let n = generators.len();
+        let mut matrix = DMatrix::zeros(self.rows.len(), n);
+        let mut unit_forces = Vec::with_capacity(n);
+        for (j, generator) in generators.iter().enumerate() {
+            generator.generalized_forces(geometry, &self.paths, &mut self.column);
+            let unit = match generator.muscle_path() {
+                Some((path, k)) => {
+                    let moment_arms = geometry.paths[path].spanned.iter().zip(self.paths.moment_arms(k));
+                    let lengthening_speed = -moment_arms.map(|(&c, r)| r * state.u[c]).sum::<f64>();
+                    generator.unit_force(physiology, self.paths.length(k), lengthening_speed)
+                }
+                None => generator.unit_force(physiology, 0.0, 0.0),
+            };
+            for (r, &c) in self.rows.iter().enumerate() {
+                matrix[(r, j)] = unit * self.column[c];
+            }
+            unit_forces.push(unit);
+        }
+        let rhs: Vec<f64> = self.rows.iter().map(|&c| demand[c]).collect();
+        let (lower, upper): (Vec<f64>, Vec<f64>) = generators.iter().map(|g| (g.bounds[0], g.bounds[1])).unzip();
+        let hessian = DMatrix::from_diagonal_element(n, n, 2.0);
+        let linear = vec![0.0; n];
+        let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper));
+        let solution = match qp {
+            Ok(qp) => qp.solve(&QpSettings::default()),
+            Err(e) => return Solved { controls: vec![f64::NAN; n], unit_forces, violation: f64::INFINITY, failure: Some(e.to_string()), reference: None },
+        };
+        let violation = |controls: &[f64]| (&matrix * DVector::from_column_slice(controls) - DVector::from_column_slice(&rhs)).amax();
+        let objective = |controls: &[f64]| controls.iter().map(|a| a * a).sum::<f64>();
+        let reference = other.map(|a| ReferenceFrame {
+            time,
+            violation: violation(a),
+            bound_violation: a.iter().zip(&lower).zip(&upper).map(|((a, l), u)| (l - a).max(a - u).max(0.0)).fold(0.0, f64::max),
+            objective: objective(a),
+            our_objective: objective(&solution.x),
+        });
+        let failure = (!solution.status.is_solved()).then(|| format!("{:?}", solution.status));
+        let controls = if failure.is_some() { vec![f64::NAN; n] } else { solution.x };
+        Solved { violation: violation(&controls), controls, unit_forces, failure, reference }
+    }
+}

@@ -1,0 +1,134 @@
+//! `osim-tune so MODEL COORDINATES [--setup SETUP.xml] [--external-loads LOADS.xml] [--actuators F.xml,…] [--time START END] [--lowpass HZ] [--step-interval N] [--compare ACT.sto] [--name NAME] -o DIR`
+
+use std::path::{Path, PathBuf};
+
+use crate::analysis::{generators, static_optimization, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
+use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::io::osim::OsimDocument;
+use crate::io::table::StorageTable;
+use crate::mechanics::MuscleGeometry;
+use crate::model::{read_force_set, ActuatorSpec, ModelSpec};
+use crate::setup::{AnalyzeSetup, StaticOptimizationSetup};
+
+/// What the command line asks for besides the model and the coordinates.
+pub struct Request {
+    pub setup: Option<PathBuf>,
+    pub external_loads: Option<PathBuf>,
+    pub actuators: Vec<PathBuf>,
+    pub time: Option<[f64; 2]>,
+    pub lowpass: Option<f64>,
+    pub step_interval: Option<usize>,
+    pub compare: Option<PathBuf>,
+    pub name: Option<String>,
+    pub output: PathBuf,
+}
+
+pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcome, Failure> {
+    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
+    let geometry = MuscleGeometry::new(&spec)?;
+    let setup = request.setup.as_deref().map(AnalyzeSetup::read).transpose()?;
+    let analysis = setup.as_ref().map(check_setup).transpose()?;
+    let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
+    let (added, replace) = actuator_files(request, setup.as_ref(), &mut inputs)?;
+    let generators = generators(&spec, &geometry, &added, replace)?;
+    let loads_file = request.external_loads.clone().or_else(|| setup.as_ref().and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
+    let loads = loads_file.as_deref().map(|file| read_external_loads(file, &geometry.multibody, &mut inputs)).transpose()?;
+    let settings = settings(request, setup.as_ref(), analysis.as_ref())?;
+    let name = request.name.clone().or_else(|| setup.as_ref().map(|s| s.name.clone()).filter(|n| !n.is_empty())).unwrap_or_else(|| stem(coordinates));
+    let outputs = [activation_file(&request.output, &name, "activation"), activation_file(&request.output, &name, "force")];
+    let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).chain(request.compare.as_deref()).collect();
+    for output in &outputs {
+        ensure_not_an_input(output, &input_paths)?;
+    }
+    let compared = request.compare.as_deref().map(StorageTable::read).transpose()?;
+    let reference = compared.as_ref().zip(request.compare.as_deref()).map(|(table, file)| ReferenceControls { table, file });
+    let table = StorageTable::read(coordinates)?;
+    let result = static_optimization(&geometry, &generators, &table, coordinates, loads.as_ref(), &settings, reference)?;
+    create_output_folders(outputs.iter().map(PathBuf::as_path))?;
+    write_atomically(&outputs[0], result.activations.to_text().as_bytes(), &input_paths)?;
+    write_atomically(&outputs[1], result.forces.to_text().as_bytes(), &input_paths)?;
+    report(&result, coordinates, &outputs, request.compare.as_deref());
+    Ok(if result.failures.is_empty() { Outcome::Success } else { Outcome::NotConverged })
+}
+
+/// `<DIR>/<name>_StaticOptimization_<kind>.sto`, OpenSim's names.
+fn activation_file(directory: &Path, name: &str, kind: &str) -> PathBuf {
+    directory.join(format!("{name}_StaticOptimization_{kind}.sto"))
+}
+
+fn stem(file: &Path) -> String {
+    file.file_stem().map_or_else(|| "static_optimization".into(), |s| s.to_string_lossy().into_owned())
+}
+
+/// The setup's StaticOptimization, refusing what osim-tune does not do.
+fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure> {
+    let file = setup.file.display();
+    let analysis = setup.static_optimization.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no StaticOptimization that is on"))?;
+    if let Some(states) = &setup.states_or_speeds_file {
+        return Err(format!("{file}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", states.written).into());
+    }
+    if !analysis.use_model_force_set {
+        return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
+    }
+    if analysis.activation_exponent != 2.0 {
+        return Err(format!("{file}: activation_exponent {} is not supported; osim-tune minimises Σa² (exponent 2)", analysis.activation_exponent).into());
+    }
+    if !setup.other_analyses.is_empty() {
+        println!("not run (only StaticOptimization is): {}", setup.other_analyses.join(", "));
+    }
+    Ok(analysis)
+}
+
+/// The actuators of `--actuators` files, else of the setup's `force_set_files`, and whether they
+/// replace the model's forces (the setup's `replace_force_set`; never for `--actuators`).
+fn actuator_files(request: &Request, setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
+    let (files, replace): (Vec<PathBuf>, bool) = match setup {
+        Some(setup) if request.actuators.is_empty() => (setup.force_set_files.iter().map(|f| f.resolved.clone()).collect(), setup.replace_force_set && !setup.force_set_files.is_empty()),
+        _ => (request.actuators.clone(), false),
+    };
+    let mut actuators = Vec::new();
+    for file in files {
+        actuators.extend(read_force_set(&OsimDocument::read(&file)?)?);
+        inputs.push(file);
+    }
+    Ok((actuators, replace))
+}
+
+/// The command line's values, else the setup's, else all rows, unfiltered, every row.
+fn settings(request: &Request, setup: Option<&AnalyzeSetup>, analysis: Option<&StaticOptimizationSetup>) -> Result<StaticOptimizationSettings, Failure> {
+    check_time_and_cutoff(request.time, request.lowpass)?;
+    if request.step_interval == Some(0) {
+        return Err("--step-interval 0: expected a whole number ≥ 1".into());
+    }
+    let time_range = request.time.or(setup.map(|s| [s.initial_time, s.final_time])).unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
+    let lowpass_cutoff = request.lowpass.or(setup.map(|s| s.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0));
+    let step_interval = request.step_interval.or(analysis.map(|a| a.step_interval)).unwrap_or(1);
+    let use_muscle_physiology = analysis.is_none_or(|a| a.use_muscle_physiology);
+    Ok(StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval, use_muscle_physiology })
+}
+
+fn report(result: &StaticOptimizationResult, coordinates: &Path, outputs: &[PathBuf; 2], compare: Option<&Path>) {
+    let times = result.activations.times();
+    let (Some(first), Some(last)) = (times.first(), times.last()) else { return };
+    println!("{} frames of {} ({first:.4}–{last:.4} s) → {}, {}", times.len(), coordinates.display(), outputs[0].display(), outputs[1].display());
+    println!("largest |generalized force − inverse dynamics|: {:.2e}", result.max_violation);
+    if !result.missing.is_empty() {
+        println!("held at 0 (not in the coordinates, as OpenSim does): {}", result.missing.join(", "));
+    }
+    if let Some(file) = compare {
+        let frames = &result.reference;
+        let violation = frames.iter().map(|f| f.violation).fold(0.0, f64::max);
+        let bounds = frames.iter().map(|f| f.bound_violation).fold(0.0, f64::max);
+        let gap = frames.iter().map(|f| f.objective / f.our_objective - 1.0).fold(f64::NEG_INFINITY, f64::max);
+        println!(
+            "{}: {} frames compared; its controls miss our constraints by at most {violation:.2e} and our bounds by {bounds:.2e}; its Σa² is at most {:.3} % above ours",
+            file.display(),
+            frames.len(),
+            100.0 * gap
+        );
+    }
+    for failure in &result.failures {
+        eprintln!("t = {} s: no solution ({}); its controls are written as NaN", failure.time, failure.status);
+    }
+}

@@ -1,0 +1,87 @@
+//! `osim-tune so`: OpenSim's static optimisation from the command line, and its refusals.
+
+mod common;
+
+use std::path::Path;
+
+use common::osim_tune;
+use osim_tune::io::table::StorageTable;
+
+const MODEL: &str = "fixtures/golden/scale/subject01_simbody.osim";
+const IK: &str = "fixtures/golden/ik/subject01_walk1_ik.mot";
+const ACTIVATIONS: &str = "fixtures/golden/static_optimization/subject01_walk1_StaticOptimization_activation.sto";
+
+fn path(relative: &str) -> String {
+    common::root().join(relative).display().to_string()
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// subject01's setup, its file names made absolute, the residuals and loads of the golden run.
+fn setup(folder: &Path, step_interval: &str, exponent: &str) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(path("fixtures/subject01/setup_static_optimization.xml")).unwrap();
+    let text = text
+        .replace("gait2392_SO_weak_Residual_Actuators.xml", &path("fixtures/subject01/gait2392_SO_Residual_Actuators.xml"))
+        .replace("foot_floor_loads.xml", &path("fixtures/subject01/subject01_walk1_grf.xml"))
+        .replace("<step_interval> 10 </step_interval>", &format!("<step_interval> {step_interval} </step_interval>"))
+        .replace("<activation_exponent>       2.00000000 </activation_exponent>", &format!("<activation_exponent> {exponent} </activation_exponent>"));
+    let text = regex_free_replace(&text, "lowpass_cutoff_frequency_for_coordinates", "6");
+    let file = folder.join("setup.xml");
+    std::fs::write(&file, text).unwrap();
+    file
+}
+
+/// Replaces the text of the element `tag` by `value`.
+fn regex_free_replace(text: &str, tag: &str, value: &str) -> String {
+    let (open, close) = (format!("<{tag}>"), format!("</{tag}>"));
+    let start = text.find(&open).unwrap() + open.len();
+    let end = text[start..].find(&close).unwrap() + start;
+    format!("{}{value}{}", &text[..start], &text[end..])
+}
+
+/// Flags alone: OpenSim's file names, its columns, and OpenSim's controls judged on our problem.
+#[test]
+fn the_walk_is_solved_and_opensims_controls_are_judged() {
+    let folder = tempfile::tempdir().unwrap();
+    let arguments = [
+        "so", &path(MODEL), &path(IK),
+        "--actuators", &path("fixtures/subject01/gait2392_SO_Residual_Actuators.xml"),
+        "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"),
+        "--time", "0.5", "2", "--lowpass", "6", "--compare", &path(ACTIVATIONS), "--name", "walk", "-o", s(folder.path()),
+    ];
+    let (code, stdout, stderr) = osim_tune(&arguments);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("95 frames") && stdout.contains("19 frames compared"), "{stdout}");
+    let activations = StorageTable::read(&folder.path().join("walk_StaticOptimization_activation.sto")).unwrap();
+    assert_eq!(activations.labels(), StorageTable::read(Path::new(&path(ACTIVATIONS))).unwrap().labels());
+    assert!(folder.path().join("walk_StaticOptimization_force.sto").exists());
+}
+
+/// The setup's step interval solves the first and last rows and every 10th between them.
+#[test]
+fn the_setup_runs_with_its_step_interval() {
+    let folder = tempfile::tempdir().unwrap();
+    let setup = setup(folder.path(), "10", "2.00000000");
+    let output = folder.path().join("out");
+    let (code, stdout, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--setup", s(&setup), "-o", s(&output)]);
+    assert_eq!(code, 0, "{stderr}");
+    let times = StorageTable::read(&output.join("subject01_StaticOptimization_activation.sto")).unwrap().times();
+    let every = StorageTable::read(Path::new(&path(ACTIVATIONS))).unwrap().times();
+    assert_eq!(times[0], every[0], "{stdout}");
+    assert!((times[times.len() - 1] - 1.998).abs() < 1e-9, "OpenSim's last row is 1.998 s: {stdout}");
+    let steps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(steps[1..steps.len() - 1].iter().all(|d| (d - 0.16).abs() < 1e-9), "{steps:?}");
+}
+
+#[test]
+fn an_activation_exponent_other_than_two_is_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let setup = setup(folder.path(), "1", "3");
+    let output = folder.path().join("out");
+    let (code, _, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--setup", s(&setup), "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("activation_exponent 3 is not supported"), "{stderr}");
+    assert!(!output.exists());
+}
