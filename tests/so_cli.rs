@@ -75,13 +75,17 @@ fn the_setup_runs_with_its_step_interval() {
     assert!(steps[1..steps.len() - 1].iter().all(|d| (d - 0.16).abs() < 1e-9), "{steps:?}");
 }
 
+/// The objective Σ|a|ᵖ needs p > 1 (the setup's value is checked when it is read).
 #[test]
-fn an_activation_exponent_other_than_two_is_refused() {
+fn an_activation_exponent_of_one_or_less_is_refused() {
     let folder = tempfile::tempdir().unwrap();
-    let setup = setup(folder.path(), "1", "3");
+    let setup = setup(folder.path(), "1", "0.5");
     let output = folder.path().join("out");
     let (code, _, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--setup", s(&setup), "-o", s(&output)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("activation_exponent 3 is not supported"), "{stderr}");
+    assert!(stderr.contains("activation_exponent") && stderr.contains("a number ≥ 1"), "{stderr}");
+    let (code, _, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--activation-exponent", "1", "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("activation exponent 1: expected a number > 1"), "{stderr}");
     assert!(!output.exists());
 }

@@ -239,11 +239,11 @@ pub enum Command {
     },
     /// Static optimisation like OpenSim 4.6's StaticOptimization (AnalyzeTool): the coordinates
     /// are filtered and differentiated as the AnalyzeTool does (a coordinate the file lacks is
-    /// held at 0), and per frame the muscle activations and actuator controls a minimise Σa²
-    /// while their forces (a·F, F a muscle's active force at activation 1 with a rigid tendon, or
+    /// held at 0), and per frame the muscle activations and actuator controls a minimise Σ|a|ᵖ
+    /// (p = 2 by default) while their forces (a·F, F a muscle's active force at activation 1 with a rigid tendon, or
     /// an actuator's optimal force) give the tracked accelerations with gravity and the external
-    /// loads, each control within its min/max_control — a convex QP solved to its optimum (OpenSim's
-    /// IPOPT stops at its convergence criterion). Writes OpenSim's
+    /// loads, each control within its min/max_control — a convex programme solved to its optimum
+    /// (OpenSim's IPOPT stops at its convergence criterion). Writes OpenSim's
     /// <NAME>_StaticOptimization_activation.sto and _force.sto into DIR. Exit 0 success, 1 some
     /// frame has no solution (its row is NaN), 2 error.
     So {
@@ -272,8 +272,11 @@ pub enum Command {
         /// Solve the first and last rows and every row whose index is a multiple of N.
         #[arg(long)]
         step_interval: Option<usize>,
+        /// p of the objective Σ|a|ᵖ (> 1; default: the setup's, else 2).
+        #[arg(long)]
+        activation_exponent: Option<f64>,
         /// Another solution's activations (e.g. OpenSim's _activation.sto) to judge on this
-        /// problem: how far its controls miss the constraints and bounds, and its Σa² against ours.
+        /// problem: how far its controls miss the constraints and bounds, and its Σ|a|ᵖ against ours.
         #[arg(long)]
         compare: Option<PathBuf>,
         /// Prefix of the output files (default: the setup's name, else the coordinates file's stem).

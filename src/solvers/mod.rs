@@ -3,6 +3,7 @@
 //!
 //! - `least_squares.rs`: bounded Levenberg–Marquardt ([`LeastSquares`]);
 //! - `box_qp.rs`: the box-constrained QP of a bounded step (clarabel);
+//! - `power_sum.rs`: min Σ|xᵢ|ᵖ under equalities and bounds, on power cones ([`minimise_power_sum`]);
 //! - `false_position.rs`: a bracketed scalar root without derivatives ([`false_position`]);
 //! - `ik/`: inverse kinematics as OpenSim 4.6 computes it ([`InverseKinematics`]);
 //! - `error.rs`: [`IkError`].
@@ -13,6 +14,7 @@ mod false_position;
 pub mod ik;
 mod least_squares;
 pub mod nlp;
+mod power_sum;
 pub mod qp;
 
 pub use box_qp::BoxQpError;
@@ -22,4 +24,5 @@ pub use ik::{
     ConstraintWeight, CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkFrame, IkSettings, IkSolution, IkTasks, IkWorkspace,
     InverseKinematics, MarkerErrors, MarkerTask, MissingFrom,
 };
+pub use power_sum::{minimise_power_sum, PowerSumSolution};
 pub use least_squares::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresReport, LeastSquaresStatus};

@@ -287,7 +287,8 @@ fn clarabel_settings(settings: &QpSettings, conservative: bool) -> DefaultSettin
     }
 }
 
-fn status(status: SolverStatus) -> QpStatus {
+/// clarabel's end as a [`QpStatus`].
+pub(super) fn status(status: SolverStatus) -> QpStatus {
     match status {
         SolverStatus::Solved => QpStatus::Solved,
         SolverStatus::AlmostSolved => QpStatus::AlmostSolved,

@@ -11,6 +11,7 @@ mod muscle;
 mod muscle_degroote;
 mod muscle_thelen;
 mod scale;
+mod walk_dynamics;
 
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};
@@ -24,4 +25,5 @@ pub use muscle_degroote::{
     DEGROOTE_LENGTH_TOLERANCE,
 };
 pub use muscle_thelen::{compare_thelen_curves, compare_thelen_fiber_velocity, ThelenCurveComparison};
+pub use walk_dynamics::{compare_static_optimization, Subject01Walk, WalkStaticOptimization};
 pub use scale::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};

@@ -7,6 +7,7 @@ mod bench;
 mod bench_scale;
 mod bench_functional;
 mod bench_ik;
+mod dynamics;
 mod functional;
 mod functional_generated;
 mod fuzz;

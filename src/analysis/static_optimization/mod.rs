@@ -1,5 +1,5 @@
 //! OpenSim's `StaticOptimization` (run by the `AnalyzeTool`): per frame, the controls a of the
-//! muscles and actuators that minimise Σ aᵢ² while their forces (aᵢ·Fᵢ, Fᵢ a muscle's active
+//! muscles and actuators that minimise Σ |aᵢ|ᵖ (p the activation exponent, 2 by default) while their forces (aᵢ·Fᵢ, Fᵢ a muscle's active
 //! force at activation 1 with a rigid tendon, or an actuator's optimal force; passive fiber
 //! forces are not applied) produce the tracked accelerations with gravity and the external
 //! loads, each control within its bounds.
@@ -7,8 +7,9 @@
 //! OpenSim constrains the forward-dynamics accelerations of the unconstrained coordinates to the
 //! tracked ones; without constraints other than locks that is the same as requiring the
 //! generalized forces to equal inverse dynamics at those accelerations, which is what we solve:
-//! a convex QP (clarabel), to the optimum. OpenSim solves it with IPOPT to its convergence
-//! criterion (default 1e-4), so its controls sit within about that of ours.
+//! for p = 2 a convex QP (clarabel, polished on its active set), else a conic programme on power
+//! cones (`solvers::minimise_power_sum`), to the optimum. OpenSim solves it with IPOPT to its
+//! convergence criterion (default 1e-4), so its controls sit within about that of ours.
 
 mod generators;
 
@@ -23,6 +24,7 @@ use super::external_loads::ExternalLoads;
 use super::signal::rows_in_range;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{MotionState, MuscleGeometry, PathEvaluation};
+use crate::solvers::minimise_power_sum;
 use crate::solvers::qp::{DenseQp, QpSettings};
 
 /// Why static optimisation cannot run.
@@ -49,6 +51,8 @@ pub struct StaticOptimizationSettings {
     pub step_interval: usize,
     /// Muscle forces from their curves (else F_max).
     pub use_muscle_physiology: bool,
+    /// p of the objective Σ|aᵢ|ᵖ (> 1; OpenSim's default 2).
+    pub activation_exponent: f64,
 }
 
 /// A frame whose QP has no solution within the bounds (its controls are written as NaN).
@@ -86,7 +90,7 @@ pub struct ReferenceFrame {
     pub violation: f64,
     /// How far its controls leave their bounds (0 when within).
     pub bound_violation: f64,
-    /// Its Σ a² and ours.
+    /// Its Σ|a|ᵖ and ours.
     pub objective: f64,
     pub our_objective: f64,
 }
@@ -118,7 +122,7 @@ pub fn static_optimization(
     let (first, last) = (*range.start(), *range.end());
     let rows: Vec<usize> = range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect();
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
-    let mut frame = Frame::new(geometry, generators, loads, settings.use_muscle_physiology);
+    let mut frame = Frame::new(geometry, generators, loads, settings);
     let mut judged = Vec::new();
     let (mut activations, mut forces) = (Vec::new(), Vec::new());
     let (mut failures, mut max_violation) = (Vec::new(), 0.0f64);
@@ -169,6 +173,7 @@ struct Frame<'a> {
     loads: Option<&'a ExternalLoads>,
     /// OpenSim's `use_muscle_physiology`.
     physiology: bool,
+    exponent: f64,
     paths: PathEvaluation,
     /// Coordinates whose accelerations are tracked (not locked).
     rows: Vec<usize>,
@@ -186,14 +191,15 @@ struct Solved {
 }
 
 impl<'a> Frame<'a> {
-    fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, physiology: bool) -> Frame<'a> {
+    fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, settings: &StaticOptimizationSettings) -> Frame<'a> {
+        let (physiology, exponent) = (settings.use_muscle_physiology, settings.activation_exponent);
         let muscles: Vec<usize> = generators.iter().filter_map(Generator::path).collect();
         let rows = geometry.multibody.coordinates.iter().enumerate().filter(|(_, c)| !c.locked).map(|(i, _)| i).collect();
         let (paths, column) = (PathEvaluation::new(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
-        Frame { geometry, generators, loads, physiology, paths, rows, column }
+        Frame { geometry, generators, loads, physiology, exponent, paths, rows, column }
     }
 
-    /// min Σ a² subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds.
+    /// min Σ|a|ᵖ subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds.
     /// `other`: another solution's controls at this frame, to judge.
     fn solve(&mut self, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
         let (geometry, generators, physiology) = (self.geometry, self.generators, self.physiology);
@@ -220,24 +226,28 @@ impl<'a> Frame<'a> {
         }
         let rhs: Vec<f64> = self.rows.iter().map(|&c| demand[c]).collect();
         let (lower, upper): (Vec<f64>, Vec<f64>) = generators.iter().map(|g| (g.bounds[0], g.bounds[1])).unzip();
-        let hessian = DMatrix::from_diagonal_element(n, n, 2.0);
-        let linear = vec![0.0; n];
-        let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper));
-        let solution = match qp {
-            Ok(qp) => qp.solve(&QpSettings::default()),
+        let solved = if self.exponent == 2.0 {
+            let (hessian, linear) = (DMatrix::from_diagonal_element(n, n, 2.0), vec![0.0; n]);
+            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper));
+            qp.map(|qp| qp.solve(&QpSettings::default())).map(|s| (s.status, s.x))
+        } else {
+            minimise_power_sum(self.exponent, &matrix, &rhs, &lower, &upper, &QpSettings::default()).map(|s| (s.status, s.x))
+        };
+        let (status, x) = match solved {
+            Ok(solved) => solved,
             Err(e) => return Solved { controls: vec![f64::NAN; n], unit_forces, violation: f64::INFINITY, failure: Some(e.to_string()), reference: None },
         };
         let violation = |controls: &[f64]| (&matrix * DVector::from_column_slice(controls) - DVector::from_column_slice(&rhs)).amax();
-        let objective = |controls: &[f64]| controls.iter().map(|a| a * a).sum::<f64>();
+        let objective = |controls: &[f64]| controls.iter().map(|a| a.abs().powf(self.exponent)).sum::<f64>();
         let reference = other.map(|a| ReferenceFrame {
             time,
             violation: violation(a),
             bound_violation: a.iter().zip(&lower).zip(&upper).map(|((a, l), u)| (l - a).max(a - u).max(0.0)).fold(0.0, f64::max),
             objective: objective(a),
-            our_objective: objective(&solution.x),
+            our_objective: objective(&x),
         });
-        let failure = (!solution.status.is_solved()).then(|| format!("{:?}", solution.status));
-        let controls = if failure.is_some() { vec![f64::NAN; n] } else { solution.x };
+        let failure = (!status.is_solved()).then(|| format!("{status:?}"));
+        let controls = if failure.is_some() { vec![f64::NAN; n] } else { x };
         Solved { violation: violation(&controls), controls, unit_forces, failure, reference }
     }
 }

@@ -1,4 +1,4 @@
-//! `osim-tune so MODEL COORDINATES [--setup SETUP.xml] [--external-loads LOADS.xml] [--actuators F.xml,…] [--time START END] [--lowpass HZ] [--step-interval N] [--compare ACT.sto] [--name NAME] -o DIR`
+//! `osim-tune so MODEL COORDINATES [--setup SETUP.xml] [--external-loads LOADS.xml] [--actuators F.xml,…] [--time START END] [--lowpass HZ] [--step-interval N] [--activation-exponent P] [--compare ACT.sto] [--name NAME] -o DIR`
 
 use std::path::{Path, PathBuf};
 
@@ -19,6 +19,7 @@ pub struct Request {
     pub time: Option<[f64; 2]>,
     pub lowpass: Option<f64>,
     pub step_interval: Option<usize>,
+    pub activation_exponent: Option<f64>,
     pub compare: Option<PathBuf>,
     pub name: Option<String>,
     pub output: PathBuf,
@@ -71,9 +72,6 @@ fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure>
     if !analysis.use_model_force_set {
         return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
     }
-    if analysis.activation_exponent != 2.0 {
-        return Err(format!("{file}: activation_exponent {} is not supported; osim-tune minimises Σa² (exponent 2)", analysis.activation_exponent).into());
-    }
     if !setup.other_analyses.is_empty() {
         println!("not run (only StaticOptimization is): {}", setup.other_analyses.join(", "));
     }
@@ -105,7 +103,11 @@ fn settings(request: &Request, setup: Option<&AnalyzeSetup>, analysis: Option<&S
     let lowpass_cutoff = request.lowpass.or(setup.map(|s| s.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0));
     let step_interval = request.step_interval.or(analysis.map(|a| a.step_interval)).unwrap_or(1);
     let use_muscle_physiology = analysis.is_none_or(|a| a.use_muscle_physiology);
-    Ok(StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval, use_muscle_physiology })
+    let activation_exponent = request.activation_exponent.or(analysis.map(|a| a.activation_exponent)).unwrap_or(2.0);
+    if !(activation_exponent > 1.0 && activation_exponent.is_finite()) {
+        return Err(format!("activation exponent {activation_exponent}: expected a number > 1").into());
+    }
+    Ok(StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval, use_muscle_physiology, activation_exponent })
 }
 
 fn report(result: &StaticOptimizationResult, coordinates: &Path, outputs: &[PathBuf; 2], compare: Option<&Path>) {
@@ -122,7 +124,7 @@ fn report(result: &StaticOptimizationResult, coordinates: &Path, outputs: &[Path
         let bounds = frames.iter().map(|f| f.bound_violation).fold(0.0, f64::max);
         let gap = frames.iter().map(|f| f.objective / f.our_objective - 1.0).fold(f64::NEG_INFINITY, f64::max);
         println!(
-            "{}: {} frames compared; its controls miss our constraints by at most {violation:.2e} and our bounds by {bounds:.2e}; its Σa² is at most {:.3} % above ours",
+            "{}: {} frames compared; its controls miss our constraints by at most {violation:.2e} and our bounds by {bounds:.2e}; its Σ|a|ᵖ is at most {:.3} % above ours",
             file.display(),
             frames.len(),
             100.0 * gap

@@ -1,0 +1,114 @@
+#!/usr/bin/env python3
+"""Static optimisation goldens beyond the subject01 pipeline: OpenSim 4.6's AnalyzeTool with a
+StaticOptimization analysis on other muscles, paths and settings.
+
+    python3 oracle/gen_static_optimization.py
+
+Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
+`<case>_StaticOptimization_activation.sto` and `_force.sto`):
+
+* `arm26` — fixtures/models/arm26.osim (Thelen2003Muscles, paths wrapping over cylinders and
+  ellipsoids), a synthetic motion written here (`arm26_motion.mot`, 0–1 s at 100 Hz, degrees:
+  r_shoulder_elev = 30 + 25 sin(2πt), r_elbow_flex = 70 + 45 sin(2π·1.5t + 0.3)), unfiltered,
+  reserve CoordinateActuators on both coordinates (`arm26_reserves.xml`, optimal force 1,
+  unbounded), exponent 2, every row 0.1–0.9 s.
+* `arm26_exponent3` — the same with activation exponent 3.
+* `subject01_thelen` — the subject01 walk with the Thelen-muscle scaled model of
+  fixtures/subject01/OutputReference/subject01_simbody.osim, its IK golden
+  (fixtures/golden/ik/subject01_walk1_ik.mot), the ground reactions and the residual actuators
+  of fixtures/subject01/, 6 Hz low-pass, exponent 2, 0.6–0.9 s, every row.
+
+Muscles are not equilibrated (solve_for_equilibrium_for_auxiliary_states false) and tables are
+printed with 20 digits (output_precision), as in the
+pipeline golden. The tools run in a scratch folder; only the result tables are kept.
+"""
+import math
+import shutil
+import tempfile
+from pathlib import Path
+
+import opensim as osim
+
+REPO = Path(__file__).resolve().parent.parent
+OUT = REPO / "fixtures" / "golden" / "static_optimization"
+SUBJECT01 = REPO / "fixtures" / "subject01"
+
+
+def arm26_motion(path):
+    rows = []
+    for k in range(101):
+        t = k / 100
+        shoulder = 30 + 25 * math.sin(2 * math.pi * t)
+        elbow = 70 + 45 * math.sin(2 * math.pi * 1.5 * t + 0.3)
+        rows.append(f"{t!r}\t{shoulder!r}\t{elbow!r}")
+    header = f"arm26_motion\nversion=1\nnRows={len(rows)}\nnColumns=3\ninDegrees=yes\nendheader\ntime\tr_shoulder_elev\tr_elbow_flex\n"
+    path.write_text(header + "\n".join(rows) + "\n")
+
+
+def arm26_reserves(path):
+    forces = osim.ForceSet()
+    for coordinate in ["r_shoulder_elev", "r_elbow_flex"]:
+        actuator = osim.CoordinateActuator(coordinate)
+        actuator.setName(f"reserve_{coordinate}")
+        actuator.setOptimalForce(1.0)
+        forces.cloneAndAppend(actuator)
+    forces.printToXML(str(path))
+
+
+def run(case, model, coordinates, force_sets, time_range, cutoff, exponent, loads=None):
+    folder = OUT / case
+    folder.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory() as scratch:
+        scratch = Path(scratch)
+        tool = osim.AnalyzeTool()
+        tool.setName(case)
+        tool.setModelFilename(str(model))
+        files = osim.ArrayStr()
+        for f in force_sets:
+            files.append(str(f))
+        tool.setForceSetFiles(files)
+        tool.setReplaceForceSet(False)
+        tool.setResultsDir(str(scratch / "results"))
+        tool.setInitialTime(time_range[0])
+        tool.setFinalTime(time_range[1])
+        tool.setCoordinatesFileName(str(coordinates))
+        tool.setLowpassCutoffFrequency(cutoff)
+        tool.setSolveForEquilibrium(False)
+        tool.setOutputPrecision(20)
+        if loads:
+            tool.setExternalLoadsFileName(str(loads))
+        so = osim.StaticOptimization()
+        so.setName("StaticOptimization")
+        so.setStartTime(time_range[0])
+        so.setEndTime(time_range[1])
+        so.setStepInterval(1)
+        so.setActivationExponent(exponent)
+        so.setUseMusclePhysiology(True)
+        so.setUseModelForceSet(True)
+        tool.getAnalysisSet().cloneAndAppend(so)
+        setup = scratch / "setup.xml"
+        tool.printToXML(str(setup))
+        if not osim.AnalyzeTool(str(setup)).run():
+            raise SystemExit(f"{case}: AnalyzeTool failed")
+        for kind in ["activation", "force"]:
+            name = f"{case}_StaticOptimization_{kind}.sto"
+            shutil.copyfile(scratch / "results" / name, folder / name)
+    print(f"{folder.relative_to(REPO)}: done")
+
+
+def main():
+    arm = OUT / "arm26"
+    arm.mkdir(parents=True, exist_ok=True)
+    arm26_motion(arm / "arm26_motion.mot")
+    arm26_reserves(arm / "arm26_reserves.xml")
+    model = REPO / "fixtures" / "models" / "arm26.osim"
+    run("arm26", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 2.0)
+    run("arm26_exponent3", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 3.0)
+    run("subject01_thelen", SUBJECT01 / "OutputReference" / "subject01_simbody.osim",
+        REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
+        [SUBJECT01 / "gait2392_SO_Residual_Actuators.xml"], (0.6, 0.9), 6, 2.0,
+        loads=SUBJECT01 / "subject01_walk1_grf.xml")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,114 @@
+//! subject01's walk through inverse dynamics and static optimisation, as OpenSim 4.6's pipeline
+//! golden ran it (`reference/pipelines/gait2392_subject01/`, copied or sliced into
+//! `fixtures/golden/`): the scaled model, its IK, the ground reactions on both feet, 6 Hz
+//! low-pass; the six residual actuators for static optimisation, 0.5–2 s.
+
+use std::path::{Path, PathBuf};
+
+use super::geometry::Worst;
+use crate::analysis::{generators, inverse_dynamics, static_optimization, ExternalLoads, Generator, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::io::osim::OsimDocument;
+use crate::io::table::StorageTable;
+use crate::mechanics::MuscleGeometry;
+use crate::model::{read_force_set, ModelSpec};
+use crate::setup::ExternalLoadsSetup;
+
+/// The walk's inputs, read from the repository at `root`.
+pub struct Subject01Walk {
+    pub geometry: MuscleGeometry,
+    /// The model's muscles, then the residual actuators.
+    pub generators: Vec<Generator>,
+    pub loads: ExternalLoads,
+    pub coordinates: StorageTable,
+    pub coordinates_file: PathBuf,
+}
+
+/// How OpenSim's static optimisation compares with ours on the same problem.
+#[derive(Debug, Clone, Default)]
+pub struct WalkStaticOptimization {
+    /// Frames of OpenSim's table judged.
+    pub frames: usize,
+    /// OpenSim's controls against our constraints, N·m or N.
+    pub violation: Worst,
+    /// How far OpenSim's controls leave our bounds.
+    pub bound_violation: f64,
+    /// (OpenSim's Σ|a|ᵖ − ours) / max(ours, 0.01): largest and smallest (relative to ours, except
+    /// at frames whose optimum costs almost nothing, where OpenSim's absolute stopping tolerance
+    /// dominates).
+    pub largest_gap: f64,
+    pub smallest_gap: f64,
+    /// Force per unit control (OpenSim's force / activation) against ours, relative to
+    /// max(1, |F|).
+    pub unit_force: Worst,
+    /// The external loads' records in the force table, N, m or N·m (∞ when the labels differ).
+    pub load_records: Worst,
+}
+
+impl Subject01Walk {
+    pub fn load(root: &Path) -> Result<Subject01Walk, Box<dyn std::error::Error>> {
+        let fixture = |relative: &str| root.join("fixtures").join(relative);
+        let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim"))?)?;
+        let geometry = MuscleGeometry::new(&spec)?;
+        let residuals = read_force_set(&OsimDocument::read(&fixture("subject01/gait2392_SO_Residual_Actuators.xml"))?)?;
+        let generators = generators(&spec, &geometry, &residuals, false)?;
+        let setup = ExternalLoadsSetup::read(&fixture("subject01/subject01_walk1_grf.xml"))?;
+        let data_file = setup.datafile.clone().ok_or("the walk's ExternalLoads names no datafile")?.resolved;
+        let loads = ExternalLoads::new(&setup, &StorageTable::read(&data_file)?, &data_file, &geometry.multibody)?;
+        let coordinates_file = fixture("golden/ik/subject01_walk1_ik.mot");
+        let coordinates = StorageTable::read(&coordinates_file)?;
+        Ok(Subject01Walk { geometry, generators, loads, coordinates, coordinates_file })
+    }
+
+    /// The InverseDynamicsTool run of subject01's setup (0.4–1.6 s) against OpenSim's table
+    /// `golden`: the worst absolute difference (N·m or N), or ∞ if the rows or columns differ.
+    pub fn inverse_dynamics(&self, golden: &StorageTable) -> Result<Worst, Box<dyn std::error::Error>> {
+        let settings = InverseDynamicsSettings { time_range: [0.4, 1.6], lowpass_cutoff: Some(6.0) };
+        let result = inverse_dynamics(&self.geometry.multibody, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings)?;
+        let mut worst = Worst::default();
+        if result.forces.labels() != golden.labels() || result.forces.n_rows() != golden.n_rows() {
+            worst.update(f64::INFINITY, || format!("{} rows of {:?} against OpenSim's {} of {:?}", result.forces.n_rows(), result.forces.labels(), golden.n_rows(), golden.labels()));
+            return Ok(worst);
+        }
+        for (ours, theirs) in result.forces.rows().zip(golden.rows()) {
+            for (label, (a, b)) in golden.labels().iter().zip(ours.iter().zip(theirs)) {
+                worst.update((a - b).abs(), || format!("t = {} s, {label}", theirs[0]));
+            }
+        }
+        Ok(worst)
+    }
+
+    /// Our static optimisation (0.5–2 s, every row), with OpenSim's controls `activations` (from
+    /// `file`) judged on it.
+    pub fn static_optimization(&self, activations: &StorageTable, file: &Path) -> Result<StaticOptimizationResult, Box<dyn std::error::Error>> {
+        let settings = StaticOptimizationSettings { time_range: [0.5, 2.0], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
+        let reference = ReferenceControls { table: activations, file };
+        Ok(static_optimization(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings, Some(reference))?)
+    }
+}
+
+/// OpenSim's static optimisation tables (`activations`, `forces`) against `ours`.
+pub fn compare_static_optimization(ours: &StaticOptimizationResult, activations: &StorageTable, forces: &StorageTable) -> WalkStaticOptimization {
+    let mut comparison = WalkStaticOptimization { frames: ours.reference.len(), largest_gap: f64::NEG_INFINITY, smallest_gap: f64::INFINITY, ..Default::default() };
+    for frame in &ours.reference {
+        comparison.violation.update(frame.violation, || format!("t = {} s", frame.time));
+        comparison.bound_violation = comparison.bound_violation.max(frame.bound_violation);
+        let gap = (frame.objective - frame.our_objective) / frame.our_objective.max(0.01);
+        (comparison.largest_gap, comparison.smallest_gap) = (comparison.largest_gap.max(gap), comparison.smallest_gap.min(gap));
+    }
+    let our_rows: Vec<(&[f64], &[f64])> = ours.activations.rows().zip(ours.forces.rows()).collect();
+    for (control, force) in activations.rows().zip(forces.rows()) {
+        let Some((our_control, our_force)) = our_rows.iter().find(|(a, _)| (a[0] - control[0]).abs() <= 1e-9) else {
+            comparison.unit_force.update(f64::INFINITY, || format!("t = {} s: no such row of ours", control[0]));
+            continue;
+        };
+        for j in 1..activations.n_columns().min(our_control.len()) {
+            let (unit, our_unit) = (force[j] / control[j], our_force[j] / our_control[j]);
+            comparison.unit_force.update((unit - our_unit).abs() / unit.abs().max(1.0), || format!("t = {} s, {}", control[0], activations.labels()[j]));
+        }
+        for j in activations.n_columns()..forces.n_columns() {
+            let error = if ours.forces.labels().get(j) == forces.labels().get(j) { (force[j] - our_force[j]).abs() } else { f64::INFINITY };
+            comparison.load_records.update(error, || format!("t = {} s, {}", control[0], forces.labels()[j]));
+        }
+    }
+    comparison
+}

@@ -1,0 +1,100 @@
+//! Dynamics rows of the validation table: inverse dynamics at random states of five models
+//! against OpenSim 4.6's `InverseDynamicsSolver`, and subject01's walk through OpenSim 4.6's
+//! InverseDynamicsTool and StaticOptimization (all 95 rows of the latter when
+//! `../shared/reference` or `$OSIM_TUNE_REFERENCE` has the pipeline goldens, else the fixture
+//! slice).
+
+use std::path::PathBuf;
+
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::StorageTable;
+use osim_tune::mechanics::Multibody;
+use osim_tune::model::ModelSpec;
+use osim_tune::validation::{compare_inverse_dynamics, compare_static_optimization, Subject01Walk};
+
+use crate::root;
+use crate::validate::Row;
+
+const RANDOM_STATE_MODELS: [(&str, &str); 5] = [
+    ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim"),
+    ("arm26", "fixtures/models/arm26.osim"),
+    ("leg6dof9musc", "fixtures/models/leg6dof9musc.osim"),
+    ("Rajagopal2016", "fixtures/models/Rajagopal2016.osim"),
+    ("joint_zoo", "fixtures/models/joint_zoo.osim"),
+];
+
+pub fn rows() -> Vec<Row> {
+    let mut rows: Vec<Row> = RANDOM_STATE_MODELS.iter().map(|(stem, model)| random_states(stem, model)).collect();
+    match Subject01Walk::load(&root()) {
+        Ok(walk) => {
+            rows.push(walk_inverse_dynamics(&walk));
+            rows.extend(walk_static_optimization(&walk));
+        }
+        Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
+    }
+    rows
+}
+
+fn failed(what: &str, reference: &str, error: String) -> Row {
+    Row { what: what.into(), reference: reference.into(), worst: f64::INFINITY, tolerance: 0.0, at: error }
+}
+
+/// Generalized forces relative to max(1, |τ|) at 8 random (q, u, u̇).
+fn random_states(stem: &str, model: &str) -> Row {
+    let (what, reference) = (format!("inverse dynamics, random states, {stem}"), "OpenSim 4.6 InverseDynamicsSolver");
+    let compared = OsimDocument::read(&root().join(model))
+        .map_err(|e| e.to_string())
+        .and_then(|document| ModelSpec::read(&document).map_err(|e| e.to_string()))
+        .and_then(|spec| Multibody::new(&spec).map_err(|e| e.to_string()))
+        .and_then(|multibody| compare_inverse_dynamics(&multibody, &root().join(format!("fixtures/golden/inverse_dynamics/{stem}.csv"))).map_err(|e| e.to_string()));
+    match compared {
+        Ok(worst) => Row { what, reference: reference.into(), worst: worst.error, tolerance: 1e-12, at: worst.at },
+        Err(error) => failed(&what, reference, error),
+    }
+}
+
+/// The pipeline golden's folder, when present.
+fn pipeline_folder() -> Option<PathBuf> {
+    let reference = std::env::var_os("OSIM_TUNE_REFERENCE").map(PathBuf::from).unwrap_or_else(|| root().join("../shared/reference"));
+    Some(reference.join("pipelines/gait2392_subject01")).filter(|f| f.join("subject01_walk1_StaticOptimization_activation.sto").exists())
+}
+
+/// Every generalized force against OpenSim's table (printed to 8 decimals).
+fn walk_inverse_dynamics(walk: &Subject01Walk) -> Row {
+    let (what, reference) = ("ID tool, subject01 walk, 76 frames (N·m, N)", "OpenSim 4.6 InverseDynamicsTool (1e-8)");
+    let golden = StorageTable::read(&root().join("fixtures/golden/inverse_dynamics/subject01_walk1_InverseDynamics.sto"));
+    match golden.map_err(|e| e.to_string()).and_then(|g| walk.inverse_dynamics(&g).map_err(|e| e.to_string())) {
+        Ok(worst) => Row { what: what.into(), reference: reference.into(), worst: worst.error, tolerance: 6e-9, at: worst.at },
+        Err(error) => failed(what, reference, error),
+    }
+}
+
+/// OpenSim's controls judged on our problem, and its forces per unit control.
+fn walk_static_optimization(walk: &Subject01Walk) -> Vec<Row> {
+    let (folder, reference) = match pipeline_folder() {
+        Some(folder) => (folder, "OpenSim 4.6 StaticOptimization, 95 rows"),
+        None => (root().join("fixtures/golden/static_optimization"), "OpenSim 4.6 StaticOptimization, slice"),
+    };
+    let table = |kind: &str| StorageTable::read(&folder.join(format!("subject01_walk1_StaticOptimization_{kind}.sto"))).map_err(|e| e.to_string());
+    let compared = table("activation").and_then(|activations| {
+        let forces = table("force")?;
+        let result = walk.static_optimization(&activations, &folder).map_err(|e| e.to_string())?;
+        let failures = result.failures.len();
+        Ok((compare_static_optimization(&result, &activations, &forces), result.max_violation, failures))
+    });
+    let (c, our_violation, failures) = match compared {
+        Ok(compared) => compared,
+        Err(error) => return vec![failed("SO walk", reference, error)],
+    };
+    let row = |what: &str, worst: f64, tolerance: f64, at: String| Row { what: what.into(), reference: reference.into(), worst, tolerance, at };
+    vec![
+        row("SO walk: our frames without a solution", failures as f64, 0.0, String::new()),
+        row("SO walk: our |Σ a·F·R − τ_ID| (N·m, N)", our_violation, 1e-9, String::new()),
+        row("SO walk: OpenSim's controls on our constraints (N·m, N)", c.violation.error, 1e-9, format!("{} frames; {}", c.frames, c.violation.at)),
+        row("SO walk: OpenSim's controls outside our bounds", c.bound_violation, 0.0, String::new()),
+        row("SO walk: OpenSim's Σa² below ours (relative)", (-c.smallest_gap).max(0.0), 1e-12, String::new()),
+        row("SO walk: OpenSim's Σa² above ours (IPOPT at 1e-4)", c.largest_gap, 2e-3, String::new()),
+        row("SO walk: force per unit control (relative)", c.unit_force.error, 1e-9, c.unit_force.at),
+        row("SO walk: external load records (N, m, N·m)", c.load_records.error, 1e-9, c.load_records.at),
+    ]
+}
