@@ -89,3 +89,34 @@ fn an_activation_exponent_of_one_or_less_is_refused() {
     assert!(stderr.contains("activation exponent 1: expected a number > 1"), "{stderr}");
     assert!(!output.exists());
 }
+
+/// --pia: the physiological inverse approach writes activations, forces and excitations, and its
+/// min–max criterion's largest activation is no larger than the sum-of-squares one's.
+#[test]
+fn the_physiological_inverse_approach_runs_from_the_command_line() {
+    let folder = tempfile::tempdir().unwrap();
+    let largest = |criterion: &str| {
+        let output = folder.path().join(criterion);
+        let arguments = [
+            "so", &path(MODEL), &path(IK),
+            "--actuators", &path("fixtures/subject01/gait2392_SO_Residual_Actuators.xml"),
+            "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"),
+            "--time", "0.5", "2", "--lowpass", "6", "--pia", criterion, "--name", "walk", "-o", s(&output),
+        ];
+        let (code, stdout, stderr) = osim_tune(&arguments);
+        assert_eq!(code, 0, "{stderr}");
+        for kind in ["activation", "force", "excitation"] {
+            assert!(output.join(format!("walk_PhysiologicalInverse_{kind}.sto")).exists(), "{kind}");
+        }
+        let excitations = StorageTable::read(&output.join("walk_PhysiologicalInverse_excitation.sto")).unwrap();
+        assert!(excitations.rows().all(|r| r[1..].iter().all(|u| (0.0..=1.0).contains(u))));
+        assert!(stdout.contains("95 frames"), "{stdout}");
+        let activations = StorageTable::read(&output.join("walk_PhysiologicalInverse_activation.sto")).unwrap();
+        let muscles: Vec<usize> = (1..activations.n_columns()).filter(|&j| excitations.column_index(&activations.labels()[j]).is_some()).collect();
+        activations.rows().flat_map(|r| muscles.iter().map(move |&j| r[j])).fold(0.0, f64::max)
+    };
+    assert!(largest("min-max") <= largest("sum-of-squares") + 1e-6);
+    let (code, _, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--pia", "min-max", "--compare", &path(ACTIVATIONS), "-o", s(folder.path())]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("does not apply with --pia"), "{stderr}");
+}

@@ -6,6 +6,7 @@ mod external_loads;
 mod fiber_analysis;
 mod inverse_dynamics;
 mod muscle_analysis;
+mod physiological_inverse;
 mod signal;
 mod static_optimization;
 
@@ -14,6 +15,7 @@ pub use external_loads::{ExternalLoads, ExternalLoadsError};
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use muscle_analysis::MuscleAnalysis;
+pub use physiological_inverse::{physiological_inverse, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings};
 pub use signal::{spline, Series, SignalError};
 pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};
 pub use analyze_states::StatesError;

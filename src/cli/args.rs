@@ -279,6 +279,15 @@ pub enum Command {
         /// problem: how far its controls miss the constraints and bounds, and its Σ|a|ᵖ against ours.
         #[arg(long)]
         compare: Option<PathBuf>,
+        /// The physiological inverse approach (De Groote et al. 2009) instead: every frame at once,
+        /// consecutive activations bound by activation dynamics (τ_a, τ_d of each muscle), by the
+        /// sum of squared controls or the largest muscle activation (min-max). Writes
+        /// <NAME>_PhysiologicalInverse_activation.sto, _force.sto and _excitation.sto.
+        #[arg(long, value_enum)]
+        pia: Option<CriterionArgument>,
+        /// With --pia: multiplies every muscle's activation and deactivation time constants.
+        #[arg(long, default_value_t = 1.0)]
+        time_constant_scale: f64,
         /// Prefix of the output files (default: the setup's name, else the coordinates file's stem).
         #[arg(long)]
         name: Option<String>,
@@ -346,6 +355,24 @@ pub enum ScaleMethodArgument {
 }
 
 /// `--method` of `axis`.
+/// The physiological inverse approach's criterion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CriterionArgument {
+    /// Σ of squared controls over all frames.
+    SumOfSquares,
+    /// The largest muscle activation over the motion.
+    MinMax,
+}
+
+impl From<CriterionArgument> for crate::analysis::Criterion {
+    fn from(argument: CriterionArgument) -> Self {
+        match argument {
+            CriterionArgument::SumOfSquares => crate::analysis::Criterion::SumOfSquares,
+            CriterionArgument::MinMax => crate::analysis::Criterion::MinMax,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum AxisMethodArgument {
     /// Gamage & Lasenby: circles of the tibia markers in the femur frame and of the femur markers in

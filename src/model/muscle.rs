@@ -40,6 +40,10 @@ pub struct MillardSpec {
     pub fiber_damping: f64,
     pub default_activation: f64,
     pub minimum_activation: f64,
+    /// τ_a, `activation_time_constant`, s.
+    pub activation_time_constant: f64,
+    /// τ_d, `deactivation_time_constant`, s.
+    pub deactivation_time_constant: f64,
     /// rad.
     pub maximum_pennation_angle: f64,
     pub active_force_length: ActiveForceLengthCurveSpec,
@@ -203,6 +207,8 @@ impl MillardSpec {
             fiber_damping: reader.number_or("fiber_damping", 0.1)?,
             default_activation: reader.number_or("default_activation", 0.05)?,
             minimum_activation: reader.number_or("minimum_activation", 0.01)?,
+            activation_time_constant: reader.number_or("activation_time_constant", 0.01)?,
+            deactivation_time_constant: reader.number_or("deactivation_time_constant", 0.04)?,
             maximum_pennation_angle: reader
                 .number_or("maximum_pennation_angle", DEFAULT_MAXIMUM_PENNATION)?,
             active_force_length: ActiveForceLengthCurveSpec {

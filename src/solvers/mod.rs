@@ -4,6 +4,7 @@
 //! - `least_squares.rs`: bounded Levenberg–Marquardt ([`LeastSquares`]);
 //! - `box_qp.rs`: the box-constrained QP of a bounded step (clarabel);
 //! - `power_sum.rs`: min Σ|xᵢ|ᵖ under equalities and bounds, on power cones ([`minimise_power_sum`]);
+//! - `sparse_qp.rs`: a sparse QP with a diagonal Hessian over whole trajectories ([`SparseQp`]);
 //! - `false_position.rs`: a bracketed scalar root without derivatives ([`false_position`]);
 //! - `ik/`: inverse kinematics as OpenSim 4.6 computes it ([`InverseKinematics`]);
 //! - `error.rs`: [`IkError`].
@@ -16,6 +17,7 @@ mod least_squares;
 pub mod nlp;
 mod power_sum;
 pub mod qp;
+mod sparse_qp;
 
 pub use box_qp::BoxQpError;
 pub use error::IkError;
@@ -25,4 +27,5 @@ pub use ik::{
     InverseKinematics, MarkerErrors, MarkerTask, MissingFrom,
 };
 pub use power_sum::{minimise_power_sum, PowerSumSolution};
+pub use sparse_qp::{SparseQp, SparseQpSolution, SparseRow};
 pub use least_squares::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresReport, LeastSquaresStatus};

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::geometry::Worst;
-use crate::analysis::{generators, inverse_dynamics, static_optimization, ExternalLoads, Generator, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::analysis::{generators, inverse_dynamics, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -83,6 +83,16 @@ impl Subject01Walk {
         let settings = StaticOptimizationSettings { time_range: [0.5, 2.0], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
         let reference = ReferenceControls { table: activations, file };
         Ok(static_optimization(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings, Some(reference))?)
+    }
+}
+
+impl Subject01Walk {
+    /// The physiological inverse approach over 0.5–2 s, every row, by `criterion`, with every
+    /// muscle's time constants multiplied by `time_constant_scale`.
+    pub fn physiological_inverse(&self, criterion: Criterion, time_constant_scale: f64) -> Result<PhysiologicalInverseResult, Box<dyn std::error::Error>> {
+        let frames = StaticOptimizationSettings { time_range: [0.5, 2.0], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
+        let settings = PhysiologicalInverseSettings { frames, criterion, time_constant_scale };
+        Ok(physiological_inverse(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings)?)
     }
 }
 

@@ -22,7 +22,7 @@ pub struct Generator {
 enum Kind {
     /// `path` indexes `MuscleGeometry::paths`, `slot` the muscles of the `PathEvaluation` built
     /// from [`Generator::path`] in generator order.
-    Muscle { muscle: Box<HillMuscle>, path: usize, slot: usize, max_isometric_force: f64 },
+    Muscle { muscle: Box<HillMuscle>, path: usize, slot: usize, max_isometric_force: f64, time_constants: [f64; 2] },
     Actuator { actuator: Actuator, optimal_force: f64 },
 }
 
@@ -35,14 +35,14 @@ pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[Actuator
             let muscle = HillMuscle::from_force(force).map_err(|e| StaticOptimizationError::Model(e.to_string()))?;
             let muscle_spec = force.muscle.as_ref().ok_or_else(|| StaticOptimizationError::Model(format!("{}: no muscle properties", force.name)))?;
             let path = geometry.path_index(&force.name).ok_or_else(|| StaticOptimizationError::Model(format!("muscle {} has no path", force.name)))?;
-            let minimum = match &muscle_spec.model {
-                MuscleModelSpec::Millard2012(m) => m.minimum_activation,
-                MuscleModelSpec::Thelen2003(t) => t.minimum_activation,
-                MuscleModelSpec::DeGrooteFregly2016(_) => 0.0,
+            let (minimum, time_constants) = match &muscle_spec.model {
+                MuscleModelSpec::Millard2012(m) => (m.minimum_activation, [m.activation_time_constant, m.deactivation_time_constant]),
+                MuscleModelSpec::Thelen2003(t) => (t.minimum_activation, [t.activation_time_constant, t.deactivation_time_constant]),
+                MuscleModelSpec::DeGrooteFregly2016(d) => (0.0, [d.activation_time_constant, d.deactivation_time_constant]),
             };
             let bounds = [force.controls[0].unwrap_or(minimum), force.controls[1].unwrap_or(1.0)];
             let slot = generators.iter().filter(|g: &&Generator| g.path().is_some()).count();
-            let kind = Kind::Muscle { muscle: Box::new(muscle), path, slot, max_isometric_force: muscle_spec.max_isometric_force };
+            let kind = Kind::Muscle { muscle: Box::new(muscle), path, slot, max_isometric_force: muscle_spec.max_isometric_force, time_constants };
             generators.push(Generator { name: force.name.clone(), bounds, kind });
         } else if let Some(actuator) = spec.actuators.iter().find(|a| a.name == force.name) {
             generators.push(actuator_generator(actuator, geometry)?);
@@ -88,6 +88,14 @@ impl Generator {
                 }
             }
             Kind::Actuator { optimal_force, .. } => *optimal_force,
+        }
+    }
+
+    /// A muscle's activation and deactivation time constants τ_a, τ_d (s).
+    pub fn time_constants(&self) -> Option<[f64; 2]> {
+        match &self.kind {
+            Kind::Muscle { time_constants, .. } => Some(*time_constants),
+            Kind::Actuator { .. } => None,
         }
     }
 

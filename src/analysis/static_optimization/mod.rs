@@ -11,19 +11,21 @@
 //! cones (`solvers::minimise_power_sum`), to the optimum. OpenSim solves it with IPOPT to its
 //! convergence criterion (default 1e-4), so its controls sit within about that of ours.
 
+mod frames;
 mod generators;
 
 use std::path::{Path, PathBuf};
 
 use nalgebra::{DMatrix, DVector};
 
+pub(super) use frames::{FrameProblem, Frames};
 pub use generators::{generators, Generator};
 
 use super::analyze_states::{AnalyzeStates, StatesError};
 use super::external_loads::ExternalLoads;
 use super::signal::rows_in_range;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{MotionState, MuscleGeometry, PathEvaluation};
+use crate::mechanics::{MotionState, MuscleGeometry};
 use crate::solvers::minimise_power_sum;
 use crate::solvers::qp::{DenseQp, QpSettings};
 
@@ -122,7 +124,7 @@ pub fn static_optimization(
     let (first, last) = (*range.start(), *range.end());
     let rows: Vec<usize> = range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect();
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
-    let mut frame = Frame::new(geometry, generators, loads, settings);
+    let mut frames = Frames::new(geometry, generators, loads, settings.use_muscle_physiology);
     let mut judged = Vec::new();
     let (mut activations, mut forces) = (Vec::new(), Vec::new());
     let (mut failures, mut max_violation) = (Vec::new(), 0.0f64);
@@ -130,7 +132,7 @@ pub fn static_optimization(
         let time = states.times[i];
         let state = MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] };
         let other = reference.zip(columns.as_ref()).and_then(|(r, columns)| r.table.rows().find(|row| (row[0] - time).abs() <= 1e-9).map(|row| columns.iter().map(|&c| row[c]).collect::<Vec<f64>>()));
-        let solved = frame.solve(&state, time, other.as_deref());
+        let solved = solve(&mut frames, settings.activation_exponent, &state, time, other.as_deref());
         judged.extend(solved.reference);
         match solved.failure {
             Some(status) => failures.push(FrameFailure { time, status }),
@@ -141,7 +143,7 @@ pub fn static_optimization(
         forces.push(time);
         forces.extend(solved.controls.iter().zip(&solved.unit_forces).map(|(a, f)| a * f));
         if let Some(loads) = loads {
-            forces.extend(loads.record_values(time, frame.paths.kinematics()));
+            forces.extend(loads.record_values(time, frames.kinematics()));
         }
     }
     let names: Vec<String> = std::iter::once("time".to_string()).chain(generators.iter().map(|g| g.name.clone())).collect();
@@ -166,20 +168,6 @@ fn reference_columns(reference: ReferenceControls, generators: &[Generator]) -> 
         .collect()
 }
 
-/// What every frame's problem shares, and its buffers.
-struct Frame<'a> {
-    geometry: &'a MuscleGeometry,
-    generators: &'a [Generator],
-    loads: Option<&'a ExternalLoads>,
-    /// OpenSim's `use_muscle_physiology`.
-    physiology: bool,
-    exponent: f64,
-    paths: PathEvaluation,
-    /// Coordinates whose accelerations are tracked (not locked).
-    rows: Vec<usize>,
-    column: Vec<f64>,
-}
-
 /// One frame's solution.
 struct Solved {
     controls: Vec<f64>,
@@ -190,64 +178,33 @@ struct Solved {
     reference: Option<ReferenceFrame>,
 }
 
-impl<'a> Frame<'a> {
-    fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, settings: &StaticOptimizationSettings) -> Frame<'a> {
-        let (physiology, exponent) = (settings.use_muscle_physiology, settings.activation_exponent);
-        let muscles: Vec<usize> = generators.iter().filter_map(Generator::path).collect();
-        let rows = geometry.multibody.coordinates.iter().enumerate().filter(|(_, c)| !c.locked).map(|(i, _)| i).collect();
-        let (paths, column) = (PathEvaluation::new(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
-        Frame { geometry, generators, loads, physiology, exponent, paths, rows, column }
-    }
-
-    /// min Σ|a|ᵖ subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds.
-    /// `other`: another solution's controls at this frame, to judge.
-    fn solve(&mut self, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
-        let (geometry, generators, physiology) = (self.geometry, self.generators, self.physiology);
-        self.paths.evaluate(geometry, state.q);
-        let applied = self.loads.map(|l| l.at(time, self.paths.kinematics())).unwrap_or_default();
-        let demand = geometry.multibody.inverse_dynamics(state, &applied);
-        let n = generators.len();
-        let mut matrix = DMatrix::zeros(self.rows.len(), n);
-        let mut unit_forces = Vec::with_capacity(n);
-        for (j, generator) in generators.iter().enumerate() {
-            generator.generalized_forces(geometry, &self.paths, &mut self.column);
-            let unit = match generator.muscle_path() {
-                Some((path, k)) => {
-                    let moment_arms = geometry.paths[path].spanned.iter().zip(self.paths.moment_arms(k));
-                    let lengthening_speed = -moment_arms.map(|(&c, r)| r * state.u[c]).sum::<f64>();
-                    generator.unit_force(physiology, self.paths.length(k), lengthening_speed)
-                }
-                None => generator.unit_force(physiology, 0.0, 0.0),
-            };
-            for (r, &c) in self.rows.iter().enumerate() {
-                matrix[(r, j)] = unit * self.column[c];
-            }
-            unit_forces.push(unit);
-        }
-        let rhs: Vec<f64> = self.rows.iter().map(|&c| demand[c]).collect();
-        let (lower, upper): (Vec<f64>, Vec<f64>) = generators.iter().map(|g| (g.bounds[0], g.bounds[1])).unzip();
-        let solved = if self.exponent == 2.0 {
-            let (hessian, linear) = (DMatrix::from_diagonal_element(n, n, 2.0), vec![0.0; n]);
-            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper));
-            qp.map(|qp| qp.solve(&QpSettings::default())).map(|s| (s.status, s.x))
-        } else {
-            minimise_power_sum(self.exponent, &matrix, &rhs, &lower, &upper, &QpSettings::default()).map(|s| (s.status, s.x))
-        };
-        let (status, x) = match solved {
-            Ok(solved) => solved,
-            Err(e) => return Solved { controls: vec![f64::NAN; n], unit_forces, violation: f64::INFINITY, failure: Some(e.to_string()), reference: None },
-        };
-        let violation = |controls: &[f64]| (&matrix * DVector::from_column_slice(controls) - DVector::from_column_slice(&rhs)).amax();
-        let objective = |controls: &[f64]| controls.iter().map(|a| a.abs().powf(self.exponent)).sum::<f64>();
-        let reference = other.map(|a| ReferenceFrame {
-            time,
-            violation: violation(a),
-            bound_violation: a.iter().zip(&lower).zip(&upper).map(|((a, l), u)| (l - a).max(a - u).max(0.0)).fold(0.0, f64::max),
-            objective: objective(a),
-            our_objective: objective(&x),
-        });
-        let failure = (!status.is_solved()).then(|| format!("{status:?}"));
-        let controls = if failure.is_some() { vec![f64::NAN; n] } else { x };
-        Solved { violation: violation(&controls), controls, unit_forces, failure, reference }
-    }
+/// min Σ|a|ᵖ subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds, at one
+/// frame; `other`: another solution's controls there, to judge.
+fn solve(frames: &mut Frames, exponent: f64, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
+    let FrameProblem { matrix, rhs, unit_forces } = frames.problem(state, time);
+    let n = unit_forces.len();
+    let (lower, upper) = frames.bounds();
+    let solved = if exponent == 2.0 {
+        let (hessian, linear) = (DMatrix::from_diagonal_element(n, n, 2.0), vec![0.0; n]);
+        let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper));
+        qp.map(|qp| qp.solve(&QpSettings::default())).map(|s| (s.status, s.x))
+    } else {
+        minimise_power_sum(exponent, &matrix, &rhs, &lower, &upper, &QpSettings::default()).map(|s| (s.status, s.x))
+    };
+    let (status, x) = match solved {
+        Ok(solved) => solved,
+        Err(e) => return Solved { controls: vec![f64::NAN; n], unit_forces, violation: f64::INFINITY, failure: Some(e.to_string()), reference: None },
+    };
+    let violation = |controls: &[f64]| (&matrix * DVector::from_column_slice(controls) - DVector::from_column_slice(&rhs)).amax();
+    let objective = |controls: &[f64]| controls.iter().map(|a| a.abs().powf(exponent)).sum::<f64>();
+    let reference = other.map(|a| ReferenceFrame {
+        time,
+        violation: violation(a),
+        bound_violation: a.iter().zip(&lower).zip(&upper).map(|((a, l), u)| (l - a).max(a - u).max(0.0)).fold(0.0, f64::max),
+        objective: objective(a),
+        our_objective: objective(&x),
+    });
+    let failure = (!status.is_solved()).then(|| format!("{status:?}"));
+    let controls = if failure.is_some() { vec![f64::NAN; n] } else { x };
+    Solved { violation: violation(&controls), controls, unit_forces, failure, reference }
 }

@@ -37,8 +37,9 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
             id::run(&model, &coordinates, &request)
         }
-        Command::So { model, coordinates, setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, name, output } => {
-            let request = so::Request { setup, external_loads, actuators, time: time.map(|t| [t[0], t[1]]), lowpass, step_interval, activation_exponent, compare, name, output };
+        Command::So { model, coordinates, setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output } => {
+            let (time, pia) = (time.map(|t| [t[0], t[1]]), pia.map(Into::into));
+            let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output };
             so::run(&model, &coordinates, &request)
         }
         Command::Ik { model, trial, setup, time, weights, output, errors } => {

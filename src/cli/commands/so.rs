@@ -1,8 +1,11 @@
-//! `osim-tune so MODEL COORDINATES [--setup SETUP.xml] [--external-loads LOADS.xml] [--actuators F.xml,…] [--time START END] [--lowpass HZ] [--step-interval N] [--activation-exponent P] [--compare ACT.sto] [--name NAME] -o DIR`
+//! `osim-tune so MODEL COORDINATES [--setup SETUP.xml] [--external-loads LOADS.xml] [--actuators F.xml,…] [--time START END] [--lowpass HZ] [--step-interval N] [--activation-exponent P] [--compare ACT.sto] [--pia sum-of-squares|min-max] [--time-constant-scale F] [--name NAME] -o DIR`
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{generators, static_optimization, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::analysis::{
+    generators, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationResult,
+    StaticOptimizationSettings,
+};
 use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
@@ -21,6 +24,9 @@ pub struct Request {
     pub step_interval: Option<usize>,
     pub activation_exponent: Option<f64>,
     pub compare: Option<PathBuf>,
+    /// The physiological inverse approach by this criterion instead of static optimisation.
+    pub pia: Option<Criterion>,
+    pub time_constant_scale: f64,
     pub name: Option<String>,
     pub output: PathBuf,
 }
@@ -37,25 +43,69 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let loads = loads_file.as_deref().map(|file| read_external_loads(file, &geometry.multibody, &mut inputs)).transpose()?;
     let settings = settings(request, setup.as_ref(), analysis.as_ref())?;
     let name = request.name.clone().or_else(|| setup.as_ref().map(|s| s.name.clone()).filter(|n| !n.is_empty())).unwrap_or_else(|| stem(coordinates));
-    let outputs = [activation_file(&request.output, &name, "activation"), activation_file(&request.output, &name, "force")];
-    let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).chain(request.compare.as_deref()).collect();
+    let table = StorageTable::read(coordinates)?;
+    let problem = Problem { geometry: &geometry, generators: &generators, table: &table, coordinates, loads: loads.as_ref(), inputs: &inputs };
+    match request.pia {
+        Some(criterion) => physiological(&problem, request, &name, PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale }),
+        None => static_optimisation(&problem, request, &name, &settings),
+    }
+}
+
+/// What both methods solve on.
+struct Problem<'a> {
+    geometry: &'a MuscleGeometry,
+    generators: &'a [Generator],
+    table: &'a StorageTable,
+    coordinates: &'a Path,
+    loads: Option<&'a ExternalLoads>,
+    inputs: &'a [PathBuf],
+}
+
+fn static_optimisation(problem: &Problem, request: &Request, name: &str, settings: &StaticOptimizationSettings) -> Result<Outcome, Failure> {
+    let outputs = [output_file(&request.output, name, "StaticOptimization", "activation"), output_file(&request.output, name, "StaticOptimization", "force")];
+    let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).chain(request.compare.as_deref()).collect();
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
     }
     let compared = request.compare.as_deref().map(StorageTable::read).transpose()?;
     let reference = compared.as_ref().zip(request.compare.as_deref()).map(|(table, file)| ReferenceControls { table, file });
-    let table = StorageTable::read(coordinates)?;
-    let result = static_optimization(&geometry, &generators, &table, coordinates, loads.as_ref(), &settings, reference)?;
+    let result = static_optimization(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, settings, reference)?;
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
     write_atomically(&outputs[0], result.activations.to_text().as_bytes(), &input_paths)?;
     write_atomically(&outputs[1], result.forces.to_text().as_bytes(), &input_paths)?;
-    report(&result, coordinates, &outputs, request.compare.as_deref());
+    report(&result, problem.coordinates, &outputs, request.compare.as_deref());
     Ok(if result.failures.is_empty() { Outcome::Success } else { Outcome::NotConverged })
 }
 
-/// `<DIR>/<name>_StaticOptimization_<kind>.sto`, OpenSim's names.
-fn activation_file(directory: &Path, name: &str, kind: &str) -> PathBuf {
-    directory.join(format!("{name}_StaticOptimization_{kind}.sto"))
+fn physiological(problem: &Problem, request: &Request, name: &str, settings: PhysiologicalInverseSettings) -> Result<Outcome, Failure> {
+    if request.compare.is_some() {
+        return Err("--compare judges static optimisation; it does not apply with --pia".into());
+    }
+    if !(settings.time_constant_scale > 0.0 && settings.time_constant_scale.is_finite()) {
+        return Err(format!("--time-constant-scale {}: expected a number > 0", settings.time_constant_scale).into());
+    }
+    let kinds = ["activation", "force", "excitation"];
+    let outputs = kinds.map(|kind| output_file(&request.output, name, "PhysiologicalInverse", kind));
+    let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).collect();
+    for output in &outputs {
+        ensure_not_an_input(output, &input_paths)?;
+    }
+    let result = physiological_inverse(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, &settings)?;
+    create_output_folders(outputs.iter().map(PathBuf::as_path))?;
+    for (output, table) in outputs.iter().zip([&result.activations, &result.forces, &result.excitations]) {
+        write_atomically(output, table.to_text().as_bytes(), &input_paths)?;
+    }
+    let times = result.activations.times();
+    if let (Some(first), Some(last)) = (times.first(), times.last()) {
+        println!("{} frames of {} ({first:.4}–{last:.4} s), {:?} → {}", times.len(), problem.coordinates.display(), settings.criterion, request.output.display());
+    }
+    println!("largest activation {:.4}, Σa² over the motion {:.4}, largest |generalized force − inverse dynamics| {:.2e}", result.max_activation, result.sum_of_squares, result.max_violation);
+    Ok(Outcome::Success)
+}
+
+/// `<DIR>/<name>_<method>_<kind>.sto` (OpenSim's names for static optimisation).
+fn output_file(directory: &Path, name: &str, method: &str, kind: &str) -> PathBuf {
+    directory.join(format!("{name}_{method}_{kind}.sto"))
 }
 
 fn stem(file: &Path) -> String {
