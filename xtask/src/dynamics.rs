@@ -2,10 +2,12 @@
 //! against OpenSim 4.6's `InverseDynamicsSolver`, and subject01's walk through OpenSim 4.6's
 //! InverseDynamicsTool and StaticOptimization (all 95 rows of the latter when
 //! `../shared/reference` or `$OSIM_TUNE_REFERENCE` has the pipeline goldens, else the fixture
-//! slice).
+//! slice), and the physiological inverse approach on the walk against static optimisation and
+//! first principles (OpenSim has none).
 
 use std::path::PathBuf;
 
+use osim_tune::analysis::Criterion;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
@@ -29,6 +31,7 @@ pub fn rows() -> Vec<Row> {
         Ok(walk) => {
             rows.push(walk_inverse_dynamics(&walk));
             rows.extend(walk_static_optimization(&walk));
+            rows.extend(walk_physiological_inverse(&walk));
         }
         Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
     }
@@ -97,4 +100,25 @@ fn walk_static_optimization(walk: &Subject01Walk) -> Vec<Row> {
         row("SO walk: force per unit control (relative)", c.unit_force.error, 1e-9, c.unit_force.at),
         row("SO walk: external load records (N, m, N·m)", c.load_records.error, 1e-9, c.load_records.at),
     ]
+}
+
+/// PIA with activation dynamics made immaterial against static optimisation, and with the
+/// model's time constants against inverse dynamics.
+fn walk_physiological_inverse(walk: &Subject01Walk) -> Vec<Row> {
+    let reference = "static optimisation / first principles";
+    let golden = root().join("fixtures/golden/static_optimization");
+    let compared = StorageTable::read(&golden.join("subject01_walk1_StaticOptimization_activation.sto")).map_err(|e| e.to_string()).and_then(|activations| {
+        let so = walk.static_optimization(&activations, &golden).map_err(|e| e.to_string())?;
+        let free = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6).map_err(|e| e.to_string())?;
+        let bound = walk.physiological_inverse(Criterion::MinMax, 1.0).map_err(|e| e.to_string())?;
+        let difference = free.activations.values().iter().zip(so.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        Ok((difference, bound.max_violation))
+    });
+    match compared {
+        Ok((difference, violation)) => vec![
+            Row { what: "PIA walk, dynamics immaterial: |a − SO's a|".into(), reference: reference.into(), worst: difference, tolerance: 2e-5, at: String::new() },
+            Row { what: "PIA walk, min–max: |Σ a·F·R − τ_ID| (N·m, N)".into(), reference: reference.into(), worst: violation, tolerance: 1e-6, at: String::new() },
+        ],
+        Err(error) => vec![failed("PIA walk", reference, error)],
+    }
 }
