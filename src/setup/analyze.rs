@@ -60,7 +60,8 @@ impl AnalyzeSetup {
         Self::from_document(&read_document(path)?)
     }
 
-    fn from_document(document: &OsimDocument) -> Result<AnalyzeSetup, SetupError> {
+    /// The object of `document` (its file names resolve against the document's directory).
+    pub fn from_document(document: &OsimDocument) -> Result<AnalyzeSetup, SetupError> {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());

@@ -51,7 +51,8 @@ impl ExternalLoadsSetup {
         Self::from_document(&read_document(path)?)
     }
 
-    fn from_document(document: &OsimDocument) -> Result<ExternalLoadsSetup, SetupError> {
+    /// The object of `document` (its file names resolve against the document's directory).
+    pub fn from_document(document: &OsimDocument) -> Result<ExternalLoadsSetup, SetupError> {
         let loads = ComponentReader::new(document, document.object);
         expect_class(loads, "ExternalLoads")?;
         let directory = directory_of(document.xml.file());

@@ -44,7 +44,8 @@ impl IdSetup {
         Self::from_document(&read_document(path)?)
     }
 
-    fn from_document(document: &OsimDocument) -> Result<IdSetup, SetupError> {
+    /// The object of `document` (its file names resolve against the document's directory).
+    pub fn from_document(document: &OsimDocument) -> Result<IdSetup, SetupError> {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "InverseDynamicsTool")?;
         let directory = directory_of(document.xml.file());

@@ -1,6 +1,7 @@
 //! `cargo xtask fuzz-smoke [SECONDS]`: feeds mutated copies of the fixtures (bit flips, byte
-//! insertions and deletions, truncation, splices of other inputs) to every parser for a bounded
-//! time and reports any panic. Seeded, so a failing run can be repeated.
+//! insertions and deletions, truncation, splices of other inputs) to every parser — documents
+//! into the model view, force sets and every tool setup (Scale, IK, ID, Analyze, ExternalLoads)
+//! — for a bounded time and reports any panic. Seeded, so a failing run can be repeated.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
@@ -9,7 +10,8 @@ use std::time::{Duration, Instant};
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::{MarkerTable, StorageTable};
-use osim_tune::model::ModelSpec;
+use osim_tune::model::{read_force_set, ModelSpec};
+use osim_tune::setup::{AnalyzeSetup, ExternalLoadsSetup, IdSetup, IkSetup, ScaleSetup};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
@@ -22,6 +24,9 @@ fn parse_osim(bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes).into_owned();
     if let Ok(document) = OsimDocument::parse(text, Path::new("fuzz.osim")) {
         let _ = ModelSpec::read(&document);
+        let _ = read_force_set(&document);
+        let _ = (ScaleSetup::from_document(&document), IkSetup::from_document(&document), IdSetup::from_document(&document));
+        let _ = (AnalyzeSetup::from_document(&document), ExternalLoadsSetup::from_document(&document));
         let _ = document.xml.serialize();
     }
 }
