@@ -13,6 +13,11 @@ Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
   reserve CoordinateActuators on both coordinates (`arm26_reserves.xml`, optimal force 1,
   unbounded), exponent 2, every row 0.1–0.9 s.
 * `arm26_exponent3` — the same with activation exponent 3.
+* `leg6dof9musc` — fixtures/models/leg6dof9musc.osim (9 Thelen muscles, the patella coupled to
+  the knee by a CoordinateCouplerConstraint), a synthetic motion written here (`leg_motion.mot`:
+  pelvis still, hip, knee and ankle swinging, knee_angle_pat_r = knee_angle_r), reserve
+  CoordinateActuators on the six independent coordinates (`leg_reserves.xml`), unfiltered,
+  exponent 2, 0.1–0.9 s.
 * `subject01_thelen` — the subject01 walk with the Thelen-muscle scaled model of
   fixtures/subject01/OutputReference/subject01_simbody.osim, its IK golden
   (fixtures/golden/ik/subject01_walk1_ik.mot), the ground reactions and the residual actuators
@@ -51,6 +56,31 @@ def arm26_reserves(path):
         actuator = osim.CoordinateActuator(coordinate)
         actuator.setName(f"reserve_{coordinate}")
         actuator.setOptimalForce(1.0)
+        forces.cloneAndAppend(actuator)
+    forces.printToXML(str(path))
+
+
+def leg_motion(path):
+    """Pelvis still (tilt 0°, tx 0, ty 1.06 m), the hip, knee and ankle swinging; the patella's
+    coordinate follows the knee as its coupler says (knee_angle_pat_r = knee_angle_r)."""
+    rows = []
+    for k in range(101):
+        t = k / 100
+        hip = 20 + 30 * math.sin(2 * math.pi * t)
+        knee = -45 + 35 * math.sin(2 * math.pi * t + 0.8)
+        ankle = 10 * math.sin(2 * math.pi * 2 * t)
+        rows.append("\t".join(repr(v) for v in [t, 0.0, 0.0, 1.06004667, hip, knee, knee, ankle]))
+    labels = "time\tpelvis_tilt\tpelvis_tx\tpelvis_ty\thip_flexion_r\tknee_angle_r\tknee_angle_pat_r\tankle_angle_r"
+    header = f"leg_motion\nversion=1\nnRows={len(rows)}\nnColumns=8\ninDegrees=yes\nendheader\n{labels}\n"
+    path.write_text(header + "\n".join(rows) + "\n")
+
+
+def leg_reserves(path):
+    forces = osim.ForceSet()
+    for coordinate, optimal in [("pelvis_tilt", 100.0), ("pelvis_tx", 1000.0), ("pelvis_ty", 1000.0), ("hip_flexion_r", 1.0), ("knee_angle_r", 1.0), ("ankle_angle_r", 1.0)]:
+        actuator = osim.CoordinateActuator(coordinate)
+        actuator.setName(f"reserve_{coordinate}")
+        actuator.setOptimalForce(optimal)
         forces.cloneAndAppend(actuator)
     forces.printToXML(str(path))
 
@@ -104,6 +134,11 @@ def main():
     model = REPO / "fixtures" / "models" / "arm26.osim"
     run("arm26", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 2.0)
     run("arm26_exponent3", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 3.0)
+    leg = OUT / "leg6dof9musc"
+    leg.mkdir(parents=True, exist_ok=True)
+    leg_motion(leg / "leg_motion.mot")
+    leg_reserves(leg / "leg_reserves.xml")
+    run("leg6dof9musc", REPO / "fixtures" / "models" / "leg6dof9musc.osim", leg / "leg_motion.mot", [leg / "leg_reserves.xml"], (0.1, 0.9), -1, 2.0)
     run("subject01_thelen", SUBJECT01 / "OutputReference" / "subject01_simbody.osim",
         REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
         [SUBJECT01 / "gait2392_SO_Residual_Actuators.xml"], (0.6, 0.9), 6, 2.0,

@@ -71,15 +71,15 @@ fn other_case(case: &str, model: &str, coordinates: &str, force_set: &str, loads
 }
 
 /// OpenSim's controls meet our constraints to `violation` (N·m or N) and our bounds, cost no less
-/// than ours, and its forces per unit control are ours (found ≤ 1.8e-14).
-fn assert_opensims_controls_fit(case: &str, c: &WalkStaticOptimization, violation: f64) {
+/// than ours, and its forces per unit control are ours to `unit_force` (relative).
+fn assert_opensims_controls_fit(case: &str, c: &WalkStaticOptimization, violation: f64, unit_force: f64) {
     assert!(c.violation.error <= violation, "{case}: OpenSim's controls miss our constraints by {:e} at {}", c.violation.error, c.violation.at);
     assert_eq!(c.bound_violation, 0.0, "{case}");
     // Ours is the minimum, below OpenSim's but for OpenSim's own constraint violation; where IPOPT
     // stops depends on the problem's scaling (found: the Thelen walk ≤ 0.07 %, arm26 ≤ 1.8 %, at
     // a frame where the unit-strength reserves carry most; exponent 3 ≤ 0.19 %).
     assert!(c.smallest_gap >= -violation && c.largest_gap <= 0.05, "{case}: Σ|a|ᵖ gap {:e}…{:e}", c.smallest_gap, c.largest_gap);
-    assert!(c.unit_force.error <= 1e-9, "{case}: force per unit control off by {:e} at {}", c.unit_force.error, c.unit_force.at);
+    assert!(c.unit_force.error <= unit_force, "{case}: force per unit control off by {:e} at {}", c.unit_force.error, c.unit_force.at);
 }
 
 /// arm26: Thelen muscles whose paths wrap over cylinders and ellipsoids, reserve coordinate
@@ -88,7 +88,7 @@ fn assert_opensims_controls_fit(case: &str, c: &WalkStaticOptimization, violatio
 fn arm26_agrees_with_opensim() {
     let settings = StaticOptimizationSettings { time_range: [0.1, 0.9], lowpass_cutoff: None, step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
     let c = other_case("arm26", "fixtures/models/arm26.osim", "golden/static_optimization/arm26/arm26_motion.mot", "golden/static_optimization/arm26/arm26_reserves.xml", None, settings);
-    assert_opensims_controls_fit("arm26", &c, 1e-9);
+    assert_opensims_controls_fit("arm26", &c, 1e-9, 1e-12);
 }
 
 /// arm26 with activation exponent 3: Σ|a|³ on power cones.
@@ -97,7 +97,7 @@ fn arm26_with_exponent_three_agrees_with_opensim() {
     let settings = StaticOptimizationSettings { time_range: [0.1, 0.9], lowpass_cutoff: None, step_interval: 1, use_muscle_physiology: true, activation_exponent: 3.0 };
     let c = other_case("arm26_exponent3", "fixtures/models/arm26.osim", "golden/static_optimization/arm26/arm26_motion.mot", "golden/static_optimization/arm26/arm26_reserves.xml", None, settings);
     // IPOPT meets the constraints less tightly here (found 2.1e-7 N·m; the exponent-2 runs 1e-11).
-    assert_opensims_controls_fit("arm26, exponent 3", &c, 1e-6);
+    assert_opensims_controls_fit("arm26, exponent 3", &c, 1e-6, 1e-12);
 }
 
 /// The walk with the Thelen-muscle model of subject01's OutputReference, 0.6–0.9 s.
@@ -105,6 +105,20 @@ fn arm26_with_exponent_three_agrees_with_opensim() {
 fn thelen_walk_agrees_with_opensim() {
     let settings = StaticOptimizationSettings { time_range: [0.6, 0.9], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
     let c = other_case("subject01_thelen", "fixtures/subject01/OutputReference/subject01_simbody.osim", "golden/ik/subject01_walk1_ik.mot", "subject01/gait2392_SO_Residual_Actuators.xml", Some("subject01/subject01_walk1_grf.xml"), settings);
-    assert_opensims_controls_fit("subject01_thelen", &c, 1e-9);
+    assert_opensims_controls_fit("subject01_thelen", &c, 1e-9, 1e-12);
     assert!(c.load_records.error <= 1e-9 && c.load_records.count > 0);
+}
+
+/// leg6dof9musc: the patella's coordinate coupled to the knee (constrained, so not tracked; its
+/// constraint force eliminated along the knee's coupling vector), reserves on the free pelvis.
+/// The file's patella column is in degrees, which OpenSim does not convert for a `Coupled`
+/// coordinate: its assembly puts the patella back on the constraint (moving the independent
+/// coordinates within its own accuracy — found: OpenSim's controls 4.5e-7 N·m off our
+/// constraints, forces per unit control 1.4e-9 off ours) and leaves the patella's speed in
+/// degrees per second, which we follow (without it the miss was 55 N·m).
+#[test]
+fn leg6dof9musc_with_its_coupler_agrees_with_opensim() {
+    let settings = StaticOptimizationSettings { time_range: [0.1, 0.9], lowpass_cutoff: None, step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
+    let c = other_case("leg6dof9musc", "fixtures/models/leg6dof9musc.osim", "golden/static_optimization/leg6dof9musc/leg_motion.mot", "golden/static_optimization/leg6dof9musc/leg_reserves.xml", None, settings);
+    assert_opensims_controls_fit("leg6dof9musc", &c, 1e-6, 1e-8);
 }

@@ -3,6 +3,12 @@
 //! coordinate the file lacks held at 0 (`SimbodyEngine::formCompleteStorages`), speeds u the
 //! derivatives of degree-5 GCV splines through the coordinates at the rows, and accelerations u̇
 //! the derivatives of degree-5 GCV splines through those speeds (`GCVSplineSet(5, states)`).
+//!
+//! Each row is then assembled: a coupler's dependent coordinate is put where its constraint says,
+//! its speed left as it is (OpenSim assembles positions only). A dependent coordinate whose motion
+//! type is `Coupled` (e.g. leg6dof9musc's patella) is not converted from degrees by OpenSim's
+//! degree rule, so in a file in degrees its speed is in degrees per second — as OpenSim has it,
+//! whose velocity-dependent forces then follow from that speed.
 
 use std::path::{Path, PathBuf};
 
@@ -40,7 +46,8 @@ impl AnalyzeStates {
         let motion = Motion::from_table(table, file, multibody, true)?;
         let columns = (0..multibody.coordinates.len())
             .map(|c| {
-                let missing = motion.defaulted.contains(&multibody.coordinates[c].name);
+                let coupled = multibody.couplers.iter().any(|k| k.dependent == c);
+                let missing = !coupled && motion.defaulted.contains(&multibody.coordinates[c].name);
                 (0..motion.len()).map(|i| if missing { 0.0 } else { motion.pose(i)[c] }).collect()
             })
             .collect();
@@ -50,8 +57,14 @@ impl AnalyzeStates {
         }
         let u = derivatives(&q).map_err(signal)?;
         let udot = derivatives(&u).map_err(signal)?;
+        let mut q_rows = rows(&q);
+        for row in &mut q_rows {
+            for coupler in &multibody.couplers {
+                row[coupler.dependent] = coupler.dependent_value(row);
+            }
+        }
         Ok(AnalyzeStates {
-            q: rows(&q),
+            q: q_rows,
             u: rows(&u),
             udot: rows(&udot),
             times: q.times,

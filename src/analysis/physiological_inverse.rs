@@ -75,9 +75,6 @@ pub fn physiological_inverse(
     settings: &PhysiologicalInverseSettings,
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
-    if !geometry.multibody.couplers.is_empty() {
-        return Err(StaticOptimizationError::Model(format!("{}: CoordinateCouplerConstraints are not supported", geometry.multibody.file.display())));
-    }
     let states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
     let range = rows_in_range(&states.times, frames_settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start: frames_settings.time_range[0], end: frames_settings.time_range[1] })?;
     let (first, last) = (*range.start(), *range.end());

@@ -48,6 +48,11 @@ impl Coupler {
         self.scale * self.function.derivative(q[self.independent])
     }
 
+    /// d²q_dependent / dq_independent² at coordinate values `q`.
+    pub fn curvature(&self, q: &[f64]) -> f64 {
+        self.scale * self.function.second_derivative(q[self.independent])
+    }
+
     /// q_dependent for the independent value in `q`.
     pub fn dependent_value(&self, q: &[f64]) -> f64 {
         self.scale * self.function.value(q[self.independent])

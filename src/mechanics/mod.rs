@@ -23,7 +23,7 @@ mod wrap_surface;
 mod wrap_torus;
 
 pub use actuator::Actuator;
-pub use coupling::Coupler;
+pub use coupling::{for_each_coupling, Coupler};
 pub use error::MechanicsError;
 pub use function::Function;
 pub use geometry::{MuscleGeometry, PathEvaluation};

@@ -1,11 +1,19 @@
 //! One frame's static-optimisation problem: the generalized forces Σ aⱼ·Fⱼ·Rⱼ the controls a must
-//! produce — one row per unlocked coordinate — and the inverse-dynamics forces they must equal.
+//! produce — one row per unconstrained coordinate — and the inverse-dynamics forces they must
+//! equal.
+//!
+//! A `CoordinateCouplerConstraint` q_d = f(q_i) makes q_d constrained: OpenSim tracks only the
+//! unconstrained coordinates' accelerations, and the dependent one follows the constraint,
+//! q̈_d = f′·q̈_i + f″·q̇_i². The constraint force acts along (−f′, 1), so eliminating it leaves
+//! one row per independent coordinate along its coupling vector (1, f′): muscle moment arms are
+//! already taken along it (`MomentArmSolver`), actuator and inverse-dynamics forces are summed
+//! along it here.
 
 use nalgebra::DMatrix;
 
 use super::generators::Generator;
 use crate::analysis::external_loads::ExternalLoads;
-use crate::mechanics::{Kinematics, MotionState, MuscleGeometry, PathEvaluation};
+use crate::mechanics::{for_each_coupling, Kinematics, MotionState, Multibody, MuscleGeometry, PathEvaluation};
 
 /// A frame's rows: `matrix` a = `rhs`, with each generator's force at control 1.
 pub struct FrameProblem {
@@ -25,7 +33,7 @@ pub struct Frames<'a> {
     /// OpenSim's `use_muscle_physiology`.
     physiology: bool,
     paths: PathEvaluation,
-    /// Coordinates whose accelerations are tracked (not locked).
+    /// Coordinates whose accelerations are tracked (not locked, not a coupler's dependent).
     rows: Vec<usize>,
     column: Vec<f64>,
 }
@@ -33,7 +41,9 @@ pub struct Frames<'a> {
 impl<'a> Frames<'a> {
     pub fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, physiology: bool) -> Frames<'a> {
         let muscles: Vec<usize> = generators.iter().filter_map(Generator::path).collect();
-        let rows = geometry.multibody.coordinates.iter().enumerate().filter(|(_, c)| !c.locked).map(|(i, _)| i).collect();
+        let multibody = &geometry.multibody;
+        let dependent = |i: usize| multibody.couplers.iter().any(|k| k.dependent == i);
+        let rows = multibody.coordinates.iter().enumerate().filter(|&(i, c)| !c.locked && !dependent(i)).map(|(i, _)| i).collect();
         let (paths, column) = (PathEvaluation::new(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
         Frames { geometry, generators, loads, physiology, paths, rows, column }
     }
@@ -51,26 +61,44 @@ impl<'a> Frames<'a> {
     /// The problem at `state` and `time` (s, for the external loads).
     pub fn problem(&mut self, state: &MotionState, time: f64) -> FrameProblem {
         let (geometry, generators, physiology) = (self.geometry, self.generators, self.physiology);
+        let multibody = &geometry.multibody;
         self.paths.evaluate(geometry, state.q);
         let applied = self.loads.map(|l| l.at(time, self.paths.kinematics())).unwrap_or_default();
-        let demand = geometry.multibody.inverse_dynamics(state, &applied);
+        let udot = constrained_accelerations(multibody, state);
+        let demand = multibody.inverse_dynamics(&MotionState { udot: &udot, ..*state }, &applied);
+        let along = |forces: &[f64], c: usize| {
+            let mut sum = 0.0;
+            for_each_coupling(&multibody.couplers, state.q, c, |d, weight| sum += weight * forces[d]);
+            sum
+        };
         let mut matrix = DMatrix::zeros(self.rows.len(), generators.len());
         let mut unit_forces = Vec::with_capacity(generators.len());
         for (j, generator) in generators.iter().enumerate() {
             generator.generalized_forces(geometry, &self.paths, &mut self.column);
             let unit = match generator.muscle_path() {
                 Some((path, k)) => {
-                    let moment_arms = geometry.paths[path].spanned.iter().zip(self.paths.moment_arms(k));
+                    let moment_arms = geometry.paths[path].spanned.iter().zip(self.paths.moment_arms(k)).filter(|&(&c, _)| self.rows.contains(&c));
                     let lengthening_speed = -moment_arms.map(|(&c, r)| r * state.u[c]).sum::<f64>();
                     generator.unit_force(physiology, self.paths.length(k), lengthening_speed)
                 }
                 None => generator.unit_force(physiology, 0.0, 0.0),
             };
             for (r, &c) in self.rows.iter().enumerate() {
-                matrix[(r, j)] = unit * self.column[c];
+                matrix[(r, j)] = unit * if generator.muscle_path().is_some() { self.column[c] } else { along(&self.column, c) };
             }
             unit_forces.push(unit);
         }
-        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| demand[c]).collect(), unit_forces }
+        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces }
     }
+}
+
+/// `state.udot` with each coupler's dependent acceleration replaced by the constraint's,
+/// f′·u̇_i + f″·u_i² (OpenSim tracks the independent one only).
+fn constrained_accelerations(multibody: &Multibody, state: &MotionState) -> Vec<f64> {
+    let mut udot = state.udot.to_vec();
+    for coupler in &multibody.couplers {
+        let speed = state.u[coupler.independent];
+        udot[coupler.dependent] = coupler.slope(state.q) * state.udot[coupler.independent] + coupler.curvature(state.q) * speed * speed;
+    }
+    udot
 }

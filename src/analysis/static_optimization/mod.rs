@@ -5,8 +5,9 @@
 //! loads, each control within its bounds.
 //!
 //! OpenSim constrains the forward-dynamics accelerations of the unconstrained coordinates to the
-//! tracked ones; without constraints other than locks that is the same as requiring the
-//! generalized forces to equal inverse dynamics at those accelerations, which is what we solve:
+//! tracked ones; that is the same as requiring the generalized forces to equal inverse dynamics
+//! at those accelerations along each unconstrained coordinate's coupling vector (`frames.rs`),
+//! which is what we solve:
 //! for p = 2 a convex QP (clarabel, polished on its active set), else a conic programme on power
 //! cones (`solvers::minimise_power_sum`), to the optimum. OpenSim solves it with IPOPT to its
 //! convergence criterion (default 1e-4), so its controls sit within about that of ours.
@@ -115,11 +116,7 @@ pub fn static_optimization(
     settings: &StaticOptimizationSettings,
     reference: Option<ReferenceControls>,
 ) -> Result<StaticOptimizationResult, StaticOptimizationError> {
-    let multibody = &geometry.multibody;
-    if !multibody.couplers.is_empty() {
-        return Err(StaticOptimizationError::Model(format!("{}: CoordinateCouplerConstraints are not supported by static optimisation", multibody.file.display())));
-    }
-    let states = AnalyzeStates::new(multibody, table, file, settings.lowpass_cutoff)?;
+    let states = AnalyzeStates::new(&geometry.multibody, table, file, settings.lowpass_cutoff)?;
     let range = rows_in_range(&states.times, settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start: settings.time_range[0], end: settings.time_range[1] })?;
     let (first, last) = (*range.start(), *range.end());
     let rows: Vec<usize> = range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect();
