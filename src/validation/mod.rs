@@ -25,5 +25,5 @@ pub use muscle_degroote::{
     DEGROOTE_LENGTH_TOLERANCE,
 };
 pub use muscle_thelen::{compare_thelen_curves, compare_thelen_fiber_velocity, ThelenCurveComparison};
-pub use walk_dynamics::{compare_static_optimization, Subject01Walk, WalkStaticOptimization};
+pub use walk_dynamics::{compare_static_optimization, static_optimization_cases, StaticOptimizationCase, Subject01Walk, WalkStaticOptimization};
 pub use scale::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};

@@ -122,3 +122,89 @@ pub fn compare_static_optimization(ours: &StaticOptimizationResult, activations:
     }
     comparison
 }
+
+/// One of OpenSim 4.6's AnalyzeTool runs of `oracle/gen_static_optimization.py`
+/// (`fixtures/golden/static_optimization/<case>/`), with the bounds our tests and
+/// `cargo xtask validate` hold it to.
+pub struct StaticOptimizationCase {
+    pub case: &'static str,
+    /// Repository-relative files.
+    pub model: &'static str,
+    pub coordinates: &'static str,
+    pub force_set: &'static str,
+    pub loads: Option<&'static str>,
+    pub settings: StaticOptimizationSettings,
+    /// OpenSim's controls against our constraints (N·m or N): its IPOPT or assembly leaves this.
+    pub violation: f64,
+    /// Forces per unit control against OpenSim's, relative.
+    pub unit_force: f64,
+}
+
+/// The cases: arm26 (wrapping Thelen muscles, reserves; exponents 2 and 3), leg6dof9musc (its
+/// patella coupled to the knee) and the walk with the Thelen-muscle model.
+pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
+    let settings = |time_range: [f64; 2], lowpass_cutoff: Option<f64>, activation_exponent: f64| StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval: 1, use_muscle_physiology: true, activation_exponent };
+    let arm = |case, exponent, violation| StaticOptimizationCase {
+        case,
+        model: "fixtures/models/arm26.osim",
+        coordinates: "fixtures/golden/static_optimization/arm26/arm26_motion.mot",
+        force_set: "fixtures/golden/static_optimization/arm26/arm26_reserves.xml",
+        loads: None,
+        settings: settings([0.1, 0.9], None, exponent),
+        violation,
+        unit_force: 1e-12,
+    };
+    vec![
+        arm("arm26", 2.0, 1e-9),
+        // IPOPT meets the constraints less tightly with exponent 3 (found 2.1e-7 N·m).
+        arm("arm26_exponent3", 3.0, 1e-6),
+        // OpenSim's assembly moves the knee within its accuracy while it puts the patella back
+        // (found 4.5e-7 N·m and 1.4e-9), see `AnalyzeStates`.
+        StaticOptimizationCase {
+            case: "leg6dof9musc",
+            model: "fixtures/models/leg6dof9musc.osim",
+            coordinates: "fixtures/golden/static_optimization/leg6dof9musc/leg_motion.mot",
+            force_set: "fixtures/golden/static_optimization/leg6dof9musc/leg_reserves.xml",
+            loads: None,
+            settings: settings([0.1, 0.9], None, 2.0),
+            violation: 1e-6,
+            unit_force: 1e-8,
+        },
+        StaticOptimizationCase {
+            case: "subject01_thelen",
+            model: "fixtures/subject01/OutputReference/subject01_simbody.osim",
+            coordinates: "fixtures/golden/ik/subject01_walk1_ik.mot",
+            force_set: "fixtures/subject01/gait2392_SO_Residual_Actuators.xml",
+            loads: Some("fixtures/subject01/subject01_walk1_grf.xml"),
+            settings: settings([0.6, 0.9], Some(6.0), 2.0),
+            violation: 1e-9,
+            unit_force: 1e-12,
+        },
+    ]
+}
+
+impl StaticOptimizationCase {
+    /// Our static optimisation of the case, and OpenSim's tables judged on it.
+    pub fn run(&self, root: &Path) -> Result<(StaticOptimizationResult, WalkStaticOptimization), Box<dyn std::error::Error>> {
+        let spec = ModelSpec::read(&OsimDocument::read(&root.join(self.model))?)?;
+        let geometry = MuscleGeometry::new(&spec)?;
+        let actuators = read_force_set(&OsimDocument::read(&root.join(self.force_set))?)?;
+        let generators = generators(&spec, &geometry, &actuators, false)?;
+        let loads = match self.loads {
+            Some(file) => {
+                let setup = ExternalLoadsSetup::read(&root.join(file))?;
+                let data_file = setup.datafile.clone().ok_or("the ExternalLoads names no datafile")?.resolved;
+                Some(ExternalLoads::new(&setup, &StorageTable::read(&data_file)?, &data_file, &geometry.multibody)?)
+            }
+            None => None,
+        };
+        let folder = root.join("fixtures/golden/static_optimization").join(self.case);
+        let table = |kind: &str| StorageTable::read(&folder.join(format!("{}_StaticOptimization_{kind}.sto", self.case)));
+        let (activations, forces) = (table("activation")?, table("force")?);
+        let coordinates = root.join(self.coordinates);
+        let reference = ReferenceControls { table: &activations, file: &folder };
+        let result = static_optimization(&geometry, &generators, &StorageTable::read(&coordinates)?, &coordinates, loads.as_ref(), &self.settings, Some(reference))?;
+        let comparison = compare_static_optimization(&result, &activations, &forces);
+        Ok((result, comparison))
+    }
+}

@@ -12,7 +12,7 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
-use osim_tune::validation::{compare_inverse_dynamics, compare_static_optimization, Subject01Walk};
+use osim_tune::validation::{compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, StaticOptimizationCase, Subject01Walk};
 
 use crate::root;
 use crate::validate::Row;
@@ -32,6 +32,7 @@ pub fn rows() -> Vec<Row> {
             rows.push(walk_inverse_dynamics(&walk));
             rows.extend(walk_static_optimization(&walk));
             rows.extend(walk_physiological_inverse(&walk));
+            rows.extend(static_optimization_cases().iter().flat_map(other_static_optimization));
         }
         Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
     }
@@ -100,6 +101,24 @@ fn walk_static_optimization(walk: &Subject01Walk) -> Vec<Row> {
         row("SO walk: force per unit control (relative)", c.unit_force.error, 1e-9, c.unit_force.at),
         row("SO walk: external load records (N, m, N·m)", c.load_records.error, 1e-9, c.load_records.at),
     ]
+}
+
+/// One of the other OpenSim runs: its controls on our problem, and its forces per unit control.
+fn other_static_optimization(case: &StaticOptimizationCase) -> Vec<Row> {
+    let reference = "OpenSim 4.6 StaticOptimization";
+    match case.run(&root()) {
+        Ok((result, c)) => {
+            let unsolved = if result.failures.is_empty() { 0.0 } else { f64::INFINITY };
+            let constraints = c.violation.error.max(c.bound_violation).max(unsolved);
+            vec![
+                Row { what: format!("SO {}: OpenSim's controls on our constraints", case.case), reference: reference.into(), worst: constraints, tolerance: case.violation, at: format!("{} frames; {}", c.frames, c.violation.at) },
+                Row { what: format!("SO {}: our Σ|a|ᵖ above OpenSim's (relative)", case.case), reference: reference.into(), worst: (-c.smallest_gap).max(0.0), tolerance: case.violation, at: String::new() },
+                Row { what: format!("SO {}: OpenSim's Σ|a|ᵖ above ours (relative)", case.case), reference: reference.into(), worst: c.largest_gap, tolerance: 0.05, at: String::new() },
+                Row { what: format!("SO {}: force per unit control (relative)", case.case), reference: reference.into(), worst: c.unit_force.error, tolerance: case.unit_force, at: c.unit_force.at },
+            ]
+        }
+        Err(error) => vec![failed(&format!("SO {}", case.case), reference, error.to_string())],
+    }
 }
 
 /// PIA with activation dynamics made immaterial against static optimisation, and with the
