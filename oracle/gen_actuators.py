@@ -44,6 +44,8 @@ from pathlib import Path
 
 import opensim as osim
 
+from gen_inverse_dynamics import speed_indices
+
 REPO = Path(__file__).resolve().parent.parent
 MODEL = REPO / "models" / "gait2392_millard2012muscle.osim"
 RESIDUALS = REPO / "fixtures" / "subject01" / "gait2392_SO_Residual_Actuators.xml"
@@ -88,24 +90,6 @@ def extra_actuators():
         actuator.set_appliesForce(True)
         actuators.cloneAndAppend(actuator)
     return actuators
-
-
-def speed_indices(model, state):
-    """Simbody's U index of each coordinate (CoordinateSet order)."""
-    coordinates = model.getCoordinateSet()
-    indices = []
-    for i in range(coordinates.getSize()):
-        for j in range(coordinates.getSize()):
-            coordinates.get(j).setSpeedValue(state, 0.0)
-        coordinates.get(i).setSpeedValue(state, 1.0)
-        u = state.getU()
-        hits = [k for k in range(u.size()) if u.get(k) == 1.0]
-        if len(hits) != 1:
-            sys.exit(f"coordinate {coordinates.get(i).getName()}: {len(hits)} speeds moved")
-        indices.append(hits[0])
-    for j in range(coordinates.getSize()):
-        coordinates.get(j).setSpeedValue(state, 0.0)
-    return indices
 
 
 def draw_value(coordinate, rng):

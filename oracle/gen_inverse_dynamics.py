@@ -46,7 +46,7 @@ GROUND_TRANSLATION = 0.2
 
 
 def speed_indices(model, state):
-    """Simbody's U index of each coordinate (CoordinateSet order)."""
+    """Simbody's U index of each coordinate (CoordinateSet order); leaves every speed at 0."""
     coordinates = model.getCoordinateSet()
     indices = []
     for i in range(coordinates.getSize()):
@@ -58,6 +58,8 @@ def speed_indices(model, state):
         if len(hits) != 1:
             sys.exit(f"coordinate {coordinates.get(i).getName()}: {len(hits)} speeds moved")
         indices.append(hits[0])
+    for j in range(coordinates.getSize()):
+        coordinates.get(j).setSpeedValue(state, 0.0)
     return indices
 
 

@@ -33,7 +33,7 @@ pub struct AnalyzeStates {
     pub q: Vec<Vec<f64>>,
     pub u: Vec<Vec<f64>>,
     pub udot: Vec<Vec<f64>>,
-    /// Coordinates the file lacks (held at 0, as OpenSim does).
+    /// Coordinates the file lacks and no coupler sets (held at 0, as OpenSim does).
     pub missing: Vec<String>,
     /// Columns that are no coordinate of the model.
     pub ignored_columns: Vec<String>,
@@ -44,17 +44,12 @@ impl AnalyzeStates {
     pub fn new(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>) -> Result<AnalyzeStates, StatesError> {
         let signal = |source| StatesError::Signal { file: file.into(), source };
         let motion = Motion::from_table(table, file, multibody, true)?;
+        let dependent = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
+        let missing: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| !dependent(c) && motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
         let columns = (0..multibody.coordinates.len())
-            .map(|c| {
-                let coupled = multibody.couplers.iter().any(|k| k.dependent == c);
-                let missing = !coupled && motion.defaulted.contains(&multibody.coordinates[c].name);
-                (0..motion.len()).map(|i| if missing { 0.0 } else { motion.pose(i)[c] }).collect()
-            })
+            .map(|c| (0..motion.len()).map(|i| if missing.contains(&c) { 0.0 } else { motion.pose(i)[c] }).collect())
             .collect();
-        let mut q = Series::new(motion.times.clone(), columns, 6).map_err(signal)?;
-        if let Some(cutoff) = cutoff {
-            q = q.pad(q.times.len() / 2).lowpass(cutoff).map_err(signal)?;
-        }
+        let q = Series::new(motion.times.clone(), columns, 6).and_then(|s| s.filtered(cutoff)).map_err(signal)?;
         let u = derivatives(&q).map_err(signal)?;
         let udot = derivatives(&u).map_err(signal)?;
         let mut q_rows = rows(&q);
@@ -68,11 +63,10 @@ impl AnalyzeStates {
             u: rows(&u),
             udot: rows(&udot),
             times: q.times,
-            missing: motion.defaulted,
+            missing: missing.iter().map(|&c| multibody.coordinates[c].name.clone()).collect(),
             ignored_columns: motion.ignored_columns,
         })
     }
-
 }
 
 /// The derivative at each row of the degree-5 GCV spline through each signal.

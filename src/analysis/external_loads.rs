@@ -3,11 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
-use super::signal::spline;
-use crate::io::table::StorageTable;
+use super::signal::{increasing, spline, SignalError};
+use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{BodyLoad, Function, Kinematics, Multibody, Vec3, GROUND_INDEX};
 use crate::model::{FunctionSpec, GROUND};
-use crate::setup::{ExternalForceSpec, ExternalLoadsSetup};
+use crate::setup::{ExternalForceSpec, ExternalLoadsSetup, SetupError};
 
 /// Why external loads cannot be applied to a model.
 #[derive(Debug, thiserror::Error)]
@@ -16,6 +16,10 @@ pub enum ExternalLoadsError {
     Force { file: PathBuf, line: usize, force: String, problem: String },
     #[error("{}: {problem}", file.display())]
     Data { file: PathBuf, problem: String },
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    #[error(transparent)]
+    Table(#[from] TableError),
 }
 
 /// The loads of an `ExternalLoads` file on a model, ready to evaluate at any time.
@@ -38,6 +42,15 @@ struct AppliedForce {
 }
 
 impl ExternalLoads {
+    /// Reads the `ExternalLoads` file `file` and its datafile, and compiles them on `multibody`;
+    /// also returns the datafile's path.
+    pub fn read(file: &Path, multibody: &Multibody) -> Result<(ExternalLoads, PathBuf), ExternalLoadsError> {
+        let setup = ExternalLoadsSetup::read(file)?;
+        let data_file = setup.datafile.as_ref().ok_or_else(|| ExternalLoadsError::Data { file: file.into(), problem: "the ExternalLoads names no datafile".into() })?.resolved.clone();
+        let data = StorageTable::read(&data_file)?;
+        Ok((ExternalLoads::new(&setup, &data, &data_file, multibody)?, data_file))
+    }
+
     /// Compiles `setup`'s forces on `multibody` with their columns from `data` (read from
     /// `data_file`). Columns are found by their identifier as a prefix and must be exactly
     /// three; they are interpolated as OpenSim does: constant for one row, piecewise linear for
@@ -53,8 +66,8 @@ impl ExternalLoads {
         if times.is_empty() {
             return Err(ExternalLoadsError::Data { file: data_file.into(), problem: "the table has no rows".into() });
         }
-        if let Some(row) = (1..times.len()).find(|&i| times[i].partial_cmp(&times[i - 1]) != Some(std::cmp::Ordering::Greater)) {
-            return Err(ExternalLoadsError::Data { file: data_file.into(), problem: format!("times must increase strictly, but row {} is at {} s after {} s", row + 1, times[row], times[row - 1]) });
+        if let Err(SignalError::TimesNotIncreasing { row, time, previous }) = increasing(&times) {
+            return Err(ExternalLoadsError::Data { file: data_file.into(), problem: format!("times must increase strictly, but row {} is at {time} s after {previous} s", row + 1) });
         }
         let forces = setup.forces.iter().map(|spec| AppliedForce::new(spec, &setup.file, data, data_file, &times, multibody)).collect::<Result<_, _>>()?;
         Ok(ExternalLoads { forces })
@@ -143,7 +156,7 @@ impl AppliedForce {
 }
 
 /// OpenSim's choice by the number of rows: constant, piecewise linear, or cubic GCV spline.
-fn interpolate(times: &[f64], values: &[f64]) -> Result<Function, super::signal::SignalError> {
+fn interpolate(times: &[f64], values: &[f64]) -> Result<Function, SignalError> {
     match times.len() {
         1 => Ok(Function::new(&FunctionSpec::Constant { value: values[0] })),
         2 | 3 => Ok(Function::new(&FunctionSpec::PiecewiseLinearFunction { x: times.to_vec(), y: values.to_vec() })),

@@ -49,10 +49,7 @@ pub fn inverse_dynamics(multibody: &Multibody, table: &StorageTable, file: &Path
     let signal = |source| InverseDynamicsError::Signal { file: file.into(), source };
     let measured: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| !motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
     let columns = measured.iter().map(|&c| (0..motion.len()).map(|i| motion.pose(i)[c]).collect()).collect();
-    let mut series = Series::new(motion.times.clone(), columns, 6).map_err(signal)?;
-    if let Some(cutoff) = settings.lowpass_cutoff {
-        series = series.pad(series.times.len() / 2).lowpass(cutoff).map_err(signal)?;
-    }
+    let series = Series::new(motion.times.clone(), columns, 6).and_then(|s| s.filtered(settings.lowpass_cutoff)).map_err(signal)?;
     let splines = series.splines().map_err(signal)?;
     let frames = rows_in_range(&series.times, settings.time_range).ok_or_else(|| InverseDynamicsError::NoFrames {
         file: file.into(),

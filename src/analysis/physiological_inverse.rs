@@ -18,8 +18,7 @@ use std::path::Path;
 
 use super::analyze_states::AnalyzeStates;
 use super::external_loads::ExternalLoads;
-use super::signal::rows_in_range;
-use super::static_optimization::{FrameProblem, Frames, Generator, StaticOptimizationError, StaticOptimizationSettings};
+use super::static_optimization::{solved_rows, FrameProblem, Frames, Generator, StaticOptimizationError, StaticOptimizationSettings};
 use crate::io::table::StorageTable;
 use crate::mechanics::{MotionState, MuscleGeometry};
 use crate::solvers::qp::QpSettings;
@@ -76,9 +75,7 @@ pub fn physiological_inverse(
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
     let states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
-    let range = rows_in_range(&states.times, frames_settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start: frames_settings.time_range[0], end: frames_settings.time_range[1] })?;
-    let (first, last) = (*range.start(), *range.end());
-    let rows: Vec<usize> = range.filter(|&i| i == first || i == last || i % frames_settings.step_interval == 0).collect();
+    let rows = solved_rows(&states.times, frames_settings, file)?;
     let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);
     let problems: Vec<FrameProblem> = rows
         .iter()

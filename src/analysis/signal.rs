@@ -33,10 +33,17 @@ impl Series {
         if times.len() < needed {
             return Err(SignalError::TooFewSamples { needed, found: times.len() });
         }
-        if let Some(row) = (1..times.len()).find(|&i| times[i].partial_cmp(&times[i - 1]) != Some(std::cmp::Ordering::Greater)) {
-            return Err(SignalError::TimesNotIncreasing { row, time: times[row], previous: times[row - 1] });
-        }
+        increasing(&times)?;
         Ok(Series { times, columns })
+    }
+
+    /// What OpenSim's tools do to coordinates given a cutoff (Hz): pad by half the samples, then
+    /// [`Series::lowpass`]; unchanged without one.
+    pub fn filtered(self, cutoff: Option<f64>) -> Result<Series, SignalError> {
+        match cutoff {
+            Some(cutoff) => self.pad(self.times.len() / 2).lowpass(cutoff),
+            None => Ok(self),
+        }
     }
 
     /// `Storage::pad(n)` for n < the number of samples: n samples before and after, the times
@@ -81,6 +88,14 @@ impl Series {
     }
 }
 
+/// Checks that `times` increase strictly (the error names the 0-based row).
+pub fn increasing(times: &[f64]) -> Result<(), SignalError> {
+    match (1..times.len()).find(|&i| times[i].partial_cmp(&times[i - 1]) != Some(std::cmp::Ordering::Greater)) {
+        Some(row) => Err(SignalError::TimesNotIncreasing { row, time: times[row], previous: times[row - 1] }),
+        None => Ok(()),
+    }
+}
+
 /// The rows OpenSim's tools solve for `range` (s): from the last time at or before
 /// max(start, first time) to the last at or before min(end, last time) (`Storage::findIndex`);
 /// `None` when the range misses the times.
@@ -113,7 +128,7 @@ fn reflect(signal: &[f64], pad: usize) -> Vec<f64> {
 
 /// `Signal::LowpassIIR`: a third-order Butterworth low-pass (bilinear transform with frequency
 /// warping) run forward and then backward, sample step `step` (s), cutoff `cutoff` (Hz; lowered
-/// to 0.49 of the sampling rate if it is not below half of it). The first four samples of each
+/// to 0.49 of the sampling rate if it is not below half of it). The first three samples of each
 /// pass are copied, as OpenSim does.
 fn butterworth(step: f64, cutoff: f64, signal: &[f64]) -> Vec<f64> {
     let rate = 1.0 / step;

@@ -60,9 +60,7 @@ pub(crate) fn check_time_and_cutoff(time: Option<[f64; 2]>, lowpass: Option<f64>
 
 /// An `ExternalLoads` file and its datafile on `multibody`; both files join `inputs`.
 pub(crate) fn read_external_loads(file: &Path, multibody: &crate::mechanics::Multibody, inputs: &mut Vec<std::path::PathBuf>) -> Result<crate::analysis::ExternalLoads, Failure> {
-    let setup = crate::setup::ExternalLoadsSetup::read(file)?;
-    let data_file = setup.datafile.as_ref().ok_or_else(|| format!("{}: the ExternalLoads names no datafile", file.display()))?.resolved.clone();
-    let data = crate::io::table::StorageTable::read(&data_file)?;
-    inputs.extend([file.to_path_buf(), data_file.clone()]);
-    Ok(crate::analysis::ExternalLoads::new(&setup, &data, &data_file, multibody)?)
+    let (loads, data_file) = crate::analysis::ExternalLoads::read(file, multibody)?;
+    inputs.extend([file.to_path_buf(), data_file]);
+    Ok(loads)
 }

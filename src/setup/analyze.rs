@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::SetupError;
 use super::object::{expect_class, read_document};
 use super::path::{directory_of, SetupPath};
-use super::property::{checked_number_or, name_or_empty, optional_path, words};
+use super::property::{results_directory_or_here, checked_number_or, name_or_empty, optional_path, words};
 use crate::io::osim::OsimDocument;
 use crate::model::ComponentReader;
 
@@ -65,7 +65,6 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());
-        let results = tool.optional_text("results_directory").filter(|d| !d.is_empty()).unwrap_or_else(|| "./".into());
         let (static_optimization, other_analyses) = analyses(tool)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
@@ -73,7 +72,7 @@ impl AnalyzeSetup {
             model_file: optional_path(tool, "model_file", &directory),
             force_set_files: words(tool, "force_set_files").iter().map(|f| SetupPath::resolve(f, &directory)).collect(),
             replace_force_set: tool.boolean_or("replace_force_set", true)?,
-            results_directory: SetupPath::resolve(&results, &directory),
+            results_directory: results_directory_or_here(tool, &directory),
             initial_time: tool.number_or("initial_time", 0.0)?,
             final_time: tool.number_or("final_time", 1.0)?,
             coordinates_file: optional_path(tool, "coordinates_file", &directory),

@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::SetupError;
 use super::object::{expect_class, read_document};
 use super::path::{directory_of, SetupPath};
-use super::property::{name_or_empty, optional_path, words};
+use super::property::{results_directory_or_here, name_or_empty, optional_path, words};
 use super::time_range::TimeRange;
 use crate::io::osim::OsimDocument;
 use crate::model::ComponentReader;
@@ -50,7 +50,6 @@ impl IdSetup {
         expect_class(tool, "InverseDynamicsTool")?;
         let directory = directory_of(document.xml.file());
         let output = tool.optional_text("output_gen_force_file").filter(|f| !f.is_empty()).unwrap_or_else(|| "inverse_dynamics.sto".into());
-        let results = tool.optional_text("results_directory").filter(|d| !d.is_empty()).unwrap_or_else(|| "./".into());
         Ok(IdSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
@@ -61,7 +60,7 @@ impl IdSetup {
             forces_to_exclude: words(tool, "forces_to_exclude"),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             output_gen_force_file: output,
-            results_directory: SetupPath::resolve(&results, &directory),
+            results_directory: results_directory_or_here(tool, &directory),
             joints_to_report_body_forces: words(tool, "joints_to_report_body_forces"),
         })
     }

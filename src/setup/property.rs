@@ -17,6 +17,13 @@ pub fn optional_path(reader: ComponentReader, property: &str, directory: &Path) 
     optional_string(reader, property).map(|text| SetupPath::resolve(&text, directory))
 }
 
+/// `results_directory` resolved against `directory`; `./` (the setup's directory) when absent or
+/// empty, as OpenSim's tools default it.
+pub fn results_directory_or_here(reader: ComponentReader, directory: &Path) -> SetupPath {
+    let written = reader.optional_text("results_directory").filter(|d| !d.is_empty()).unwrap_or_else(|| "./".into());
+    SetupPath::resolve(&written, directory)
+}
+
 /// The whitespace-separated words of a string-array property; empty when absent.
 pub fn words(reader: ComponentReader, property: &str) -> Vec<String> {
     let text = reader.optional_text(property).unwrap_or_default();

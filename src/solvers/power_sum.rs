@@ -15,10 +15,11 @@
 //! restored to rounding by the least-norm change of the others.
 
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SupportedConeT};
+use clarabel::solver::{DefaultSolver, IPSolver, SupportedConeT};
 use nalgebra::{DMatrix, DVector};
 
-use super::qp::{status, QpError, QpSettings, QpStatus};
+use super::qp::{clarabel_settings, ranges, status, QpError, QpSettings, QpStatus};
+use super::sparse_qp::compressed_columns;
 
 /// How the solve ended, x and Σ |xᵢ|ᵖ at x.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,24 +35,18 @@ pub fn minimise_power_sum(p: f64, matrix: &DMatrix<f64>, rhs: &[f64], lower: &[f
     if !(p > 1.0 && p.is_finite()) {
         return Err(QpError::Range { what: "exponent", index: 0, lower: p, upper: p });
     }
-    for (what, expected, found) in [("rhs", matrix.nrows(), rhs.len()), ("lower", n, lower.len()), ("upper", n, upper.len())] {
-        if expected != found {
-            return Err(QpError::Dimension { what, expected, found });
-        }
+    if rhs.len() != matrix.nrows() {
+        return Err(QpError::Dimension { what: "rhs", expected: matrix.nrows(), found: rhs.len() });
     }
     if matrix.iter().chain(rhs).any(|v| !v.is_finite()) {
         return Err(QpError::NotFinite { what: "the equality rows" });
     }
-    let empty = |i: usize| lower[i].partial_cmp(&upper[i]).is_none_or(|o| o == std::cmp::Ordering::Greater) || lower[i] == f64::INFINITY || upper[i] == f64::NEG_INFINITY;
-    if let Some(i) = (0..n).find(|&i| empty(i)) {
-        return Err(QpError::Range { what: "variable", index: i, lower: lower[i], upper: upper[i] });
-    }
+    ranges("variable", n, lower, upper)?;
     let rows = Rows::build(matrix, rhs, lower, upper, 1.0 / p);
     let linear: Vec<f64> = (0..2 * n).map(|j| if j < n { 0.0 } else { 1.0 }).collect();
     let hessian = CscMatrix::zeros((2 * n, 2 * n));
-    let solver_settings = DefaultSettings { verbose: false, tol_gap_abs: settings.tolerance, tol_gap_rel: settings.tolerance, tol_feas: settings.tolerance, max_iter: settings.max_iterations, ..DefaultSettings::default() };
     let mut solution = PowerSumSolution { status: QpStatus::Failed, x: vec![f64::NAN; n], objective: f64::NAN };
-    let Ok(mut solver) = DefaultSolver::new(&hessian, &linear, &rows.matrix(2 * n), &rows.rhs, &rows.cones, solver_settings) else { return Ok(solution) };
+    let Ok(mut solver) = DefaultSolver::new(&hessian, &linear, &compressed_columns(rows.rhs.len(), rows.columns), &rows.rhs, &rows.cones, clarabel_settings(settings, false)) else { return Ok(solution) };
     solver.solve();
     solution.status = status(solver.solution.status);
     if solution.status.is_solved() {
@@ -129,20 +124,6 @@ impl Rows {
             rows.cones.push(SupportedConeT::PowerConeT(alpha));
         }
         rows
-    }
-
-    fn matrix(&self, columns: usize) -> CscMatrix<f64> {
-        let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
-        for column in &self.columns[..columns] {
-            let mut entries = column.clone();
-            entries.sort_by_key(|&(row, _)| row);
-            for (row, value) in entries {
-                rowval.push(row);
-                nzval.push(value);
-            }
-            colptr.push(rowval.len());
-        }
-        CscMatrix::new(self.rhs.len(), columns, colptr, rowval, nzval)
     }
 }
 

@@ -273,7 +273,7 @@ impl<'a> DenseQp<'a> {
 /// clarabel's settings: verbose off, the tolerance of `settings`; `conservative` turns
 /// equilibration off and shortens the steps to 0.9 of the way to the cone boundary (clarabel
 /// can stall on small, well-posed QPs with its equilibration).
-fn clarabel_settings(settings: &QpSettings, conservative: bool) -> DefaultSettings<f64> {
+pub(super) fn clarabel_settings(settings: &QpSettings, conservative: bool) -> DefaultSettings<f64> {
     let defaults = DefaultSettings::default();
     DefaultSettings {
         verbose: false,
@@ -316,7 +316,8 @@ fn finite(what: &'static str, values: &[f64]) -> Result<(), QpError> {
 }
 
 /// `count` ranges [lower, upper], each non-empty.
-fn ranges(what: &'static str, count: usize, lower: &[f64], upper: &[f64]) -> Result<(), QpError> {
+/// Checks that `lower` and `upper` hold `count` bounds each and that every range is non-empty.
+pub(super) fn ranges(what: &'static str, count: usize, lower: &[f64], upper: &[f64]) -> Result<(), QpError> {
     size("the lower bounds", count, lower.len())?;
     size("the upper bounds", count, upper.len())?;
     for (index, (&l, &u)) in lower.iter().zip(upper).enumerate() {

@@ -8,9 +8,9 @@
 //! ```
 
 use clarabel::algebra::CscMatrix;
-use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SupportedConeT};
+use clarabel::solver::{DefaultSolver, IPSolver, SupportedConeT};
 
-use super::qp::{status, QpError, QpSettings, QpStatus};
+use super::qp::{clarabel_settings, ranges, status, QpError, QpSettings, QpStatus};
 
 /// One linear row: its (variable, coefficient) entries and its two sides.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,26 +43,22 @@ impl SparseQp {
     /// Checks sizes, indices and ranges, then solves.
     pub fn solve(&self, settings: &QpSettings) -> Result<SparseQpSolution, QpError> {
         let n = self.hessian.len();
-        for (what, found) in [("linear", self.linear.len()), ("lower", self.lower.len()), ("upper", self.upper.len())] {
-            if found != n {
-                return Err(QpError::Dimension { what, expected: n, found });
-            }
+        if self.linear.len() != n {
+            return Err(QpError::Dimension { what: "linear", expected: n, found: self.linear.len() });
         }
         if self.hessian.iter().chain(&self.linear).any(|v| !v.is_finite()) || self.hessian.iter().any(|&h| h < 0.0) {
             return Err(QpError::NotFinite { what: "the objective" });
         }
-        let empty = |l: f64, u: f64| l.partial_cmp(&u).is_none_or(|o| o == std::cmp::Ordering::Greater) || l == f64::INFINITY || u == f64::NEG_INFINITY;
-        if let Some(i) = (0..n).find(|&i| empty(self.lower[i], self.upper[i])) {
-            return Err(QpError::Range { what: "variable", index: i, lower: self.lower[i], upper: self.upper[i] });
-        }
-        if let Some(i) = self.rows.iter().position(|r| empty(r.lower, r.upper) || r.entries.iter().any(|&(j, a)| j >= n || !a.is_finite())) {
-            return Err(QpError::Range { what: "row", index: i, lower: self.rows[i].lower, upper: self.rows[i].upper });
+        ranges("variable", n, &self.lower, &self.upper)?;
+        let (lower, upper): (Vec<f64>, Vec<f64>) = self.rows.iter().map(|r| (r.lower, r.upper)).unzip();
+        ranges("row", self.rows.len(), &lower, &upper)?;
+        if self.rows.iter().any(|r| r.entries.iter().any(|&(j, a)| j >= n || !a.is_finite())) {
+            return Err(QpError::NotFinite { what: "a row (or it names a variable that does not exist)" });
         }
         let (matrix, rhs, cones) = self.constraints();
         let hessian = CscMatrix::new(n, n, (0..=n).collect(), (0..n).collect(), self.hessian.clone());
-        let solver_settings = DefaultSettings { verbose: false, tol_gap_abs: settings.tolerance, tol_gap_rel: settings.tolerance, tol_feas: settings.tolerance, max_iter: settings.max_iterations, ..DefaultSettings::default() };
         let mut solution = SparseQpSolution { status: QpStatus::Failed, x: vec![f64::NAN; n] };
-        let Ok(mut solver) = DefaultSolver::new(&hessian, &self.linear, &matrix, &rhs, &cones, solver_settings) else { return Ok(solution) };
+        let Ok(mut solver) = DefaultSolver::new(&hessian, &self.linear, &matrix, &rhs, &cones, clarabel_settings(settings, false)) else { return Ok(solution) };
         solver.solve();
         solution.status = status(solver.solution.status);
         if solution.status.is_solved() {
@@ -104,18 +100,25 @@ impl SparseQp {
                 push(&[(j, 1.0)], -1.0, self.lower[j], &mut rhs);
             }
         }
-        let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
-        for column in &mut columns {
-            column.sort_by_key(|&(row, _)| row);
-            for &(row, value) in column.iter() {
-                rowval.push(row);
-                nzval.push(value);
-            }
-            colptr.push(rowval.len());
-        }
         let cones = vec![SupportedConeT::ZeroConeT(zero), SupportedConeT::NonnegativeConeT(rhs.len() - zero)];
-        (CscMatrix::new(rhs.len(), n, colptr, rowval, nzval), rhs, cones)
+        (compressed_columns(rhs.len(), columns), rhs, cones)
     }
+}
+
+/// A `rows`-row matrix in clarabel's compressed columns from each column's (row, value) entries,
+/// in any order.
+pub(super) fn compressed_columns(rows: usize, columns: Vec<Vec<(usize, f64)>>) -> CscMatrix<f64> {
+    let (mut colptr, mut rowval, mut nzval) = (vec![0], Vec::new(), Vec::new());
+    let width = columns.len();
+    for mut column in columns {
+        column.sort_by_key(|&(row, _)| row);
+        for (row, value) in column {
+            rowval.push(row);
+            nzval.push(value);
+        }
+        colptr.push(rowval.len());
+    }
+    CscMatrix::new(rows, width, colptr, rowval, nzval)
 }
 
 #[cfg(test)]

@@ -11,7 +11,6 @@ use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
 use crate::model::{read_force_set, ModelSpec};
-use crate::setup::ExternalLoadsSetup;
 
 /// The walk's inputs, read from the repository at `root`.
 pub struct Subject01Walk {
@@ -47,13 +46,8 @@ pub struct WalkStaticOptimization {
 impl Subject01Walk {
     pub fn load(root: &Path) -> Result<Subject01Walk, Box<dyn std::error::Error>> {
         let fixture = |relative: &str| root.join("fixtures").join(relative);
-        let spec = ModelSpec::read(&OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim"))?)?;
-        let geometry = MuscleGeometry::new(&spec)?;
-        let residuals = read_force_set(&OsimDocument::read(&fixture("subject01/gait2392_SO_Residual_Actuators.xml"))?)?;
-        let generators = generators(&spec, &geometry, &residuals, false)?;
-        let setup = ExternalLoadsSetup::read(&fixture("subject01/subject01_walk1_grf.xml"))?;
-        let data_file = setup.datafile.clone().ok_or("the walk's ExternalLoads names no datafile")?.resolved;
-        let loads = ExternalLoads::new(&setup, &StorageTable::read(&data_file)?, &data_file, &geometry.multibody)?;
+        let (geometry, generators) = muscles_and_actuators(&fixture("golden/scale/subject01_simbody.osim"), &fixture("subject01/gait2392_SO_Residual_Actuators.xml"))?;
+        let (loads, _) = ExternalLoads::read(&fixture("subject01/subject01_walk1_grf.xml"), &geometry.multibody)?;
         let coordinates_file = fixture("golden/ik/subject01_walk1_ik.mot");
         let coordinates = StorageTable::read(&coordinates_file)?;
         Ok(Subject01Walk { geometry, generators, loads, coordinates, coordinates_file })
@@ -186,18 +180,8 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
 impl StaticOptimizationCase {
     /// Our static optimisation of the case, and OpenSim's tables judged on it.
     pub fn run(&self, root: &Path) -> Result<(StaticOptimizationResult, WalkStaticOptimization), Box<dyn std::error::Error>> {
-        let spec = ModelSpec::read(&OsimDocument::read(&root.join(self.model))?)?;
-        let geometry = MuscleGeometry::new(&spec)?;
-        let actuators = read_force_set(&OsimDocument::read(&root.join(self.force_set))?)?;
-        let generators = generators(&spec, &geometry, &actuators, false)?;
-        let loads = match self.loads {
-            Some(file) => {
-                let setup = ExternalLoadsSetup::read(&root.join(file))?;
-                let data_file = setup.datafile.clone().ok_or("the ExternalLoads names no datafile")?.resolved;
-                Some(ExternalLoads::new(&setup, &StorageTable::read(&data_file)?, &data_file, &geometry.multibody)?)
-            }
-            None => None,
-        };
+        let (geometry, generators) = muscles_and_actuators(&root.join(self.model), &root.join(self.force_set))?;
+        let loads = self.loads.map(|file| ExternalLoads::read(&root.join(file), &geometry.multibody)).transpose()?.map(|(loads, _)| loads);
         let folder = root.join("fixtures/golden/static_optimization").join(self.case);
         let table = |kind: &str| StorageTable::read(&folder.join(format!("{}_StaticOptimization_{kind}.sto", self.case)));
         let (activations, forces) = (table("activation")?, table("force")?);
@@ -207,4 +191,14 @@ impl StaticOptimizationCase {
         let comparison = compare_static_optimization(&result, &activations, &forces);
         Ok((result, comparison))
     }
+}
+
+/// The model's geometry and its generators: its own muscles and actuators, then those of the
+/// `<ForceSet>` file `force_set`.
+fn muscles_and_actuators(model: &Path, force_set: &Path) -> Result<(MuscleGeometry, Vec<Generator>), Box<dyn std::error::Error>> {
+    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
+    let geometry = MuscleGeometry::new(&spec)?;
+    let actuators = read_force_set(&OsimDocument::read(force_set)?)?;
+    let generators = generators(&spec, &geometry, &actuators, false)?;
+    Ok((geometry, generators))
 }

@@ -40,7 +40,7 @@ pub struct Frames<'a> {
 
 impl<'a> Frames<'a> {
     pub fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, physiology: bool) -> Frames<'a> {
-        let muscles: Vec<usize> = generators.iter().filter_map(Generator::path).collect();
+        let muscles: Vec<usize> = generators.iter().filter_map(|g| g.muscle_path().map(|(path, _)| path)).collect();
         let multibody = &geometry.multibody;
         let dependent = |i: usize| multibody.couplers.iter().any(|k| k.dependent == i);
         let rows = multibody.coordinates.iter().enumerate().filter(|&(i, c)| !c.locked && !dependent(i)).map(|(i, _)| i).collect();
@@ -75,7 +75,8 @@ impl<'a> Frames<'a> {
         let mut unit_forces = Vec::with_capacity(generators.len());
         for (j, generator) in generators.iter().enumerate() {
             generator.generalized_forces(geometry, &self.paths, &mut self.column);
-            let unit = match generator.muscle_path() {
+            let muscle = generator.muscle_path();
+            let unit = match muscle {
                 Some((path, k)) => {
                     let moment_arms = geometry.paths[path].spanned.iter().zip(self.paths.moment_arms(k)).filter(|&(&c, _)| self.rows.contains(&c));
                     let lengthening_speed = -moment_arms.map(|(&c, r)| r * state.u[c]).sum::<f64>();
@@ -84,7 +85,7 @@ impl<'a> Frames<'a> {
                 None => generator.unit_force(physiology, 0.0, 0.0),
             };
             for (r, &c) in self.rows.iter().enumerate() {
-                matrix[(r, j)] = unit * if generator.muscle_path().is_some() { self.column[c] } else { along(&self.column, c) };
+                matrix[(r, j)] = unit * if muscle.is_some() { self.column[c] } else { along(&self.column, c) };
             }
             unit_forces.push(unit);
         }

@@ -21,7 +21,7 @@ pub struct Generator {
 #[derive(Debug, Clone)]
 enum Kind {
     /// `path` indexes `MuscleGeometry::paths`, `slot` the muscles of the `PathEvaluation` built
-    /// from [`Generator::path`] in generator order.
+    /// from the muscles' paths in generator order.
     Muscle { muscle: Box<HillMuscle>, path: usize, slot: usize, max_isometric_force: f64, time_constants: [f64; 2] },
     Actuator { actuator: Actuator, optimal_force: f64 },
 }
@@ -41,7 +41,7 @@ pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[Actuator
                 MuscleModelSpec::DeGrooteFregly2016(d) => (0.0, [d.activation_time_constant, d.deactivation_time_constant]),
             };
             let bounds = [force.controls[0].unwrap_or(minimum), force.controls[1].unwrap_or(1.0)];
-            let slot = generators.iter().filter(|g: &&Generator| g.path().is_some()).count();
+            let slot = generators.iter().filter(|g: &&Generator| g.muscle_path().is_some()).count();
             let kind = Kind::Muscle { muscle: Box::new(muscle), path, slot, max_isometric_force: muscle_spec.max_isometric_force, time_constants };
             generators.push(Generator { name: force.name.clone(), bounds, kind });
         } else if let Some(actuator) = spec.actuators.iter().find(|a| a.name == force.name) {
@@ -67,14 +67,6 @@ fn actuator_generator(spec: &ActuatorSpec, geometry: &MuscleGeometry) -> Result<
 }
 
 impl Generator {
-    /// The muscle-path index of a muscle generator.
-    pub fn path(&self) -> Option<usize> {
-        match &self.kind {
-            Kind::Muscle { path, .. } => Some(*path),
-            Kind::Actuator { .. } => None,
-        }
-    }
-
     /// The force at control 1 (N or N·m): a muscle's active fiber force along the tendon with a
     /// rigid tendon at activation 1 (`physiology`, OpenSim's `use_muscle_physiology`) or F_max, at
     /// its path's `length` (m) and `lengthening_speed` (m/s); an actuator's optimal force.

@@ -117,11 +117,10 @@ pub fn static_optimization(
     reference: Option<ReferenceControls>,
 ) -> Result<StaticOptimizationResult, StaticOptimizationError> {
     let states = AnalyzeStates::new(&geometry.multibody, table, file, settings.lowpass_cutoff)?;
-    let range = rows_in_range(&states.times, settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start: settings.time_range[0], end: settings.time_range[1] })?;
-    let (first, last) = (*range.start(), *range.end());
-    let rows: Vec<usize> = range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect();
+    let rows = solved_rows(&states.times, settings, file)?;
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
     let mut frames = Frames::new(geometry, generators, loads, settings.use_muscle_physiology);
+    let bounds = frames.bounds();
     let mut judged = Vec::new();
     let (mut activations, mut forces) = (Vec::new(), Vec::new());
     let (mut failures, mut max_violation) = (Vec::new(), 0.0f64);
@@ -129,7 +128,7 @@ pub fn static_optimization(
         let time = states.times[i];
         let state = MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] };
         let other = reference.zip(columns.as_ref()).and_then(|(r, columns)| r.table.rows().find(|row| (row[0] - time).abs() <= 1e-9).map(|row| columns.iter().map(|&c| row[c]).collect::<Vec<f64>>()));
-        let solved = solve(&mut frames, settings.activation_exponent, &state, time, other.as_deref());
+        let solved = solve(&mut frames, &bounds, settings.activation_exponent, &state, time, other.as_deref());
         judged.extend(solved.reference);
         match solved.failure {
             Some(status) => failures.push(FrameFailure { time, status }),
@@ -157,6 +156,15 @@ pub fn static_optimization(
     })
 }
 
+/// The rows the AnalyzeTool solves in `settings.time_range` (see `rows_in_range`): the first,
+/// the last and those whose index is a multiple of the step interval (`Analysis::proceed`).
+pub(in crate::analysis) fn solved_rows(times: &[f64], settings: &StaticOptimizationSettings, file: &Path) -> Result<Vec<usize>, StaticOptimizationError> {
+    let [start, end] = settings.time_range;
+    let range = rows_in_range(times, settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start, end })?;
+    let (first, last) = (*range.start(), *range.end());
+    Ok(range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect())
+}
+
 /// The column of each generator in the reference table; a missing one is an error.
 fn reference_columns(reference: ReferenceControls, generators: &[Generator]) -> Result<Vec<usize>, StaticOptimizationError> {
     generators
@@ -177,16 +185,17 @@ struct Solved {
 
 /// min Σ|a|ᵖ subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds, at one
 /// frame; `other`: another solution's controls there, to judge.
-fn solve(frames: &mut Frames, exponent: f64, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
+/// `bounds`: every generator's (min_control, max_control).
+fn solve(frames: &mut Frames, bounds: &(Vec<f64>, Vec<f64>), exponent: f64, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
     let FrameProblem { matrix, rhs, unit_forces } = frames.problem(state, time);
     let n = unit_forces.len();
-    let (lower, upper) = frames.bounds();
+    let (lower, upper) = bounds;
     let solved = if exponent == 2.0 {
         let (hessian, linear) = (DMatrix::from_diagonal_element(n, n, 2.0), vec![0.0; n]);
-        let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper));
+        let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&matrix, &rhs)).and_then(|qp| qp.with_bounds(lower, upper));
         qp.map(|qp| qp.solve(&QpSettings::default())).map(|s| (s.status, s.x))
     } else {
-        minimise_power_sum(exponent, &matrix, &rhs, &lower, &upper, &QpSettings::default()).map(|s| (s.status, s.x))
+        minimise_power_sum(exponent, &matrix, &rhs, lower, upper, &QpSettings::default()).map(|s| (s.status, s.x))
     };
     let (status, x) = match solved {
         Ok(solved) => solved,
@@ -197,7 +206,7 @@ fn solve(frames: &mut Frames, exponent: f64, state: &MotionState, time: f64, oth
     let reference = other.map(|a| ReferenceFrame {
         time,
         violation: violation(a),
-        bound_violation: a.iter().zip(&lower).zip(&upper).map(|((a, l), u)| (l - a).max(a - u).max(0.0)).fold(0.0, f64::max),
+        bound_violation: a.iter().zip(lower).zip(upper).map(|((a, l), u)| (l - a).max(a - u).max(0.0)).fold(0.0, f64::max),
         objective: objective(a),
         our_objective: objective(&x),
     });

@@ -8,7 +8,7 @@ use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::Multibody;
-use crate::model::{ModelSpec, MUSCLE_CLASSES};
+use crate::model::{ForceSpec, ModelSpec};
 use crate::setup::IdSetup;
 
 /// What the command line asks for besides the model and the coordinates.
@@ -50,16 +50,16 @@ fn settings(request: &Request, setup: Option<&IdSetup>) -> Result<InverseDynamic
     Ok(InverseDynamicsSettings { time_range, lowpass_cutoff })
 }
 
-/// Our inverse dynamics applies gravity and external loads only, so every model force must be
-/// excluded by the setup (names, or the keywords `all`, `actuators`, `muscles`, any case), and
+/// Our inverse dynamics applies gravity and external loads only, so every model force that
+/// applies (disabled ones do not) must be excluded by the setup (names, or the keywords `all`, `actuators`, `muscles`, any case), and
 /// body forces at joints are not reported.
 fn check_excluded_forces(spec: &ModelSpec, setup: &IdSetup) -> Result<(), Failure> {
     let keyword = |k: &str| setup.forces_to_exclude.iter().any(|f| f.eq_ignore_ascii_case(k));
-    let excluded = |class: &str, name: &str| {
-        let muscle = MUSCLE_CLASSES.contains(&class) || class.contains("Muscle");
-        keyword("all") || (keyword("muscles") && muscle) || (keyword("actuators") && (muscle || class.ends_with("Actuator"))) || setup.forces_to_exclude.iter().any(|f| f == name)
+    let excluded = |force: &ForceSpec| {
+        let actuator = force.is_muscle() || force.class.ends_with("Actuator");
+        keyword("all") || (keyword("muscles") && force.is_muscle()) || (keyword("actuators") && actuator) || setup.forces_to_exclude.contains(&force.name)
     };
-    let left: Vec<String> = spec.forces.iter().filter(|f| !excluded(&f.class, &f.name)).map(|f| format!("{} ({})", f.name, f.class)).collect();
+    let left: Vec<String> = spec.forces.iter().filter(|f| f.applies_force && !excluded(f)).map(|f| format!("{} ({})", f.name, f.class)).collect();
     if !left.is_empty() {
         let more = if left.len() > 5 { format!(" and {} more", left.len() - 5) } else { String::new() };
         return Err(format!(
