@@ -117,7 +117,13 @@ def xml(definition):
 
 
 def load(definition):
-    document = f'<?xml version="1.0" encoding="UTF-8" ?>\n<OpenSimDocument Version="40600">{xml(definition)}</OpenSimDocument>\n'
+    return load_xml(xml(definition))
+
+
+def load_xml(text):
+    """An OpenSim Function read from its XML `text`, as a model file would give it (the Python
+    bindings take no arrays for e.g. GCVSpline's and PiecewiseLinearFunction's constructors)."""
+    document = f'<?xml version="1.0" encoding="UTF-8" ?>\n<OpenSimDocument Version="40600">{text}</OpenSimDocument>\n'
     with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as file:
         file.write(document)
     try:

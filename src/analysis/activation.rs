@@ -1,6 +1,6 @@
-//! Where muscle activations come from in an analysis: one value for every muscle, or a
-//! `.sto` with a column per muscle (e.g. a static optimisation `activation.sto`), linearly
-//! interpolated in time and held at its end values.
+//! Where muscle activations (or excitations) come from in an analysis: one value for every
+//! muscle, or a `.sto` with a column per muscle (e.g. a static optimisation `activation.sto`),
+//! linearly interpolated in time and held at its end values.
 
 use std::path::{Path, PathBuf};
 
@@ -22,13 +22,14 @@ pub enum Activations {
 /// Why an activation table cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ActivationError {
-    #[error("{}: no activation column for muscles {}", file.display(), muscles.join(", "))]
-    MissingMuscles { file: PathBuf, muscles: Vec<String> },
+    #[error("{}: no {quantity} column for muscles {}", file.display(), muscles.join(", "))]
+    MissingMuscles { file: PathBuf, quantity: &'static str, muscles: Vec<String> },
     #[error("{}: has no rows", file.display())]
     Empty { file: PathBuf },
-    #[error("{}: time {time} s: activation of {muscle} is {value}; expected a number in [0, 1]", file.display())]
+    #[error("{}: time {time} s: {quantity} of {muscle} is {value}; expected a number in [0, 1]", file.display())]
     OutOfRange {
         file: PathBuf,
+        quantity: &'static str,
         time: f64,
         muscle: String,
         value: f64,
@@ -39,11 +40,13 @@ pub enum ActivationError {
 
 impl Activations {
     /// The columns of `table` (read from `file`) named after `muscles`; other columns
-    /// (reserve actuators, …) are not used.
+    /// (reserve actuators, …) are not used. `quantity` names the values in errors
+    /// ("activation", "excitation").
     pub fn from_table(
         table: &StorageTable,
         file: &Path,
         muscles: &[String],
+        quantity: &'static str,
     ) -> Result<Activations, ActivationError> {
         let missing: Vec<String> = muscles
             .iter()
@@ -53,6 +56,7 @@ impl Activations {
         if !missing.is_empty() {
             return Err(ActivationError::MissingMuscles {
                 file: file.into(),
+                quantity,
                 muscles: missing,
             });
         }
@@ -76,6 +80,7 @@ impl Activations {
                 if !(0.0..=1.0).contains(&row[c]) {
                     return Err(ActivationError::OutOfRange {
                         file: file.into(),
+                        quantity,
                         time,
                         muscle: muscle.clone(),
                         value: row[c],

@@ -111,7 +111,7 @@ fn tree_order(multibody: &Multibody) -> Vec<usize> {
 }
 
 /// OpenSim's column name: `_moment` for a rotational coordinate, else `_force`.
-fn label(multibody: &Multibody, c: usize) -> String {
+pub(super) fn label(multibody: &Multibody, c: usize) -> String {
     let coordinate = &multibody.coordinates[c];
     let suffix = if coordinate.motion_type == MotionType::Rotational { "moment" } else { "force" };
     format!("{}_{suffix}", coordinate.name)

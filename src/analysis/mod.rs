@@ -3,6 +3,7 @@
 mod activation;
 mod analyze_states;
 mod external_loads;
+mod forward;
 mod fiber_analysis;
 mod inverse_dynamics;
 mod muscle_analysis;
@@ -12,6 +13,10 @@ mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
+pub use forward::{
+    compare_with_inverse_dynamics, driven_muscles, inverse_dynamics_times, simulate, CoordinateComparison, DrivenMuscle, ForwardError, ForwardOutputs, ForwardSettings, InitialStates, PrescribedMotion,
+    Trajectory,
+};
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use muscle_analysis::MuscleAnalysis;

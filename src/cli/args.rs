@@ -295,6 +295,46 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Muscle-driven forward simulation along prescribed kinematics — the thesis' EMG-driven
+    /// simulation (ch. 7), as OpenSim integrates a model whose coordinates are prescribed and whose
+    /// muscles a PrescribedController excites: each muscle with an excitation column gets its
+    /// activation (first-order dynamics, τ_a and τ_d of the muscle) and fiber length (fiber and
+    /// tendon in balance) integrated along the coordinates' degree-5 GCV splines, excitations
+    /// interpolated linearly. States start at a = u(t₀) and static equilibrium. Writes
+    /// <NAME>_states.sto (OpenSim's state names), _tendon_force.sto and
+    /// _muscle_generalized_forces.sto (Σ F_t r per coordinate, named as inverse dynamics names its
+    /// columns) into DIR; with --inverse-dynamics, prints per coordinate how far the muscles'
+    /// generalized forces are from it (RMS, largest). Millard2012Equilibrium and Thelen2003
+    /// muscles with compliant tendons. Exit 0 success, 1 the integration failed (nothing
+    /// written), 2 error.
+    Forward {
+        /// The model (.osim).
+        model: PathBuf,
+        /// Coordinate trajectories (.mot or .sto), e.g. an inverse kinematics result.
+        coordinates: PathBuf,
+        /// Excitations in [0, 1] (.sto): a column per driven muscle (e.g. processed EMG, or the
+        /// _excitation.sto of `so --pia`); other columns are ignored.
+        #[arg(long)]
+        excitations: PathBuf,
+        /// Inverse-dynamics generalized forces (.sto, e.g. from `osim-tune id`) to compare with.
+        #[arg(long)]
+        inverse_dynamics: Option<PathBuf>,
+        /// Time range in seconds, inside the coordinates (default: all of them).
+        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+        time: Option<Vec<f64>>,
+        /// Low-pass cutoff frequency for the coordinates, Hz (default: none).
+        #[arg(long)]
+        lowpass: Option<f64>,
+        /// Relative and absolute error tolerance per state and step of the integrator.
+        #[arg(long, default_value_t = 1e-8)]
+        accuracy: f64,
+        /// Prefix of the output files (default: the coordinates file's stem).
+        #[arg(long)]
+        name: Option<String>,
+        /// Output folder (created if needed).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Functional knee axis from a flexion–extension trial (thesis ch. 4): segment poses from
     /// the femur and tibia marker clusters, then GaL (Gamage & Lasenby) or SARA (Ehrig). Prints
     /// the axis in the lab frame of the trial's first frame and in both segment frames; with

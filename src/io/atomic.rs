@@ -21,17 +21,37 @@ pub enum OutputError {
 /// The file gets the mode any new file gets (0666 less the umask), not the temporary file's
 /// private 0600.
 pub fn write_atomically(output: &Path, contents: &[u8], inputs: &[&Path]) -> Result<(), OutputError> {
-    ensure_not_an_input(output, inputs)?;
-    let io_error = |source| OutputError::Io { path: output.to_path_buf(), source };
-    let directory = match output.parent() {
+    write_all_atomically(&[(output, contents)], inputs)
+}
+
+/// Writes several files as [`write_atomically`] does, all or none: every file is written to
+/// its temporary file first and renamed into place only when all are written, so a failure
+/// while writing leaves none of them (only a failing rename, after the writes, can leave the
+/// earlier ones).
+pub fn write_all_atomically(outputs: &[(&Path, &[u8])], inputs: &[&Path]) -> Result<(), OutputError> {
+    for (output, _) in outputs {
+        ensure_not_an_input(output, inputs)?;
+    }
+    let mut written = Vec::with_capacity(outputs.len());
+    for &(output, contents) in outputs {
+        let io_error = |source| OutputError::Io { path: output.to_path_buf(), source };
+        let mut temporary = new_file_builder().tempfile_in(directory_of(output)).map_err(io_error)?;
+        temporary.write_all(contents).map_err(io_error)?;
+        temporary.as_file().sync_all().map_err(io_error)?;
+        written.push((output, temporary));
+    }
+    for (output, temporary) in written {
+        temporary.persist(output).map_err(|error| OutputError::Io { path: output.to_path_buf(), source: error.error })?;
+    }
+    Ok(())
+}
+
+/// The folder a file is written in.
+fn directory_of(output: &Path) -> PathBuf {
+    match output.parent() {
         Some(parent) if !parent.as_os_str().is_empty() => parent.to_path_buf(),
         _ => PathBuf::from("."),
-    };
-    let mut temporary = new_file_builder().tempfile_in(&directory).map_err(io_error)?;
-    temporary.write_all(contents).map_err(io_error)?;
-    temporary.as_file().sync_all().map_err(io_error)?;
-    temporary.persist(output).map_err(|error| io_error(error.error))?;
-    Ok(())
+    }
 }
 
 #[cfg(unix)]
@@ -71,6 +91,19 @@ fn resolve(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A batch whose second file cannot be written leaves neither file.
+    #[test]
+    fn a_failed_batch_writes_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let first = dir.path().join("first.sto");
+        let second = dir.path().join("missing_folder").join("second.sto");
+        let result = write_all_atomically(&[(&first, b"a"), (&second, b"b")], &[]);
+        assert!(matches!(result, Err(OutputError::Io { ref path, .. }) if path == &second));
+        assert!(!first.exists());
+        let entries: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert!(entries.is_empty(), "temporary files left: {entries:?}");
+    }
 
     /// The output's mode is that of a file `std::fs::write` creates (0666 less the umask).
     #[cfg(unix)]

@@ -2,6 +2,7 @@
 //! produced, used by the conformance tests and `cargo xtask validate`.
 
 pub mod functional;
+mod forward;
 mod geometry;
 mod golden;
 pub mod ik;
@@ -13,6 +14,7 @@ mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
 
+pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES};
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};
 pub use inverse_dynamics::compare_inverse_dynamics;

@@ -3,7 +3,8 @@
 //! InverseDynamicsTool and StaticOptimization (all 95 rows of the latter when
 //! `../shared/reference` or `$OSIM_TUNE_REFERENCE` has the pipeline goldens, else the fixture
 //! slice), and the physiological inverse approach on the walk against static optimisation and
-//! first principles (OpenSim has none).
+//! first principles (OpenSim has none), and muscle-driven forward simulation along prescribed
+//! kinematics against OpenSim 4.6's integration of the same prescribed model.
 
 use std::path::PathBuf;
 
@@ -12,7 +13,9 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
-use osim_tune::validation::{compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, StaticOptimizationCase, Subject01Walk};
+use osim_tune::validation::{
+    compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, ForwardCase, StaticOptimizationCase, Subject01Walk, FORWARD_CASES,
+};
 
 use crate::root;
 use crate::validate::Row;
@@ -36,7 +39,21 @@ pub fn rows() -> Vec<Row> {
         }
         Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
     }
+    rows.extend(FORWARD_CASES.iter().flat_map(forward));
     rows
+}
+
+/// States, tendon forces and generalized forces of a forward simulation at accuracy 1e-12;
+/// OpenSim's run at 1e-10 carries its own integration error (see `tests/forward.rs`).
+fn forward(case: &ForwardCase) -> Vec<Row> {
+    let reference = "OpenSim 4.6 Manager, RK-Merson 1e-10";
+    match compare_forward(&root(), case, 1e-12) {
+        Ok(c) => [(&c.activation, 5e-8, "activation"), (&c.fiber_length, 5e-9, "fiber length (m)"), (&c.tendon_force, 5e-5, "tendon force (rel.)"), (&c.generalized_force, 5e-5, "muscle generalized force (rel.)")]
+            .into_iter()
+            .map(|(w, tolerance, what)| Row { what: format!("forward simulation, {}: {what}", case.case), reference: reference.into(), worst: w.error, tolerance, at: w.at.clone() })
+            .collect(),
+        Err(error) => vec![failed(&format!("forward simulation, {}", case.case), reference, error)],
+    }
 }
 
 fn failed(what: &str, reference: &str, error: String) -> Row {

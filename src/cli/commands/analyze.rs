@@ -119,7 +119,7 @@ fn fiber_analysis(
         FiberInput::File(file) => {
             let table = StorageTable::read(&file)?;
             inputs.push(file.clone());
-            Activations::from_table(&table, &file, &names)?
+            Activations::from_table(&table, &file, &names, "activation")?
         }
     };
     let fibers = FiberAnalysis::run(geometry, &muscles, motion, &activations).map_err(|e| in_model(&e))?;

@@ -4,6 +4,7 @@ mod analyze;
 mod axis;
 mod diff;
 mod flatten;
+mod forward;
 mod id;
 mod ik;
 mod info;
@@ -36,6 +37,10 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Id { model, coordinates, external_loads, setup, time, lowpass, output } => {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
             id::run(&model, &coordinates, &request)
+        }
+        Command::Forward { model, coordinates, excitations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
+            let request = forward::Request { excitations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
+            forward::run(&model, &coordinates, &request)
         }
         Command::So { model, coordinates, setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output } => {
             let (time, pia) = (time.map(|t| [t[0], t[1]]), pia.map(Into::into));

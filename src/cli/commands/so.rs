@@ -7,7 +7,7 @@ use crate::analysis::{
     StaticOptimizationSettings,
 };
 use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
-use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -71,8 +71,8 @@ fn static_optimisation(problem: &Problem, request: &Request, name: &str, setting
     let reference = compared.as_ref().zip(request.compare.as_deref()).map(|(table, file)| ReferenceControls { table, file });
     let result = static_optimization(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, settings, reference)?;
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
-    write_atomically(&outputs[0], result.activations.to_text().as_bytes(), &input_paths)?;
-    write_atomically(&outputs[1], result.forces.to_text().as_bytes(), &input_paths)?;
+    let texts = [result.activations.to_text(), result.forces.to_text()];
+    write_all_atomically(&[(&outputs[0], texts[0].as_bytes()), (&outputs[1], texts[1].as_bytes())], &input_paths)?;
     report(&result, problem.coordinates, &outputs, request.compare.as_deref());
     Ok(if result.failures.is_empty() { Outcome::Success } else { Outcome::NotConverged })
 }
@@ -92,9 +92,9 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
     }
     let result = physiological_inverse(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, &settings)?;
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
-    for (output, table) in outputs.iter().zip([&result.activations, &result.forces, &result.excitations]) {
-        write_atomically(output, table.to_text().as_bytes(), &input_paths)?;
-    }
+    let texts = [&result.activations, &result.forces, &result.excitations].map(StorageTable::to_text);
+    let files: Vec<(&Path, &[u8])> = outputs.iter().map(PathBuf::as_path).zip(texts.iter().map(String::as_bytes)).collect();
+    write_all_atomically(&files, &input_paths)?;
     let times = result.activations.times();
     if let (Some(first), Some(last)) = (times.first(), times.last()) {
         println!("{} frames of {} ({first:.4}–{last:.4} s), {:?} → {}", times.len(), problem.coordinates.display(), settings.criterion, request.output.display());

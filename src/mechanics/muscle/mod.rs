@@ -2,6 +2,7 @@
 //! `Thelen2003Muscle` and `DeGrooteFregly2016Muscle`, fixed-width pennation, and the static
 //! (zero fiber velocity) equilibrium between fiber and tendon for an activation and path length.
 
+mod activation_dynamics;
 mod degroote;
 mod equilibrium;
 mod error;
@@ -10,6 +11,7 @@ mod pennation;
 mod root;
 mod thelen;
 
+pub use activation_dynamics::FirstOrderActivation;
 pub use degroote::{DeGrooteCurves, DeGrooteFregly2016Muscle};
 pub use equilibrium::{EquilibriumStatus, FiberEquilibrium};
 pub use error::MuscleError;
@@ -112,6 +114,26 @@ impl HillMuscle {
             HillMuscle::Millard(m) => m.inextensible_tendon_active_fiber_force(a, length, speed),
             HillMuscle::Thelen(m) => m.inextensible_tendon_active_fiber_force(a, length, speed),
             HillMuscle::DeGroote(m) => m.inextensible_tendon_active_fiber_force(a, length, speed),
+        }
+    }
+
+    /// The activation the dynamics and forces see at least (Millard, Thelen); 0 for DeGroote.
+    pub fn minimum_activation(&self) -> f64 {
+        match self {
+            HillMuscle::Millard(m) => m.minimum_activation,
+            HillMuscle::Thelen(m) => m.clamp_activation(0.0),
+            HillMuscle::DeGroote(_) => 0.0,
+        }
+    }
+
+    /// F_t = F_max f_T(L_t / L_ts) (N) with the fiber at `fiber_length` (m, raised to the
+    /// minimum fiber length) on a path of length `mt_length` (m), L_t = L_mt − L_m cos α; `None`
+    /// for DeGroote, whose state is the tendon force itself.
+    pub fn tendon_force(&self, fiber_length: f64, mt_length: f64) -> Option<f64> {
+        match self {
+            HillMuscle::Millard(m) => Some(m.tendon_force(fiber_length, mt_length)),
+            HillMuscle::Thelen(m) => Some(m.tendon_force(fiber_length, mt_length)),
+            HillMuscle::DeGroote(_) => None,
         }
     }
 

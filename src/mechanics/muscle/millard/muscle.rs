@@ -160,6 +160,12 @@ impl Millard2012Muscle {
         activation.clamp(self.minimum_activation, 1.0)
     }
 
+    /// F_t (N) with the fiber at `fiber_length` (m, raised to the minimum) on a path of
+    /// length `mt_length` (m).
+    pub fn tendon_force(&self, fiber_length: f64, mt_length: f64) -> f64 {
+        self.position(fiber_length.max(self.minimum_fiber_length), mt_length).tendon_force_length * self.max_isometric_force
+    }
+
     /// `fiber` with the tendon that fills path length `mt_length`.
     fn on_path(&self, fiber: Fiber, mt_length: f64) -> Position {
         let tendon_length = mt_length - fiber.length * fiber.cos_alpha;

@@ -256,6 +256,12 @@ impl Thelen2003Muscle {
         Ok(normalized * self.max_contraction_velocity * self.optimal_fiber_length)
     }
 
+    /// F_t (N) with the fiber at `fiber_length` (m, raised to the minimum) on a path of
+    /// length `mt_length` (m).
+    pub fn tendon_force(&self, fiber_length: f64, mt_length: f64) -> f64 {
+        self.length_info(fiber_length, mt_length).tendon_force_length * self.max_isometric_force
+    }
+
     /// OpenSim's `calcMuscleLengthInfo` at fiber length `fiber_length` (clamped to the minimum).
     fn length_info(&self, fiber_length: f64, mt_length: f64) -> LengthInfo {
         let fiber_length = fiber_length.max(self.minimum_fiber_length());

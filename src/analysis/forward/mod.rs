@@ -1,0 +1,200 @@
+//! Muscle-driven forward simulation along prescribed kinematics — the thesis' EMG-driven
+//! simulation (ch. 7) and what OpenSim integrates for a model whose coordinates are all
+//! prescribed and whose muscles a `PrescribedController` excites.
+//!
+//! Each driven muscle has two states: its activation a, which follows first-order dynamics
+//! from the excitation u(t) ([`FirstOrderActivation`]), and its fiber length L_m, which moves
+//! at the velocity that balances fiber and tendon (`HillMuscle::fiber_velocity`). The path
+//! length comes from the pose q(t) ([`PrescribedMotion`]). The states are integrated by a
+//! Dormand–Prince 5(4) method with error control (crate `ode_solvers`), relative and absolute
+//! tolerance `accuracy` per state, and read at the report times from its dense output. The
+//! muscles' generalized forces Σ F_t r (N·m or N) can then be compared with inverse dynamics.
+
+mod outputs;
+mod prescribed_motion;
+mod system;
+
+pub use outputs::{compare_with_inverse_dynamics, inverse_dynamics_times, CoordinateComparison, ForwardOutputs};
+pub use prescribed_motion::PrescribedMotion;
+
+use std::cell::RefCell;
+use std::path::PathBuf;
+
+use ode_solvers::continuous_output_model::ContinuousOutputModel;
+use ode_solvers::{DVector, Dopri5};
+
+use super::Activations;
+use crate::mechanics::muscle::{FirstOrderActivation, HillMuscle, MuscleError};
+use crate::mechanics::{MuscleGeometry, PathScratch};
+use crate::model::ModelSpec;
+use system::MuscleDynamics;
+
+/// Steps the integrator may take before it gives up.
+const MAX_STEPS: u32 = 2_000_000;
+
+/// Why a forward simulation cannot be run or did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum ForwardError {
+    #[error("{}: muscle {muscle}: {reason}", file.display())]
+    Muscle { file: PathBuf, muscle: String, reason: String },
+    #[error("no muscle of {} has an excitation column in {}", model.display(), excitations.display())]
+    NoDrivenMuscle { model: PathBuf, excitations: PathBuf },
+    #[error("{}: excitations cover {}–{} s, which does not contain the simulated {}–{} s", file.display(), covered[0], covered[1], simulated[0], simulated[1])]
+    ExcitationsTooShort { file: PathBuf, covered: [f64; 2], simulated: [f64; 2] },
+    #[error("the time range {}–{} s is not inside the motion's {}–{} s", asked[0], asked[1], motion[0], motion[1])]
+    TimeRange { asked: [f64; 2], motion: [f64; 2] },
+    #[error("muscle {muscle}: the initial equilibrium at {time} s failed: {source}")]
+    InitialEquilibrium { muscle: String, time: f64, source: MuscleError },
+    #[error("at {time} s: {source}")]
+    MuscleState { time: f64, source: MuscleError },
+    #[error("{}: no column matches the muscles' generalized forces ({}) at the simulated times", file.display(), labels.join(", "))]
+    NothingToCompare { file: PathBuf, labels: Vec<String> },
+    #[error("the integration stopped at {time} s: {reason}")]
+    Integration { time: f64, reason: String },
+}
+
+/// A muscle the simulation drives.
+#[derive(Debug, Clone)]
+pub struct DrivenMuscle {
+    pub name: String,
+    pub muscle: HillMuscle,
+    pub activation: FirstOrderActivation,
+    /// Index into [`MuscleGeometry::paths`].
+    pub path: usize,
+}
+
+/// The muscles of `spec` named in `names` (those that apply force and have a path), each with
+/// its activation dynamics; an error for a class or tendon we cannot simulate.
+pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[String]) -> Result<Vec<DrivenMuscle>, ForwardError> {
+    let refuse = |muscle: &str, reason: &str| ForwardError::Muscle { file: spec.file.clone(), muscle: muscle.into(), reason: reason.into() };
+    let mut driven = Vec::new();
+    for force in spec.muscles().filter(|f| f.applies_force && names.contains(&f.name)) {
+        let muscle = HillMuscle::from_force(force).map_err(|e| refuse(&force.name, &e.to_string()))?;
+        let properties = force.muscle.as_ref().ok_or_else(|| refuse(&force.name, "no muscle properties"))?;
+        if properties.ignore_tendon_compliance {
+            return Err(refuse(&force.name, "ignore_tendon_compliance is true; the simulation integrates fiber lengths of compliant tendons only"));
+        }
+        if properties.ignore_activation_dynamics {
+            return Err(refuse(&force.name, "ignore_activation_dynamics is true; the simulation integrates activation dynamics"));
+        }
+        let activation = FirstOrderActivation::of(properties, muscle.minimum_activation())
+            .ok_or_else(|| refuse(&force.name, "DeGrooteFregly2016Muscle: its activation dynamics and tendon-force state are not simulated here"))?;
+        let path = geometry.path_index(&force.name).ok_or_else(|| refuse(&force.name, "no geometry path"))?;
+        driven.push(DrivenMuscle { name: force.name.clone(), muscle, activation, path });
+    }
+    Ok(driven)
+}
+
+/// Where the states start.
+#[derive(Debug, Clone)]
+pub enum InitialStates {
+    /// a = u(t₀) (clamped to [a_min, 1]) and the static equilibrium fiber length (fiber at
+    /// rest) for it at t₀.
+    Equilibrium,
+    /// [a, L_m (m)] per driven muscle.
+    Given(Vec<[f64; 2]>),
+}
+
+/// What to simulate.
+#[derive(Debug, Clone)]
+pub struct ForwardSettings {
+    /// [start, end] in s, inside the motion.
+    pub range: [f64; 2],
+    /// Relative and absolute error tolerance per state and step.
+    pub accuracy: f64,
+    pub initial: InitialStates,
+}
+
+/// The integrated states: [a…, L_m…] at any time of the range.
+pub struct Trajectory {
+    pub range: [f64; 2],
+    pub muscles: usize,
+    output: ContinuousOutputModel<f64, DVector<f64>>,
+    /// Integrator statistics: accepted and rejected steps, right-hand-side evaluations.
+    pub accepted_steps: u32,
+    pub rejected_steps: u32,
+    pub evaluations: u32,
+}
+
+impl Trajectory {
+    /// The activations and fiber lengths (m) of the muscles at `time` (s), inside the range.
+    pub fn states(&self, time: f64) -> (Vec<f64>, Vec<f64>) {
+        let [start, end] = self.range;
+        let y = self.output.evaluate((time - start).clamp(0.0, end - start)).unwrap_or_else(|| self.output.evaluate(0.0).expect("the output model covers its range"));
+        (y.rows(0, self.muscles).iter().copied().collect(), y.rows(self.muscles, self.muscles).iter().copied().collect())
+    }
+}
+
+/// Integrates the driven muscles' states over `settings.range` along `motion`, excited by
+/// `excitations` (one column per driven muscle, in order).
+pub fn simulate(
+    geometry: &MuscleGeometry,
+    muscles: &[DrivenMuscle],
+    motion: &PrescribedMotion,
+    excitations: &Activations,
+    settings: &ForwardSettings,
+) -> Result<Trajectory, ForwardError> {
+    let [start, end] = settings.range;
+    let initial = initial_states(geometry, muscles, motion, excitations, settings)?;
+    let failure = RefCell::new(None);
+    let dynamics = MuscleDynamics::new(geometry, muscles, motion, excitations, start, &failure);
+    let mut solver = Dopri5::from_param(
+        dynamics,
+        0.0,
+        end - start,
+        end - start,
+        DVector::from_vec(initial),
+        settings.accuracy,
+        settings.accuracy,
+        0.9,
+        0.04,
+        0.2,
+        10.0,
+        end - start,
+        0.0,
+        MAX_STEPS,
+        u32::MAX,
+        ode_solvers::OutputType::Continuous,
+    );
+    let mut output = ContinuousOutputModel::default();
+    let outcome = solver.integrate_with_continuous_output_model(&mut output);
+    drop(solver);
+    let stats = match (outcome, failure.into_inner()) {
+        (Ok(stats), _) => stats,
+        (Err(_), Some((time, source))) => return Err(ForwardError::MuscleState { time: start + time, source }),
+        (Err(error), None) => return Err(ForwardError::Integration { time: start + integration_time(&error), reason: error.to_string() }),
+    };
+    Ok(Trajectory { range: settings.range, muscles: muscles.len(), output, accepted_steps: stats.accepted_steps, rejected_steps: stats.rejected_steps, evaluations: stats.num_eval })
+}
+
+fn integration_time(error: &ode_solvers::dop_shared::IntegrationError) -> f64 {
+    use ode_solvers::dop_shared::IntegrationError::*;
+    match error {
+        MaxNumStepReached { x, .. } | StepSizeUnderflow { x } | StiffnessDetected { x } => *x,
+    }
+}
+
+/// [a…, L_m…] at the start.
+fn initial_states(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &PrescribedMotion, excitations: &Activations, settings: &ForwardSettings) -> Result<Vec<f64>, ForwardError> {
+    let start = settings.range[0];
+    let pairs: Vec<[f64; 2]> = match &settings.initial {
+        InitialStates::Given(states) => states.clone(),
+        InitialStates::Equilibrium => {
+            let multibody = &geometry.multibody;
+            let (mut q, mut kinematics, mut scratch) = (vec![0.0; multibody.coordinates.len()], multibody.kinematics(), PathScratch::default());
+            motion.pose(start, &mut q);
+            multibody.realize(&q, &mut kinematics);
+            muscles
+                .iter()
+                .enumerate()
+                .map(|(k, m)| {
+                    let a = excitations.at(k, start).clamp(m.activation.minimum_activation, 1.0);
+                    let length = geometry.paths[m.path].length(&kinematics, &q, &mut scratch);
+                    let equilibrium = m.muscle.equilibrium(a, length).map_err(|source| ForwardError::InitialEquilibrium { muscle: m.name.clone(), time: start, source })?;
+                    Ok([a, equilibrium.fiber_length])
+                })
+                .collect::<Result<_, ForwardError>>()?
+        }
+    };
+    Ok(pairs.iter().map(|p| p[0]).chain(pairs.iter().map(|p| p[1])).collect())
+}

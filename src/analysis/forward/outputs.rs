@@ -1,0 +1,133 @@
+//! What a forward simulation reports at chosen times: each driven muscle's activation, fiber
+//! length and tendon force, and the generalized forces the muscles produce together,
+//! Σ F_t r (N·m or N; r the moment arm about the coordinate, positive when tension drives it
+//! up) — and how these compare with inverse dynamics.
+
+use std::path::{Path, PathBuf};
+
+use super::{DrivenMuscle, ForwardError, PrescribedMotion, Trajectory};
+use crate::analysis::inverse_dynamics::label;
+use crate::analysis::{storage, Spans};
+use crate::io::table::{StorageTable, TableError};
+use crate::mechanics::{MuscleGeometry, PathEvaluation};
+
+/// Per report time (rows) the muscles' states and forces and their generalized forces.
+#[derive(Debug, Clone)]
+pub struct ForwardOutputs {
+    pub times: Vec<f64>,
+    pub muscles: Vec<String>,
+    /// Per row, per muscle.
+    pub activations: Vec<Vec<f64>>,
+    /// Per row, per muscle, m.
+    pub fiber_lengths: Vec<Vec<f64>>,
+    /// Per row, per muscle, N.
+    pub tendon_forces: Vec<Vec<f64>>,
+    /// `<coordinate>_moment` or `_force` for each coordinate a driven muscle spans (no coupler's
+    /// dependent), model order.
+    pub labels: Vec<String>,
+    /// Per row, per label, N·m or N.
+    pub generalized_forces: Vec<Vec<f64>>,
+}
+
+/// How the muscles' generalized force on one coordinate compares with inverse dynamics.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoordinateComparison {
+    pub label: String,
+    /// RMS of muscles − inverse dynamics, N·m or N.
+    pub rms_difference: f64,
+    /// RMS of the inverse-dynamics force itself.
+    pub rms_inverse_dynamics: f64,
+    /// The largest |muscles − inverse dynamics| and its time (s).
+    pub max_difference: f64,
+    pub time_of_max: f64,
+}
+
+impl ForwardOutputs {
+    /// The outputs at `times` (s, inside the trajectory's range).
+    pub fn new(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &PrescribedMotion, trajectory: &Trajectory, times: &[f64]) -> ForwardOutputs {
+        let multibody = &geometry.multibody;
+        let paths: Vec<usize> = muscles.iter().map(|m| m.path).collect();
+        let spans = Spans::new(geometry, &paths);
+        let coupled = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
+        let reported: Vec<usize> = (0..spans.coordinates.len()).filter(|&t| !coupled(spans.coordinates[t])).collect();
+        let mut evaluation = PathEvaluation::new(geometry, &paths);
+        let mut q = vec![0.0; multibody.coordinates.len()];
+        let mut outputs = ForwardOutputs {
+            times: times.to_vec(),
+            muscles: muscles.iter().map(|m| m.name.clone()).collect(),
+            activations: Vec::new(),
+            fiber_lengths: Vec::new(),
+            tendon_forces: Vec::new(),
+            labels: reported.iter().map(|&t| label(multibody, spans.coordinates[t])).collect(),
+            generalized_forces: Vec::new(),
+        };
+        for &time in times {
+            motion.pose(time, &mut q);
+            evaluation.evaluate(geometry, &q);
+            let (activations, fiber_lengths) = trajectory.states(time);
+            let forces: Vec<f64> = muscles.iter().enumerate().map(|(k, m)| m.muscle.tendon_force(fiber_lengths[k], evaluation.length(k)).unwrap_or(f64::NAN)).collect();
+            let generalized = reported
+                .iter()
+                .map(|&t| spans.slots[t].iter().enumerate().filter_map(|(k, slot)| slot.map(|s| forces[k] * evaluation.moment_arms(k)[s])).sum())
+                .collect();
+            outputs.activations.push(activations);
+            outputs.fiber_lengths.push(fiber_lengths);
+            outputs.tendon_forces.push(forces);
+            outputs.generalized_forces.push(generalized);
+        }
+        outputs
+    }
+
+    /// OpenSim's states table: `/forceset/<muscle>/activation` and `/forceset/<muscle>/fiber_length`.
+    pub fn states_table(&self, name: &str) -> Result<StorageTable, TableError> {
+        let labels = self.muscles.iter().map(|m| format!("/forceset/{m}/activation")).chain(self.muscles.iter().map(|m| format!("/forceset/{m}/fiber_length")));
+        let rows = self.activations.iter().zip(&self.fiber_lengths).map(|(a, l)| a.iter().chain(l).copied().collect());
+        self.table(name, labels, rows)
+    }
+
+    /// Tendon force (N) per muscle.
+    pub fn tendon_force_table(&self, name: &str) -> Result<StorageTable, TableError> {
+        self.table(name, self.muscles.iter().cloned(), self.tendon_forces.iter().cloned())
+    }
+
+    /// The muscles' generalized forces, columns named as inverse dynamics names them.
+    pub fn generalized_force_table(&self, name: &str) -> Result<StorageTable, TableError> {
+        self.table(name, self.labels.iter().cloned(), self.generalized_forces.iter().cloned())
+    }
+
+    fn table(&self, name: &str, labels: impl Iterator<Item = String>, rows: impl Iterator<Item = Vec<f64>>) -> Result<StorageTable, TableError> {
+        let labels = std::iter::once("time".to_string()).chain(labels).collect();
+        let values = self.times.iter().zip(rows).flat_map(|(&t, row)| std::iter::once(t).chain(row)).collect();
+        storage(name, labels, values)
+    }
+}
+
+/// The rows of an inverse-dynamics table (`table`, read from `file`) inside `range` (s).
+pub fn inverse_dynamics_times(table: &StorageTable, range: [f64; 2]) -> Vec<f64> {
+    table.times().into_iter().filter(|t| (range[0]..=range[1]).contains(t)).collect()
+}
+
+/// Compares `outputs` — computed at [`inverse_dynamics_times`] of `table` — with the columns
+/// of `table` (read from `file`) that carry the same labels.
+pub fn compare_with_inverse_dynamics(outputs: &ForwardOutputs, table: &StorageTable, file: &Path) -> Result<Vec<CoordinateComparison>, ForwardError> {
+    let rows: Vec<&[f64]> = table.rows().filter(|row| outputs.times.contains(&row[0])).collect();
+    let compared: Vec<(usize, usize)> = outputs.labels.iter().enumerate().filter_map(|(j, l)| table.column_index(l).map(|c| (j, c))).collect();
+    if compared.is_empty() || rows.is_empty() {
+        return Err(ForwardError::NothingToCompare { file: PathBuf::from(file), labels: outputs.labels.clone() });
+    }
+    Ok(compared
+        .iter()
+        .map(|&(j, c)| {
+            let differences: Vec<(f64, f64)> = rows.iter().zip(&outputs.generalized_forces).map(|(row, ours)| (ours[j] - row[c], row[0])).collect();
+            let rms = |values: &mut dyn Iterator<Item = f64>| (values.map(|v| v * v).sum::<f64>() / rows.len() as f64).sqrt();
+            let (max_difference, time_of_max) = differences.iter().map(|&(d, t)| (d.abs(), t)).fold((0.0, rows[0][0]), |m, d| if d.0 > m.0 { d } else { m });
+            CoordinateComparison {
+                label: outputs.labels[j].clone(),
+                rms_difference: rms(&mut differences.iter().map(|d| d.0)),
+                rms_inverse_dynamics: rms(&mut rows.iter().map(|row| row[c])),
+                max_difference,
+                time_of_max,
+            }
+        })
+        .collect())
+}

@@ -1,0 +1,70 @@
+//! The right-hand side of the muscle states: ȧ from the activation dynamics, L̇_m from the
+//! fiber–tendon balance at the path length of the prescribed pose. Time runs from 0 at the
+//! simulation's start (the integrator's output model assumes non-negative times).
+
+use std::cell::RefCell;
+
+use ode_solvers::{DVector, System};
+
+use super::{DrivenMuscle, PrescribedMotion};
+use crate::analysis::Activations;
+use crate::mechanics::muscle::MuscleError;
+use crate::mechanics::{Kinematics, MuscleGeometry, PathScratch};
+
+/// The pose buffers one evaluation needs.
+struct Buffers {
+    q: Vec<f64>,
+    kinematics: Kinematics,
+    scratch: PathScratch,
+}
+
+pub(super) struct MuscleDynamics<'a> {
+    geometry: &'a MuscleGeometry,
+    muscles: &'a [DrivenMuscle],
+    motion: &'a PrescribedMotion,
+    excitations: &'a Activations,
+    /// The simulation's start, s.
+    start: f64,
+    buffers: RefCell<Buffers>,
+    /// The last muscle failure (integrator time, error). Its derivative is NaN, which makes the
+    /// integrator reject the step and try a shorter one; it matters only if that never succeeds.
+    failure: &'a RefCell<Option<(f64, MuscleError)>>,
+}
+
+impl<'a> MuscleDynamics<'a> {
+    pub(super) fn new(
+        geometry: &'a MuscleGeometry,
+        muscles: &'a [DrivenMuscle],
+        motion: &'a PrescribedMotion,
+        excitations: &'a Activations,
+        start: f64,
+        failure: &'a RefCell<Option<(f64, MuscleError)>>,
+    ) -> MuscleDynamics<'a> {
+        let multibody = &geometry.multibody;
+        let buffers = Buffers { q: vec![0.0; multibody.coordinates.len()], kinematics: multibody.kinematics(), scratch: PathScratch::default() };
+        MuscleDynamics { geometry, muscles, motion, excitations, start, buffers: RefCell::new(buffers), failure }
+    }
+}
+
+impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
+    fn system(&self, x: f64, y: &DVector<f64>, dy: &mut DVector<f64>) {
+        let time = self.start + x;
+        let n = self.muscles.len();
+        let mut buffers = self.buffers.borrow_mut();
+        let Buffers { q, kinematics, scratch } = &mut *buffers;
+        self.motion.pose(time, q);
+        self.geometry.multibody.realize(q, kinematics);
+        for (k, muscle) in self.muscles.iter().enumerate() {
+            let (activation, fiber_length) = (y[k], y[n + k]);
+            dy[k] = muscle.activation.rate(activation, self.excitations.at(k, time));
+            let length = self.geometry.paths[muscle.path].length(kinematics, q, scratch);
+            dy[n + k] = match muscle.muscle.fiber_velocity(activation.clamp(0.0, 1.0), fiber_length, length) {
+                Ok(velocity) => velocity,
+                Err(error) => {
+                    *self.failure.borrow_mut() = Some((x, error));
+                    f64::NAN
+                }
+            };
+        }
+    }
+}
