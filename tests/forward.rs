@@ -75,7 +75,7 @@ fn equilibrium_is_a_fixed_point() {
     let excitation_file = constant_table(folder.path(), "u.sto", &labels, &u, false);
     let motion = PrescribedMotion::new(&arm.geometry.multibody, &StorageTable::read(&motion_file).unwrap(), &motion_file, None).unwrap();
     let excitations = Activations::from_table(&StorageTable::read(&excitation_file).unwrap(), &excitation_file, &arm.names, "excitation").unwrap();
-    let muscles = driven_muscles(&arm.spec, &arm.geometry, &arm.names).unwrap();
+    let muscles = driven_muscles(&arm.spec, &arm.geometry, &arm.names, false).unwrap();
     let settings = ForwardSettings { range: [0.0, 1.0], accuracy: 1e-10, initial: InitialStates::Equilibrium };
     let trajectory = simulate(&arm.geometry, &muscles, &motion, &excitations, &settings).unwrap();
     let (a0, l0) = trajectory.states(0.0);
@@ -98,7 +98,7 @@ fn activation_follows_the_closed_form_of_the_first_order_law() {
     let excitation_file = constant_table(folder.path(), "u.sto", &labels, &vec![1.0; labels.len()], false);
     let motion = PrescribedMotion::new(&arm.geometry.multibody, &StorageTable::read(&motion_file).unwrap(), &motion_file, None).unwrap();
     let excitations = Activations::from_table(&StorageTable::read(&excitation_file).unwrap(), &excitation_file, &arm.names, "excitation").unwrap();
-    let muscles = driven_muscles(&arm.spec, &arm.geometry, &arm.names).unwrap();
+    let muscles = driven_muscles(&arm.spec, &arm.geometry, &arm.names, false).unwrap();
     let a0 = 0.05;
     let mut q = vec![0.0; arm.geometry.multibody.coordinates.len()];
     motion.pose(0.0, &mut q);
@@ -110,7 +110,7 @@ fn activation_follows_the_closed_form_of_the_first_order_law() {
     let times: Vec<f64> = (0..=20).map(|k| k as f64 * 0.01).collect();
     let outputs = ForwardOutputs::new(&arm.geometry, &muscles, &motion, &trajectory, &times);
     for (k, muscle) in muscles.iter().enumerate() {
-        let tau = muscle.activation.activation_time_constant;
+        let tau = muscle.activation.unwrap().activation_time_constant;
         for (row, &t) in times.iter().enumerate().skip(1) {
             let a = outputs.activations[row][k];
             let t_of_a = tau * (2.0 * ((1.0 - a0) / (1.0 - a)).ln() - 1.5 * (a - a0));
@@ -175,4 +175,23 @@ fn bad_input_is_refused() {
     let (code, _, stderr) = run(&case.join("excitations.sto"), &["--accuracy", "0"]);
     assert!(code == 2 && stderr.contains("--accuracy 0"), "{stderr}");
     assert!(!out.exists());
+}
+
+/// With --activations the table is the activation: the states' activation columns are its
+/// columns at every row it shares with the motion (no dynamics in between).
+#[test]
+fn activations_given_are_followed_exactly() {
+    let folder = tempfile::tempdir().unwrap();
+    let case = path("fixtures/golden/forward/arm26");
+    let (motion, table) = (case.join("motion.mot"), case.join("excitations.sto"));
+    let out = folder.path().join("out");
+    let (code, _, stderr) = osim_tune(&["forward", s(&path(ARM26)), s(&motion), "--excitations", s(&table), "--activations", "--name", "arm", "-o", s(&out)]);
+    assert_eq!(code, 0, "{stderr}");
+    let states = StorageTable::read(&out.join("arm_states.sto")).unwrap();
+    let given = StorageTable::read(&table).unwrap();
+    assert_eq!(states.n_rows(), given.n_rows());
+    for muscle in &given.labels()[1..] {
+        let ours = states.column(&format!("/forceset/{muscle}/activation")).unwrap();
+        assert_eq!(ours, given.column(muscle).unwrap(), "{muscle}");
+    }
 }

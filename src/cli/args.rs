@@ -300,7 +300,8 @@ pub enum Command {
     /// muscles a PrescribedController excites: each muscle with an excitation column gets its
     /// activation (first-order dynamics, τ_a and τ_d of the muscle) and fiber length (fiber and
     /// tendon in balance) integrated along the coordinates' degree-5 GCV splines, excitations
-    /// interpolated linearly. States start at a = u(t₀) and static equilibrium. Writes
+    /// interpolated linearly (muscles with ignore_activation_dynamics, or all with --activations,
+    /// take the table as their activation). States start at a = u(t₀) and static equilibrium. Writes
     /// <NAME>_states.sto (OpenSim's state names), _tendon_force.sto and
     /// _muscle_generalized_forces.sto (Σ F_t r per coordinate, named as inverse dynamics names its
     /// columns) into DIR; with --inverse-dynamics, prints per coordinate how far the muscles'
@@ -316,6 +317,11 @@ pub enum Command {
         /// _excitation.sto of `so --pia`); other columns are ignored.
         #[arg(long)]
         excitations: PathBuf,
+        /// The --excitations table holds activations (e.g. EMG envelopes taken as activations, as
+        /// the thesis' forward simulations are driven): each muscle's activation follows it, with
+        /// no activation dynamics (OpenSim's ignore_activation_dynamics).
+        #[arg(long)]
+        activations: bool,
         /// Inverse-dynamics generalized forces (.sto, e.g. from `osim-tune id`) to compare with.
         #[arg(long)]
         inverse_dynamics: Option<PathBuf>,

@@ -54,7 +54,7 @@ pub fn compare_forward(root: &Path, case: &ForwardCase, accuracy: f64) -> Result
     let excitation_file = folder.join("excitations.sto");
     let excitation_table = StorageTable::read(&excitation_file).map_err(|e| text(&e))?;
     let names: Vec<String> = excitation_table.labels()[1..].to_vec();
-    let muscles = driven_muscles(&spec, &geometry, &names).map_err(|e| text(&e))?;
+    let muscles = driven_muscles(&spec, &geometry, &names, false).map_err(|e| text(&e))?;
     let excitations = Activations::from_table(&excitation_table, &excitation_file, &names, "excitation").map_err(|e| text(&e))?;
     let golden = GoldenTable::read(&folder.join("states.csv")).map_err(|e| text(&e))?;
     let number = |row: usize, column: &str| golden.number_at(row, column).map_err(|e| text(&e));

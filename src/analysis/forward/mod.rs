@@ -58,14 +58,17 @@ pub enum ForwardError {
 pub struct DrivenMuscle {
     pub name: String,
     pub muscle: HillMuscle,
-    pub activation: FirstOrderActivation,
+    /// The activation dynamics; `None` when the activation is the excitation itself (OpenSim's
+    /// `ignore_activation_dynamics`).
+    pub activation: Option<FirstOrderActivation>,
     /// Index into [`MuscleGeometry::paths`].
     pub path: usize,
 }
 
 /// The muscles of `spec` named in `names` (those that apply force and have a path), each with
-/// its activation dynamics; an error for a class or tendon we cannot simulate.
-pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[String]) -> Result<Vec<DrivenMuscle>, ForwardError> {
+/// its activation dynamics — none when it ignores them or when `activations_given` (the
+/// driving table then holds activations); an error for a class or tendon we cannot simulate.
+pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[String], activations_given: bool) -> Result<Vec<DrivenMuscle>, ForwardError> {
     let refuse = |muscle: &str, reason: &str| ForwardError::Muscle { file: spec.file.clone(), muscle: muscle.into(), reason: reason.into() };
     let mut driven = Vec::new();
     for force in spec.muscles().filter(|f| f.applies_force && names.contains(&f.name)) {
@@ -74,11 +77,9 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
         if properties.ignore_tendon_compliance {
             return Err(refuse(&force.name, "ignore_tendon_compliance is true; the simulation integrates fiber lengths of compliant tendons only"));
         }
-        if properties.ignore_activation_dynamics {
-            return Err(refuse(&force.name, "ignore_activation_dynamics is true; the simulation integrates activation dynamics"));
-        }
-        let activation = FirstOrderActivation::of(properties, muscle.minimum_activation())
+        let dynamics = FirstOrderActivation::of(properties, muscle.minimum_activation())
             .ok_or_else(|| refuse(&force.name, "DeGrooteFregly2016Muscle: its activation dynamics and tendon-force state are not simulated here"))?;
+        let activation = Some(dynamics).filter(|_| !(activations_given || properties.ignore_activation_dynamics));
         let path = geometry.path_index(&force.name).ok_or_else(|| refuse(&force.name, "no geometry path"))?;
         driven.push(DrivenMuscle { name: force.name.clone(), muscle, activation, path });
     }
@@ -105,11 +106,15 @@ pub struct ForwardSettings {
     pub initial: InitialStates,
 }
 
-/// The integrated states: [a…, L_m…] at any time of the range.
+/// The integrated states: [a…, L_m…] at any time of the range (a muscle without activation
+/// dynamics keeps its initial a there; its activation is its excitation).
 pub struct Trajectory {
     pub range: [f64; 2],
     pub muscles: usize,
     output: ContinuousOutputModel<f64, DVector<f64>>,
+    /// The driving table, and which muscles take their activation straight from it.
+    excitations: Activations,
+    without_dynamics: Vec<bool>,
     /// Integrator statistics: accepted and rejected steps, right-hand-side evaluations.
     pub accepted_steps: u32,
     pub rejected_steps: u32,
@@ -121,7 +126,8 @@ impl Trajectory {
     pub fn states(&self, time: f64) -> (Vec<f64>, Vec<f64>) {
         let [start, end] = self.range;
         let y = self.output.evaluate((time - start).clamp(0.0, end - start)).unwrap_or_else(|| self.output.evaluate(0.0).expect("the output model covers its range"));
-        (y.rows(0, self.muscles).iter().copied().collect(), y.rows(self.muscles, self.muscles).iter().copied().collect())
+        let activations = (0..self.muscles).map(|k| if self.without_dynamics[k] { self.excitations.at(k, time) } else { y[k] }).collect();
+        (activations, y.rows(self.muscles, self.muscles).iter().copied().collect())
     }
 }
 
@@ -164,7 +170,8 @@ pub fn simulate(
         (Err(_), Some((time, source))) => return Err(ForwardError::MuscleState { time: start + time, source }),
         (Err(error), None) => return Err(ForwardError::Integration { time: start + integration_time(&error), reason: error.to_string() }),
     };
-    Ok(Trajectory { range: settings.range, muscles: muscles.len(), output, accepted_steps: stats.accepted_steps, rejected_steps: stats.rejected_steps, evaluations: stats.num_eval })
+    let without_dynamics = muscles.iter().map(|m| m.activation.is_none()).collect();
+    Ok(Trajectory { range: settings.range, muscles: muscles.len(), output, excitations: excitations.clone(), without_dynamics, accepted_steps: stats.accepted_steps, rejected_steps: stats.rejected_steps, evaluations: stats.num_eval })
 }
 
 fn integration_time(error: &ode_solvers::dop_shared::IntegrationError) -> f64 {
@@ -188,7 +195,7 @@ fn initial_states(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &
                 .iter()
                 .enumerate()
                 .map(|(k, m)| {
-                    let a = excitations.at(k, start).clamp(m.activation.minimum_activation, 1.0);
+                    let a = excitations.at(k, start).clamp(m.muscle.minimum_activation(), 1.0);
                     let length = geometry.paths[m.path].length(&kinematics, &q, &mut scratch);
                     let equilibrium = m.muscle.equilibrium(a, length).map_err(|source| ForwardError::InitialEquilibrium { muscle: m.name.clone(), time: start, source })?;
                     Ok([a, equilibrium.fiber_length])

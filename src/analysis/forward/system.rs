@@ -55,8 +55,17 @@ impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
         self.motion.pose(time, q);
         self.geometry.multibody.realize(q, kinematics);
         for (k, muscle) in self.muscles.iter().enumerate() {
-            let (activation, fiber_length) = (y[k], y[n + k]);
-            dy[k] = muscle.activation.rate(activation, self.excitations.at(k, time));
+            let excitation = self.excitations.at(k, time);
+            let (activation, fiber_length) = match &muscle.activation {
+                Some(dynamics) => {
+                    dy[k] = dynamics.rate(y[k], excitation);
+                    (y[k], y[n + k])
+                }
+                None => {
+                    dy[k] = 0.0;
+                    (excitation, y[n + k])
+                }
+            };
             let length = self.geometry.paths[muscle.path].length(kinematics, q, scratch);
             dy[n + k] = match muscle.muscle.fiber_velocity(activation.clamp(0.0, 1.0), fiber_length, length) {
                 Ok(velocity) => velocity,

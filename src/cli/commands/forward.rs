@@ -1,4 +1,4 @@
-//! `osim-tune forward MODEL COORDINATES --excitations U.sto [--inverse-dynamics ID.sto] [--time START END] [--lowpass HZ] [--accuracy TOL] [--name NAME] -o DIR`
+//! `osim-tune forward MODEL COORDINATES --excitations U.sto [--activations] [--inverse-dynamics ID.sto] [--time START END] [--lowpass HZ] [--accuracy TOL] [--name NAME] -o DIR`
 
 use std::path::{Path, PathBuf};
 
@@ -16,6 +16,8 @@ use crate::model::ModelSpec;
 /// What the command line asks for besides the model and the coordinates.
 pub struct Request {
     pub excitations: PathBuf,
+    /// The table holds activations: no activation dynamics.
+    pub activations: bool,
     pub inverse_dynamics: Option<PathBuf>,
     pub time: Option<[f64; 2]>,
     pub lowpass: Option<f64>,
@@ -43,8 +45,8 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     if driven_names.is_empty() {
         return Err(ForwardError::NoDrivenMuscle { model: model.into(), excitations: request.excitations.clone() }.into());
     }
-    let muscles = driven_muscles(&spec, &geometry, &driven_names)?;
-    let excitations = Activations::from_table(&excitation_table, &request.excitations, &driven_names, "excitation")?;
+    let muscles = driven_muscles(&spec, &geometry, &driven_names, request.activations)?;
+    let excitations = Activations::from_table(&excitation_table, &request.excitations, &driven_names, if request.activations { "activation" } else { "excitation" })?;
     let range = simulated_range(request, &motion, &excitation_table)?;
     let settings = ForwardSettings { range, accuracy: request.accuracy, initial: InitialStates::Equilibrium };
     let trajectory = match simulate(&geometry, &muscles, &motion, &excitations, &settings) {

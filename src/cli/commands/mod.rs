@@ -38,8 +38,8 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
             id::run(&model, &coordinates, &request)
         }
-        Command::Forward { model, coordinates, excitations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
-            let request = forward::Request { excitations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
+        Command::Forward { model, coordinates, excitations, activations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
+            let request = forward::Request { excitations, activations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
             forward::run(&model, &coordinates, &request)
         }
         Command::So { model, coordinates, setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output } => {
