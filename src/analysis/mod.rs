@@ -2,6 +2,7 @@
 
 mod activation;
 mod analyze_states;
+mod emg_comparison;
 mod external_loads;
 mod forward;
 mod fiber_analysis;
@@ -12,6 +13,7 @@ mod signal;
 mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
+pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
 pub use forward::{
     compare_with_inverse_dynamics, driven_muscles, inverse_dynamics_times, simulate, CoordinateComparison, DrivenMuscle, ForwardError, ForwardOutputs, ForwardSettings, InitialStates, PrescribedMotion,

@@ -295,6 +295,27 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Predicted activations against EMG by cross-correlation (the thesis' ch. 7 check of inverse
+    /// simulations): per muscle, Pearson's r between the prediction at its rows and the EMG
+    /// envelope linearly interpolated there, at zero lag and at the best lag up to --max-lag
+    /// (multiples of the prediction's median row step). Exit 0 success, 2 error.
+    Emg {
+        /// Predicted activations (.sto): columns named after muscles (`so`, `so --pia`) or
+        /// OpenSim state names `/forceset/<muscle>/activation` (`forward`).
+        predicted: PathBuf,
+        /// EMG envelopes (.sto or .mot), one column per channel.
+        emg: PathBuf,
+        /// MUSCLE=CHANNEL pairs, comma separated (default: every predicted muscle the EMG file
+        /// has a column for).
+        #[arg(long, value_delimiter = ',')]
+        pair: Vec<String>,
+        /// Largest lag searched, s.
+        #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+        max_lag: f64,
+        /// JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Muscle-driven forward simulation along prescribed kinematics — the thesis' EMG-driven
     /// simulation (ch. 7), as OpenSim integrates a model whose coordinates are prescribed and whose
     /// muscles a PrescribedController excites: each muscle with an excitation column gets its

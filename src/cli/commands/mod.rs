@@ -3,6 +3,7 @@
 mod analyze;
 mod axis;
 mod diff;
+mod emg;
 mod flatten;
 mod forward;
 mod id;
@@ -38,6 +39,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
             id::run(&model, &coordinates, &request)
         }
+        Command::Emg { predicted, emg, pair, max_lag, json } => emg::run(&predicted, &emg, &pair, max_lag, json),
         Command::Forward { model, coordinates, excitations, activations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
             let request = forward::Request { excitations, activations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
             forward::run(&model, &coordinates, &request)
