@@ -120,3 +120,16 @@ fn the_physiological_inverse_approach_runs_from_the_command_line() {
     assert_eq!(code, 2);
     assert!(stderr.contains("does not apply with --pia"), "{stderr}");
 }
+
+/// Without residual actuators nothing can hold the pelvis against the ground reactions: the
+/// physiological inverse problem has no solution, which exits 1 and writes nothing.
+#[test]
+fn an_unsolvable_physiological_inverse_problem_exits_1_and_writes_nothing() {
+    let folder = tempfile::tempdir().unwrap();
+    let output = folder.path().join("out");
+    let arguments = ["so", &path(MODEL), &path(IK), "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"), "--time", "0.5", "0.7", "--pia", "sum-of-squares", "-o", s(&output)];
+    let (code, _, stderr) = osim_tune(&arguments);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("physiological inverse problem has no solution"), "{stderr}");
+    assert!(!output.exists());
+}

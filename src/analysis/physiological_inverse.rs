@@ -85,9 +85,10 @@ pub fn physiological_inverse(
     let (lower, upper) = frames.bounds();
     let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion };
     let qp = layout.problem(generators, &problems, &times, &lower, &upper, settings.time_constant_scale);
-    let solution = qp.solve(&QpSettings { tolerance: 1e-9, max_iterations: 400, ..QpSettings::default() }).map_err(|e| StaticOptimizationError::Model(e.to_string()))?;
+    let no_solution = |status: String| StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status };
+    let solution = qp.solve(&QpSettings { tolerance: 1e-9, max_iterations: 400, ..QpSettings::default() }).map_err(|e| no_solution(e.to_string()))?;
     if !solution.status.is_solved() {
-        return Err(StaticOptimizationError::Model(format!("{}: the physiological inverse problem has no solution ({:?})", file.display(), solution.status)));
+        return Err(no_solution(format!("{:?}", solution.status)));
     }
     layout.result(generators, &problems, &times, &solution.x, settings.time_constant_scale)
 }

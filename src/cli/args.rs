@@ -245,7 +245,8 @@ pub enum Command {
     /// loads, each control within its min/max_control — a convex programme solved to its optimum
     /// (OpenSim's IPOPT stops at its convergence criterion). Writes OpenSim's
     /// <NAME>_StaticOptimization_activation.sto and _force.sto into DIR. Exit 0 success, 1 some
-    /// frame has no solution (its row is NaN), 2 error.
+    /// frame has no solution (its row is NaN) or, with --pia, the problem has none (nothing
+    /// written), 2 error.
     So {
         /// The model (.osim).
         model: PathBuf,

@@ -37,6 +37,9 @@ pub enum StaticOptimizationError {
     Model(String),
     #[error(transparent)]
     States(#[from] StatesError),
+    /// The solver found no solution (infeasible bounds, or it stopped short).
+    #[error("{}: the {problem} has no solution ({status})", file.display())]
+    NoSolution { file: PathBuf, problem: &'static str, status: String },
     #[error("{}: no row lies in the time range {start}–{end} s", file.display())]
     NoFrames { file: PathBuf, start: f64, end: f64 },
     #[error(transparent)]

@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::analysis::{
-    generators, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationResult,
-    StaticOptimizationSettings,
+    generators, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError,
+    StaticOptimizationResult, StaticOptimizationSettings,
 };
 use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
@@ -90,7 +90,14 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
     }
-    let result = physiological_inverse(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, &settings)?;
+    let result = match physiological_inverse(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, &settings) {
+        Ok(result) => result,
+        Err(error @ StaticOptimizationError::NoSolution { .. }) => {
+            eprintln!("error: {error}; no output written");
+            return Ok(Outcome::NotConverged);
+        }
+        Err(error) => return Err(error.into()),
+    };
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
     let texts = [&result.activations, &result.forces, &result.excitations].map(StorageTable::to_text);
     let files: Vec<(&Path, &[u8])> = outputs.iter().map(PathBuf::as_path).zip(texts.iter().map(String::as_bytes)).collect();
