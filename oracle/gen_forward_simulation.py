@@ -15,7 +15,8 @@ them from the folder alone, and OpenSim's result:
   the spline a model file would give) through these samples, degrees turned into radians by
   `math.radians` (x · π/180); an unlocked coordinate the motion lacks would be held at its default
   value (`Constant`); locked coordinates stay locked, coordinates a CoordinateCouplerConstraint
-  makes dependent are left to it (neither case has any of these three).
+  makes dependent are left to it (arm26 and gait2392_millard have none of these three, rajagopal
+  all three).
 * `excitations.sto` — OpenSim storage (header ending `endheader`, then `time` and one column per
   muscle, named after it): each muscle's excitation, interpolated piecewise linearly
   (`PiecewiseLinearFunction`) by a `PrescribedController` driving every muscle.
@@ -23,18 +24,25 @@ them from the folder alone, and OpenSim's result:
   digits survive): `time`; for each muscle in ForceSet order `<muscle>.activation`,
   `<muscle>.fiber_length` (m) and `<muscle>.tendon_force` (N); then for each unlocked coordinate
   in CoordinateSet order `<coordinate>.muscle_moment` = Σ over muscles of tendon force × moment
-  arm (N·m, or N for a translation).
+  arm (N·m, or N for a translation). A coupler's dependent coordinate is unlocked and has its
+  column: the MomentArmSolver's coupling vector is divided by that coordinate's own speed, so
+  rajagopal's `knee_angle_r_beta`/`knee_angle_l_beta` columns equal `knee_angle_r`/`knee_angle_l`'s
+  (within 1.4e-13). For a rigid-tendon Millard muscle (`ignore_tendon_compliance`) the fiber
+  length is not a state but the one its path length implies.
 
 The simulation: `initSystem`, time set to the first motion time t0, every prescribed coordinate's
-value and speed set to its spline's value and first derivative at t0, each muscle's activation set
-to its excitation at t0, `equilibrateMuscles`; then a `Manager` with the RungeKuttaMerson
-integrator, accuracy 1e-10 (constraint tolerance left at its default), `initialize`, and
-`integrate(t)` for each report time t of a 10 ms grid from t0 (each call continuing from the
-last), the state realized to Dynamics at each report time (t0 included). The moment arms come from
-`computeMomentArm` on a second, unprescribed copy of the model posed at the simulated q:
-OpenSim's MomentArmSolver projects speeds onto the model's constraints to find the coordinates'
-coupling, and on the prescribed model those constraints are the prescribed motions themselves,
-which would spoil the coupling.
+value and speed set to its spline's value and first derivative at t0, each coupler's dependent
+coordinate's value and speed to the coupler's (q_d = s·f(q_i), q̇_d = s·Σ ∂f/∂q_i q̇_i, s its
+scale_factor; Millard's equilibrium is static, so the speed only keeps the state consistent),
+each muscle's activation set to its excitation at t0, `equilibrateMuscles`; then a `Manager`
+with the RungeKuttaMerson integrator, accuracy 1e-10 (constraint tolerance left at its default),
+`initialize`, and `integrate(t)` for each report time t of a 10 ms grid from t0 (each call
+continuing from the last), the state realized to Dynamics at each report time (t0 included). The
+moment arms come from `computeMomentArm` on a second, unprescribed copy of the model posed at the
+simulated q (the whole Q vector, dependent coordinates included): OpenSim's MomentArmSolver
+projects speeds onto the model's constraints to find the coordinates' coupling, and on the
+prescribed model those constraints are the prescribed motions themselves, which would spoil the
+coupling.
 
 Cases:
 
@@ -54,15 +62,37 @@ Cases:
   from 0.1 s (first time + 0.1 s) to 0.4 s inclusive (19 rows); excitations at those rows' times,
   muscle k u = 0.3 + 0.2 sin(2π(1 + 0.05k)(t − t0) + 0.7k) with t0 = 0.1 s; report times 0.10,
   0.11, …, 0.40.
+* `rajagopal` — fixtures/models/Rajagopal2016.osim (80 Millard2012EquilibriumMuscles, 34 of them
+  with rigid tendons (`ignore_tendon_compliance`), fiber damping 0.1; the patellae's
+  knee_angle_r_beta and knee_angle_l_beta follow the knees by CoordinateCouplerConstraints
+  (linear, slope 1), the quadriceps' paths run over the patellae; the gastrocnemii wrap over two
+  cylinders each; subtalar, mtp and wrist coordinates locked; its 17 CoordinateActuators get no
+  control); a synthetic motion at 100 Hz over 0–0.5 s, degrees: hip_flexion_r =
+  20 + 25 sin(2π·1.2t), knee_angle_r = 40 + 35 sin(2π·1.5t + 0.4), ankle_angle_r =
+  5 + 12 sin(2π·1.8t + 1.0), the left ones the same with π added inside each sine (within the
+  ranges, checked: hip −5…45° of −30…120°, knee 5…75° of 0…120°, ankle −7…17° of −40…30°); the
+  other unlocked coordinates held at their defaults (pelvis_ty 0.94 m, the rest 0); excitations at
+  the 51 motion times, muscle k u = 0.3 + 0.2 sin(2π(1 + 0.04k)t + 0.9k); report times 0, 0.01,
+  …, 0.5.
 
 After writing a case the script reruns it with accuracy 1e-12 (nothing written) and prints the
 largest differences in activation, fiber length, tendon force and muscle moment between the two
 runs — OpenSim's own integration error — with each run's wall time. At generation (OpenSim 4.6):
 arm26 3.9e-9 (activation), 3.0e-9 m, 1.0e-3 N, 2.3e-5 N·m, 1.4 s; gait2392_millard 3.5e-8,
-2.5e-9 m, 4.2e-4 N, 1.7e-5 N·m, 26 s; the coordinates follow their splines within 5e-12. In the
-gait case semimem_r sits at its minimum fiber length with a slack tendon (tendon force 0) from
-0.10 to 0.35 s, and lat_gas_r's tendon is slack (force 0) from 0.15 to 0.20 s; the pelvis
-coordinates' muscle moments are rounding (< 1e-12).
+2.5e-9 m, 4.2e-4 N, 1.7e-5 N·m, 26 s; rajagopal 3.5e-7, 1.4e-8 m, 1.3e-3 N, 6.3e-5 N·m, 46 s
+(105 s at 1e-12); the coordinates follow their splines within 5e-12, rajagopal's patellae their
+knees within 2.6e-12 (values and speeds). In the gait case semimem_r sits at its minimum fiber
+length with a slack tendon (tendon force 0) from 0.10 to 0.35 s, and lat_gas_r's tendon is slack
+(force 0) from 0.15 to 0.20 s; the pelvis coordinates' muscle moments are rounding (< 1e-12).
+In the rajagopal case no fiber reaches its minimum length, no compliant tendon goes slack and no
+rigid tendon is shorter than its slack length (tendon forces 22–3704 N); its largest activation
+difference is addmagIsch_l's at 0.05 s, just after its excitation fell below its activation,
+where Millard's activation time constant jumps (the activation form for u > a, the deactivation
+form otherwise). OpenSim's moment arms of gaslat and gasmed about the knee (each wrapping over
+Gastroc_at_condyles on the femur and a Gas*_at_shank cylinder on the tibia) differ from
+−∂(path length)/∂q by up to 0.016 m at some of the poses, and their unit-tension forces do not
+balance there: the pelvis rotations' muscle moments reach 0.34 N·m (the translations' are
+rounding, < 3e-13).
 """
 import math
 import time
@@ -75,6 +105,7 @@ from gen_functions import load_xml
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "forward"
 IK_MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
+RAJAGOPAL = REPO / "fixtures" / "models" / "Rajagopal2016.osim"
 ACCURACY = 1e-10
 CHECK_ACCURACY = 1e-12
 
@@ -147,15 +178,54 @@ def gait_inputs(folder, start=0.1, length=0.3):
     return [k / 100 for k in range(first, last + 1)]
 
 
+def couplers(model):
+    """The model's CoordinateCouplerConstraints."""
+    constraints = model.getConstraintSet()
+    found = [osim.CoordinateCouplerConstraint.safeDownCast(constraints.get(i)) for i in range(constraints.getSize())]
+    return [coupler for coupler in found if coupler is not None]
+
+
+def coupled(model, state, coupler):
+    """(value, speed) of the coupler's dependent coordinate at the state's independent values and
+    speeds: q_d = s·f(q_i), q̇_d = s·Σ ∂f/∂q_i q̇_i (s its scale_factor)."""
+    names = coupler.getIndependentCoordinateNames()
+    independents = [model.getCoordinateSet().get(names.get(j)) for j in range(names.getSize())]
+    x = osim.Vector(len(independents), 0.0)
+    for j, coordinate in enumerate(independents):
+        x.set(j, coordinate.getValue(state))
+    scale = osim.PropertyHelper.getValueDouble(coupler.getPropertyByName("scale_factor"))
+    f = coupler.getFunction()
+    speed = sum(f.calcDerivative(osim.StdVectorInt([j]), x) * coordinate.getSpeedValue(state)
+                for j, coordinate in enumerate(independents))
+    return scale * f.calcValue(x), scale * speed
+
+
+def rajagopal_inputs(folder):
+    times = [k / 100 for k in range(51)]
+    labels, columns = [], []
+    for side, phase in [("r", 0.0), ("l", math.pi)]:
+        labels += [f"hip_flexion_{side}", f"knee_angle_{side}", f"ankle_angle_{side}"]
+        columns += [[20 + 25 * math.sin(2 * math.pi * 1.2 * t + phase) for t in times],
+                    [40 + 35 * math.sin(2 * math.pi * 1.5 * t + 0.4 + phase) for t in times],
+                    [5 + 12 * math.sin(2 * math.pi * 1.8 * t + 1.0 + phase) for t in times]]
+    model = osim.Model(str(RAJAGOPAL))
+    for label, values in zip(labels, columns):
+        coordinate = model.getCoordinateSet().get(label)
+        low, high = math.degrees(coordinate.getRangeMin()), math.degrees(coordinate.getRangeMax())
+        assert low <= min(values) and max(values) <= high, (label, min(values), max(values), low, high)
+    write_table(folder / "motion.mot", "rajagopal_motion", labels, times, columns, True)
+    muscles = [model.getMuscles().get(i).getName() for i in range(model.getMuscles().getSize())]
+    excitations = [[0.3 + 0.2 * math.sin(2 * math.pi * (1 + 0.04 * k) * t + 0.9 * k) for t in times]
+                   for k in range(len(muscles))]
+    write_table(folder / "excitations.sto", "rajagopal_excitations", muscles, times, excitations, False)
+    return times
+
+
 def prescribe(model, folder):
     """Prescribe the unlocked, independent coordinates by GCVSplines through motion.mot (radians
     for rotations), the ones the motion lacks at their default; returns {coordinate: spline}."""
     labels, times, columns, in_degrees = read_table(folder / "motion.mot")
-    dependent = set()
-    for i in range(model.getConstraintSet().getSize()):
-        coupler = osim.CoordinateCouplerConstraint.safeDownCast(model.getConstraintSet().get(i))
-        if coupler is not None:
-            dependent.add(coupler.getDependentCoordinateName())
+    dependent = {coupler.getDependentCoordinateName() for coupler in couplers(model)}
     splines = {}
     coordinates = model.getCoordinateSet()
     for i in range(coordinates.getSize()):
@@ -215,6 +285,13 @@ def simulate(model_path, folder, report_times, accuracy):
     for name, f in splines.items():
         coordinates.get(name).setValue(state, f.calcValue(at), False)
         coordinates.get(name).setSpeedValue(state, f.calcDerivative(first, at))
+    for coupler in couplers(model):
+        # the dependent coordinates' value and speed from their independents', so that the state
+        # equilibrateMuscles sees is consistent (the integrator would only project it onto the
+        # constraints in Manager.initialize; initSystem's assembly fixes the values at time 0 only)
+        value, speed = coupled(model, state, coupler)
+        coordinates.get(coupler.getDependentCoordinateName()).setValue(state, value, False)
+        coordinates.get(coupler.getDependentCoordinateName()).setSpeedValue(state, speed)
     model.realizeVelocity(state)
     muscles = [model.getMuscles().get(i) for i in range(model.getMuscles().getSize())]
     for muscle in muscles:
@@ -239,7 +316,8 @@ def simulate(model_path, folder, report_times, accuracy):
         header += [f"{muscle.getName()}.{kind}" for kind in ["activation", "fiber_length", "tendon_force"]]
     header += [f"{name}.muscle_moment" for name in unlocked]
     rows = []
-    notes = {"prescription_error": 0.0, "at_minimum_fiber_length": set()}
+    notes = {"prescription_error": 0.0, "coupler_error": 0.0 if couplers(model) else None,
+             "at_minimum_fiber_length": set()}
     for t in report_times:
         if t > t0:
             state = manager.integrate(t)
@@ -250,6 +328,12 @@ def simulate(model_path, folder, report_times, accuracy):
             error = abs(coordinates.get(name).getValue(state) - f.calcValue(at))
             notes["prescription_error"] = max(notes["prescription_error"], error)
             assert not math.isnan(error), f"{name} is NaN at {t!r}"
+        for coupler in couplers(model):
+            value, speed = coupled(model, state, coupler)
+            dependent = coordinates.get(coupler.getDependentCoordinateName())
+            error = max(abs(dependent.getValue(state) - value), abs(dependent.getSpeedValue(state) - speed))
+            notes["coupler_error"] = max(notes["coupler_error"], error)
+            assert not math.isnan(error), f"{dependent.getName()} is NaN at {t!r}"
         geometry_state.setTime(t)
         geometry_state.setQ(state.getQ())
         geometry.realizePosition(geometry_state)
@@ -290,8 +374,10 @@ def run(case, model_path, inputs):
     header, rows, notes = simulate(model_path, folder, report_times, ACCURACY)
     elapsed = time.perf_counter() - start
     write_states(folder / "states.csv", header, rows)
+    coupler = "" if notes["coupler_error"] is None else \
+        f", largest |q − coupler| of the dependent coordinates (and speeds) {notes['coupler_error']:.3g}"
     print(f"{folder.relative_to(REPO)}: done in {elapsed:.1f} s, "
-          f"largest |q − spline| {notes['prescription_error']:.3g}, at minimum fiber length: "
+          f"largest |q − spline| {notes['prescription_error']:.3g}{coupler}, at minimum fiber length: "
           f"{sorted(notes['at_minimum_fiber_length']) or 'none'}")
     start = time.perf_counter()
     check_header, check_rows, _ = simulate(model_path, folder, report_times, CHECK_ACCURACY)
@@ -306,6 +392,7 @@ def main():
     osim.Logger.setLevelString("warn")  # the Manager's per-call summaries; warnings still show
     run("arm26", REPO / "fixtures" / "models" / "arm26.osim", arm26_inputs)
     run("gait2392_millard", REPO / "models" / "gait2392_millard2012muscle.osim", gait_inputs)
+    run("rajagopal", RAJAGOPAL, rajagopal_inputs)
 
 
 if __name__ == "__main__":

@@ -327,8 +327,8 @@ pub enum Command {
     /// <NAME>_states.sto (OpenSim's state names), _tendon_force.sto and
     /// _muscle_generalized_forces.sto (Σ F_t r per coordinate, named as inverse dynamics names its
     /// columns) into DIR; with --inverse-dynamics, prints per coordinate how far the muscles'
-    /// generalized forces are from it (RMS, largest). Millard2012Equilibrium and Thelen2003
-    /// muscles with compliant tendons. Exit 0 success, 1 the integration failed (nothing
+    /// generalized forces are from it (RMS, largest). Millard2012Equilibrium muscles (compliant
+    /// or rigid tendons) and Thelen2003 muscles. Exit 0 success, 1 the integration failed (nothing
     /// written), 2 error.
     Forward {
         /// The model (.osim).

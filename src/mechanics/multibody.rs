@@ -168,6 +168,11 @@ impl Multibody {
         let masks: Vec<&Vec<bool>> = bodies.iter().map(|&b| &self.moved_by[b]).collect();
         (0..self.joints.len()).filter(|&j| masks.iter().any(|m| m[j]) && !masks.iter().all(|m| m[j])).collect()
     }
+
+    /// Joints that move at least one of `bodies`.
+    pub fn joints_moving(&self, bodies: &[usize]) -> Vec<usize> {
+        (0..self.joints.len()).filter(|&j| bodies.iter().any(|&b| self.moved_by[b][j])).collect()
+    }
 }
 
 /// X_B,frame for a chain of offsets starting at the body.

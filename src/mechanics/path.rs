@@ -195,6 +195,11 @@ pub struct GeometryPath {
     /// those of the joints between the bodies its points and wrap objects are on, and those
     /// that move or switch its points.
     pub spanned: Vec<usize>,
+    /// Coordinates (ascending) the path's tension has generalized forces on as OpenSim applies
+    /// it: `spanned`, and for a path over wrap objects also those of the joints that move all
+    /// its bodies together — OpenSim's stale tangent points leave its forces unbalanced under
+    /// such a rigid motion (e.g. Rajagopal2016's gastrocnemii get hip moment arms of 1e-4 m).
+    pub loaded: Vec<usize>,
     /// Wrap objects in the path's `PathWrapSet`, which this path does not apply (all of them
     /// when osim-tune does not compute the wrapping over any one).
     pub ignored_wraps: Vec<String>,
@@ -253,19 +258,24 @@ impl GeometryPath {
             let frame = Transform { rotation: body_fixed_xyz(object.xyz_body_rotation), translation: Vec3::from(object.translation) };
             wraps.push(PathWrap { object: index, body, frame, active: object.active, surface, range });
         }
-        let mut spanned: Vec<usize> = multibody.joints_spanned(&bodies).into_iter().flat_map(|j| multibody.joints[j].coordinates.iter().copied()).collect();
-        spanned.extend(switches);
-        let coupled: Vec<usize> = spanned.iter().flat_map(|&c| coupling::partners(&multibody.couplers, c)).collect();
-        spanned.extend(coupled);
-        spanned.sort_unstable();
-        spanned.dedup();
+        let coordinates = |joints: Vec<usize>| {
+            let mut coordinates: Vec<usize> = joints.into_iter().flat_map(|j| multibody.joints[j].coordinates.iter().copied()).chain(switches.iter().copied()).collect();
+            let coupled: Vec<usize> = coordinates.iter().flat_map(|&c| coupling::partners(&multibody.couplers, c)).collect();
+            coordinates.extend(coupled);
+            coordinates.sort_unstable();
+            coordinates.dedup();
+            coordinates
+        };
+        let spanned = coordinates(multibody.joints_spanned(&bodies));
+        let loaded = if wraps.is_empty() { spanned.clone() } else { coordinates(multibody.joints_moving(&bodies)) };
         let ignored_wraps = if wraps.len() == force.path_wraps.len() {
             Vec::new()
         } else {
             wraps.clear();
             force.path_wraps.iter().map(|w| w.wrap_object.clone()).collect()
         };
-        Ok(GeometryPath { name: force.name.clone(), points, spanned, ignored_wraps, wraps })
+        let loaded = if ignored_wraps.is_empty() { loaded } else { spanned.clone() };
+        Ok(GeometryPath { name: force.name.clone(), points, spanned, loaded, ignored_wraps, wraps })
     }
 
     /// Path length (m): the straight segments between the points of the current path and the

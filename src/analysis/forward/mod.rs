@@ -4,7 +4,8 @@
 //!
 //! Each driven muscle has two states: its activation a, which follows first-order dynamics
 //! from the excitation u(t) ([`FirstOrderActivation`]), and its fiber length L_m, which moves
-//! at the velocity that balances fiber and tendon (`HillMuscle::fiber_velocity`). The path
+//! at the velocity that balances fiber and tendon (`HillMuscle::fiber_velocity`) — unless its
+//! tendon is rigid: then the fiber follows the path and its force depends on the path's speed. The path
 //! length comes from the pose q(t) ([`PrescribedMotion`]). The states are integrated by a
 //! Dormand–Prince 5(4) method with error control (crate `ode_solvers`), relative and absolute
 //! tolerance `accuracy` per state, and read at the report times from its dense output. The
@@ -65,7 +66,8 @@ pub struct DrivenMuscle {
     pub path: usize,
 }
 
-/// The muscles of `spec` named in `names` (those that apply force and have a path), each with
+/// The muscles of `spec` named in `names` (those that apply force and have a path; a rigid
+/// tendon's fiber length follows the path and is no state), each with
 /// its activation dynamics — none when it ignores them or when `activations_given` (the
 /// driving table then holds activations); an error for a class or tendon we cannot simulate.
 pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[String], activations_given: bool) -> Result<Vec<DrivenMuscle>, ForwardError> {
@@ -74,9 +76,6 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
     for force in spec.muscles().filter(|f| f.applies_force && names.contains(&f.name)) {
         let muscle = HillMuscle::from_force(force).map_err(|e| refuse(&force.name, &e.to_string()))?;
         let properties = force.muscle.as_ref().ok_or_else(|| refuse(&force.name, "no muscle properties"))?;
-        if properties.ignore_tendon_compliance {
-            return Err(refuse(&force.name, "ignore_tendon_compliance is true; the simulation integrates fiber lengths of compliant tendons only"));
-        }
         let dynamics = FirstOrderActivation::of(properties, muscle.minimum_activation())
             .ok_or_else(|| refuse(&force.name, "DeGrooteFregly2016Muscle: its activation dynamics and tendon-force state are not simulated here"))?;
         let activation = Some(dynamics).filter(|_| !(activations_given || properties.ignore_activation_dynamics));

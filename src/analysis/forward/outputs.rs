@@ -1,5 +1,6 @@
 //! What a forward simulation reports at chosen times: each driven muscle's activation, fiber
-//! length and tendon force, and the generalized forces the muscles produce together,
+//! length and tendon force (a rigid tendon's from the path's lengthening speed), and the
+//! generalized forces the muscles produce together,
 //! Σ F_t r (N·m or N; r the moment arm about the coordinate, positive when tension drives it
 //! up) — and how these compare with inverse dynamics.
 
@@ -7,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 use super::{DrivenMuscle, ForwardError, PrescribedMotion, Trajectory};
 use crate::analysis::inverse_dynamics::label;
-use crate::analysis::{storage, Spans};
+use crate::analysis::storage;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{MuscleGeometry, PathEvaluation};
+use crate::mechanics::{Kinematics, MuscleGeometry, PathScratch};
 
 /// Per report time (rows) the muscles' states and forces and their generalized forces.
 #[derive(Debug, Clone)]
@@ -22,8 +23,8 @@ pub struct ForwardOutputs {
     pub fiber_lengths: Vec<Vec<f64>>,
     /// Per row, per muscle, N.
     pub tendon_forces: Vec<Vec<f64>>,
-    /// `<coordinate>_moment` or `_force` for each coordinate a driven muscle spans (no coupler's
-    /// dependent), model order.
+    /// `<coordinate>_moment` or `_force` for each coordinate a driven muscle's tension loads
+    /// (`GeometryPath::loaded`; no coupler's dependent), model order.
     pub labels: Vec<String>,
     /// Per row, per label, N·m or N.
     pub generalized_forces: Vec<Vec<f64>>,
@@ -46,34 +47,45 @@ impl ForwardOutputs {
     /// The outputs at `times` (s, inside the trajectory's range).
     pub fn new(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &PrescribedMotion, trajectory: &Trajectory, times: &[f64]) -> ForwardOutputs {
         let multibody = &geometry.multibody;
-        let paths: Vec<usize> = muscles.iter().map(|m| m.path).collect();
-        let spans = Spans::new(geometry, &paths);
-        let coupled = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
-        let reported: Vec<usize> = (0..spans.coordinates.len()).filter(|&t| !coupled(spans.coordinates[t])).collect();
-        let mut evaluation = PathEvaluation::new(geometry, &paths);
-        let mut q = vec![0.0; multibody.coordinates.len()];
+        let dependent = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
+        let mut reported: Vec<usize> = muscles.iter().flat_map(|m| geometry.paths[m.path].loaded.iter().copied()).filter(|&c| !dependent(c)).collect();
+        reported.sort_unstable();
+        reported.dedup();
+        let mut loads = PathLoads::new(geometry, muscles);
+        let (mut q, mut speeds) = (vec![0.0; multibody.coordinates.len()], vec![0.0; multibody.coordinates.len()]);
         let mut outputs = ForwardOutputs {
             times: times.to_vec(),
             muscles: muscles.iter().map(|m| m.name.clone()).collect(),
             activations: Vec::new(),
             fiber_lengths: Vec::new(),
             tendon_forces: Vec::new(),
-            labels: reported.iter().map(|&t| label(multibody, spans.coordinates[t])).collect(),
+            labels: reported.iter().map(|&c| label(multibody, c)).collect(),
             generalized_forces: Vec::new(),
         };
         for &time in times {
             motion.pose(time, &mut q);
-            evaluation.evaluate(geometry, &q);
-            let (activations, fiber_lengths) = trajectory.states(time);
-            let forces: Vec<f64> = muscles.iter().enumerate().map(|(k, m)| m.muscle.tendon_force(fiber_lengths[k], evaluation.length(k)).unwrap_or(f64::NAN)).collect();
-            let generalized = reported
-                .iter()
-                .map(|&t| spans.slots[t].iter().enumerate().filter_map(|(k, slot)| slot.map(|s| forces[k] * evaluation.moment_arms(k)[s])).sum())
-                .collect();
+            motion.speeds(time, &q, &mut speeds);
+            loads.evaluate(geometry, muscles, &q);
+            let (activations, mut fiber_lengths) = trajectory.states(time);
+            let mut forces = vec![0.0; muscles.len()];
+            for (k, m) in muscles.iter().enumerate() {
+                let length = loads.lengths[k];
+                let rigid = m.muscle.rigid_tendon_state(activations[k], length, loads.lengthening_speed(geometry, k, m.path, &speeds));
+                match rigid {
+                    Some((fiber_length, force)) => (fiber_lengths[k], forces[k]) = (fiber_length, force),
+                    None => forces[k] = m.muscle.tendon_force(fiber_lengths[k], length).unwrap_or(f64::NAN),
+                }
+            }
+            let mut generalized = vec![0.0; multibody.coordinates.len()];
+            for (k, m) in muscles.iter().enumerate() {
+                for (&c, r) in geometry.paths[m.path].loaded.iter().zip(&loads.moment_arms[k]) {
+                    generalized[c] += forces[k] * r;
+                }
+            }
             outputs.activations.push(activations);
             outputs.fiber_lengths.push(fiber_lengths);
             outputs.tendon_forces.push(forces);
-            outputs.generalized_forces.push(generalized);
+            outputs.generalized_forces.push(reported.iter().map(|&c| generalized[c]).collect());
         }
         outputs
     }
@@ -130,4 +142,40 @@ pub fn compare_with_inverse_dynamics(outputs: &ForwardOutputs, table: &StorageTa
             }
         })
         .collect())
+}
+
+/// Each driven muscle's path length and moment arms about its `loaded` coordinates at a pose.
+struct PathLoads {
+    /// m.
+    lengths: Vec<f64>,
+    /// Per muscle, one per `GeometryPath::loaded` coordinate (m or m/m).
+    moment_arms: Vec<Vec<f64>>,
+    kinematics: Kinematics,
+    scratch: PathScratch,
+}
+
+impl PathLoads {
+    fn new(geometry: &MuscleGeometry, muscles: &[DrivenMuscle]) -> PathLoads {
+        let moment_arms = muscles.iter().map(|m| vec![0.0; geometry.paths[m.path].loaded.len()]).collect();
+        PathLoads { lengths: vec![0.0; muscles.len()], moment_arms, kinematics: geometry.multibody.kinematics(), scratch: PathScratch::default() }
+    }
+
+    fn evaluate(&mut self, geometry: &MuscleGeometry, muscles: &[DrivenMuscle], q: &[f64]) {
+        geometry.multibody.realize(q, &mut self.kinematics);
+        for (k, m) in muscles.iter().enumerate() {
+            let path = &geometry.paths[m.path];
+            self.lengths[k] = path.moment_arms(&geometry.multibody, &self.kinematics, q, &mut self.scratch, &path.loaded, &mut self.moment_arms[k]);
+        }
+    }
+
+    /// dL_mt/dt (m/s) of muscle k (on `path`) at coordinate speeds `speeds`: −Σ r q̇ over its
+    /// loaded coordinates, a coupler's dependent one left out (its share is in the independent
+    /// one's moment arm). This is OpenSim's lengthening speed — the path points' relative
+    /// velocities along the segments, wrap tangent points moving with their wrap object's body —
+    /// as the moment arms are its unit tension's generalized forces.
+    fn lengthening_speed(&self, geometry: &MuscleGeometry, k: usize, path: usize, speeds: &[f64]) -> f64 {
+        let dependent = |c: usize| geometry.multibody.couplers.iter().any(|coupler| coupler.dependent == c);
+        let loaded = &geometry.paths[path].loaded;
+        -loaded.iter().zip(&self.moment_arms[k]).filter(|(&c, _)| !dependent(c)).map(|(&c, r)| r * speeds[c]).sum::<f64>()
+    }
 }

@@ -42,6 +42,17 @@ impl PrescribedMotion {
         }
     }
 
+    /// dq/dt at `time` (s), whose pose is `q`, into `speeds` (rad/s or m/s): the splines'
+    /// derivatives; a coupler's dependent coordinate gets its constraint's f′(q_i) q̇_i.
+    pub fn speeds(&self, time: f64, q: &[f64], speeds: &mut [f64]) {
+        for (speed, spline) in speeds.iter_mut().zip(&self.splines) {
+            *speed = spline.derivative(time);
+        }
+        for coupler in &self.couplers {
+            speeds[coupler.dependent] = coupler.slope(q) * speeds[coupler.independent];
+        }
+    }
+
     /// [first, last] time of the file, s.
     pub fn range(&self) -> [f64; 2] {
         [self.times[0], self.times[self.times.len() - 1]]

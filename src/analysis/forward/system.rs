@@ -1,5 +1,6 @@
 //! The right-hand side of the muscle states: ȧ from the activation dynamics, L̇_m from the
-//! fiber–tendon balance at the path length of the prescribed pose. Time runs from 0 at the
+//! fiber–tendon balance at the path length of the prescribed pose (0 for a rigid tendon, whose
+//! fiber length is no state). Time runs from 0 at the
 //! simulation's start (the integrator's output model assumes non-negative times).
 
 use std::cell::RefCell;
@@ -66,6 +67,10 @@ impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
                     (excitation, y[n + k])
                 }
             };
+            if muscle.muscle.has_rigid_tendon() {
+                dy[n + k] = 0.0;
+                continue;
+            }
             let length = self.geometry.paths[muscle.path].length(kinematics, q, scratch);
             dy[n + k] = match muscle.muscle.fiber_velocity(activation.clamp(0.0, 1.0), fiber_length, length) {
                 Ok(velocity) => velocity,

@@ -137,6 +137,26 @@ impl HillMuscle {
         }
     }
 
+    /// Whether the fiber follows the path beside a rigid tendon (`ignore_tendon_compliance`).
+    pub fn has_rigid_tendon(&self) -> bool {
+        match self {
+            HillMuscle::Millard(m) => m.ignore_tendon_compliance,
+            HillMuscle::Thelen(_) => false,
+            HillMuscle::DeGroote(m) => m.ignore_tendon_compliance,
+        }
+    }
+
+    /// (L_m in m, F_t in N) of a rigid-tendon Millard muscle at `activation` on a path of length
+    /// `mt_length` (m) lengthening at `lengthening_speed` (m/s); `None` for other muscles.
+    pub fn rigid_tendon_state(&self, activation: f64, mt_length: f64, lengthening_speed: f64) -> Option<(f64, f64)> {
+        match self {
+            HillMuscle::Millard(m) if m.ignore_tendon_compliance => {
+                Some((m.rigid_tendon_fiber_length(mt_length), m.rigid_tendon_force(activation, mt_length, lengthening_speed)))
+            }
+            _ => None,
+        }
+    }
+
     /// dL_m/dt (m/s) at activation `activation`, fiber length `fiber_length` (m) and path
     /// length `mt_length` (m), the path at rest: the state derivative OpenSim's forward
     /// simulation uses (Millard, Thelen and implicit-mode DeGroote balance fiber and tendon

@@ -35,7 +35,7 @@ pub struct DeGrooteFregly2016Muscle {
     /// v_max, L_opt per second.
     pub(super) max_contraction_velocity: f64,
     /// Rigid tendon (`ignore_tendon_compliance`): L_t = L_ts.
-    pub(super) ignore_tendon_compliance: bool,
+    pub(crate) ignore_tendon_compliance: bool,
     /// β: damping force β ṽ F_max along the fiber (ṽ normalized fiber velocity).
     pub(super) fiber_damping: f64,
     pub(super) tendon_dynamics: TendonDynamics,

@@ -1,13 +1,15 @@
 //! `Millard2012EquilibriumMuscle`: quintic-Bézier curves (`bezier`, `smooth_function`,
 //! `curves`) and the muscle (`muscle`: parameters as OpenSim finalises them, static
 //! equilibrium, OpenSim's own equilibrium iteration, fiber velocity; `inextensible`: the active
-//! fiber force with a rigid tendon).
+//! fiber force with a rigid tendon as static optimisation takes it; `rigid_tendon`: a rigid-tendon
+//! muscle in motion).
 
 mod bezier;
 mod curves;
 mod inextensible;
 mod muscle;
 mod opensim_equilibrium;
+mod rigid_tendon;
 mod smooth_function;
 mod velocity;
 
