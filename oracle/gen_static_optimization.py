@@ -2,7 +2,9 @@
 """Static optimisation goldens beyond the subject01 pipeline: OpenSim 4.6's AnalyzeTool with a
 StaticOptimization analysis on other muscles, paths and settings.
 
-    python3 oracle/gen_static_optimization.py
+    python3 oracle/gen_static_optimization.py [case ...]
+
+With no argument every case below is generated; naming cases generates only those.
 
 Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
 `<case>_StaticOptimization_activation.sto` and `_force.sto`):
@@ -22,6 +24,21 @@ Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
   fixtures/subject01/OutputReference/subject01_simbody.osim, its IK golden
   (fixtures/golden/ik/subject01_walk1_ik.mot), the ground reactions and the residual actuators
   of fixtures/subject01/, 6 Hz low-pass, exponent 2, 0.6–0.9 s, every row.
+* `rajagopal` — fixtures/models/Rajagopal2016.osim (80 Millard2012EquilibriumMuscles, 34 with
+  rigid tendons; the patellae coupled to the knees by CoordinateCouplerConstraints; its own 17
+  CoordinateActuators on the lumbar and arm coordinates, which appear in the tables too) on
+  fixtures/golden/forward/rajagopal/motion.mot (0–0.5 s, 100 Hz, degrees; only hip_flexion,
+  knee_angle and ankle_angle of both legs), unfiltered, exponent 2, 0.1–0.4 s, every row.
+  Reserves written here (`rajagopal_reserves.xml`, unbounded CoordinateActuators
+  `reserve_<coordinate>`): optimal force 1000 on the six pelvis coordinates and 1 on
+  hip_flexion, hip_adduction, hip_rotation, knee_angle and ankle_angle of both legs — every
+  coordinate that is neither locked (subtalar, mtp and wrists are), nor a constraint's dependent
+  coordinate (knee_angle_*_beta), nor driven by one of the model's actuators. What OpenSim does
+  with the absent coordinates (formCompleteStorages, then Model::assemble per row): every one,
+  the pelvis's included, is held at 0 (pelvis_ty at 0, not its default 0.94 m) with zero speed;
+  knee_angle_*_beta is assembled onto its coupler (= knee_angle_* in radians) but its speed
+  stays 0 (the speeds are splined from the unassembled zeros and assembly does not project
+  them); the SO's acceleration targets cover the unconstrained coordinates only.
 
 Muscles are not equilibrated (solve_for_equilibrium_for_auxiliary_states false) and tables are
 printed with 20 digits (output_precision), as in the
@@ -29,6 +46,7 @@ pipeline golden. The tools run in a scratch folder; only the result tables are k
 """
 import math
 import shutil
+import sys
 import tempfile
 from pathlib import Path
 
@@ -126,24 +144,75 @@ def run(case, model, coordinates, force_sets, time_range, cutoff, exponent, load
     print(f"{folder.relative_to(REPO)}: done")
 
 
-def main():
+def rajagopal_reserves(model_path, path):
+    """A CoordinateActuator `reserve_<coordinate>` on every coordinate that is not locked, not the
+    dependent coordinate of a constraint (the patellae) and not already driven by one of the model's
+    own CoordinateActuators (lumbar and arms): the six pelvis coordinates with optimal force 1000,
+    the leg coordinates with 1; unbounded controls. Returns the coordinate names."""
+    model = osim.Model(str(model_path))
+    state = model.initSystem()
+    driven = set()
+    for i in range(model.getForceSet().getSize()):
+        actuator = osim.CoordinateActuator.safeDownCast(model.getForceSet().get(i))
+        if actuator:
+            driven.add(actuator.get_coordinate())
+    forces = osim.ForceSet()
+    names = []
+    for i in range(model.getCoordinateSet().getSize()):
+        coordinate = model.getCoordinateSet().get(i)
+        name = coordinate.getName()
+        if coordinate.get_locked() or coordinate.isDependent(state) or name in driven:
+            continue
+        actuator = osim.CoordinateActuator(name)
+        actuator.setName(f"reserve_{name}")
+        actuator.setOptimalForce(1000.0 if name.startswith("pelvis_") else 1.0)
+        forces.cloneAndAppend(actuator)
+        names.append(name)
+    legs = [f"{c}_{side}" for side in "rl" for c in ["hip_flexion", "hip_adduction", "hip_rotation", "knee_angle", "ankle_angle"]]
+    expected = ["pelvis_tilt", "pelvis_list", "pelvis_rotation", "pelvis_tx", "pelvis_ty", "pelvis_tz"] + legs
+    if sorted(names) != sorted(expected):
+        raise SystemExit(f"rajagopal reserves: unexpected coordinates {names}")
+    forces.printToXML(str(path))
+    return names
+
+
+CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal"]
+
+
+def main(cases):
+    unknown = [c for c in cases if c not in CASES]
+    if unknown:
+        raise SystemExit(f"unknown case(s) {unknown}; cases: {CASES}")
+    wanted = set(cases or CASES)
     arm = OUT / "arm26"
-    arm.mkdir(parents=True, exist_ok=True)
-    arm26_motion(arm / "arm26_motion.mot")
-    arm26_reserves(arm / "arm26_reserves.xml")
     model = REPO / "fixtures" / "models" / "arm26.osim"
-    run("arm26", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 2.0)
-    run("arm26_exponent3", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 3.0)
-    leg = OUT / "leg6dof9musc"
-    leg.mkdir(parents=True, exist_ok=True)
-    leg_motion(leg / "leg_motion.mot")
-    leg_reserves(leg / "leg_reserves.xml")
-    run("leg6dof9musc", REPO / "fixtures" / "models" / "leg6dof9musc.osim", leg / "leg_motion.mot", [leg / "leg_reserves.xml"], (0.1, 0.9), -1, 2.0)
-    run("subject01_thelen", SUBJECT01 / "OutputReference" / "subject01_simbody.osim",
-        REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
-        [SUBJECT01 / "gait2392_SO_Residual_Actuators.xml"], (0.6, 0.9), 6, 2.0,
-        loads=SUBJECT01 / "subject01_walk1_grf.xml")
+    if wanted & {"arm26", "arm26_exponent3"}:
+        arm.mkdir(parents=True, exist_ok=True)
+        arm26_motion(arm / "arm26_motion.mot")
+        arm26_reserves(arm / "arm26_reserves.xml")
+    if "arm26" in wanted:
+        run("arm26", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 2.0)
+    if "arm26_exponent3" in wanted:
+        run("arm26_exponent3", model, arm / "arm26_motion.mot", [arm / "arm26_reserves.xml"], (0.1, 0.9), -1, 3.0)
+    if "leg6dof9musc" in wanted:
+        leg = OUT / "leg6dof9musc"
+        leg.mkdir(parents=True, exist_ok=True)
+        leg_motion(leg / "leg_motion.mot")
+        leg_reserves(leg / "leg_reserves.xml")
+        run("leg6dof9musc", REPO / "fixtures" / "models" / "leg6dof9musc.osim", leg / "leg_motion.mot", [leg / "leg_reserves.xml"], (0.1, 0.9), -1, 2.0)
+    if "subject01_thelen" in wanted:
+        run("subject01_thelen", SUBJECT01 / "OutputReference" / "subject01_simbody.osim",
+            REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
+            [SUBJECT01 / "gait2392_SO_Residual_Actuators.xml"], (0.6, 0.9), 6, 2.0,
+            loads=SUBJECT01 / "subject01_walk1_grf.xml")
+    if "rajagopal" in wanted:
+        raj = OUT / "rajagopal"
+        raj.mkdir(parents=True, exist_ok=True)
+        model = REPO / "fixtures" / "models" / "Rajagopal2016.osim"
+        rajagopal_reserves(model, raj / "rajagopal_reserves.xml")
+        run("rajagopal", model, REPO / "fixtures" / "golden" / "forward" / "rajagopal" / "motion.mot",
+            [raj / "rajagopal_reserves.xml"], (0.1, 0.4), -1, 2.0)
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

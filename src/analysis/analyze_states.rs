@@ -5,7 +5,7 @@
 //! the derivatives of degree-5 GCV splines through those speeds (`GCVSplineSet(5, states)`).
 //!
 //! Each row is then assembled: a coupler's dependent coordinate is put where its constraint says,
-//! its speed left as it is (OpenSim assembles positions only). A dependent coordinate whose motion
+//! its speed left as it is (OpenSim assembles positions only) — 0 when the file lacks it. A dependent coordinate whose motion
 //! type is `Coupled` (e.g. leg6dof9musc's patella) is not converted from degrees by OpenSim's
 //! degree rule, so in a file in degrees its speed is in degrees per second — as OpenSim has it,
 //! whose velocity-dependent forces then follow from that speed.
@@ -45,9 +45,10 @@ impl AnalyzeStates {
         let signal = |source| StatesError::Signal { file: file.into(), source };
         let motion = Motion::from_table(table, file, multibody, true)?;
         let dependent = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
-        let missing: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| !dependent(c) && motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
+        let absent: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
+        let missing: Vec<usize> = absent.iter().copied().filter(|&c| !dependent(c)).collect();
         let columns = (0..multibody.coordinates.len())
-            .map(|c| (0..motion.len()).map(|i| if missing.contains(&c) { 0.0 } else { motion.pose(i)[c] }).collect())
+            .map(|c| (0..motion.len()).map(|i| if absent.contains(&c) { 0.0 } else { motion.pose(i)[c] }).collect())
             .collect();
         let q = Series::new(motion.times.clone(), columns, 6).and_then(|s| s.filtered(cutoff)).map_err(signal)?;
         let u = derivatives(&q).map_err(signal)?;

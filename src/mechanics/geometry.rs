@@ -27,28 +27,47 @@ impl MuscleGeometry {
     }
 }
 
-/// Lengths and moment arms (about the coordinates each path spans) of chosen muscles.
+/// Lengths and moment arms of chosen muscles, about the coordinates each path spans
+/// ([`GeometryPath::spanned`]) or loads ([`GeometryPath::loaded`]).
 #[derive(Debug, Clone)]
 pub struct PathEvaluation {
     muscles: Vec<usize>,
+    /// Moment arms about `loaded` rather than `spanned` coordinates.
+    loaded: bool,
     /// `moment_arms[offsets[k]..offsets[k + 1]]` belong to muscle k.
     offsets: Vec<usize>,
     lengths: Vec<f64>,
+    /// dL/dt (m/s), when evaluated with speeds.
+    lengthening_speeds: Vec<f64>,
     moment_arms: Vec<f64>,
     kinematics: Kinematics,
     scratch: PathScratch,
 }
 
 impl PathEvaluation {
-    /// Prepares buffers for `muscles` (indices into [`MuscleGeometry::paths`]).
+    /// Prepares buffers for `muscles` (indices into [`MuscleGeometry::paths`]), moment arms
+    /// about the coordinates each spans.
     pub fn new(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
+        PathEvaluation::with(geometry, muscles, false)
+    }
+
+    /// As [`PathEvaluation::new`], moment arms about the coordinates each path's tension loads
+    /// as OpenSim applies it: the generalized forces of a unit tension.
+    pub fn loading(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
+        PathEvaluation::with(geometry, muscles, true)
+    }
+
+    fn with(geometry: &MuscleGeometry, muscles: &[usize], loaded: bool) -> PathEvaluation {
         let mut offsets = vec![0];
         for &m in muscles {
-            offsets.push(offsets.last().copied().unwrap_or(0) + geometry.paths[m].spanned.len());
+            let path = &geometry.paths[m];
+            offsets.push(offsets.last().copied().unwrap_or(0) + if loaded { path.loaded.len() } else { path.spanned.len() });
         }
         PathEvaluation {
             muscles: muscles.to_vec(),
+            loaded,
             lengths: vec![0.0; muscles.len()],
+            lengthening_speeds: vec![0.0; muscles.len()],
             moment_arms: vec![0.0; offsets.last().copied().unwrap_or(0)],
             offsets,
             kinematics: geometry.multibody.kinematics(),
@@ -58,12 +77,34 @@ impl PathEvaluation {
 
     /// Evaluates every chosen muscle at coordinate values `q` (rad or m, CoordinateSet order).
     pub fn evaluate(&mut self, geometry: &MuscleGeometry, q: &[f64]) {
-        geometry.multibody.realize(q, &mut self.kinematics);
+        self.evaluate_moving(geometry, q, None);
+    }
+
+    /// [`PathEvaluation::evaluate`], and with speeds `u` (rad/s or m/s) each path's lengthening
+    /// speed ([`GeometryPath::lengthening_speed`] over the coordinates it loads).
+    pub fn evaluate_moving(&mut self, geometry: &MuscleGeometry, q: &[f64], u: Option<&[f64]>) {
+        let multibody = &geometry.multibody;
+        multibody.realize(q, &mut self.kinematics);
         for (k, &m) in self.muscles.iter().enumerate() {
             let path = &geometry.paths[m];
             let out = &mut self.moment_arms[self.offsets[k]..self.offsets[k + 1]];
-            self.lengths[k] = path.moment_arms(&geometry.multibody, &self.kinematics, q, &mut self.scratch, &path.spanned, out);
+            let coordinates = if self.loaded { &path.loaded } else { &path.spanned };
+            self.lengths[k] = path.moment_arms(multibody, &self.kinematics, q, &mut self.scratch, coordinates, out);
+            if let Some(u) = u {
+                self.lengthening_speeds[k] = path.lengthening_speed(multibody, &self.kinematics, q, &self.scratch, &path.loaded, u);
+            }
         }
+    }
+
+    /// dL/dt (m/s) of the k-th chosen muscle at the last [`PathEvaluation::evaluate_moving`].
+    pub fn lengthening_speed(&self, k: usize) -> f64 {
+        self.lengthening_speeds[k]
+    }
+
+    /// The coordinates the k-th chosen muscle's moment arms are about.
+    pub fn coordinates<'g>(&self, geometry: &'g MuscleGeometry, k: usize) -> &'g [usize] {
+        let path = &geometry.paths[self.muscles[k]];
+        if self.loaded { &path.loaded } else { &path.spanned }
     }
 
     /// Length (m) of the k-th chosen muscle at the last pose.
@@ -71,7 +112,7 @@ impl PathEvaluation {
         self.lengths[k]
     }
 
-    /// Moment arms of the k-th chosen muscle about its path's `spanned` coordinates.
+    /// Moment arms of the k-th chosen muscle about its [`PathEvaluation::coordinates`].
     pub fn moment_arms(&self, k: usize) -> &[f64] {
         &self.moment_arms[self.offsets[k]..self.offsets[k + 1]]
     }

@@ -320,6 +320,16 @@ impl GeometryPath {
         length
     }
 
+    /// dL/dt (m/s) of the path `moment_arms` last placed in `scratch`, at speeds `u` of
+    /// `coordinates` (each alone, no coupling applied; a coupler's dependent speed counts as the
+    /// state holds it): −Σ r u with r a unit tension's generalized force — the points' relative
+    /// velocities along the segments, wrap tangent points moving with their wrap object's body.
+    /// This is OpenSim's lengthening speed but over two wrap objects in series (Rajagopal2016's
+    /// gastrocnemii), where OpenSim's is neither this nor the exact dL/dt.
+    pub fn lengthening_speed(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &PathScratch, coordinates: &[usize], u: &[f64]) -> f64 {
+        -coordinates.iter().map(|&c| self.generalized_force(multibody, kinematics, q, scratch, c) * u[c]).sum::<f64>()
+    }
+
     /// The generalized force about `coordinate` of a unit tension along the placed path.
     fn generalized_force(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &PathScratch, coordinate: usize) -> f64 {
         let mut force = 0.0;

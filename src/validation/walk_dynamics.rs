@@ -106,8 +106,15 @@ pub fn compare_static_optimization(ours: &StaticOptimizationResult, activations:
             continue;
         };
         for j in 1..activations.n_columns().min(our_control.len()) {
-            let (unit, our_unit) = (force[j] / control[j], our_force[j] / our_control[j]);
-            comparison.unit_force.update((unit - our_unit).abs() / unit.abs().max(1.0), || format!("t = {} s, {}", control[0], activations.labels()[j]));
+            // A control of exactly 0 (an actuator on a locked coordinate: ours) has no ratio; its
+            // force must then be 0.
+            let error = if our_control[j] == 0.0 || control[j] == 0.0 {
+                our_force[j].abs()
+            } else {
+                let (unit, our_unit) = (force[j] / control[j], our_force[j] / our_control[j]);
+                (unit - our_unit).abs() / unit.abs().max(1.0)
+            };
+            comparison.unit_force.update(error, || format!("t = {} s, {}", control[0], activations.labels()[j]));
         }
         for j in activations.n_columns()..forces.n_columns() {
             let error = if ours.forces.labels().get(j) == forces.labels().get(j) { (force[j] - our_force[j]).abs() } else { f64::INFINITY };
@@ -163,6 +170,22 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             settings: settings([0.1, 0.9], None, 2.0),
             violation: 1e-6,
             unit_force: 1e-8,
+        },
+        // Every muscle's force per unit control equals OpenSim's to 2e-9 but the gastrocnemii's
+        // in some frames (up to 1.7 %, found t = 0.1–0.22 s left, 0.34–0.4 s right): over their
+        // two wrap cylinders OpenSim's lengthening speed is neither −r·q̇ with its own moment arms
+        // (which ours equal) nor the exact dL/dt — at t = 0.16 s it is −0.01702 m/rad about the
+        // knee against −0.01830, and −0.00105 about the hip, which moves the leg rigidly. That
+        // force–velocity difference leaves OpenSim's controls 1.7e-2 N·m off our constraints.
+        StaticOptimizationCase {
+            case: "rajagopal",
+            model: "fixtures/models/Rajagopal2016.osim",
+            coordinates: "fixtures/golden/forward/rajagopal/motion.mot",
+            force_set: "fixtures/golden/static_optimization/rajagopal/rajagopal_reserves.xml",
+            loads: None,
+            settings: settings([0.1, 0.4], None, 2.0),
+            violation: 3e-2,
+            unit_force: 2.5e-2,
         },
         StaticOptimizationCase {
             case: "subject01_thelen",

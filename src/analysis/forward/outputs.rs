@@ -10,7 +10,7 @@ use super::{DrivenMuscle, ForwardError, PrescribedMotion, Trajectory};
 use crate::analysis::inverse_dynamics::label;
 use crate::analysis::storage;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{Kinematics, MuscleGeometry, PathScratch};
+use crate::mechanics::{MuscleGeometry, PathEvaluation};
 
 /// Per report time (rows) the muscles' states and forces and their generalized forces.
 #[derive(Debug, Clone)]
@@ -51,7 +51,8 @@ impl ForwardOutputs {
         let mut reported: Vec<usize> = muscles.iter().flat_map(|m| geometry.paths[m.path].loaded.iter().copied()).filter(|&c| !dependent(c)).collect();
         reported.sort_unstable();
         reported.dedup();
-        let mut loads = PathLoads::new(geometry, muscles);
+        let paths: Vec<usize> = muscles.iter().map(|m| m.path).collect();
+        let mut evaluation = PathEvaluation::loading(geometry, &paths);
         let (mut q, mut speeds) = (vec![0.0; multibody.coordinates.len()], vec![0.0; multibody.coordinates.len()]);
         let mut outputs = ForwardOutputs {
             times: times.to_vec(),
@@ -65,21 +66,21 @@ impl ForwardOutputs {
         for &time in times {
             motion.pose(time, &mut q);
             motion.speeds(time, &q, &mut speeds);
-            loads.evaluate(geometry, muscles, &q);
+            evaluation.evaluate_moving(geometry, &q, Some(&speeds));
             let (activations, mut fiber_lengths) = trajectory.states(time);
             let mut forces = vec![0.0; muscles.len()];
             for (k, m) in muscles.iter().enumerate() {
-                let length = loads.lengths[k];
-                let rigid = m.muscle.rigid_tendon_state(activations[k], length, loads.lengthening_speed(geometry, k, m.path, &speeds));
+                let length = evaluation.length(k);
+                let rigid = m.muscle.rigid_tendon_state(activations[k], length, evaluation.lengthening_speed(k));
                 match rigid {
                     Some((fiber_length, force)) => (fiber_lengths[k], forces[k]) = (fiber_length, force),
                     None => forces[k] = m.muscle.tendon_force(fiber_lengths[k], length).unwrap_or(f64::NAN),
                 }
             }
             let mut generalized = vec![0.0; multibody.coordinates.len()];
-            for (k, m) in muscles.iter().enumerate() {
-                for (&c, r) in geometry.paths[m.path].loaded.iter().zip(&loads.moment_arms[k]) {
-                    generalized[c] += forces[k] * r;
+            for (k, force) in forces.iter().enumerate() {
+                for (&c, r) in evaluation.coordinates(geometry, k).iter().zip(evaluation.moment_arms(k)) {
+                    generalized[c] += force * r;
                 }
             }
             outputs.activations.push(activations);
@@ -142,40 +143,4 @@ pub fn compare_with_inverse_dynamics(outputs: &ForwardOutputs, table: &StorageTa
             }
         })
         .collect())
-}
-
-/// Each driven muscle's path length and moment arms about its `loaded` coordinates at a pose.
-struct PathLoads {
-    /// m.
-    lengths: Vec<f64>,
-    /// Per muscle, one per `GeometryPath::loaded` coordinate (m or m/m).
-    moment_arms: Vec<Vec<f64>>,
-    kinematics: Kinematics,
-    scratch: PathScratch,
-}
-
-impl PathLoads {
-    fn new(geometry: &MuscleGeometry, muscles: &[DrivenMuscle]) -> PathLoads {
-        let moment_arms = muscles.iter().map(|m| vec![0.0; geometry.paths[m.path].loaded.len()]).collect();
-        PathLoads { lengths: vec![0.0; muscles.len()], moment_arms, kinematics: geometry.multibody.kinematics(), scratch: PathScratch::default() }
-    }
-
-    fn evaluate(&mut self, geometry: &MuscleGeometry, muscles: &[DrivenMuscle], q: &[f64]) {
-        geometry.multibody.realize(q, &mut self.kinematics);
-        for (k, m) in muscles.iter().enumerate() {
-            let path = &geometry.paths[m.path];
-            self.lengths[k] = path.moment_arms(&geometry.multibody, &self.kinematics, q, &mut self.scratch, &path.loaded, &mut self.moment_arms[k]);
-        }
-    }
-
-    /// dL_mt/dt (m/s) of muscle k (on `path`) at coordinate speeds `speeds`: −Σ r q̇ over its
-    /// loaded coordinates, a coupler's dependent one left out (its share is in the independent
-    /// one's moment arm). This is OpenSim's lengthening speed — the path points' relative
-    /// velocities along the segments, wrap tangent points moving with their wrap object's body —
-    /// as the moment arms are its unit tension's generalized forces.
-    fn lengthening_speed(&self, geometry: &MuscleGeometry, k: usize, path: usize, speeds: &[f64]) -> f64 {
-        let dependent = |c: usize| geometry.multibody.couplers.iter().any(|coupler| coupler.dependent == c);
-        let loaded = &geometry.paths[path].loaded;
-        -loaded.iter().zip(&self.moment_arms[k]).filter(|(&c, _)| !dependent(c)).map(|(&c, r)| r * speeds[c]).sum::<f64>()
-    }
 }

@@ -44,7 +44,7 @@ impl<'a> Frames<'a> {
         let multibody = &geometry.multibody;
         let dependent = |i: usize| multibody.couplers.iter().any(|k| k.dependent == i);
         let rows = multibody.coordinates.iter().enumerate().filter(|&(i, c)| !c.locked && !dependent(i)).map(|(i, _)| i).collect();
-        let (paths, column) = (PathEvaluation::new(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
+        let (paths, column) = (PathEvaluation::loading(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
         Frames { geometry, generators, loads, physiology, paths, rows, column }
     }
 
@@ -62,7 +62,7 @@ impl<'a> Frames<'a> {
     pub fn problem(&mut self, state: &MotionState, time: f64) -> FrameProblem {
         let (geometry, generators, physiology) = (self.geometry, self.generators, self.physiology);
         let multibody = &geometry.multibody;
-        self.paths.evaluate(geometry, state.q);
+        self.paths.evaluate_moving(geometry, state.q, Some(state.u));
         let applied = self.loads.map(|l| l.at(time, self.paths.kinematics())).unwrap_or_default();
         let udot = constrained_accelerations(multibody, state);
         let demand = multibody.inverse_dynamics(&MotionState { udot: &udot, ..*state }, &applied);
@@ -77,11 +77,7 @@ impl<'a> Frames<'a> {
             generator.generalized_forces(geometry, &self.paths, &mut self.column);
             let muscle = generator.muscle_path();
             let unit = match muscle {
-                Some((path, k)) => {
-                    let moment_arms = geometry.paths[path].spanned.iter().zip(self.paths.moment_arms(k)).filter(|&(&c, _)| self.rows.contains(&c));
-                    let lengthening_speed = -moment_arms.map(|(&c, r)| r * state.u[c]).sum::<f64>();
-                    generator.unit_force(physiology, self.paths.length(k), lengthening_speed)
-                }
+                Some((_, k)) => generator.unit_force(physiology, self.paths.length(k), self.paths.lengthening_speed(k)),
                 None => generator.unit_force(physiology, 0.0, 0.0),
             };
             for (r, &c) in self.rows.iter().enumerate() {

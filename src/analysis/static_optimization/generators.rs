@@ -104,8 +104,8 @@ impl Generator {
     pub fn generalized_forces(&self, geometry: &MuscleGeometry, paths: &PathEvaluation, out: &mut [f64]) {
         out.fill(0.0);
         match &self.kind {
-            Kind::Muscle { path, slot, .. } => {
-                for (&c, r) in geometry.paths[*path].spanned.iter().zip(paths.moment_arms(*slot)) {
+            Kind::Muscle { slot, .. } => {
+                for (&c, r) in paths.coordinates(geometry, *slot).iter().zip(paths.moment_arms(*slot)) {
                     out[c] = *r;
                 }
             }
