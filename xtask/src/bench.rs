@@ -34,7 +34,8 @@ pub fn run() -> ExitCode {
     let ik = crate::bench_ik::run();
     let scale = crate::bench_scale::run();
     let functional = crate::bench_functional::run();
-    match geometry.and(equilibrium).and(ik).and(scale).and(functional) {
+    let forward = crate::bench_forward::run();
+    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

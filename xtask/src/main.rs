@@ -5,6 +5,7 @@
 
 mod bench;
 mod bench_scale;
+mod bench_forward;
 mod bench_functional;
 mod bench_ik;
 mod dynamics;
