@@ -200,3 +200,22 @@ fn activations_given_are_followed_exactly() {
         assert_eq!(ours, given.column(muscle).unwrap(), "{muscle}");
     }
 }
+
+/// A rigid tendon's force needs its path's speed, which over a BallJoint needs the angular
+/// velocity the motion does not give: refused with the muscle named.
+#[test]
+fn a_rigid_tendon_across_a_ball_joint_is_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(path("fixtures/models/joint_zoo.osim")).unwrap();
+    let start = text.find("<Thelen2003Muscle name=\"hip_knee\">").unwrap();
+    let end = start + text[start..].find("</Thelen2003Muscle>").unwrap();
+    let muscle = text[start..end].replacen("<Thelen2003Muscle name=\"hip_knee\">", "<Millard2012EquilibriumMuscle name=\"hip_knee\">\n<ignore_tendon_compliance>true</ignore_tendon_compliance>", 1);
+    let model = folder.path().join("zoo.osim");
+    std::fs::write(&model, format!("{}{muscle}</Millard2012EquilibriumMuscle>{}", &text[..start], &text[end + "</Thelen2003Muscle>".len()..])).unwrap();
+    let motion = constant_table(folder.path(), "still.mot", &["hip_rx", "knee_flex"], &[10.0, 30.0], true);
+    let excitations = constant_table(folder.path(), "u.sto", &["hip_knee"], &[0.3], false);
+    let out = folder.path().join("out");
+    let (code, _, stderr) = osim_tune(&["forward", s(&model), s(&motion), "--excitations", s(&excitations), "-o", s(&out)]);
+    assert!(code == 2 && stderr.contains("muscle hip_knee") && stderr.contains("BallJoint"), "{stderr}");
+    assert!(!out.exists());
+}

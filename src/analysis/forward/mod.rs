@@ -26,7 +26,7 @@ use ode_solvers::{DVector, Dopri5};
 
 use super::Activations;
 use crate::mechanics::muscle::{FirstOrderActivation, HillMuscle, MuscleError};
-use crate::mechanics::{MuscleGeometry, PathScratch};
+use crate::mechanics::{Mobilizer, MuscleGeometry, PathScratch};
 use crate::model::ModelSpec;
 use system::MuscleDynamics;
 
@@ -80,9 +80,19 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
             .ok_or_else(|| refuse(&force.name, "DeGrooteFregly2016Muscle: its activation dynamics and tendon-force state are not simulated here"))?;
         let activation = Some(dynamics).filter(|_| !(activations_given || properties.ignore_activation_dynamics));
         let path = geometry.path_index(&force.name).ok_or_else(|| refuse(&force.name, "no geometry path"))?;
+        if muscle.has_rigid_tendon() && geometry.paths[path].loaded.iter().any(|&c| angular_velocity_speeds(geometry, c)) {
+            return Err(refuse(&force.name, "a rigid tendon across a BallJoint or FreeJoint: its path speed would need the joint's angular velocity, which the motion does not give"));
+        }
         driven.push(DrivenMuscle { name: force.name.clone(), muscle, activation, path });
     }
     Ok(driven)
+}
+
+/// Whether coordinate `c` belongs to a joint whose speeds are an angular velocity, not the
+/// coordinates' rates (`BallJoint`, `FreeJoint`).
+fn angular_velocity_speeds(geometry: &MuscleGeometry, c: usize) -> bool {
+    let multibody = &geometry.multibody;
+    matches!(multibody.joints[multibody.coordinate_joint(c)].mobilizer, Mobilizer::Ball | Mobilizer::Free)
 }
 
 /// Where the states start.
