@@ -323,7 +323,8 @@ pub enum Command {
     /// activation (first-order dynamics, τ_a and τ_d of the muscle) and fiber length (fiber and
     /// tendon in balance) integrated along the coordinates' degree-5 GCV splines, excitations
     /// interpolated linearly (muscles with ignore_activation_dynamics, or all with --activations,
-    /// take the table as their activation). States start at a = u(t₀) and static equilibrium. Writes
+    /// take the table as their activation). States start at a = u(t₀) and the fiber length
+    /// OpenSim's equilibrateMuscles gives. Writes
     /// <NAME>_states.sto (OpenSim's state names), _tendon_force.sto and
     /// _muscle_generalized_forces.sto (Σ F_t r per coordinate, named as inverse dynamics names its
     /// columns) into DIR; with --inverse-dynamics, prints per coordinate how far the muscles'

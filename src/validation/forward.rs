@@ -2,9 +2,9 @@
 //! prescribed by degree-5 GCV splines through a motion, its muscles excited by a
 //! `PrescribedController` (piecewise-linear excitations) and integrated by Runge–Kutta–Merson
 //! at accuracy 1e-10 (`oracle/gen_forward_simulation.py`, `fixtures/golden/forward/<case>/`).
-//! We start from OpenSim's states at the first report time (its initial equilibrium accounts for
-//! the path's speed, ours is static) and compare every state, tendon force and muscle
-//! generalized force at each report time.
+//! We start from OpenSim's states at the first report time, or from our own start (OpenSim's
+//! `equilibrateMuscles` replicated), and compare every state, tendon force and muscle generalized
+//! force at each report time.
 
 use std::path::Path;
 
@@ -53,8 +53,9 @@ pub struct ForwardComparison {
     pub steps: u32,
 }
 
-/// Simulates `case` (files under `root`) at `accuracy` and compares it with OpenSim's.
-pub fn compare_forward(root: &Path, case: &ForwardCase, accuracy: f64) -> Result<ForwardComparison, String> {
+/// Simulates `case` (files under `root`) at `accuracy` — from OpenSim's first states, or with
+/// `own_start` from ours (`InitialStates::Equilibrium`) — and compares it with OpenSim's.
+pub fn compare_forward(root: &Path, case: &ForwardCase, accuracy: f64, own_start: bool) -> Result<ForwardComparison, String> {
     let folder = root.join("fixtures/golden/forward").join(case.case);
     let text = |e: &dyn std::fmt::Display| e.to_string();
     let spec = ModelSpec::read(&OsimDocument::read(&root.join(case.model)).map_err(|e| text(&e))?).map_err(|e| text(&e))?;
@@ -70,7 +71,8 @@ pub fn compare_forward(root: &Path, case: &ForwardCase, accuracy: f64) -> Result
     let number = |row: usize, column: &str| golden.number_at(row, column).map_err(|e| text(&e));
     let initial = names.iter().map(|m| Ok([number(0, &format!("{m}.activation"))?, number(0, &format!("{m}.fiber_length"))?])).collect::<Result<_, String>>()?;
     let times: Vec<f64> = (0..golden.rows.len()).map(|r| number(r, "time")).collect::<Result<_, String>>()?;
-    let settings = ForwardSettings { range: [times[0], times[times.len() - 1]], accuracy, initial: InitialStates::Given(initial) };
+    let initial = if own_start { InitialStates::Equilibrium } else { InitialStates::Given(initial) };
+    let settings = ForwardSettings { range: [times[0], times[times.len() - 1]], accuracy, initial };
     let trajectory = simulate(&geometry, &muscles, &motion, &excitations, &settings).map_err(|e| text(&e))?;
     let outputs = ForwardOutputs::new(&geometry, &muscles, &motion, &trajectory, &times);
     let mut comparison = ForwardComparison { steps: trajectory.accepted_steps, ..ForwardComparison::default() };

@@ -16,7 +16,7 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     let theirs = opensim();
     for case in &FORWARD_CASES {
         let start = Instant::now();
-        let comparison = compare_forward(&root(), case, 1e-10)?;
+        let comparison = compare_forward(&root(), case, 1e-10, true)?;
         let ours = start.elapsed().as_secs_f64();
         print!("  {:<17} osim-tune {ours:>8.3} s ({} steps)", case.case, comparison.steps);
         match theirs.iter().find(|(name, _)| name == case.case) {

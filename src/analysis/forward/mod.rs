@@ -26,7 +26,7 @@ use ode_solvers::{DVector, Dopri5};
 
 use super::Activations;
 use crate::mechanics::muscle::{FirstOrderActivation, HillMuscle, MuscleError};
-use crate::mechanics::{Mobilizer, MuscleGeometry, PathScratch};
+use crate::mechanics::{Mobilizer, MuscleGeometry, PathEvaluation};
 use crate::model::ModelSpec;
 use system::MuscleDynamics;
 
@@ -98,8 +98,8 @@ fn angular_velocity_speeds(geometry: &MuscleGeometry, c: usize) -> bool {
 /// Where the states start.
 #[derive(Debug, Clone)]
 pub enum InitialStates {
-    /// a = u(t₀) (clamped to [a_min, 1]) and the static equilibrium fiber length (fiber at
-    /// rest) for it at t₀.
+    /// a = u(t₀) (clamped to [a_min, 1]) and the fiber length OpenSim's `equilibrateMuscles`
+    /// gives it at t₀ (`HillMuscle::initial_fiber_length`).
     Equilibrium,
     /// [a, L_m (m)] per driven muscle.
     Given(Vec<[f64; 2]>),
@@ -196,18 +196,19 @@ fn initial_states(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &
     let pairs: Vec<[f64; 2]> = match &settings.initial {
         InitialStates::Given(states) => states.clone(),
         InitialStates::Equilibrium => {
-            let multibody = &geometry.multibody;
-            let (mut q, mut kinematics, mut scratch) = (vec![0.0; multibody.coordinates.len()], multibody.kinematics(), PathScratch::default());
+            let coordinates = geometry.multibody.coordinates.len();
+            let (mut q, mut speeds) = (vec![0.0; coordinates], vec![0.0; coordinates]);
             motion.pose(start, &mut q);
-            multibody.realize(&q, &mut kinematics);
+            motion.speeds(start, &q, &mut speeds);
+            let mut paths = PathEvaluation::loading(geometry, &muscles.iter().map(|m| m.path).collect::<Vec<_>>());
+            paths.evaluate_moving(geometry, &q, Some(&speeds));
             muscles
                 .iter()
                 .enumerate()
                 .map(|(k, m)| {
                     let a = excitations.at(k, start).clamp(m.muscle.minimum_activation(), 1.0);
-                    let length = geometry.paths[m.path].length(&kinematics, &q, &mut scratch);
-                    let equilibrium = m.muscle.equilibrium(a, length).map_err(|source| ForwardError::InitialEquilibrium { muscle: m.name.clone(), time: start, source })?;
-                    Ok([a, equilibrium.fiber_length])
+                    let fiber_length = m.muscle.initial_fiber_length(a, paths.length(k), paths.lengthening_speed(k));
+                    Ok([a, fiber_length.map_err(|source| ForwardError::InitialEquilibrium { muscle: m.name.clone(), time: start, source })?])
                 })
                 .collect::<Result<_, ForwardError>>()?
         }

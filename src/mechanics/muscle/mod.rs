@@ -74,6 +74,20 @@ impl HillMuscle {
         }
     }
 
+    /// The fiber length (m) OpenSim's `equilibrateMuscles` starts a forward simulation from, at
+    /// `activation` ∈ [0, 1] on a path of length `mt_length` (m) lengthening at
+    /// `lengthening_speed` (m/s): the static equilibrium for Millard (which ignores the speed)
+    /// and DeGroote, `initMuscleState`'s speed-sharing iteration for Thelen.
+    pub fn initial_fiber_length(&self, activation: f64, mt_length: f64, lengthening_speed: f64) -> Result<f64, MuscleError> {
+        match self {
+            HillMuscle::Thelen(m) => {
+                check_inputs(m.name(), activation, mt_length)?;
+                m.initial_fiber_length(activation, mt_length, lengthening_speed)
+            }
+            _ => Ok(self.equilibrium(activation, mt_length)?.fiber_length),
+        }
+    }
+
     /// Static force balance F_m cos α − F_t (N, zero fiber velocity) at fiber length
     /// `fiber_length` (m) for the classes that solve for the fiber length (Millard, Thelen);
     /// `None` for DeGroote, which solves for the tendon force.
