@@ -199,6 +199,17 @@ fn predicted_residual(previous: Iterate, current: Iterate, newton: f64) -> f64 {
     from_curvature.max(from_rate)
 }
 
+/// SimTK::sign: −1, 0 or 1.
+pub(crate) fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,6 +6,7 @@
 
 use super::muscle::{Millard2012Muscle, Position};
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
+use crate::mechanics::muscle::root::sign;
 use crate::mechanics::muscle::{check_inputs, FiberEquilibrium, MuscleError};
 
 const MAX_ITERATIONS: usize = 200;
@@ -84,16 +85,5 @@ impl Millard2012Muscle {
             iterations,
             residual: error,
         })
-    }
-}
-
-/// SimTK::sign: −1, 0 or 1.
-fn sign(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
     }
 }

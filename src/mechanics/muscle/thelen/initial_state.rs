@@ -6,6 +6,7 @@
 
 use super::Thelen2003Muscle;
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
+use crate::mechanics::muscle::root::sign;
 use crate::mechanics::muscle::MuscleError;
 
 const MAX_ITERATIONS: usize = 20;
@@ -129,16 +130,5 @@ impl Thelen2003Muscle {
             reason: format!("no force–velocity multiplier gives the normalized fiber velocity {normalized} (OpenSim's calcfvInv fails)"),
         })?;
         Ok(())
-    }
-}
-
-/// SimTK's `sign`: −1, 0 or 1.
-fn sign(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
     }
 }
