@@ -25,6 +25,12 @@ fn s(path: &Path) -> &str {
     path.to_str().unwrap()
 }
 
+/// The arm26 golden case's motion and excitations.
+fn arm26_case() -> (PathBuf, PathBuf) {
+    let case = path("fixtures/golden/forward/arm26");
+    (case.join("motion.mot"), case.join("excitations.sto"))
+}
+
 /// OpenSim integrated at accuracy 1e-10; we integrate at 1e-12, so what is left is OpenSim's own
 /// integration error (each case's bounds, `FORWARD_CASES`; found: activation 4.0e-9 / 3.6e-8 /
 /// 3.5e-7, fiber length 3.0e-9 / 2.4e-9 / 1.4e-8 m for arm26 / gait2392 / Rajagopal2016), tendon
@@ -145,8 +151,7 @@ fn activation_follows_the_closed_form_of_the_first_order_law() {
 #[test]
 fn the_command_writes_states_and_compares_with_inverse_dynamics() {
     let folder = tempfile::tempdir().unwrap();
-    let case = path("fixtures/golden/forward/arm26");
-    let (motion, excitations) = (case.join("motion.mot"), case.join("excitations.sto"));
+    let (motion, excitations) = arm26_case();
     let out = folder.path().join("out");
     let (code, stdout, stderr) = osim_tune(&["forward", s(&path(ARM26)), s(&motion), "--excitations", s(&excitations), "--time", "0.2", "0.8", "--name", "arm", "-o", s(&out)]);
     assert_eq!(code, 0, "{stderr}");
@@ -172,25 +177,24 @@ fn the_command_writes_states_and_compares_with_inverse_dynamics() {
 fn bad_input_is_refused() {
     let folder = tempfile::tempdir().unwrap();
     let arm = arm();
-    let case = path("fixtures/golden/forward/arm26");
-    let motion = case.join("motion.mot");
+    let (motion, excitations) = arm26_case();
     let labels: Vec<&str> = arm.names.iter().map(String::as_str).collect();
     let too_high = constant_table(folder.path(), "high.sto", &labels, &vec![1.5; labels.len()], false);
     let other = constant_table(folder.path(), "other.sto", &["soleus_r"], &[0.5], false);
     let out = folder.path().join("out");
+    let model = path(ARM26);
     let run = |excitations: &Path, extra: &[&str]| {
-        let mut arguments = vec!["forward", ARM26, s(&motion), "--excitations", s(excitations), "-o", s(&out)];
+        let mut arguments = vec!["forward", s(&model), s(&motion), "--excitations", s(excitations), "-o", s(&out)];
         arguments.extend_from_slice(extra);
-        let arguments: Vec<String> = arguments.iter().map(|a| if *a == ARM26 { s(&path(ARM26)).to_string() } else { a.to_string() }).collect();
-        osim_tune(&arguments.iter().map(String::as_str).collect::<Vec<_>>())
+        osim_tune(&arguments)
     };
     let (code, _, stderr) = run(&too_high, &[]);
     assert!(code == 2 && stderr.contains("high.sto") && stderr.contains("excitation of TRIlong is 1.5"), "{stderr}");
     let (code, _, stderr) = run(&other, &[]);
     assert!(code == 2 && stderr.contains("no muscle of") && stderr.contains("other.sto"), "{stderr}");
-    let (code, _, stderr) = run(&case.join("excitations.sto"), &["--time", "0.5", "1.5"]);
+    let (code, _, stderr) = run(&excitations, &["--time", "0.5", "1.5"]);
     assert!(code == 2 && stderr.contains("not inside the motion"), "{stderr}");
-    let (code, _, stderr) = run(&case.join("excitations.sto"), &["--accuracy", "0"]);
+    let (code, _, stderr) = run(&excitations, &["--accuracy", "0"]);
     assert!(code == 2 && stderr.contains("--accuracy 0"), "{stderr}");
     assert!(!out.exists());
 }
@@ -200,8 +204,7 @@ fn bad_input_is_refused() {
 #[test]
 fn activations_given_are_followed_exactly() {
     let folder = tempfile::tempdir().unwrap();
-    let case = path("fixtures/golden/forward/arm26");
-    let (motion, table) = (case.join("motion.mot"), case.join("excitations.sto"));
+    let (motion, table) = arm26_case();
     let out = folder.path().join("out");
     let (code, _, stderr) = osim_tune(&["forward", s(&path(ARM26)), s(&motion), "--excitations", s(&table), "--activations", "--name", "arm", "-o", s(&out)]);
     assert_eq!(code, 0, "{stderr}");

@@ -44,9 +44,8 @@ impl AnalyzeStates {
     pub fn new(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>) -> Result<AnalyzeStates, StatesError> {
         let signal = |source| StatesError::Signal { file: file.into(), source };
         let motion = Motion::from_table(table, file, multibody, true)?;
-        let dependent = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
         let absent: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
-        let missing: Vec<usize> = absent.iter().copied().filter(|&c| !dependent(c)).collect();
+        let missing: Vec<usize> = absent.iter().copied().filter(|&c| !multibody.is_dependent(c)).collect();
         let columns = (0..multibody.coordinates.len())
             .map(|c| (0..motion.len()).map(|i| if absent.contains(&c) { 0.0 } else { motion.pose(i)[c] }).collect())
             .collect();

@@ -142,6 +142,11 @@ impl Multibody {
         self.coordinates.iter().map(|c| c.default_value).collect()
     }
 
+    /// Whether a coupler makes `coordinate` its dependent one.
+    pub fn is_dependent(&self, coordinate: usize) -> bool {
+        self.couplers.iter().any(|k| k.dependent == coordinate)
+    }
+
     /// The joint (index into [`Multibody::joints`]) a coordinate belongs to.
     pub fn coordinate_joint(&self, coordinate: usize) -> usize {
         self.coordinate_joints[coordinate]

@@ -145,6 +145,15 @@ pub const MUSCLE_CLASSES: [&str; 3] = [
 const DEFAULT_MAXIMUM_PENNATION: f64 = 1.4706289056333368;
 
 impl MuscleSpec {
+    /// [τ_a, τ_d] (s): the class's activation and deactivation time constants.
+    pub fn time_constants(&self) -> [f64; 2] {
+        match &self.model {
+            MuscleModelSpec::Millard2012(m) => [m.activation_time_constant, m.deactivation_time_constant],
+            MuscleModelSpec::Thelen2003(t) => [t.activation_time_constant, t.deactivation_time_constant],
+            MuscleModelSpec::DeGrooteFregly2016(d) => [d.activation_time_constant, d.deactivation_time_constant],
+        }
+    }
+
     /// Reads the muscle of a force element, or `None` when its class has no mechanics here.
     pub fn read(reader: ComponentReader) -> Result<Option<MuscleSpec>, ModelError> {
         let model = match reader.class() {

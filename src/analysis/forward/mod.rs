@@ -42,7 +42,7 @@ pub enum ForwardError {
     NoDrivenMuscle { model: PathBuf, excitations: PathBuf },
     #[error("{}: excitations cover {}–{} s, which does not contain the simulated {}–{} s", file.display(), covered[0], covered[1], simulated[0], simulated[1])]
     ExcitationsTooShort { file: PathBuf, covered: [f64; 2], simulated: [f64; 2] },
-    #[error("the time range {}–{} s is not inside the motion's {}–{} s", asked[0], asked[1], motion[0], motion[1])]
+    #[error("the time range {}–{} s is empty or not inside the motion's {}–{} s", asked[0], asked[1], motion[0], motion[1])]
     TimeRange { asked: [f64; 2], motion: [f64; 2] },
     #[error("muscle {muscle}: the initial equilibrium at {time} s failed: {source}")]
     InitialEquilibrium { muscle: String, time: f64, source: MuscleError },
@@ -133,8 +133,10 @@ pub struct Trajectory {
 impl Trajectory {
     /// The activations and fiber lengths (m) of the muscles at `time` (s), inside the range.
     pub fn states(&self, time: f64) -> (Vec<f64>, Vec<f64>) {
-        let [start, end] = self.range;
-        let y = self.output.evaluate((time - start).clamp(0.0, end - start)).unwrap_or_else(|| self.output.evaluate(0.0).expect("the output model covers its range"));
+        // The output model covers [0, its last step's end], which rounding may leave a hair off
+        // end − start; `simulate` made at least one step.
+        let (first, last) = self.output.bounds();
+        let y = self.output.evaluate((time - self.range[0]).clamp(first, last)).expect("the output model covers its bounds");
         let activations = (0..self.muscles).map(|k| if self.without_dynamics[k] { self.excitations.at(k, time) } else { y[k] }).collect();
         (activations, y.rows(self.muscles, self.muscles).iter().copied().collect())
     }
@@ -150,6 +152,9 @@ pub fn simulate(
     settings: &ForwardSettings,
 ) -> Result<Trajectory, ForwardError> {
     let [start, end] = settings.range;
+    if start.partial_cmp(&end) != Some(std::cmp::Ordering::Less) {
+        return Err(ForwardError::TimeRange { asked: settings.range, motion: motion.range() });
+    }
     let initial = initial_states(geometry, muscles, motion, excitations, settings)?;
     let failure = RefCell::new(None);
     let dynamics = MuscleDynamics::new(geometry, muscles, motion, excitations, start, &failure);

@@ -47,8 +47,7 @@ impl ForwardOutputs {
     /// The outputs at `times` (s, inside the trajectory's range).
     pub fn new(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &PrescribedMotion, trajectory: &Trajectory, times: &[f64]) -> ForwardOutputs {
         let multibody = &geometry.multibody;
-        let dependent = |c: usize| multibody.couplers.iter().any(|k| k.dependent == c);
-        let mut reported: Vec<usize> = muscles.iter().flat_map(|m| geometry.paths[m.path].loaded.iter().copied()).filter(|&c| !dependent(c)).collect();
+        let mut reported: Vec<usize> = muscles.iter().flat_map(|m| geometry.paths[m.path].loaded.iter().copied()).filter(|&c| !multibody.is_dependent(c)).collect();
         reported.sort_unstable();
         reported.dedup();
         let paths: Vec<usize> = muscles.iter().map(|m| m.path).collect();
@@ -123,9 +122,10 @@ pub fn inverse_dynamics_times(table: &StorageTable, range: [f64; 2]) -> Vec<f64>
 /// Compares `outputs` — computed at [`inverse_dynamics_times`] of `table` — with the columns
 /// of `table` (read from `file`) that carry the same labels.
 pub fn compare_with_inverse_dynamics(outputs: &ForwardOutputs, table: &StorageTable, file: &Path) -> Result<Vec<CoordinateComparison>, ForwardError> {
-    let rows: Vec<&[f64]> = table.rows().filter(|row| outputs.times.contains(&row[0])).collect();
+    // Each output row with the table's row at its time (both from `inverse_dynamics_times`).
+    let rows: Vec<&[f64]> = outputs.times.iter().filter_map(|&t| table.rows().find(|row| row[0] == t)).collect();
     let compared: Vec<(usize, usize)> = outputs.labels.iter().enumerate().filter_map(|(j, l)| table.column_index(l).map(|c| (j, c))).collect();
-    if compared.is_empty() || rows.is_empty() {
+    if compared.is_empty() || rows.is_empty() || rows.len() != outputs.times.len() {
         return Err(ForwardError::NothingToCompare { file: PathBuf::from(file), labels: outputs.labels.clone() });
     }
     Ok(compared

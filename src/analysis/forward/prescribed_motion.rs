@@ -19,6 +19,8 @@ pub struct PrescribedMotion {
     couplers: Vec<Coupler>,
     /// Columns that are no coordinate of the model.
     pub ignored_columns: Vec<String>,
+    /// Coordinates the file lacks (at their default value, or following their coupler).
+    pub defaulted: Vec<String>,
 }
 
 impl PrescribedMotion {
@@ -29,7 +31,7 @@ impl PrescribedMotion {
         let columns = (0..multibody.coordinates.len()).map(|c| (0..motion.len()).map(|i| motion.pose(i)[c]).collect()).collect();
         let series = Series::new(motion.times.clone(), columns, 6).and_then(|s| s.filtered(cutoff)).map_err(signal)?;
         let splines = series.splines().map_err(signal)?;
-        Ok(PrescribedMotion { times: motion.times, splines, couplers: multibody.couplers.clone(), ignored_columns: motion.ignored_columns })
+        Ok(PrescribedMotion { times: motion.times, splines, couplers: multibody.couplers.clone(), ignored_columns: motion.ignored_columns, defaulted: motion.defaulted })
     }
 
     /// The pose at `time` (s) into `q`.

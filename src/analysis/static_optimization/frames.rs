@@ -42,8 +42,7 @@ impl<'a> Frames<'a> {
     pub fn new(geometry: &'a MuscleGeometry, generators: &'a [Generator], loads: Option<&'a ExternalLoads>, physiology: bool) -> Frames<'a> {
         let muscles: Vec<usize> = generators.iter().filter_map(|g| g.muscle_path().map(|(path, _)| path)).collect();
         let multibody = &geometry.multibody;
-        let dependent = |i: usize| multibody.couplers.iter().any(|k| k.dependent == i);
-        let rows = multibody.coordinates.iter().enumerate().filter(|&(i, c)| !c.locked && !dependent(i)).map(|(i, _)| i).collect();
+        let rows = multibody.coordinates.iter().enumerate().filter(|&(i, c)| !c.locked && !multibody.is_dependent(i)).map(|(i, _)| i).collect();
         let (paths, column) = (PathEvaluation::loading(geometry, &muscles), vec![0.0; geometry.multibody.coordinates.len()]);
         Frames { geometry, generators, loads, physiology, paths, rows, column }
     }

@@ -35,11 +35,12 @@ pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[Actuator
             let muscle = HillMuscle::from_force(force).map_err(|e| StaticOptimizationError::Model(e.to_string()))?;
             let muscle_spec = force.muscle.as_ref().ok_or_else(|| StaticOptimizationError::Model(format!("{}: no muscle properties", force.name)))?;
             let path = geometry.path_index(&force.name).ok_or_else(|| StaticOptimizationError::Model(format!("muscle {} has no path", force.name)))?;
-            let (minimum, time_constants) = match &muscle_spec.model {
-                MuscleModelSpec::Millard2012(m) => (m.minimum_activation, [m.activation_time_constant, m.deactivation_time_constant]),
-                MuscleModelSpec::Thelen2003(t) => (t.minimum_activation, [t.activation_time_constant, t.deactivation_time_constant]),
-                MuscleModelSpec::DeGrooteFregly2016(d) => (0.0, [d.activation_time_constant, d.deactivation_time_constant]),
+            let minimum = match &muscle_spec.model {
+                MuscleModelSpec::Millard2012(m) => m.minimum_activation,
+                MuscleModelSpec::Thelen2003(t) => t.minimum_activation,
+                MuscleModelSpec::DeGrooteFregly2016(_) => 0.0,
             };
+            let time_constants = muscle_spec.time_constants();
             let bounds = [force.controls[0].unwrap_or(minimum), force.controls[1].unwrap_or(1.0)];
             let slot = generators.iter().filter(|g: &&Generator| g.muscle_path().is_some()).count();
             let kind = Kind::Muscle { muscle: Box::new(muscle), path, slot, max_isometric_force: muscle_spec.max_isometric_force, time_constants };

@@ -82,6 +82,12 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
         request.accuracy,
         request.output.display()
     );
+    if !motion.defaulted.is_empty() {
+        println!("not in the coordinates, held at their default value (or following their coupler): {}", motion.defaulted.join(", "));
+    }
+    if !motion.ignored_columns.is_empty() {
+        println!("columns that are no coordinate, ignored: {}", motion.ignored_columns.join(", "));
+    }
     let undriven = spec.muscles().filter(|m| m.applies_force && !driven_names.contains(&m.name)).count();
     if undriven > 0 {
         println!("{undriven} muscles of the model have no excitation column and produce no force");

@@ -18,11 +18,10 @@ impl FirstOrderActivation {
     /// activation `minimum_activation`; `None` for DeGroote–Fregly muscles, whose activation
     /// dynamics are smoothed differently.
     pub fn of(spec: &MuscleSpec, minimum_activation: f64) -> Option<FirstOrderActivation> {
-        let (tau_a, tau_d) = match &spec.model {
-            MuscleModelSpec::Millard2012(m) => (m.activation_time_constant, m.deactivation_time_constant),
-            MuscleModelSpec::Thelen2003(t) => (t.activation_time_constant, t.deactivation_time_constant),
-            MuscleModelSpec::DeGrooteFregly2016(_) => return None,
-        };
+        if matches!(spec.model, MuscleModelSpec::DeGrooteFregly2016(_)) {
+            return None;
+        }
+        let [tau_a, tau_d] = spec.time_constants();
         Some(FirstOrderActivation { activation_time_constant: tau_a, deactivation_time_constant: tau_d, minimum_activation })
     }
 
