@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::signal::{Series, SignalError};
+use super::signal::{rows_in_range, Series, SignalError};
 use crate::io::table::StorageTable;
 use crate::mechanics::{Motion, MotionError, Multibody};
 
@@ -66,6 +66,15 @@ impl AnalyzeStates {
             missing: missing.iter().map(|&c| multibody.coordinates[c].name.clone()).collect(),
             ignored_columns: motion.ignored_columns,
         })
+    }
+
+    /// The rows an analysis records in `time_range` (s; see `rows_in_range`): the first, the
+    /// last and those whose index is a multiple of `step_interval` (`Analysis::proceed`);
+    /// `None` when the range misses the times.
+    pub fn analysed_rows(&self, time_range: [f64; 2], step_interval: usize) -> Option<Vec<usize>> {
+        let range = rows_in_range(&self.times, time_range)?;
+        let (first, last) = (*range.start(), *range.end());
+        Some(range.filter(|&i| i == first || i == last || i % step_interval == 0).collect())
     }
 }
 

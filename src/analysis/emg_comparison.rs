@@ -7,6 +7,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::io::table::StorageTable;
+use super::signal::linear_interpolation;
 
 /// Why the tables cannot be compared.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -110,16 +111,8 @@ fn median_step(times: &[f64]) -> f64 {
 /// whose shifted time lies within e's times.
 fn lagged_correlation(p_times: &[f64], p: &[f64], e_times: &[f64], e: &[f64], lag: f64) -> (f64, usize) {
     let (first, last) = (e_times[0], e_times[e_times.len() - 1]);
-    let pairs: Vec<(f64, f64)> = p_times.iter().zip(p).filter(|(&t, _)| (first..=last).contains(&(t + lag))).map(|(&t, &v)| (v, interpolate(e_times, e, t + lag))).collect();
+    let pairs: Vec<(f64, f64)> = p_times.iter().zip(p).filter(|(&t, _)| (first..=last).contains(&(t + lag))).map(|(&t, &v)| (v, linear_interpolation(e_times, e, t + lag))).collect();
     (pearson(&pairs), pairs.len())
-}
-
-/// Linear interpolation of (times, values) at `t` inside the times.
-fn interpolate(times: &[f64], values: &[f64], t: f64) -> f64 {
-    let after = times.partition_point(|&x| x <= t).min(times.len() - 1).max(1);
-    let (t0, t1) = (times[after - 1], times[after]);
-    let w = (t - t0) / (t1 - t0);
-    values[after - 1] * (1.0 - w) + values[after] * w
 }
 
 /// Pearson's r of the pairs; NaN for fewer than 3 or a constant signal.

@@ -7,6 +7,7 @@ mod external_loads;
 mod forward;
 mod fiber_analysis;
 mod inverse_dynamics;
+mod joint_reaction;
 mod muscle_analysis;
 mod physiological_inverse;
 mod signal;
@@ -21,6 +22,7 @@ pub use forward::{
 };
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
+pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, JointReactionError, JointReactionResult, JointReactionSettings, ReactionReport, ReactionSide};
 pub use muscle_analysis::MuscleAnalysis;
 pub use physiological_inverse::{physiological_inverse, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings};
 pub use signal::{spline, Series, SignalError};

@@ -75,7 +75,7 @@ pub fn physiological_inverse(
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
     let states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
-    let rows = solved_rows(&states.times, frames_settings, file)?;
+    let rows = solved_rows(&states, frames_settings, file)?;
     let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);
     let problems: Vec<FrameProblem> = rows
         .iter()

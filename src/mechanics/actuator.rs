@@ -4,6 +4,7 @@
 //! reaction on another), projected on the coordinates' partial velocities.
 
 use super::error::MechanicsError;
+use super::inverse_dynamics::BodyLoad;
 use super::kinematics::Kinematics;
 use super::multibody::{Multibody, GROUND_INDEX};
 use super::spatial::Vec3;
@@ -96,6 +97,27 @@ impl Actuator {
             }
         }
     }
+
+    /// What an actuation (N or N·m) applies in the pose `kinematics` holds: a body load
+    /// (`PointActuator`, `TorqueActuator` — the torque on body A, its opposite on body B) pushed
+    /// to `loads`, or a mobility force (`CoordinateActuator`) added to `mobility`.
+    pub fn apply(&self, kinematics: &Kinematics, actuation: f64, loads: &mut Vec<BodyLoad>, mobility: &mut [f64]) {
+        match self.action {
+            Action::Coordinate(coordinate) => mobility[coordinate] += actuation,
+            Action::Point { body, point, point_in_ground, direction, direction_in_ground } => {
+                let pose = &kinematics.bodies[body];
+                let point = if point_in_ground { point } else { pose.apply(&point) };
+                let direction = if direction_in_ground { direction } else { pose.rotation * direction };
+                loads.push(BodyLoad { body, force: actuation * direction, point, torque: Vec3::zeros() });
+            }
+            Action::Torque { body_a, body_b, axis, axis_in_ground } => {
+                let torque = actuation * if axis_in_ground { axis } else { kinematics.bodies[body_a].rotation * axis };
+                for (body, torque) in [(body_a, torque), (body_b, -torque)] {
+                    loads.push(BodyLoad { body, force: Vec3::zeros(), point: kinematics.bodies[body].translation, torque });
+                }
+            }
+        }
+    }
 }
 
 /// The body of a `TorqueActuator`'s frame as OpenSim looks it up: a component path
@@ -111,6 +133,7 @@ mod tests {
 
     use super::*;
     use crate::io::osim::OsimDocument;
+    use crate::mechanics::MotionState;
     use crate::model::ModelSpec;
 
     fn gait2392() -> Multibody {
@@ -145,6 +168,36 @@ mod tests {
         Actuator::new(&spec(torque("femur_r", "/ground")), &multibody).unwrap().generalized_forces(&multibody, &kinematics, &mut out);
         let hip_flexion = multibody.coordinate_index("hip_flexion_r").unwrap();
         assert!((out[hip_flexion] - 1.0).abs() < 1e-15, "{}", out[hip_flexion]);
+    }
+
+    /// The loads `apply` gives do, per unit speed, the work `generalized_forces` says: their
+    /// generalized forces (inverse dynamics with and without them, at rest) are the actuation
+    /// times the unit actuation's.
+    #[test]
+    fn applied_loads_have_the_unit_generalized_forces() {
+        let multibody = gait2392();
+        let mut q = multibody.default_pose();
+        q.iter_mut().enumerate().for_each(|(c, v)| *v += 0.2 * (c as f64).sin());
+        let mut kinematics = multibody.kinematics();
+        multibody.realize(&q, &mut kinematics);
+        let zero = vec![0.0; q.len()];
+        let state = MotionState { q: &q, u: &zero, udot: &zero };
+        let at_rest = multibody.inverse_dynamics(&state, &[]);
+        let point = ActuatorKind::Point { body: "tibia_r".into(), point: [0.01, -0.2, 0.03], point_is_global: false, direction: [0.3, 1.0, -0.2], force_is_global: false };
+        let torque = ActuatorKind::Torque { body_a: "femur_r".into(), body_b: "pelvis".into(), axis: [0.2, 0.1, 1.0], torque_is_global: false };
+        let coordinate = ActuatorKind::Coordinate { coordinate: "knee_angle_r".into() };
+        for kind in [point, torque, coordinate] {
+            let actuator = Actuator::new(&spec(kind), &multibody).unwrap();
+            let mut unit = vec![0.0; q.len()];
+            actuator.generalized_forces(&multibody, &kinematics, &mut unit);
+            let (mut loads, mut mobility) = (Vec::new(), vec![0.0; q.len()]);
+            actuator.apply(&kinematics, 3.0, &mut loads, &mut mobility);
+            let loaded = multibody.inverse_dynamics(&state, &loads);
+            for c in 0..q.len() {
+                let applied = at_rest[c] - loaded[c] + mobility[c];
+                assert!((applied - 3.0 * unit[c]).abs() < 1e-12, "{}: {applied} vs {}", multibody.coordinates[c].name, 3.0 * unit[c]);
+            }
+        }
     }
 
     #[test]

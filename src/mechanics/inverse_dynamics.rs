@@ -9,7 +9,7 @@
 
 use super::kinematics::Kinematics;
 use super::motion_rates::TransformRates;
-use super::multibody::{Multibody, GROUND_INDEX};
+use super::multibody::{Body, Multibody, GROUND_INDEX};
 use super::spatial::{Transform, Vec3};
 
 /// A force and a torque applied to a body from outside the model (e.g. a force plate's), in
@@ -36,10 +36,10 @@ pub struct MotionState<'a> {
 }
 
 /// A force at a point and a moment, in ground, that a body needs beyond what it gets.
-struct Wrench {
-    force: Vec3,
-    point: Vec3,
-    moment: Vec3,
+pub(super) struct Wrench {
+    pub force: Vec3,
+    pub point: Vec3,
+    pub moment: Vec3,
 }
 
 impl Multibody {
@@ -69,25 +69,26 @@ impl Multibody {
     pub fn inverse_dynamics(&self, state: &MotionState, loads: &[BodyLoad]) -> Vec<f64> {
         let mut kinematics = self.kinematics();
         self.realize(state.q, &mut kinematics);
+        let wrenches = self.body_wrenches(state, loads, &self.gravity);
+        self.generalized_forces_of(&kinematics, &wrenches)
+    }
+
+    /// Each body's inertial wrench under `gravity` (m/s², in ground), less `loads`: what the
+    /// body needs from its joint beyond what it gets (ground's is zero).
+    pub(super) fn body_wrenches(&self, state: &MotionState, loads: &[BodyLoad], gravity: &Vec3) -> Vec<Wrench> {
         let motions = self.body_motions(state);
-        let mut wrenches: Vec<Wrench> = motions.iter().zip(&self.bodies).map(|(motion, body)| self.inertial_wrench(motion, body)).collect();
+        let mut wrenches: Vec<Wrench> = motions.iter().zip(&self.bodies).map(|(motion, body)| inertial_wrench(motion, body, gravity)).collect();
         for load in loads {
             let wrench = &mut wrenches[load.body];
             wrench.moment -= (load.point - wrench.point).cross(&load.force) + load.torque;
             wrench.force -= load.force;
         }
-        (0..self.coordinates.len()).map(|c| self.generalized_force(&kinematics, &wrenches, c)).collect()
+        wrenches
     }
 
-    /// m(a − g) at the mass center and I·α + ω × I·ω about it, in ground.
-    fn inertial_wrench(&self, motion: &TransformRates, body: &super::multibody::Body) -> Wrench {
-        let rotation = motion.transform.rotation;
-        let point = motion.transform.apply(&body.mass_center);
-        let inertia = rotation * body.inertia * rotation.transpose();
-        let omega = motion.angular_velocity();
-        let force = body.mass * (motion.point_acceleration(&body.mass_center) - self.gravity);
-        let moment = inertia * motion.angular_acceleration() + omega.cross(&(inertia * omega));
-        Wrench { force, point, moment }
+    /// Each coordinate's generalized force of `wrenches` at the pose `kinematics` holds.
+    pub(super) fn generalized_forces_of(&self, kinematics: &Kinematics, wrenches: &[Wrench]) -> Vec<f64> {
+        (0..self.coordinates.len()).map(|c| self.generalized_force(kinematics, wrenches, c)).collect()
     }
 
     /// Σ over the bodies coordinate `c`'s joint moves of the wrench's power per unit speed.
@@ -101,4 +102,15 @@ impl Multibody {
             .map(|(_, w)| axis.angular.dot(&(w.moment + (w.point - axis.origin).cross(&w.force))) + axis.linear.dot(&w.force))
             .sum()
     }
+}
+
+/// m(a − g) at the mass center and I·α + ω × I·ω about it, in ground.
+fn inertial_wrench(motion: &TransformRates, body: &Body, gravity: &Vec3) -> Wrench {
+    let rotation = motion.transform.rotation;
+    let point = motion.transform.apply(&body.mass_center);
+    let inertia = rotation * body.inertia * rotation.transpose();
+    let omega = motion.angular_velocity();
+    let force = body.mass * (motion.point_acceleration(&body.mass_center) - gravity);
+    let moment = inertia * motion.angular_acceleration() + omega.cross(&(inertia * omega));
+    Wrench { force, point, moment }
 }

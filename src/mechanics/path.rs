@@ -8,6 +8,7 @@ use super::coupling;
 use super::error::MechanicsError;
 use super::function::Function;
 use super::kinematics::Kinematics;
+use super::inverse_dynamics::BodyLoad;
 use super::multibody::Multibody;
 use super::spatial::{body_fixed_xyz, Transform, Vec3};
 use super::wrap_cylinder::Cylinder;
@@ -307,16 +308,46 @@ impl GeometryPath {
         coordinates: &[usize],
         moment_arms: &mut [f64],
     ) -> f64 {
-        let length = self.length(kinematics, q, scratch);
-        scratch.directions.clear();
-        let PathScratch { active, directions, observed: seen, .. } = scratch;
-        directions.extend(active.windows(2).map(|pair| direction(&observed(&pair[0], seen), &observed(&pair[1], seen))));
+        let length = self.place_with_directions(kinematics, q, scratch);
         for (&coordinate, moment_arm) in coordinates.iter().zip(moment_arms.iter_mut()) {
             *moment_arm = 0.0;
             coupling::for_each_coupling(&multibody.couplers, q, coordinate, |c, weight| {
                 *moment_arm += weight * self.generalized_force(multibody, kinematics, q, scratch, c);
             });
         }
+        length
+    }
+
+    /// The loads OpenSim's `GeometryPath::produceForces` applies for `tension` (N): at each
+    /// active point next to a point on another body, the tension along each such segment, pulling
+    /// the point towards its neighbour (`loads`, in ground); and for a `MovingPathPoint` the work
+    /// of its motion in its frame, as a mobility force on the coordinate of its x location
+    /// (added to `mobility`, N·m or N per coordinate).
+    pub fn tension_loads(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, tension: f64, loads: &mut Vec<BodyLoad>, mobility: &mut [f64]) {
+        self.place_with_directions(kinematics, q, scratch);
+        for (pair, d) in scratch.active.windows(2).zip(&scratch.directions) {
+            let (from, to) = (&pair[0], &pair[1]);
+            if from.body == to.body {
+                continue;
+            }
+            let force = tension * d;
+            loads.push(BodyLoad { body: from.body, force, point: from.location, torque: Vec3::zeros() });
+            loads.push(BodyLoad { body: to.body, force: -force, point: to.location, torque: Vec3::zeros() });
+            for (point, sign) in [(from, 1.0), (to, -1.0)] {
+                if let Some((coordinate, rate)) = self.moving_point_rate(kinematics, q, point) {
+                    mobility[coordinate] += sign * rate.dot(&force);
+                }
+            }
+        }
+    }
+
+    /// Places the path ([`GeometryPath::length`]) and the unit direction of each of its segments
+    /// as OpenSim sees them; returns the length (m).
+    fn place_with_directions(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch) -> f64 {
+        let length = self.length(kinematics, q, scratch);
+        scratch.directions.clear();
+        let PathScratch { active, directions, observed: seen, .. } = scratch;
+        directions.extend(active.windows(2).map(|pair| direction(&observed(&pair[0], seen), &observed(&pair[1], seen))));
         length
     }
 
@@ -349,15 +380,20 @@ impl GeometryPath {
     /// OpenSim's `getdPointdQ` in ground for a `MovingPathPoint` whose x location is driven by
     /// `coordinate` (all three slopes, at the unclamped values); zero otherwise.
     fn moving_work(&self, kinematics: &Kinematics, q: &[f64], active: &ActivePoint, coordinate: usize) -> Vec3 {
-        let Source::Point(index) = active.source else { return Vec3::zeros() };
-        let point = &self.points[index];
-        match &point.kind {
-            PointKind::Moving(axes) if axes[0].coordinate == coordinate => {
-                let slopes = Vec3::from_fn(|k, _| axes[k].function.derivative(q[axes[k].coordinate]));
-                kinematics.bodies[point.body].rotation * point.frame.rotation * slopes
-            }
+        match self.moving_point_rate(kinematics, q, active) {
+            Some((c, rate)) if c == coordinate => rate,
             _ => Vec3::zeros(),
         }
+    }
+
+    /// For a `MovingPathPoint`: the coordinate of its x location and OpenSim's `getdPointdQ` in
+    /// ground.
+    fn moving_point_rate(&self, kinematics: &Kinematics, q: &[f64], active: &ActivePoint) -> Option<(usize, Vec3)> {
+        let Source::Point(index) = active.source else { return None };
+        let point = &self.points[index];
+        let PointKind::Moving(axes) = &point.kind else { return None };
+        let slopes = Vec3::from_fn(|k, _| axes[k].function.derivative(q[axes[k].coordinate]));
+        Some((axes[0].coordinate, kinematics.bodies[point.body].rotation * point.frame.rotation * slopes))
     }
 
     /// Fills `scratch.active` with the active points and their locations in ground.
@@ -478,5 +514,48 @@ fn direction(from: &Vec3, to: &Vec3) -> Vec3 {
         Vec3::repeat(f64::NAN)
     } else {
         segment / norm
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::io::osim::OsimDocument;
+    use crate::mechanics::{MotionState, MuscleGeometry};
+
+    /// The loads a tension applies do the work its moment arms say: their generalized forces
+    /// (inverse dynamics at rest with and without them), plus the moving points' mobility
+    /// forces, are the tension times the moment arm about every coordinate. gait2392 has
+    /// MovingPathPoints; arm26 wraps over cylinders and ellipsoids.
+    #[test]
+    fn tension_loads_have_the_moment_arms_generalized_forces() {
+        for file in ["models/gait2392_thelen2003muscle.osim", "fixtures/models/arm26.osim"] {
+            let spec = ModelSpec::read(&OsimDocument::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join(file)).unwrap()).unwrap();
+            let geometry = MuscleGeometry::new(&spec).unwrap();
+            let multibody = &geometry.multibody;
+            let mut q = multibody.default_pose();
+            q.iter_mut().enumerate().for_each(|(c, v)| *v += 0.3 * (c as f64 * 0.8).sin());
+            let mut kinematics = multibody.kinematics();
+            multibody.realize(&q, &mut kinematics);
+            let n = q.len();
+            let zero = vec![0.0; n];
+            let state = MotionState { q: &q, u: &zero, udot: &zero };
+            let at_rest = multibody.inverse_dynamics(&state, &[]);
+            let all: Vec<usize> = (0..n).collect();
+            let mut scratch = PathScratch::default();
+            for path in &geometry.paths {
+                let mut arms = vec![0.0; n];
+                path.moment_arms(multibody, &kinematics, &q, &mut scratch, &all, &mut arms);
+                let (mut loads, mut mobility) = (Vec::new(), vec![0.0; n]);
+                path.tension_loads(&kinematics, &q, &mut scratch, 100.0, &mut loads, &mut mobility);
+                let loaded = multibody.inverse_dynamics(&state, &loads);
+                for c in 0..n {
+                    let applied = at_rest[c] - loaded[c] + mobility[c];
+                    assert!((applied - 100.0 * arms[c]).abs() < 1e-10, "{file} {} about {}: {applied} vs {}", path.name, multibody.coordinates[c].name, 100.0 * arms[c]);
+                }
+            }
+        }
     }
 }

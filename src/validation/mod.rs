@@ -7,6 +7,7 @@ mod geometry;
 mod golden;
 pub mod ik;
 mod inverse_dynamics;
+mod joint_reaction;
 pub mod knee_axis;
 mod muscle;
 mod muscle_degroote;
@@ -18,6 +19,7 @@ pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};
 pub use inverse_dynamics::compare_inverse_dynamics;
+pub use joint_reaction::{JointReactionCase, JointReactionComparison, JOINT_REACTION_CASES};
 pub use muscle::{
     compare_equilibrium, compare_millard_curves, default_force_velocity_inverse, CurveComparison, EquilibriumComparison,
     EquilibriumSolution, EquilibriumValidationError, FIBER_LENGTH_TOLERANCE, STATIC_FIBER_LENGTH_TOLERANCE,

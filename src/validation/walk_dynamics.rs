@@ -218,7 +218,7 @@ impl StaticOptimizationCase {
 
 /// The model's geometry and its generators: its own muscles and actuators, then those of the
 /// `<ForceSet>` file `force_set`.
-fn muscles_and_actuators(model: &Path, force_set: &Path) -> Result<(MuscleGeometry, Vec<Generator>), Box<dyn std::error::Error>> {
+pub(super) fn muscles_and_actuators(model: &Path, force_set: &Path) -> Result<(MuscleGeometry, Vec<Generator>), Box<dyn std::error::Error>> {
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let actuators = read_force_set(&OsimDocument::read(force_set)?)?;

@@ -1,9 +1,10 @@
-//! What static optimisation distributes the generalized forces over: the model's muscles and
-//! scalar actuators (ForceSet order, then the actuators of added force-set files), each with
-//! its control bounds and its generalized forces per unit control in a state.
+//! What static optimisation distributes the generalized forces over, and what a joint reaction
+//! analysis applies: the model's muscles and scalar actuators (ForceSet order, then the
+//! actuators of added force-set files), each with its control bounds, its generalized forces per
+//! unit control in a state and the loads a force of it applies.
 
 use crate::mechanics::muscle::HillMuscle;
-use crate::mechanics::{Actuator, MechanicsError, MuscleGeometry, PathEvaluation};
+use crate::mechanics::{Actuator, BodyLoad, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch};
 use crate::model::{ActuatorSpec, ModelSpec, MuscleModelSpec};
 
 use super::StaticOptimizationError;
@@ -97,6 +98,17 @@ impl Generator {
         match &self.kind {
             Kind::Muscle { path, slot, .. } => Some((*path, *slot)),
             Kind::Actuator { .. } => None,
+        }
+    }
+
+    /// What a force `force` (N or N·m) of the generator applies at coordinates `q`, whose body
+    /// poses `kinematics` holds: a muscle's tension along its path
+    /// ([`GeometryPath::tension_loads`](crate::mechanics::GeometryPath::tension_loads)), an
+    /// actuator's actuation ([`Actuator::apply`]).
+    pub fn apply(&self, geometry: &MuscleGeometry, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, force: f64, loads: &mut Vec<BodyLoad>, mobility: &mut [f64]) {
+        match &self.kind {
+            Kind::Muscle { path, .. } => geometry.paths[*path].tension_loads(kinematics, q, scratch, force, loads, mobility),
+            Kind::Actuator { actuator, .. } => actuator.apply(kinematics, force, loads, mobility),
         }
     }
 

@@ -24,7 +24,6 @@ pub use generators::{generators, Generator};
 
 use super::analyze_states::{AnalyzeStates, StatesError};
 use super::external_loads::ExternalLoads;
-use super::signal::rows_in_range;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{MotionState, MuscleGeometry};
 use crate::solvers::minimise_power_sum;
@@ -120,7 +119,7 @@ pub fn static_optimization(
     reference: Option<ReferenceControls>,
 ) -> Result<StaticOptimizationResult, StaticOptimizationError> {
     let states = AnalyzeStates::new(&geometry.multibody, table, file, settings.lowpass_cutoff)?;
-    let rows = solved_rows(&states.times, settings, file)?;
+    let rows = solved_rows(&states, settings, file)?;
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
     let mut frames = Frames::new(geometry, generators, loads, settings.use_muscle_physiology);
     let bounds = frames.bounds();
@@ -159,13 +158,10 @@ pub fn static_optimization(
     })
 }
 
-/// The rows the AnalyzeTool solves in `settings.time_range` (see `rows_in_range`): the first,
-/// the last and those whose index is a multiple of the step interval (`Analysis::proceed`).
-pub(in crate::analysis) fn solved_rows(times: &[f64], settings: &StaticOptimizationSettings, file: &Path) -> Result<Vec<usize>, StaticOptimizationError> {
+/// The rows the AnalyzeTool solves in `settings.time_range` ([`AnalyzeStates::analysed_rows`]).
+pub(in crate::analysis) fn solved_rows(states: &AnalyzeStates, settings: &StaticOptimizationSettings, file: &Path) -> Result<Vec<usize>, StaticOptimizationError> {
     let [start, end] = settings.time_range;
-    let range = rows_in_range(times, settings.time_range).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start, end })?;
-    let (first, last) = (*range.start(), *range.end());
-    Ok(range.filter(|&i| i == first || i == last || i % settings.step_interval == 0).collect())
+    states.analysed_rows(settings.time_range, settings.step_interval).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start, end })
 }
 
 /// The column of each generator in the reference table; a missing one is an error.

@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""Joint reaction goldens: OpenSim 4.6's AnalyzeTool with JointReaction analyses, driven by the
+actuator forces OpenSim's own StaticOptimization found (the goldens of gen_static_optimization.py).
+
+    python3 oracle/gen_joint_reaction.py [case ...]
+
+Each case runs the same model, coordinates, force-set files, external loads, time range and
+low-pass filter as its static optimisation golden, with two JointReaction analyses whose
+`forces_file` is that golden's `<case>_StaticOptimization_force.sto`:
+
+* `JointReaction` — every joint (`ALL`), the load on the child, expressed as the case says below;
+* `JointReactionParent` — every joint, the load on the parent, expressed in the case's second frame.
+
+Cases (each writes fixtures/golden/joint_reaction/<case>/<case>_<analysis>_ReactionLoads.sto):
+
+* `arm26` — Thelen muscles over wrap cylinders and ellipsoids, reserves; child in ground,
+  parent in `child`.
+* `leg6dof9musc` — a CoordinateCouplerConstraint (patella); child in `parent`, parent in ground.
+* `subject01_thelen` — the walk with ground reactions, residual Point/TorqueActuators and
+  reserves, 6 Hz low-pass; child in `child`, parent in `parent`.
+* `rajagopal` — rigid and elastic Millard tendons, locked coordinates, patellae coupled to the
+  knees; child in ground, parent in `tibia_r` (a body named as the frame).
+
+Muscles are not equilibrated (the forces file overrides every actuator, so their states do not
+matter) and tables are printed with 20 digits. The tools run in a scratch folder; only the result
+tables are kept.
+"""
+import shutil
+import sys
+import tempfile
+from pathlib import Path
+
+import opensim as osim
+
+REPO = Path(__file__).resolve().parent.parent
+SO = REPO / "fixtures" / "golden" / "static_optimization"
+OUT = REPO / "fixtures" / "golden" / "joint_reaction"
+SUBJECT01 = REPO / "fixtures" / "subject01"
+MODELS = REPO / "fixtures" / "models"
+
+# case: (model, coordinates, force sets, time range, cutoff, external loads, child frame, parent frame)
+CASES = {
+    "arm26": (MODELS / "arm26.osim", SO / "arm26" / "arm26_motion.mot", [SO / "arm26" / "arm26_reserves.xml"], (0.1, 0.9), -1, None, "ground", "child"),
+    "leg6dof9musc": (MODELS / "leg6dof9musc.osim", SO / "leg6dof9musc" / "leg_motion.mot", [SO / "leg6dof9musc" / "leg_reserves.xml"], (0.1, 0.9), -1, None, "parent", "ground"),
+    "subject01_thelen": (
+        SUBJECT01 / "OutputReference" / "subject01_simbody.osim",
+        REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
+        [SUBJECT01 / "gait2392_SO_Residual_Actuators.xml"],
+        (0.6, 0.9),
+        6,
+        SUBJECT01 / "subject01_walk1_grf.xml",
+        "child",
+        "parent",
+    ),
+    "rajagopal": (
+        MODELS / "Rajagopal2016.osim",
+        REPO / "fixtures" / "golden" / "forward" / "rajagopal" / "motion.mot",
+        [SO / "rajagopal" / "rajagopal_reserves.xml"],
+        (0.1, 0.4),
+        -1,
+        None,
+        "ground",
+        "tibia_r",
+    ),
+}
+
+
+def reaction(name, forces, on, frame):
+    analysis = osim.JointReaction()
+    analysis.setName(name)
+    analysis.setForcesFileName(str(forces))
+    for setter, value in [(analysis.setJointNames, "ALL"), (analysis.setOnBody, on), (analysis.setInFrame, frame)]:
+        values = osim.ArrayStr()
+        values.append(value)
+        setter(values)
+    return analysis
+
+
+def run(case):
+    model, coordinates, force_sets, time_range, cutoff, loads, child_frame, parent_frame = CASES[case]
+    forces = SO / case / f"{case}_StaticOptimization_force.sto"
+    folder = OUT / case
+    folder.mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory() as scratch:
+        scratch = Path(scratch)
+        tool = osim.AnalyzeTool()
+        tool.setName(case)
+        tool.setModelFilename(str(model))
+        files = osim.ArrayStr()
+        for f in force_sets:
+            files.append(str(f))
+        tool.setForceSetFiles(files)
+        tool.setReplaceForceSet(False)
+        tool.setResultsDir(str(scratch / "results"))
+        tool.setInitialTime(time_range[0])
+        tool.setFinalTime(time_range[1])
+        tool.setCoordinatesFileName(str(coordinates))
+        tool.setLowpassCutoffFrequency(cutoff)
+        tool.setSolveForEquilibrium(False)
+        tool.setOutputPrecision(20)
+        if loads:
+            tool.setExternalLoadsFileName(str(loads))
+        tool.getAnalysisSet().cloneAndAppend(reaction("JointReaction", forces, "child", child_frame))
+        tool.getAnalysisSet().cloneAndAppend(reaction("JointReactionParent", forces, "parent", parent_frame))
+        setup = scratch / "setup.xml"
+        tool.printToXML(str(setup))
+        if not osim.AnalyzeTool(str(setup)).run():
+            raise SystemExit(f"{case}: AnalyzeTool failed")
+        for analysis in ["JointReaction", "JointReactionParent"]:
+            name = f"{case}_{analysis}_ReactionLoads.sto"
+            shutil.copyfile(scratch / "results" / name, folder / name)
+    print(f"{folder.relative_to(REPO)}: done")
+
+
+def main(cases):
+    unknown = [c for c in cases if c not in CASES]
+    if unknown:
+        raise SystemExit(f"unknown case(s) {unknown}; cases: {list(CASES)}")
+    for case in cases or CASES:
+        run(case)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
