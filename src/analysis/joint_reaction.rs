@@ -17,7 +17,7 @@ use super::external_loads::ExternalLoads;
 use super::signal::linear_interpolation;
 use super::static_optimization::Generator;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{ForwardDynamicsError, JointReaction, Kinematics, MotionState, MuscleGeometry, Multibody, PathScratch, Vec3};
+use crate::mechanics::{AppliedForces, ForwardDynamicsError, JointReaction, Kinematics, MotionState, MuscleGeometry, Multibody, PathScratch, Vec3};
 use crate::model::ModelSpec;
 
 /// Why the reactions cannot be computed.
@@ -126,17 +126,19 @@ pub fn reaction_reports(spec: &ModelSpec, multibody: &Multibody, joints: &[Strin
     Ok(reports)
 }
 
+/// What the joints carry: the model, the forces its muscles and actuators exert, and the
+/// external loads.
+#[derive(Debug, Clone, Copy)]
+pub struct ReactionProblem<'a> {
+    pub geometry: &'a MuscleGeometry,
+    pub generators: &'a [Generator],
+    pub forces: ActuatorForces<'a>,
+    pub external: Option<&'a ExternalLoads>,
+}
+
 /// Runs the analysis over the coordinates in `table` (read from `file`).
-pub fn joint_reactions(
-    geometry: &MuscleGeometry,
-    generators: &[Generator],
-    table: &StorageTable,
-    file: &Path,
-    forces: ActuatorForces,
-    external: Option<&ExternalLoads>,
-    reports: &[ReactionReport],
-    settings: &JointReactionSettings,
-) -> Result<JointReactionResult, JointReactionError> {
+pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &Path, reports: &[ReactionReport], settings: &JointReactionSettings) -> Result<JointReactionResult, JointReactionError> {
+    let ReactionProblem { geometry, generators, forces, external } = *problem;
     let multibody = &geometry.multibody;
     let states = AnalyzeStates::new(multibody, table, file, settings.lowpass_cutoff)?;
     let [start, end] = settings.time_range;
@@ -150,14 +152,13 @@ pub fn joint_reactions(
         let (time, q, u) = (states.times[i], &states.q[i], &states.u[i]);
         check_time(time, &force_times, forces.file)?;
         multibody.realize(q, &mut kinematics);
-        let mut loads = external.map(|e| e.at(time, &kinematics)).unwrap_or_default();
-        let mut mobility = vec![0.0; q.len()];
+        let mut applied = AppliedForces { loads: external.map(|e| e.at(time, &kinematics)).unwrap_or_default(), mobility: vec![0.0; q.len()] };
         for (generator, column) in generators.iter().zip(&columns) {
             let force = linear_interpolation(&force_times, column, time);
-            generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut loads, &mut mobility);
+            generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut applied);
         }
-        let udot = multibody.accelerations(q, u, &loads, &mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
-        let reactions = multibody.joint_reactions(&MotionState { q, u, udot: &udot }, &loads);
+        let udot = multibody.accelerations(q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
+        let reactions = multibody.joint_reactions(&MotionState { q, u, udot: &udot }, &applied.loads);
         values.push(time);
         for report in reports {
             values.extend(reported(&reactions[report.joint], report, &kinematics));

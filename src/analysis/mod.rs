@@ -22,7 +22,7 @@ pub use forward::{
 };
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
-pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, JointReactionError, JointReactionResult, JointReactionSettings, ReactionReport, ReactionSide};
+pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, JointReactionError, JointReactionResult, JointReactionSettings, ReactionProblem, ReactionReport, ReactionSide};
 pub use muscle_analysis::MuscleAnalysis;
 pub use physiological_inverse::{physiological_inverse, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings};
 pub use signal::{spline, Series, SignalError};

@@ -296,6 +296,61 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Joint reaction loads like OpenSim 4.6's JointReaction analysis (AnalyzeTool): along the
+    /// coordinates (filtered and differentiated as the AnalyzeTool does), every muscle and
+    /// actuator exerts its force from the forces file (e.g. static optimisation's _force.sto,
+    /// linearly interpolated), the accelerations are those the forces give with gravity and the
+    /// external loads (forward dynamics, locks and couplers enforced), and each joint's load on
+    /// its child (at the child frame origin) or parent (at the parent frame origin) is expressed
+    /// in ground or a body. Writes OpenSim's <NAME>_JointReaction_ReactionLoads.sto into DIR.
+    /// Exit 0 success, 2 error.
+    Reaction {
+        /// The model (.osim).
+        model: PathBuf,
+        /// Coordinate trajectories (.mot or .sto), e.g. an inverse kinematics result.
+        coordinates: PathBuf,
+        /// Each muscle's and actuator's force per time (.sto), a column per actuator by name;
+        /// overrides the setup's forces_file.
+        #[arg(long)]
+        forces: Option<PathBuf>,
+        /// An OpenSim AnalyzeTool setup with a JointReaction: its time range, cutoff, external
+        /// loads, force_set_files (replace_force_set), forces_file, joint_names, apply_on_bodies,
+        /// express_in_frame and step_interval are used.
+        #[arg(long)]
+        setup: Option<PathBuf>,
+        /// An OpenSim ExternalLoads file (.xml) with its datafile; overrides the setup's.
+        #[arg(long)]
+        external_loads: Option<PathBuf>,
+        /// ForceSet files of Coordinate-, Point- and TorqueActuators (residuals, reserves) added to
+        /// the model's muscles and actuators, comma separated; override the setup's.
+        #[arg(long, value_delimiter = ',')]
+        actuators: Vec<PathBuf>,
+        /// Time range in seconds (each end goes to the row at or before it).
+        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+        time: Option<Vec<f64>>,
+        /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
+        #[arg(long)]
+        lowpass: Option<f64>,
+        /// Record the first and last rows and every row whose index is a multiple of N.
+        #[arg(long)]
+        step_interval: Option<usize>,
+        /// Joints to report, comma separated (default: the setup's, else all).
+        #[arg(long, value_delimiter = ',')]
+        joints: Vec<String>,
+        /// child or parent: the body each load acts on, one for all joints or one per joint.
+        #[arg(long, value_delimiter = ',')]
+        on: Vec<String>,
+        /// ground, a body's name, child or parent: the frame each load is expressed in, one for
+        /// all joints or one per joint.
+        #[arg(long = "in", value_delimiter = ',')]
+        frames: Vec<String>,
+        /// Prefix of the output file (default: the setup's name, else the coordinates file's stem).
+        #[arg(long)]
+        name: Option<String>,
+        /// Output folder (created if needed).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Predicted activations against EMG by cross-correlation (the thesis' ch. 7 check of inverse
     /// simulations): per muscle, Pearson's r between the prediction at its rows and the EMG
     /// envelope linearly interpolated there, at zero lag and at the best lag up to --max-lag

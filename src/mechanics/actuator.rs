@@ -4,7 +4,7 @@
 //! reaction on another), projected on the coordinates' partial velocities.
 
 use super::error::MechanicsError;
-use super::inverse_dynamics::BodyLoad;
+use super::inverse_dynamics::{AppliedForces, BodyLoad};
 use super::kinematics::Kinematics;
 use super::multibody::{Multibody, GROUND_INDEX};
 use super::spatial::Vec3;
@@ -100,20 +100,20 @@ impl Actuator {
 
     /// What an actuation (N or N·m) applies in the pose `kinematics` holds: a body load
     /// (`PointActuator`, `TorqueActuator` — the torque on body A, its opposite on body B) pushed
-    /// to `loads`, or a mobility force (`CoordinateActuator`) added to `mobility`.
-    pub fn apply(&self, kinematics: &Kinematics, actuation: f64, loads: &mut Vec<BodyLoad>, mobility: &mut [f64]) {
+    /// to `applied`'s loads, or a mobility force (`CoordinateActuator`) added to its own.
+    pub fn apply(&self, kinematics: &Kinematics, actuation: f64, applied: &mut AppliedForces) {
         match self.action {
-            Action::Coordinate(coordinate) => mobility[coordinate] += actuation,
+            Action::Coordinate(coordinate) => applied.mobility[coordinate] += actuation,
             Action::Point { body, point, point_in_ground, direction, direction_in_ground } => {
                 let pose = &kinematics.bodies[body];
                 let point = if point_in_ground { point } else { pose.apply(&point) };
                 let direction = if direction_in_ground { direction } else { pose.rotation * direction };
-                loads.push(BodyLoad { body, force: actuation * direction, point, torque: Vec3::zeros() });
+                applied.loads.push(BodyLoad { body, force: actuation * direction, point, torque: Vec3::zeros() });
             }
             Action::Torque { body_a, body_b, axis, axis_in_ground } => {
                 let torque = actuation * if axis_in_ground { axis } else { kinematics.bodies[body_a].rotation * axis };
                 for (body, torque) in [(body_a, torque), (body_b, -torque)] {
-                    loads.push(BodyLoad { body, force: Vec3::zeros(), point: kinematics.bodies[body].translation, torque });
+                    applied.loads.push(BodyLoad { body, force: Vec3::zeros(), point: kinematics.bodies[body].translation, torque });
                 }
             }
         }
@@ -190,11 +190,11 @@ mod tests {
             let actuator = Actuator::new(&spec(kind), &multibody).unwrap();
             let mut unit = vec![0.0; q.len()];
             actuator.generalized_forces(&multibody, &kinematics, &mut unit);
-            let (mut loads, mut mobility) = (Vec::new(), vec![0.0; q.len()]);
-            actuator.apply(&kinematics, 3.0, &mut loads, &mut mobility);
-            let loaded = multibody.inverse_dynamics(&state, &loads);
+            let mut applied = AppliedForces::new(q.len());
+            actuator.apply(&kinematics, 3.0, &mut applied);
+            let loaded = multibody.inverse_dynamics(&state, &applied.loads);
             for c in 0..q.len() {
-                let applied = at_rest[c] - loaded[c] + mobility[c];
+                let applied = at_rest[c] - loaded[c] + applied.mobility[c];
                 assert!((applied - 3.0 * unit[c]).abs() < 1e-12, "{}: {applied} vs {}", multibody.coordinates[c].name, 3.0 * unit[c]);
             }
         }

@@ -26,6 +26,21 @@ pub struct BodyLoad {
     pub torque: Vec3,
 }
 
+/// What force elements apply in one pose: body loads, and mobility forces per coordinate
+/// (N·m or N, [`Multibody::coordinates`] order).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct AppliedForces {
+    pub loads: Vec<BodyLoad>,
+    pub mobility: Vec<f64>,
+}
+
+impl AppliedForces {
+    /// No loads and zero mobility forces on `coordinates` coordinates.
+    pub fn new(coordinates: usize) -> AppliedForces {
+        AppliedForces { loads: Vec::new(), mobility: vec![0.0; coordinates] }
+    }
+}
+
 /// The model's state of motion: coordinates (rad or m), Simbody's generalized speeds and their
 /// rates, each in [`Multibody::coordinates`] order.
 #[derive(Debug, Clone, Copy)]

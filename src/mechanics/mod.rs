@@ -30,7 +30,7 @@ pub use error::MechanicsError;
 pub use forward_dynamics::ForwardDynamicsError;
 pub use function::Function;
 pub use geometry::{MuscleGeometry, PathEvaluation};
-pub use inverse_dynamics::{BodyLoad, MotionState};
+pub use inverse_dynamics::{AppliedForces, BodyLoad, MotionState};
 pub use joint_reaction::JointReaction;
 pub use kinematics::{CoordinateAxis, Kinematics};
 pub use mobilizer::{Mobilizer, PartialVelocity, TransformAxis};

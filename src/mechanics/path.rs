@@ -8,7 +8,7 @@ use super::coupling;
 use super::error::MechanicsError;
 use super::function::Function;
 use super::kinematics::Kinematics;
-use super::inverse_dynamics::BodyLoad;
+use super::inverse_dynamics::{AppliedForces, BodyLoad};
 use super::multibody::Multibody;
 use super::spatial::{body_fixed_xyz, Transform, Vec3};
 use super::wrap_cylinder::Cylinder;
@@ -320,10 +320,9 @@ impl GeometryPath {
 
     /// The loads OpenSim's `GeometryPath::produceForces` applies for `tension` (N): at each
     /// active point next to a point on another body, the tension along each such segment, pulling
-    /// the point towards its neighbour (`loads`, in ground); and for a `MovingPathPoint` the work
-    /// of its motion in its frame, as a mobility force on the coordinate of its x location
-    /// (added to `mobility`, N·m or N per coordinate).
-    pub fn tension_loads(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, tension: f64, loads: &mut Vec<BodyLoad>, mobility: &mut [f64]) {
+    /// the point towards its neighbour (body loads, in ground); and for a `MovingPathPoint` the
+    /// work of its motion in its frame, as a mobility force on the coordinate of its x location.
+    pub fn tension_loads(&self, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, tension: f64, applied: &mut AppliedForces) {
         self.place_with_directions(kinematics, q, scratch);
         for (pair, d) in scratch.active.windows(2).zip(&scratch.directions) {
             let (from, to) = (&pair[0], &pair[1]);
@@ -331,11 +330,11 @@ impl GeometryPath {
                 continue;
             }
             let force = tension * d;
-            loads.push(BodyLoad { body: from.body, force, point: from.location, torque: Vec3::zeros() });
-            loads.push(BodyLoad { body: to.body, force: -force, point: to.location, torque: Vec3::zeros() });
+            applied.loads.push(BodyLoad { body: from.body, force, point: from.location, torque: Vec3::zeros() });
+            applied.loads.push(BodyLoad { body: to.body, force: -force, point: to.location, torque: Vec3::zeros() });
             for (point, sign) in [(from, 1.0), (to, -1.0)] {
                 if let Some((coordinate, rate)) = self.moving_point_rate(kinematics, q, point) {
-                    mobility[coordinate] += sign * rate.dot(&force);
+                    applied.mobility[coordinate] += sign * rate.dot(&force);
                 }
             }
         }
@@ -523,7 +522,7 @@ mod tests {
 
     use super::*;
     use crate::io::osim::OsimDocument;
-    use crate::mechanics::{MotionState, MuscleGeometry};
+    use crate::mechanics::{AppliedForces, MotionState, MuscleGeometry};
 
     /// The loads a tension applies do the work its moment arms say: their generalized forces
     /// (inverse dynamics at rest with and without them), plus the moving points' mobility
@@ -548,11 +547,11 @@ mod tests {
             for path in &geometry.paths {
                 let mut arms = vec![0.0; n];
                 path.moment_arms(multibody, &kinematics, &q, &mut scratch, &all, &mut arms);
-                let (mut loads, mut mobility) = (Vec::new(), vec![0.0; n]);
-                path.tension_loads(&kinematics, &q, &mut scratch, 100.0, &mut loads, &mut mobility);
-                let loaded = multibody.inverse_dynamics(&state, &loads);
+                let mut applied = AppliedForces::new(n);
+                path.tension_loads(&kinematics, &q, &mut scratch, 100.0, &mut applied);
+                let loaded = multibody.inverse_dynamics(&state, &applied.loads);
                 for c in 0..n {
-                    let applied = at_rest[c] - loaded[c] + mobility[c];
+                    let applied = at_rest[c] - loaded[c] + applied.mobility[c];
                     assert!((applied - 100.0 * arms[c]).abs() < 1e-10, "{file} {} about {}: {applied} vs {}", path.name, multibody.coordinates[c].name, 100.0 * arms[c]);
                 }
             }

@@ -1,4 +1,5 @@
-//! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with a `StaticOptimization` analysis, typed.
+//! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization` and `JointReaction`
+//! analyses, typed.
 
 use std::path::{Path, PathBuf};
 
@@ -37,6 +38,8 @@ pub struct AnalyzeSetup {
     pub lowpass_cutoff_frequency_for_coordinates: f64,
     /// The `StaticOptimization` analysis, if the set has one that is on.
     pub static_optimization: Option<StaticOptimizationSetup>,
+    /// The `JointReaction` analysis, if the set has one that is on.
+    pub joint_reaction: Option<JointReactionSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
     pub other_analyses: Vec<String>,
 }
@@ -54,6 +57,22 @@ pub struct StaticOptimizationSetup {
     pub use_muscle_physiology: bool,
 }
 
+/// OpenSim's `JointReaction` analysis properties.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct JointReactionSetup {
+    /// Records only every n-th state (default 1).
+    pub step_interval: usize,
+    /// The actuators' forces (e.g. static optimisation's `_force.sto`); OpenSim computes them
+    /// from the states without one, which osim-tune does not.
+    pub forces_file: Option<SetupPath>,
+    /// Joints to report, or `ALL` (default, when empty).
+    pub joint_names: Vec<String>,
+    /// `child` or `parent`, one for all or one per joint (default child).
+    pub apply_on_bodies: Vec<String>,
+    /// `ground`, a body, `child` or `parent`, one for all or one per joint (default ground).
+    pub express_in_frame: Vec<String>,
+}
+
 impl AnalyzeSetup {
     /// Reads the AnalyzeTool setup file `path`.
     pub fn read(path: &Path) -> Result<AnalyzeSetup, SetupError> {
@@ -65,7 +84,7 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());
-        let (static_optimization, other_analyses) = analyses(tool)?;
+        let Analyses { static_optimization, joint_reaction, others: other_analyses } = analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
@@ -80,33 +99,54 @@ impl AnalyzeSetup {
             external_loads_file: optional_path(tool, "external_loads_file", &directory),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             static_optimization,
+            joint_reaction,
             other_analyses,
         })
     }
 }
 
-/// The `StaticOptimization` that is on, and the classes of the other analyses.
-fn analyses(tool: ComponentReader) -> Result<(Option<StaticOptimizationSetup>, Vec<String>), SetupError> {
-    let Some(set) = tool.child("AnalysisSet") else { return Ok((None, Vec::new())) };
-    let mut static_optimization = None;
-    let mut others = Vec::new();
+/// The analyses of an `AnalysisSet` that are on.
+#[derive(Default)]
+struct Analyses {
+    static_optimization: Option<StaticOptimizationSetup>,
+    joint_reaction: Option<JointReactionSetup>,
+    /// Classes of the others (and of a second analysis of a class already read).
+    others: Vec<String>,
+}
+
+/// The first `StaticOptimization` and `JointReaction` that are on, and the classes of the other
+/// analyses; `directory` resolves the forces file.
+fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
+    let Some(set) = tool.child("AnalysisSet") else { return Ok(Analyses::default()) };
+    let mut found = Analyses::default();
     for element in tool.at(set).listed_objects(set) {
         let analysis = tool.at(element);
         if !analysis.boolean_or("on", true)? {
             continue;
         }
-        if analysis.class() == "StaticOptimization" && static_optimization.is_none() {
-            static_optimization = Some(StaticOptimizationSetup {
-                step_interval: checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1")? as usize,
-                use_model_force_set: analysis.boolean_or("use_model_force_set", true)?,
-                activation_exponent: checked_number_or(analysis, "activation_exponent", 2.0, |p| p >= 1.0, "a number ≥ 1")?,
-                use_muscle_physiology: analysis.boolean_or("use_muscle_physiology", true)?,
-            });
-        } else {
-            others.push(analysis.class().to_string());
+        let step_interval = || checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1").map(|n| n as usize);
+        match analysis.class() {
+            "StaticOptimization" if found.static_optimization.is_none() => {
+                found.static_optimization = Some(StaticOptimizationSetup {
+                    step_interval: step_interval()?,
+                    use_model_force_set: analysis.boolean_or("use_model_force_set", true)?,
+                    activation_exponent: checked_number_or(analysis, "activation_exponent", 2.0, |p| p >= 1.0, "a number ≥ 1")?,
+                    use_muscle_physiology: analysis.boolean_or("use_muscle_physiology", true)?,
+                });
+            }
+            "JointReaction" if found.joint_reaction.is_none() => {
+                found.joint_reaction = Some(JointReactionSetup {
+                    step_interval: step_interval()?,
+                    forces_file: optional_path(analysis, "forces_file", directory),
+                    joint_names: words(analysis, "joint_names"),
+                    apply_on_bodies: words(analysis, "apply_on_bodies"),
+                    express_in_frame: words(analysis, "express_in_frame"),
+                });
+            }
+            class => found.others.push(class.to_string()),
         }
     }
-    Ok((static_optimization, others))
+    Ok(found)
 }
 
 #[cfg(test)]
@@ -122,5 +162,27 @@ mod tests {
         let so = setup.static_optimization.unwrap();
         assert_eq!((so.step_interval, so.activation_exponent, so.use_muscle_physiology), (10, 2.0, true));
         assert_eq!((setup.initial_time, setup.final_time), (0.5, 2.0));
+        assert!(setup.joint_reaction.is_none());
+    }
+
+    #[test]
+    fn joint_reaction_properties_are_read() {
+        let xml = r#"<OpenSimDocument Version="40000"><AnalyzeTool name="walk"><AnalysisSet><objects>
+            <JointReaction name="JointReaction"><on>true</on><step_interval>2</step_interval>
+            <forces_file>results/walk_StaticOptimization_force.sto</forces_file>
+            <joint_names> knee_r hip_r</joint_names><apply_on_bodies>parent</apply_on_bodies>
+            <express_in_frame>child ground</express_in_frame></JointReaction>
+            <JointReaction name="second"><on>true</on></JointReaction>
+            </objects></AnalysisSet></AnalyzeTool></OpenSimDocument>"#;
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("setup.xml");
+        std::fs::write(&file, xml).unwrap();
+        let setup = AnalyzeSetup::read(&file).unwrap();
+        let reaction = setup.joint_reaction.unwrap();
+        assert_eq!(reaction.step_interval, 2);
+        assert_eq!(reaction.forces_file.unwrap().resolved, folder.path().join("results/walk_StaticOptimization_force.sto"));
+        assert_eq!(reaction.joint_names, ["knee_r", "hip_r"]);
+        assert_eq!((reaction.apply_on_bodies, reaction.express_in_frame), (vec!["parent".to_string()], vec!["child".to_string(), "ground".to_string()]));
+        assert_eq!(setup.other_analyses, ["JointReaction"]);
     }
 }

@@ -20,7 +20,7 @@ mod property;
 mod scale;
 mod time_range;
 
-pub use analyze::{AnalyzeSetup, StaticOptimizationSetup};
+pub use analyze::{AnalyzeSetup, JointReactionSetup, StaticOptimizationSetup};
 pub use error::SetupError;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};
 pub use ik::IkSetup;

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::geometry::Worst;
 use super::walk_dynamics::{muscles_and_actuators, static_optimization_cases, StaticOptimizationCase};
-use crate::analysis::{joint_reactions, reaction_reports, ActuatorForces, ExternalLoads, JointReactionSettings};
+use crate::analysis::{joint_reactions, reaction_reports, ActuatorForces, ExternalLoads, JointReactionSettings, ReactionProblem};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::model::ModelSpec;
@@ -64,7 +64,8 @@ impl JointReactionCase {
         let mut comparison = JointReactionComparison::default();
         for (k, (side, analysis)) in [("child", "JointReaction"), ("parent", "JointReactionParent")].into_iter().enumerate() {
             let reports = reaction_reports(&spec, &geometry.multibody, &[], &[side.to_string()], &[self.frames[k].to_string()], &forces_file)?;
-            let ours = joint_reactions(&geometry, &generators, &table, &coordinates, forces, loads.as_ref(), &reports, &settings)?.loads;
+            let problem = ReactionProblem { geometry: &geometry, generators: &generators, forces, external: loads.as_ref() };
+            let ours = joint_reactions(&problem, &table, &coordinates, &reports, &settings)?.loads;
             let golden = StorageTable::read(&root.join("fixtures/golden/joint_reaction").join(self.case).join(format!("{}_{analysis}_ReactionLoads.sto", self.case)))?;
             compare_tables(&ours, &golden, &mut comparison.loads[k], &mut comparison.points[k]);
         }

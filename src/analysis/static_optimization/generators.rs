@@ -4,7 +4,7 @@
 //! unit control in a state and the loads a force of it applies.
 
 use crate::mechanics::muscle::HillMuscle;
-use crate::mechanics::{Actuator, BodyLoad, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch};
+use crate::mechanics::{Actuator, AppliedForces, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch};
 use crate::model::{ActuatorSpec, ModelSpec, MuscleModelSpec};
 
 use super::StaticOptimizationError;
@@ -105,10 +105,10 @@ impl Generator {
     /// poses `kinematics` holds: a muscle's tension along its path
     /// ([`GeometryPath::tension_loads`](crate::mechanics::GeometryPath::tension_loads)), an
     /// actuator's actuation ([`Actuator::apply`]).
-    pub fn apply(&self, geometry: &MuscleGeometry, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, force: f64, loads: &mut Vec<BodyLoad>, mobility: &mut [f64]) {
+    pub fn apply(&self, geometry: &MuscleGeometry, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, force: f64, applied: &mut AppliedForces) {
         match &self.kind {
-            Kind::Muscle { path, .. } => geometry.paths[*path].tension_loads(kinematics, q, scratch, force, loads, mobility),
-            Kind::Actuator { actuator, .. } => actuator.apply(kinematics, force, loads, mobility),
+            Kind::Muscle { path, .. } => geometry.paths[*path].tension_loads(kinematics, q, scratch, force, applied),
+            Kind::Actuator { actuator, .. } => actuator.apply(kinematics, force, applied),
         }
     }
 

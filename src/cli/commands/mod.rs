@@ -1,6 +1,7 @@
 //! One file per command.
 
 mod analyze;
+mod analyze_inputs;
 mod axis;
 mod diff;
 mod emg;
@@ -9,6 +10,7 @@ mod forward;
 mod id;
 mod ik;
 mod info;
+mod reaction;
 mod scale;
 mod scale_functional;
 mod set;
@@ -48,6 +50,11 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let (time, pia) = (time.map(|t| [t[0], t[1]]), pia.map(Into::into));
             let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output };
             so::run(&model, &coordinates, &request)
+        }
+        Command::Reaction { model, coordinates, forces, setup, external_loads, actuators, time, lowpass, step_interval, joints, on, frames, name, output } => {
+            let time = time.map(|t| [t[0], t[1]]);
+            let request = reaction::Request { forces, setup, external_loads, actuators, time, lowpass, step_interval, joints, on, frames, name, output };
+            reaction::run(&model, &coordinates, &request)
         }
         Command::Ik { model, trial, setup, time, weights, output, errors } => {
             let time = time.map(|t| [t[0], t[1]]);

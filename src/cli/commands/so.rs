@@ -6,12 +6,13 @@ use crate::analysis::{
     generators, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError,
     StaticOptimizationResult, StaticOptimizationSettings,
 };
-use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
+use super::analyze_inputs::{actuator_files, external_loads, lowpass_cutoff, output_name, time_range};
+use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
-use crate::model::{read_force_set, ActuatorSpec, ModelSpec};
+use crate::model::ModelSpec;
 use crate::setup::{AnalyzeSetup, StaticOptimizationSetup};
 
 /// What the command line asks for besides the model and the coordinates.
@@ -37,12 +38,11 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let setup = request.setup.as_deref().map(AnalyzeSetup::read).transpose()?;
     let analysis = setup.as_ref().map(check_setup).transpose()?;
     let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
-    let (added, replace) = actuator_files(request, setup.as_ref(), &mut inputs)?;
+    let (added, replace) = actuator_files(&request.actuators, setup.as_ref(), &mut inputs)?;
     let generators = generators(&spec, &geometry, &added, replace)?;
-    let loads_file = request.external_loads.clone().or_else(|| setup.as_ref().and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
-    let loads = loads_file.as_deref().map(|file| read_external_loads(file, &geometry.multibody, &mut inputs)).transpose()?;
+    let loads = external_loads(request.external_loads.as_deref(), setup.as_ref(), &geometry.multibody, &mut inputs)?;
     let settings = settings(request, setup.as_ref(), analysis.as_ref())?;
-    let name = request.name.clone().or_else(|| setup.as_ref().map(|s| s.name.clone()).filter(|n| !n.is_empty())).unwrap_or_else(|| stem(coordinates));
+    let name = output_name(request.name.as_deref(), setup.as_ref(), coordinates);
     let table = StorageTable::read(coordinates)?;
     let problem = Problem { geometry: &geometry, generators: &generators, table: &table, coordinates, loads: loads.as_ref(), inputs: &inputs };
     match request.pia {
@@ -115,10 +115,6 @@ fn output_file(directory: &Path, name: &str, method: &str, kind: &str) -> PathBu
     directory.join(format!("{name}_{method}_{kind}.sto"))
 }
 
-fn stem(file: &Path) -> String {
-    file.file_stem().map_or_else(|| "static_optimization".into(), |s| s.to_string_lossy().into_owned())
-}
-
 /// The setup's StaticOptimization, refusing what osim-tune does not do.
 fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure> {
     let file = setup.file.display();
@@ -129,35 +125,23 @@ fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure>
     if !analysis.use_model_force_set {
         return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
     }
-    if !setup.other_analyses.is_empty() {
-        println!("not run (only StaticOptimization is): {}", setup.other_analyses.join(", "));
+    let mut others = setup.other_analyses.clone();
+    if setup.joint_reaction.is_some() {
+        others.push("JointReaction (run by osim-tune reaction)".into());
+    }
+    if !others.is_empty() {
+        println!("not run (only StaticOptimization is): {}", others.join(", "));
     }
     Ok(analysis)
 }
 
-/// The actuators of `--actuators` files, else of the setup's `force_set_files`, and whether they
-/// replace the model's forces (the setup's `replace_force_set`; never for `--actuators`).
-fn actuator_files(request: &Request, setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
-    let (files, replace): (Vec<PathBuf>, bool) = match setup {
-        Some(setup) if request.actuators.is_empty() => (setup.force_set_files.iter().map(|f| f.resolved.clone()).collect(), setup.replace_force_set && !setup.force_set_files.is_empty()),
-        _ => (request.actuators.clone(), false),
-    };
-    let mut actuators = Vec::new();
-    for file in files {
-        actuators.extend(read_force_set(&OsimDocument::read(&file)?)?);
-        inputs.push(file);
-    }
-    Ok((actuators, replace))
-}
-
 /// The command line's values, else the setup's, else all rows, unfiltered, every row.
 fn settings(request: &Request, setup: Option<&AnalyzeSetup>, analysis: Option<&StaticOptimizationSetup>) -> Result<StaticOptimizationSettings, Failure> {
-    check_time_and_cutoff(request.time, request.lowpass)?;
+    let time_range = time_range(request.time, request.lowpass, setup)?;
     if request.step_interval == Some(0) {
         return Err("--step-interval 0: expected a whole number ≥ 1".into());
     }
-    let time_range = request.time.or(setup.map(|s| [s.initial_time, s.final_time])).unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
-    let lowpass_cutoff = request.lowpass.or(setup.map(|s| s.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0));
+    let lowpass_cutoff = lowpass_cutoff(request.lowpass, setup);
     let step_interval = request.step_interval.or(analysis.map(|a| a.step_interval)).unwrap_or(1);
     let use_muscle_physiology = analysis.is_none_or(|a| a.use_muscle_physiology);
     let activation_exponent = request.activation_exponent.or(analysis.map(|a| a.activation_exponent)).unwrap_or(2.0);

@@ -1,0 +1,101 @@
+//! `osim-tune reaction MODEL COORDINATES [--forces F.sto] [--setup SETUP.xml] [--external-loads LOADS.xml] [--actuators F.xml,…] [--time START END] [--lowpass HZ] [--step-interval N] [--joints J,…] [--on child|parent,…] [--in FRAME,…] [--name NAME] -o DIR`
+
+use std::path::{Path, PathBuf};
+
+use super::analyze_inputs::{actuator_files, external_loads, lowpass_cutoff, output_name, time_range};
+use crate::analysis::{generators, joint_reactions, reaction_reports, ActuatorForces, JointReactionSettings, ReactionProblem};
+use crate::cli::{create_output_folders, Failure, Outcome};
+use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
+use crate::io::osim::OsimDocument;
+use crate::io::table::StorageTable;
+use crate::mechanics::MuscleGeometry;
+use crate::model::ModelSpec;
+use crate::setup::{AnalyzeSetup, JointReactionSetup};
+
+/// What the command line asks for besides the model and the coordinates.
+pub struct Request {
+    pub forces: Option<PathBuf>,
+    pub setup: Option<PathBuf>,
+    pub external_loads: Option<PathBuf>,
+    pub actuators: Vec<PathBuf>,
+    pub time: Option<[f64; 2]>,
+    pub lowpass: Option<f64>,
+    pub step_interval: Option<usize>,
+    pub joints: Vec<String>,
+    pub on: Vec<String>,
+    pub frames: Vec<String>,
+    pub name: Option<String>,
+    pub output: PathBuf,
+}
+
+pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcome, Failure> {
+    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
+    let geometry = MuscleGeometry::new(&spec)?;
+    let setup = request.setup.as_deref().map(AnalyzeSetup::read).transpose()?;
+    let analysis = setup.as_ref().map(check_setup).transpose()?;
+    let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
+    let (added, replace) = actuator_files(&request.actuators, setup.as_ref(), &mut inputs)?;
+    let generators = generators(&spec, &geometry, &added, replace)?;
+    let external = external_loads(request.external_loads.as_deref(), setup.as_ref(), &geometry.multibody, &mut inputs)?;
+    let forces_file = forces_file(request, analysis.as_ref())?;
+    inputs.push(forces_file.clone());
+    let forces_table = StorageTable::read(&forces_file)?;
+    let given = |cli: &[String], set: fn(&JointReactionSetup) -> &Vec<String>| if cli.is_empty() { analysis.as_ref().map(|a| set(a).clone()).unwrap_or_default() } else { cli.to_vec() };
+    let (joints, on, frames) = (given(&request.joints, |a| &a.joint_names), given(&request.on, |a| &a.apply_on_bodies), given(&request.frames, |a| &a.express_in_frame));
+    let where_given = request.setup.clone().unwrap_or_else(|| "the command line".into());
+    let reports = reaction_reports(&spec, &geometry.multibody, &joints, &on, &frames, &where_given)?;
+    if request.step_interval == Some(0) {
+        return Err("--step-interval 0: expected a whole number ≥ 1".into());
+    }
+    let settings = JointReactionSettings {
+        time_range: time_range(request.time, request.lowpass, setup.as_ref())?,
+        lowpass_cutoff: lowpass_cutoff(request.lowpass, setup.as_ref()),
+        step_interval: request.step_interval.or(analysis.as_ref().map(|a| a.step_interval)).unwrap_or(1),
+    };
+    let name = output_name(request.name.as_deref(), setup.as_ref(), coordinates);
+    let output = request.output.join(format!("{name}_JointReaction_ReactionLoads.sto"));
+    let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    ensure_not_an_input(&output, &input_paths)?;
+    let problem = ReactionProblem { geometry: &geometry, generators: &generators, forces: ActuatorForces { table: &forces_table, file: &forces_file }, external: external.as_ref() };
+    let result = joint_reactions(&problem, &StorageTable::read(coordinates)?, coordinates, &reports, &settings)?;
+    create_output_folders([output.as_path()])?;
+    write_all_atomically(&[(&output, result.loads.to_text().as_bytes())], &input_paths)?;
+    let times = result.loads.times();
+    if let (Some(first), Some(last)) = (times.first(), times.last()) {
+        println!("{} joint loads at {} frames of {} ({first:.4}–{last:.4} s) → {}", reports.len(), times.len(), coordinates.display(), output.display());
+    }
+    if !result.missing.is_empty() {
+        println!("held at 0 (not in the coordinates, as OpenSim does): {}", result.missing.join(", "));
+    }
+    if !result.ignored_columns.is_empty() {
+        println!("ignored (no coordinate of the model): {}", result.ignored_columns.join(", "));
+    }
+    if !result.unused_forces.is_empty() {
+        println!("ignored in {} (no actuator of the model): {}", forces_file.display(), result.unused_forces.join(", "));
+    }
+    Ok(Outcome::Success)
+}
+
+/// `--forces`, else the setup's `forces_file`.
+fn forces_file(request: &Request, analysis: Option<&JointReactionSetup>) -> Result<PathBuf, Failure> {
+    request.forces.clone().or_else(|| analysis.and_then(|a| a.forces_file.as_ref()).map(|f| f.resolved.clone())).ok_or_else(|| {
+        "no forces file: give --forces (e.g. static optimisation's _force.sto) or a setup whose JointReaction names forces_file; osim-tune does not compute actuator forces from muscle states".into()
+    })
+}
+
+/// The setup's JointReaction, refusing what osim-tune does not do.
+fn check_setup(setup: &AnalyzeSetup) -> Result<JointReactionSetup, Failure> {
+    let file = setup.file.display();
+    let analysis = setup.joint_reaction.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no JointReaction that is on"))?;
+    if let Some(states) = &setup.states_or_speeds_file {
+        return Err(format!("{file}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", states.written).into());
+    }
+    let mut others = setup.other_analyses.clone();
+    if setup.static_optimization.is_some() {
+        others.push("StaticOptimization (run by osim-tune so)".into());
+    }
+    if !others.is_empty() {
+        println!("not run (only JointReaction is): {}", others.join(", "));
+    }
+    Ok(analysis)
+}
