@@ -4,7 +4,8 @@
 //! `../shared/reference` or `$OSIM_TUNE_REFERENCE` has the pipeline goldens, else the fixture
 //! slice), and the physiological inverse approach on the walk against static optimisation and
 //! first principles (OpenSim has none), and muscle-driven forward simulation along prescribed
-//! kinematics against OpenSim 4.6's integration of the same prescribed model.
+//! kinematics against OpenSim 4.6's integration of the same prescribed model, and joint reactions
+//! against OpenSim 4.6's JointReaction analysis.
 
 use std::path::PathBuf;
 
@@ -14,7 +15,8 @@ use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
 use osim_tune::validation::{
-    compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, ForwardCase, StaticOptimizationCase, Subject01Walk, FORWARD_CASES,
+    compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, ForwardCase, JointReactionCase, StaticOptimizationCase, Subject01Walk, FORWARD_CASES,
+    JOINT_REACTION_CASES,
 };
 
 use crate::root;
@@ -40,7 +42,25 @@ pub fn rows() -> Vec<Row> {
         Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
     }
     rows.extend(FORWARD_CASES.iter().flat_map(forward));
+    rows.extend(JOINT_REACTION_CASES.iter().flat_map(joint_reaction));
     rows
+}
+
+/// Every joint's load on its child and on its parent, driven by OpenSim's static optimisation
+/// forces; each case's bounds are OpenSim's assembly (see `JOINT_REACTION_CASES`).
+fn joint_reaction(case: &JointReactionCase) -> Vec<Row> {
+    let reference = "OpenSim 4.6 JointReaction";
+    match case.compare(&root()) {
+        Ok(c) => ["child", "parent"]
+            .iter()
+            .enumerate()
+            .flat_map(|(k, side)| {
+                [(&c.loads[k], case.load, "force, moment (N, N·m)"), (&c.points[k], case.point, "point (m)")]
+                    .map(|(w, tolerance, what)| Row { what: format!("joint reaction, {} on {side}: {what}", case.case), reference: reference.into(), worst: w.error, tolerance, at: w.at.clone() })
+            })
+            .collect(),
+        Err(error) => vec![failed(&format!("joint reaction, {}", case.case), reference, error.to_string())],
+    }
 }
 
 /// States, tendon forces and generalized forces of a forward simulation at accuracy 1e-12;
