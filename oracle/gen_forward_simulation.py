@@ -3,7 +3,9 @@
 of a model whose every coordinate follows a prescribed motion, its muscles driven by prescribed
 excitations.
 
-    python3 oracle/gen_forward_simulation.py
+    python3 oracle/gen_forward_simulation.py [case ...]
+
+With no argument every case below is generated; naming cases generates only those.
 
 Each case writes fixtures/golden/forward/<case>/ with the inputs it used, so a test can rebuild
 them from the folder alone, and OpenSim's result:
@@ -56,6 +58,15 @@ Cases:
   paths there moving by at most 1.4 µm jumps); excitations at the same 101 times, muscle
   k = 0, 1, … (ForceSet order) u = 0.4 + 0.3 sin(2π(1 + 0.25k)t + k); report times
   0, 0.01, …, 1.
+* `arm26_degroote` — arm26 with its muscles replaced by DeGrooteFregly2016Muscles
+  (`DeGrooteFregly2016Muscle.replaceMuscles`: F_max, L_opt, L_ts, pennation, v_max and the time
+  constants τ_a = 0.01 s, τ_d = 0.04 s kept; compliant tendons in OpenSim's default explicit mode,
+  whose state is the normalized tendon force; fiber damping 0; activation_dynamics_smoothing
+  0.1), written to fixtures/models/arm26_degroote.osim; arm26's motion, excitations and report
+  times. OpenSim 4.6 reads a DeGroote muscle's τ_a, τ_d and smoothing into function-local
+  statics, so all its DeGroote muscles use the first one's: the script checks they are equal.
+  Its equilibrateMuscles bisects the normalized tendon force (to 1e-10) for the implicit
+  residual with the path's lengthening speed and a zero tendon-force derivative.
 * `gait2392_millard` — models/gait2392_millard2012muscle.osim (the generic, unscaled gait2392 with
   92 Millard2012EquilibriumMuscles, compliant tendons, fiber damping 0.1); the subject01 walk's IK
   golden (fixtures/golden/ik/subject01_walk1_ik.mot, all 23 coordinates, ≈60 Hz), only its rows
@@ -95,6 +106,7 @@ balance there: the pelvis rotations' muscle moments reach 0.34 N·m (the transla
 rounding, < 3e-13).
 """
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -155,6 +167,23 @@ def arm26_inputs(folder):
     excitations = [[0.4 + 0.3 * math.sin(2 * math.pi * (1 + 0.25 * k) * t + k) for t in times] for k in range(len(muscles))]
     write_table(folder / "excitations.sto", "arm26_excitations", muscles, times, excitations, False)
     return times
+
+
+def arm26_degroote_model():
+    """arm26 with DeGroote–Fregly muscles, printed to fixtures/models/arm26_degroote.osim."""
+    model = osim.Model(str(REPO / "fixtures" / "models" / "arm26.osim"))
+    osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
+    model.setName("arm26_degroote")
+    model.finalizeConnections()
+    muscles = model.getMuscles()
+    constants = set()
+    for i in range(muscles.getSize()):
+        muscle = osim.DeGrooteFregly2016Muscle.safeDownCast(muscles.get(i))
+        constants.add((muscle.get_activation_time_constant(), muscle.get_deactivation_time_constant(), muscle.get_activation_dynamics_smoothing()))
+    assert len(constants) == 1, f"OpenSim would use the first muscle's time constants for all: {constants}"
+    path = REPO / "fixtures" / "models" / "arm26_degroote.osim"
+    model.printToXML(str(path))
+    return path
 
 
 def gait_inputs(folder, start=0.1, length=0.3):
@@ -388,12 +417,23 @@ def run(case, model_path, inputs):
           f"differences from {ACCURACY:g}: " + ", ".join(f"{k} {v:.3g}" for k, v in differences.items()))
 
 
-def main():
+CASES = {
+    "arm26": (lambda: REPO / "fixtures" / "models" / "arm26.osim", arm26_inputs),
+    "arm26_degroote": (arm26_degroote_model, arm26_inputs),
+    "gait2392_millard": (lambda: REPO / "models" / "gait2392_millard2012muscle.osim", gait_inputs),
+    "rajagopal": (lambda: RAJAGOPAL, rajagopal_inputs),
+}
+
+
+def main(cases):
+    unknown = [c for c in cases if c not in CASES]
+    if unknown:
+        raise SystemExit(f"unknown case(s) {unknown}; cases: {list(CASES)}")
     osim.Logger.setLevelString("warn")  # the Manager's per-call summaries; warnings still show
-    run("arm26", REPO / "fixtures" / "models" / "arm26.osim", arm26_inputs)
-    run("gait2392_millard", REPO / "models" / "gait2392_millard2012muscle.osim", gait_inputs)
-    run("rajagopal", RAJAGOPAL, rajagopal_inputs)
+    for case in cases or CASES:
+        model, inputs = CASES[case]
+        run(case, model(), inputs)
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -11,6 +11,7 @@ use common::osim_tune;
 use osim_tune::analysis::{driven_muscles, simulate, Activations, ForwardOutputs, ForwardSettings, InitialStates, PrescribedMotion};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
+use osim_tune::mechanics::muscle::ActivationDynamics;
 use osim_tune::mechanics::MuscleGeometry;
 use osim_tune::model::ModelSpec;
 use osim_tune::validation::{compare_forward, FORWARD_CASES};
@@ -35,7 +36,9 @@ fn arm26_case() -> (PathBuf, PathBuf) {
 /// integration error (each case's bounds, `FORWARD_CASES`; found: activation 4.0e-9 / 3.6e-8 /
 /// 3.5e-7, fiber length 3.0e-9 / 2.4e-9 / 1.4e-8 m for arm26 / gait2392 / Rajagopal2016), tendon
 /// forces within 2.6e-6 / 1.1e-5 / 2.5e-6 of max(1 N, |F|) — rigid tendons included — and the
-/// muscles' generalized forces within 8.4e-6 / 1.2e-6 / 1.0e-5 of max(1, |τ|).
+/// muscles' generalized forces within 8.4e-6 / 1.2e-6 / 1.0e-5 of max(1, |τ|). arm26 with
+/// DeGroote muscles: fiber length 1.5e-12 m, tendon force 4.8e-9, activation 2.2e-10 — our own
+/// integration error there, 8.1e-12 at accuracy 1e-14.
 #[test]
 fn states_follow_opensims_integration() {
     for case in &FORWARD_CASES {
@@ -54,8 +57,9 @@ fn states_follow_opensims_integration() {
 
 /// From our own start — OpenSim's `equilibrateMuscles` replicated: the static equilibrium for
 /// Millard muscles, `initMuscleState`'s sharing of the path's speed for Thelen ones (arm26's
-/// start agrees to 1e-16 m) — the simulation follows OpenSim's within the same bounds as from
-/// OpenSim's own first states (found 3.0e-9, 3.7e-9 and 1.2e-8 m in fiber length).
+/// start agrees to 1e-16 m), the bisection for DeGroote's normalized tendon force — the
+/// simulation follows OpenSim's within the same bounds as from OpenSim's own first states (found
+/// 3.0e-9, 3.7e-9 and 1.2e-8 m in fiber length; DeGroote 4.0e-12 m).
 #[test]
 fn our_start_is_opensims() {
     for case in &FORWARD_CASES {
@@ -134,7 +138,8 @@ fn activation_follows_the_closed_form_of_the_first_order_law() {
     let times: Vec<f64> = (0..=20).map(|k| k as f64 * 0.01).collect();
     let outputs = ForwardOutputs::new(&arm.geometry, &muscles, &motion, &trajectory, &times);
     for (k, muscle) in muscles.iter().enumerate() {
-        let tau = muscle.activation.unwrap().activation_time_constant;
+        let Some(ActivationDynamics::FirstOrder(dynamics)) = muscle.activation else { panic!("{}: Thelen muscles have first-order dynamics", muscle.name) };
+        let tau = dynamics.activation_time_constant;
         for (row, &t) in times.iter().enumerate().skip(1) {
             let a = outputs.activations[row][k];
             let t_of_a = tau * (2.0 * ((1.0 - a0) / (1.0 - a)).ln() - 1.5 * (a - a0));
@@ -170,6 +175,27 @@ fn the_command_writes_states_and_compares_with_inverse_dynamics() {
     let fields: Vec<f64> = line.split_whitespace().skip(1).map(|f| f.parse().unwrap()).collect();
     assert_eq!((fields[0], fields[2]), (0.0, 0.0), "{line}");
     assert!(fields[1] > 1.0, "{line}");
+}
+
+/// A DeGroote muscle's second state is OpenSim's `normalized_tendon_force`: its tendon force
+/// over F_max.
+#[test]
+fn degroote_states_are_normalized_tendon_forces() {
+    let folder = tempfile::tempdir().unwrap();
+    let case = path("fixtures/golden/forward/arm26_degroote");
+    let (motion, excitations) = (case.join("motion.mot"), case.join("excitations.sto"));
+    let out = folder.path().join("out");
+    let model = path("fixtures/models/arm26_degroote.osim");
+    let (code, stdout, stderr) = osim_tune(&["forward", s(&model), s(&motion), "--excitations", s(&excitations), "--time", "0.2", "0.4", "--name", "arm", "-o", s(&out)]);
+    assert_eq!(code, 0, "{stderr}");
+    let states = StorageTable::read(&out.join("arm_states.sto")).unwrap();
+    let forces = StorageTable::read(&out.join("arm_tendon_force.sto")).unwrap();
+    let normalized = states.column("/forceset/BRA/normalized_tendon_force").unwrap_or_else(|| panic!("{:?} {stdout}", states.labels()));
+    let force = forces.column("BRA").unwrap();
+    // BRA's F_max in arm26: 987.26 N.
+    for (f, n) in force.iter().zip(&normalized) {
+        assert!((f / 987.26 - n).abs() < 1e-12 && *n > 0.0, "{f} N against {n}");
+    }
 }
 
 /// Bad input is refused (exit 2) with the file and what was expected, and nothing is written.
@@ -235,3 +261,4 @@ fn a_rigid_tendon_across_a_ball_joint_is_refused() {
     assert!(code == 2 && stderr.contains("muscle hip_knee") && stderr.contains("BallJoint"), "{stderr}");
     assert!(!out.exists());
 }
+

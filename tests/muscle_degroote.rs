@@ -196,6 +196,7 @@ fn class(active_force_width_scale: f64, passive_strain: f64, tendon_strain: f64)
         tendon_compliance_dynamics_mode: "explicit".into(),
         activation_time_constant: 0.015,
         deactivation_time_constant: 0.060,
+        activation_dynamics_smoothing: 0.1,
     }
 }
 

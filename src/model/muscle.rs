@@ -132,6 +132,9 @@ pub struct DeGrooteSpec {
     pub activation_time_constant: f64,
     /// τ_d, `deactivation_time_constant`, s.
     pub deactivation_time_constant: f64,
+    /// b of the activation dynamics' tanh switch between τ_a and τ_d
+    /// (`activation_dynamics_smoothing`).
+    pub activation_dynamics_smoothing: f64,
 }
 
 /// The muscle classes with mechanics in osim-tune.
@@ -306,6 +309,7 @@ impl DeGrooteSpec {
                 .unwrap_or_else(|| "explicit".into()),
             activation_time_constant,
             deactivation_time_constant,
+            activation_dynamics_smoothing: reader.number_or("activation_dynamics_smoothing", 0.1)?,
         })
     }
 }

@@ -1,5 +1,6 @@
 //! `cargo xtask bench`, forward simulation: each golden case of `fixtures/golden/forward/`
-//! (arm26, gait2392 with 92 Millard muscles, Rajagopal2016 with 80) integrated at accuracy
+//! (arm26 with Thelen and with DeGroote muscles, gait2392 with 92 Millard muscles, Rajagopal2016
+//! with 80) integrated at accuracy
 //! 1e-10 and read at its report times, beside OpenSim 4.6 doing the same through its Python
 //! bindings (`oracle/bench_forward.py`; its time includes the muscle moments it reports).
 

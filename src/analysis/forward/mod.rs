@@ -2,10 +2,13 @@
 //! simulation (ch. 7) and what OpenSim integrates for a model whose coordinates are all
 //! prescribed and whose muscles a `PrescribedController` excites.
 //!
-//! Each driven muscle has two states: its activation a, which follows first-order dynamics
-//! from the excitation u(t) ([`FirstOrderActivation`]), and its fiber length L_m, which moves
-//! at the velocity that balances fiber and tendon (`HillMuscle::fiber_velocity`) — unless its
-//! tendon is rigid: then the fiber follows the path and its force depends on the path's speed. The path
+//! Each driven muscle has two states: its activation a, which follows its class's activation
+//! dynamics from the excitation u(t) ([`ActivationDynamics`]), and its fiber length L_m, which
+//! moves at the velocity that balances fiber and tendon (`HillMuscle::fiber_velocity`) — unless
+//! its tendon is rigid: then the fiber follows the path and its force depends on the path's
+//! speed. A compliant DeGroote–Fregly muscle's second state is, as in OpenSim, its normalized
+//! tendon force f̃_T, whose rate takes the path's lengthening speed (OpenSim's, which over wrap
+//! objects is not the exact dL/dt, so integrating L_m instead would drift from OpenSim). The path
 //! length comes from the pose q(t) ([`PrescribedMotion`]). The states are integrated by a
 //! Dormand–Prince 5(4) method with error control (crate `ode_solvers`), relative and absolute
 //! tolerance `accuracy` per state, and read at the report times from its dense output. The
@@ -25,7 +28,7 @@ use ode_solvers::continuous_output_model::ContinuousOutputModel;
 use ode_solvers::{DVector, Dopri5};
 
 use super::Activations;
-use crate::mechanics::muscle::{FirstOrderActivation, HillMuscle, MuscleError};
+use crate::mechanics::muscle::{ActivationDynamics, DeGrooteFregly2016Muscle, HillMuscle, MuscleError};
 use crate::mechanics::{Mobilizer, MuscleGeometry, PathEvaluation};
 use crate::model::ModelSpec;
 use system::MuscleDynamics;
@@ -61,9 +64,20 @@ pub struct DrivenMuscle {
     pub muscle: HillMuscle,
     /// The activation dynamics; `None` when the activation is the excitation itself (OpenSim's
     /// `ignore_activation_dynamics`).
-    pub activation: Option<FirstOrderActivation>,
+    pub activation: Option<ActivationDynamics>,
     /// Index into [`MuscleGeometry::paths`].
     pub path: usize,
+}
+
+impl DrivenMuscle {
+    /// The muscle whose second state is its normalized tendon force (a compliant DeGroote
+    /// muscle), else `None` (the state is the fiber length).
+    pub fn tendon_force_state(&self) -> Option<&DeGrooteFregly2016Muscle> {
+        match &self.muscle {
+            HillMuscle::DeGroote(m) if !m.ignore_tendon_compliance => Some(m),
+            _ => None,
+        }
+    }
 }
 
 /// The muscles of `spec` named in `names` (those that apply force and have a path; a rigid
@@ -76,8 +90,15 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
     for force in spec.muscles().filter(|f| f.applies_force && names.contains(&f.name)) {
         let muscle = HillMuscle::from_force(force).map_err(|e| refuse(&force.name, &e.to_string()))?;
         let properties = force.muscle.as_ref().ok_or_else(|| refuse(&force.name, "no muscle properties"))?;
-        let dynamics = FirstOrderActivation::of(properties, muscle.minimum_activation())
-            .ok_or_else(|| refuse(&force.name, "DeGrooteFregly2016Muscle: its activation dynamics and tendon-force state are not simulated here"))?;
+        if let crate::model::MuscleModelSpec::DeGrooteFregly2016(class) = &properties.model {
+            if properties.ignore_tendon_compliance {
+                return Err(refuse(&force.name, "a DeGrooteFregly2016Muscle with a rigid tendon is not simulated here"));
+            }
+            if class.tendon_compliance_dynamics_mode != "explicit" {
+                return Err(refuse(&force.name, "tendon_compliance_dynamics_mode implicit: its tendon-force derivative is a control of a direct collocation problem, not a forward simulation state; use explicit"));
+            }
+        }
+        let dynamics = ActivationDynamics::of(properties, muscle.minimum_activation());
         let activation = Some(dynamics).filter(|_| !(activations_given || properties.ignore_activation_dynamics));
         let path = geometry.path_index(&force.name).ok_or_else(|| refuse(&force.name, "no geometry path"))?;
         if muscle.has_rigid_tendon() && geometry.paths[path].loaded.iter().any(|&c| angular_velocity_speeds(geometry, c)) {
@@ -99,9 +120,10 @@ fn angular_velocity_speeds(geometry: &MuscleGeometry, c: usize) -> bool {
 #[derive(Debug, Clone)]
 pub enum InitialStates {
     /// a = u(t₀) (clamped to [a_min, 1]) and the fiber length OpenSim's `equilibrateMuscles`
-    /// gives it at t₀ (`HillMuscle::initial_fiber_length`).
+    /// gives it at t₀ (`HillMuscle::initial_fiber_length`; a DeGroote muscle's normalized tendon
+    /// force by its bisection).
     Equilibrium,
-    /// [a, L_m (m)] per driven muscle.
+    /// [a, L_m (m)] per driven muscle (a DeGroote muscle's f̃_T follows from L_m).
     Given(Vec<[f64; 2]>),
 }
 
@@ -115,8 +137,9 @@ pub struct ForwardSettings {
     pub initial: InitialStates,
 }
 
-/// The integrated states: [a…, L_m…] at any time of the range (a muscle without activation
-/// dynamics keeps its initial a there; its activation is its excitation).
+/// The integrated states: [a…, s…] at any time of the range, s the fiber length L_m (m) or a
+/// DeGroote muscle's f̃_T (a muscle without activation dynamics keeps its initial a there; its
+/// activation is its excitation).
 pub struct Trajectory {
     pub range: [f64; 2],
     pub muscles: usize,
@@ -131,7 +154,8 @@ pub struct Trajectory {
 }
 
 impl Trajectory {
-    /// The activations and fiber lengths (m) of the muscles at `time` (s), inside the range.
+    /// The activations and second states (L_m in m, or f̃_T) of the muscles at `time` (s),
+    /// inside the range.
     pub fn states(&self, time: f64) -> (Vec<f64>, Vec<f64>) {
         // The output model covers [0, its last step's end], which rounding may leave a hair off
         // end − start; `simulate` made at least one step.
@@ -195,28 +219,33 @@ fn integration_time(error: &ode_solvers::dop_shared::IntegrationError) -> f64 {
     }
 }
 
-/// [a…, L_m…] at the start.
+/// [a…, s…] at the start.
 fn initial_states(geometry: &MuscleGeometry, muscles: &[DrivenMuscle], motion: &PrescribedMotion, excitations: &Activations, settings: &ForwardSettings) -> Result<Vec<f64>, ForwardError> {
     let start = settings.range[0];
-    let pairs: Vec<[f64; 2]> = match &settings.initial {
-        InitialStates::Given(states) => states.clone(),
-        InitialStates::Equilibrium => {
-            let coordinates = geometry.multibody.coordinates.len();
-            let (mut q, mut speeds) = (vec![0.0; coordinates], vec![0.0; coordinates]);
-            motion.pose(start, &mut q);
-            motion.speeds(start, &q, &mut speeds);
-            let mut paths = PathEvaluation::loading(geometry, &muscles.iter().map(|m| m.path).collect::<Vec<_>>());
-            paths.evaluate_moving(geometry, &q, Some(&speeds));
-            muscles
-                .iter()
-                .enumerate()
-                .map(|(k, m)| {
+    let coordinates = geometry.multibody.coordinates.len();
+    let (mut q, mut speeds) = (vec![0.0; coordinates], vec![0.0; coordinates]);
+    motion.pose(start, &mut q);
+    motion.speeds(start, &q, &mut speeds);
+    let mut paths = PathEvaluation::loading(geometry, &muscles.iter().map(|m| m.path).collect::<Vec<_>>());
+    paths.evaluate_moving(geometry, &q, Some(&speeds));
+    let pairs: Vec<[f64; 2]> = muscles
+        .iter()
+        .enumerate()
+        .map(|(k, m)| {
+            let (length, speed) = (paths.length(k), paths.lengthening_speed(k));
+            match (&settings.initial, m.tendon_force_state()) {
+                (InitialStates::Given(states), None) => Ok(states[k]),
+                (InitialStates::Given(states), Some(d)) => Ok([states[k][0], d.tendon_force(states[k][1], length) / d.max_isometric_force()]),
+                (InitialStates::Equilibrium, state) => {
                     let a = excitations.at(k, start).clamp(m.muscle.minimum_activation(), 1.0);
-                    let fiber_length = m.muscle.initial_fiber_length(a, paths.length(k), paths.lengthening_speed(k));
-                    Ok([a, fiber_length.map_err(|source| ForwardError::InitialEquilibrium { muscle: m.name.clone(), time: start, source })?])
-                })
-                .collect::<Result<_, ForwardError>>()?
-        }
-    };
+                    let second = match state {
+                        Some(d) => d.initial_normalized_tendon_force(a, length, speed),
+                        None => m.muscle.initial_fiber_length(a, length, speed),
+                    };
+                    Ok([a, second.map_err(|source| ForwardError::InitialEquilibrium { muscle: m.name.clone(), time: start, source })?])
+                }
+            }
+        })
+        .collect::<Result<_, ForwardError>>()?;
     Ok(pairs.iter().map(|p| p[0]).chain(pairs.iter().map(|p| p[1])).collect())
 }

@@ -23,6 +23,9 @@ pub struct ForwardOutputs {
     pub fiber_lengths: Vec<Vec<f64>>,
     /// Per row, per muscle, N.
     pub tendon_forces: Vec<Vec<f64>>,
+    /// Per muscle: F_max (N) when its state is the normalized tendon force (compliant
+    /// DeGroote muscles), else `None` (its state is the fiber length).
+    pub normalized_tendon_force_scales: Vec<Option<f64>>,
     /// `<coordinate>_moment` or `_force` for each coordinate a driven muscle's tension loads
     /// (`GeometryPath::loaded`; no coupler's dependent), model order.
     pub labels: Vec<String>,
@@ -59,6 +62,7 @@ impl ForwardOutputs {
             activations: Vec::new(),
             fiber_lengths: Vec::new(),
             tendon_forces: Vec::new(),
+            normalized_tendon_force_scales: muscles.iter().map(|m| m.tendon_force_state().map(|d| d.max_isometric_force())).collect(),
             labels: reported.iter().map(|&c| label(multibody, c)).collect(),
             generalized_forces: Vec::new(),
         };
@@ -70,10 +74,15 @@ impl ForwardOutputs {
             let mut forces = vec![0.0; muscles.len()];
             for (k, m) in muscles.iter().enumerate() {
                 let length = evaluation.length(k);
+                if let Some(d) = m.tendon_force_state() {
+                    let normalized_force = fiber_lengths[k];
+                    (fiber_lengths[k], forces[k]) = (d.fiber_length_at(length, normalized_force), d.max_isometric_force() * normalized_force);
+                    continue;
+                }
                 let rigid = m.muscle.rigid_tendon_state(activations[k], length, evaluation.lengthening_speed(k));
                 match rigid {
                     Some((fiber_length, force)) => (fiber_lengths[k], forces[k]) = (fiber_length, force),
-                    None => forces[k] = m.muscle.tendon_force(fiber_lengths[k], length).unwrap_or(f64::NAN),
+                    None => forces[k] = m.muscle.tendon_force(fiber_lengths[k], length),
                 }
             }
             let mut generalized = vec![0.0; multibody.coordinates.len()];
@@ -90,10 +99,16 @@ impl ForwardOutputs {
         outputs
     }
 
-    /// OpenSim's states table: `/forceset/<muscle>/activation` and `/forceset/<muscle>/fiber_length`.
+    /// OpenSim's states table: `/forceset/<muscle>/activation`, then `/forceset/<muscle>/fiber_length`
+    /// (m) or, for a compliant DeGroote muscle, `/forceset/<muscle>/normalized_tendon_force`.
     pub fn states_table(&self, name: &str) -> Result<StorageTable, TableError> {
-        let labels = self.muscles.iter().map(|m| format!("/forceset/{m}/activation")).chain(self.muscles.iter().map(|m| format!("/forceset/{m}/fiber_length")));
-        let rows = self.activations.iter().zip(&self.fiber_lengths).map(|(a, l)| a.iter().chain(l).copied().collect());
+        let scales = &self.normalized_tendon_force_scales;
+        let second = |m: &String, scale: &Option<f64>| format!("/forceset/{m}/{}", if scale.is_some() { "normalized_tendon_force" } else { "fiber_length" });
+        let labels = self.muscles.iter().map(|m| format!("/forceset/{m}/activation")).chain(self.muscles.iter().zip(scales).map(|(m, s)| second(m, s)));
+        let rows = (0..self.times.len()).map(|i| {
+            let states = scales.iter().enumerate().map(|(k, scale)| scale.map_or(self.fiber_lengths[i][k], |f_max| self.tendon_forces[i][k] / f_max));
+            self.activations[i].iter().copied().chain(states).collect()
+        });
         self.table(name, labels, rows)
     }
 

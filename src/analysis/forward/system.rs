@@ -1,7 +1,8 @@
 //! The right-hand side of the muscle states: ȧ from the activation dynamics, L̇_m from the
 //! fiber–tendon balance at the path length of the prescribed pose (0 for a rigid tendon, whose
-//! fiber length is no state). Time runs from 0 at the
-//! simulation's start (the integrator's output model assumes non-negative times).
+//! fiber length is no state), or a DeGroote muscle's df̃_T/dt, which also takes the path's
+//! lengthening speed at the prescribed speeds. Time runs from 0 at the simulation's start (the
+//! integrator's output model assumes non-negative times).
 
 use std::cell::RefCell;
 
@@ -15,6 +16,9 @@ use crate::mechanics::{Kinematics, MuscleGeometry, PathScratch};
 /// The pose buffers one evaluation needs.
 struct Buffers {
     q: Vec<f64>,
+    /// Generalized speeds (for the DeGroote muscles' path speeds).
+    u: Vec<f64>,
+    moment_arms: Vec<f64>,
     kinematics: Kinematics,
     scratch: PathScratch,
 }
@@ -42,7 +46,8 @@ impl<'a> MuscleDynamics<'a> {
         failure: &'a RefCell<Option<(f64, MuscleError)>>,
     ) -> MuscleDynamics<'a> {
         let multibody = &geometry.multibody;
-        let buffers = Buffers { q: vec![0.0; multibody.coordinates.len()], kinematics: multibody.kinematics(), scratch: PathScratch::default() };
+        let n = multibody.coordinates.len();
+        let buffers = Buffers { q: vec![0.0; n], u: vec![0.0; n], moment_arms: vec![0.0; n], kinematics: multibody.kinematics(), scratch: PathScratch::default() };
         MuscleDynamics { geometry, muscles, motion, excitations, start, buffers: RefCell::new(buffers), failure }
     }
 }
@@ -52,9 +57,13 @@ impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
         let time = self.start + x;
         let n = self.muscles.len();
         let mut buffers = self.buffers.borrow_mut();
-        let Buffers { q, kinematics, scratch } = &mut *buffers;
+        let Buffers { q, u, moment_arms, kinematics, scratch } = &mut *buffers;
+        let multibody = &self.geometry.multibody;
         self.motion.pose(time, q);
-        self.geometry.multibody.realize(q, kinematics);
+        multibody.realize(q, kinematics);
+        if self.muscles.iter().any(|m| m.tendon_force_state().is_some()) {
+            self.motion.speeds(time, q, u);
+        }
         for (k, muscle) in self.muscles.iter().enumerate() {
             let excitation = self.excitations.at(k, time);
             let (activation, fiber_length) = match &muscle.activation {
@@ -71,7 +80,14 @@ impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
                 dy[n + k] = 0.0;
                 continue;
             }
-            let length = self.geometry.paths[muscle.path].length(kinematics, q, scratch);
+            let path = &self.geometry.paths[muscle.path];
+            if let Some(degroote) = muscle.tendon_force_state() {
+                let length = path.moment_arms(multibody, kinematics, q, scratch, &path.loaded, moment_arms);
+                let speed = path.lengthening_speed(multibody, kinematics, q, scratch, &path.loaded, u);
+                dy[n + k] = degroote.normalized_tendon_force_rate(activation, y[n + k], length, speed);
+                continue;
+            }
+            let length = path.length(kinematics, q, scratch);
             dy[n + k] = match muscle.muscle.fiber_velocity(activation.clamp(0.0, 1.0), fiber_length, length) {
                 Ok(velocity) => velocity,
                 Err(error) => {

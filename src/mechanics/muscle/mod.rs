@@ -11,7 +11,7 @@ mod pennation;
 mod root;
 mod thelen;
 
-pub use activation_dynamics::FirstOrderActivation;
+pub use activation_dynamics::{ActivationDynamics, FirstOrderActivation};
 pub use degroote::{DeGrooteCurves, DeGrooteFregly2016Muscle};
 pub use equilibrium::{EquilibriumStatus, FiberEquilibrium};
 pub use error::MuscleError;
@@ -76,13 +76,18 @@ impl HillMuscle {
 
     /// The fiber length (m) OpenSim's `equilibrateMuscles` starts a forward simulation from, at
     /// `activation` ∈ [0, 1] on a path of length `mt_length` (m) lengthening at
-    /// `lengthening_speed` (m/s): the static equilibrium for Millard (which ignores the speed)
-    /// and DeGroote, `initMuscleState`'s speed-sharing iteration for Thelen.
+    /// `lengthening_speed` (m/s): the static equilibrium for Millard (which ignores the speed),
+    /// `initMuscleState`'s speed-sharing iteration for Thelen, and for a compliant DeGroote
+    /// muscle the bisection for its normalized tendon force at that speed.
     pub fn initial_fiber_length(&self, activation: f64, mt_length: f64, lengthening_speed: f64) -> Result<f64, MuscleError> {
         match self {
             HillMuscle::Thelen(m) => {
                 check_inputs(m.name(), activation, mt_length)?;
                 m.initial_fiber_length(activation, mt_length, lengthening_speed)
+            }
+            HillMuscle::DeGroote(m) if !m.ignore_tendon_compliance => {
+                let force = m.initial_normalized_tendon_force(activation, mt_length, lengthening_speed)?;
+                Ok(m.fiber_length_at(mt_length, force))
             }
             _ => Ok(self.equilibrium(activation, mt_length)?.fiber_length),
         }
@@ -141,13 +146,13 @@ impl HillMuscle {
     }
 
     /// F_t = F_max f_T(L_t / L_ts) (N) with the fiber at `fiber_length` (m, raised to the
-    /// minimum fiber length) on a path of length `mt_length` (m), L_t = L_mt − L_m cos α; `None`
-    /// for DeGroote, whose state is the tendon force itself.
-    pub fn tendon_force(&self, fiber_length: f64, mt_length: f64) -> Option<f64> {
+    /// minimum fiber length for Millard and Thelen) on a path of length `mt_length` (m),
+    /// L_t = L_mt − L_m cos α.
+    pub fn tendon_force(&self, fiber_length: f64, mt_length: f64) -> f64 {
         match self {
-            HillMuscle::Millard(m) => Some(m.tendon_force(fiber_length, mt_length)),
-            HillMuscle::Thelen(m) => Some(m.tendon_force(fiber_length, mt_length)),
-            HillMuscle::DeGroote(_) => None,
+            HillMuscle::Millard(m) => m.tendon_force(fiber_length, mt_length),
+            HillMuscle::Thelen(m) => m.tendon_force(fiber_length, mt_length),
+            HillMuscle::DeGroote(m) => m.tendon_force(fiber_length, mt_length),
         }
     }
 

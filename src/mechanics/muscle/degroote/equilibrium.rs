@@ -267,32 +267,9 @@ impl DeGrooteFregly2016Muscle {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{DeGrooteSpec, MuscleModelSpec, MuscleSpec};
 
     fn muscle(pennation_angle_at_optimal: f64) -> DeGrooteFregly2016Muscle {
-        let class = DeGrooteSpec {
-            active_force_width_scale: 1.3,
-            fiber_damping: 0.0,
-            ignore_passive_fiber_force: false,
-            passive_fiber_strain_at_one_norm_force: 0.6,
-            tendon_strain_at_one_norm_force: 0.049,
-            default_activation: 0.5,
-            default_normalized_tendon_force: 0.5,
-            tendon_compliance_dynamics_mode: "explicit".into(),
-            activation_time_constant: 0.015,
-            deactivation_time_constant: 0.060,
-        };
-        let spec = MuscleSpec {
-            max_isometric_force: 1000.0,
-            optimal_fiber_length: 0.1,
-            tendon_slack_length: 0.25,
-            pennation_angle_at_optimal,
-            max_contraction_velocity: 10.0,
-            ignore_tendon_compliance: false,
-            ignore_activation_dynamics: false,
-            model: MuscleModelSpec::DeGrooteFregly2016(class.clone()),
-        };
-        DeGrooteFregly2016Muscle::new("test", &spec, &class).unwrap()
+        super::super::test_muscle(pennation_angle_at_optimal, 0.0)
     }
 
     #[test]
