@@ -124,3 +124,27 @@ fn a_missing_actuator_column_is_named() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("forces.sto: no column for the actuator(s) BIClong;"), "{stderr}");
 }
+
+/// A row whose forces file holds NaN (a frame static optimisation did not solve) gives NaN
+/// loads there, with a warning; the other rows are computed.
+#[test]
+fn a_nan_force_row_is_reported() {
+    let folder = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(path(FORCES)).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let row = lines.iter().position(|l| l.trim_start().starts_with("0.5")).unwrap();
+    let mut fields: Vec<String> = lines[row].split('\t').map(str::to_string).collect();
+    fields[1] = "NaN".into(); // TRIlong at t = 0.5 s
+    lines[row] = fields.join("\t");
+    let forces = folder.path().join("forces.sto");
+    std::fs::write(&forces, lines.join("\n") + "\n").unwrap();
+    let out = folder.path().join("out");
+    let (code, _, stderr) = osim_tune(&["reaction", &path(MODEL), &path(MOTION), "--forces", s(&forces), "--actuators", &path(RESERVES), "--time", "0.45", "0.55", "--name", "arm", "-o", s(&out)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("warning: 1 rows (from t = 0.5 s) have a force that is not a number"), "{stderr}");
+    let table = StorageTable::read(&out.join("arm_JointReaction_ReactionLoads.sto")).unwrap();
+    for (k, time) in table.times().iter().enumerate() {
+        let nan = table.row(k).unwrap()[1..].iter().any(|v| v.is_nan());
+        assert_eq!(nan, (time - 0.5).abs() < 1e-9, "t = {time}");
+    }
+}

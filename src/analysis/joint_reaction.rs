@@ -83,6 +83,9 @@ pub struct JointReactionResult {
     pub ignored_columns: Vec<String>,
     /// Columns of the forces file that are no actuator of the model.
     pub unused_forces: Vec<String>,
+    /// Times (s) of the rows where some actuator's force is not a number (e.g. a frame static
+    /// optimisation did not solve); their loads are NaN.
+    pub rows_without_forces: Vec<f64>,
 }
 
 /// The reports OpenSim's `JointReaction` makes of its `joint_names` (`ALL`, any case, for every
@@ -148,13 +151,17 @@ pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &P
     let mut kinematics = multibody.kinematics();
     let mut scratch = PathScratch::default();
     let mut values = Vec::with_capacity(rows.len() * (1 + 9 * reports.len()));
+    let mut rows_without_forces = Vec::new();
     for &i in &rows {
         let (time, q, u) = (states.times[i], &states.q[i], &states.u[i]);
         check_time(time, &force_times, forces.file)?;
         multibody.realize(q, &mut kinematics);
         let mut applied = AppliedForces { loads: external.map(|e| e.at(time, &kinematics)).unwrap_or_default(), mobility: vec![0.0; q.len()] };
-        for (generator, column) in generators.iter().zip(&columns) {
-            let force = linear_interpolation(&force_times, column, time);
+        let forces: Vec<f64> = columns.iter().map(|column| linear_interpolation(&force_times, column, time)).collect();
+        if forces.iter().any(|f| !f.is_finite()) {
+            rows_without_forces.push(time);
+        }
+        for (generator, &force) in generators.iter().zip(&forces) {
             generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut applied);
         }
         let udot = multibody.accelerations(q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
@@ -170,7 +177,7 @@ pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &P
         .with_comment("This file contains the reaction forces and moments")?
         .with_comment("applied to the specified body of a joint pair and expressed  in the specified reference frame.")?
         .with_comment("Units are S.I. units (seconds, meters, Newtons, ...)")?;
-    Ok(JointReactionResult { loads, missing: states.missing, ignored_columns: states.ignored_columns, unused_forces })
+    Ok(JointReactionResult { loads, missing: states.missing, ignored_columns: states.ignored_columns, unused_forces, rows_without_forces })
 }
 
 /// Each generator's force column; every generator must have one. Also returns the columns that

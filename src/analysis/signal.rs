@@ -96,13 +96,18 @@ pub fn increasing(times: &[f64]) -> Result<(), SignalError> {
     }
 }
 
-/// Linear interpolation of (times, values) at `t` (`Storage::getDataAtTime`), extended from
-/// the first or last two rows outside the times; `times` increasing, at least two.
+/// Linear interpolation of (times, values) at `t` (`Storage::getDataAtTime`: a row's own value
+/// at its time, even when its neighbour is NaN), extended from the first or last two rows outside
+/// the times; `times` increasing, at least two.
 pub fn linear_interpolation(times: &[f64], values: &[f64], t: f64) -> f64 {
     let after = times.partition_point(|&x| x <= t).min(times.len() - 1).max(1);
     let (t0, t1) = (times[after - 1], times[after]);
     let w = (t - t0) / (t1 - t0);
-    values[after - 1] * (1.0 - w) + values[after] * w
+    if w == 0.0 {
+        values[after - 1]
+    } else {
+        values[after - 1] + w * (values[after] - values[after - 1])
+    }
 }
 
 /// The rows OpenSim's tools solve for `range` (s): from the last time at or before

@@ -70,6 +70,9 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     if !result.ignored_columns.is_empty() {
         println!("ignored (no coordinate of the model): {}", result.ignored_columns.join(", "));
     }
+    if let Some(first) = result.rows_without_forces.first() {
+        eprintln!("warning: {} rows (from t = {first} s) have a force that is not a number in {}; their loads are NaN", result.rows_without_forces.len(), forces_file.display());
+    }
     if !result.unused_forces.is_empty() {
         println!("ignored in {} (no actuator of the model): {}", forces_file.display(), result.unused_forces.join(", "));
     }
