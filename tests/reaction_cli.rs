@@ -99,8 +99,8 @@ fn bad_requests_are_refused_naming_the_problem() {
     let cases: Vec<(Vec<String>, &str)> = vec![
         (vec![], "no forces file"),
         (with_reserves(&["--joints", "knee"]), "joint \"knee\" does not exist in the model"),
-        (with_reserves(&["--on", "both"]), "apply_on_bodies \"both\": expected child or parent"),
-        (with_reserves(&["--in", "r_humerus,ground,child,parent"]), "express_in_frame has 4 entries; expected 1 or one per joint (3)"),
+        (with_reserves(&["--on", "both"]), "apply_on_bodies (--on) \"both\": expected child or parent"),
+        (with_reserves(&["--in", "r_humerus,ground,child,parent"]), "express_in_frame (--in) has 4 entries; expected 1 or one per joint (3)"),
         (with_reserves(&["--time", "0", "0.05"]), "do not cover t = 0 s"),
         (with_reserves(&["--step-interval", "0"]), "--step-interval 0"),
     ];

@@ -109,20 +109,20 @@ pub fn reaction_reports(spec: &ModelSpec, multibody: &Multibody, joints: &[Strin
     };
     let mut reports = Vec::with_capacity(names.len());
     for (k, name) in names.iter().enumerate() {
-        let joint = multibody.joints.iter().position(|j| &j.name == name).ok_or_else(|| request(format!("joint {name:?} does not exist in the model")))?;
+        let joint = multibody.joints.iter().position(|j| &j.name == name).ok_or_else(|| request(format!("joint_names (--joints): joint {name:?} does not exist in the model")))?;
         let (parent, child) = (multibody.joints[joint].parent, multibody.joints[joint].child);
-        let side = entry(on, k, "child", "apply_on_bodies")?;
+        let side = entry(on, k, "child", "apply_on_bodies (--on)")?;
         let on = match side.to_ascii_lowercase().as_str() {
             "child" => ReactionSide::Child,
             "parent" => ReactionSide::Parent,
-            _ => return Err(request(format!("apply_on_bodies {side:?}: expected child or parent"))),
+            _ => return Err(request(format!("apply_on_bodies (--on) {side:?}: expected child or parent"))),
         };
-        let frame = entry(frames, k, "ground", "express_in_frame")?;
+        let frame = entry(frames, k, "ground", "express_in_frame (--in)")?;
         let frame = match multibody.body_index(&frame) {
             Some(body) => body,
             None if frame.eq_ignore_ascii_case("child") => child,
             None if frame.eq_ignore_ascii_case("parent") => parent,
-            None => return Err(request(format!("express_in_frame {frame:?}: expected ground, a body of the model, child or parent"))),
+            None => return Err(request(format!("express_in_frame (--in) {frame:?}: expected ground, a body of the model, child or parent"))),
         };
         reports.push(ReactionReport { joint, on, frame });
     }

@@ -50,7 +50,7 @@ pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[Actuator
             generators.push(actuator_generator(actuator, geometry)?);
         } else {
             return Err(StaticOptimizationError::Model(format!(
-                "{}: force {} ({}) is neither a muscle nor a Coordinate-, Point- or TorqueActuator; osim-tune's static optimisation cannot apply it",
+                "{}: force {} ({}) is neither a muscle nor a Coordinate-, Point- or TorqueActuator; osim-tune cannot apply it (static optimisation, joint reactions)",
                 spec.file.display(),
                 force.name,
                 force.class
