@@ -34,6 +34,34 @@ fn the_setup_runs_opensims_inverse_dynamics() {
     assert!(worst <= 6e-9, "{worst:e}");
 }
 
+/// The setup's `joints_to_report_body_forces` (ALL) gives OpenSim's body-forces table
+/// (`oracle/gen_body_forces.py`): every joint's equivalent force and torque within OpenSim's 8
+/// printed decimals (found 5.0e-9), OpenSim's choice between force and torque included.
+#[test]
+fn body_forces_at_joints_are_opensims() {
+    let folder = tempfile::tempdir().unwrap();
+    let setup = folder.path().join("setup.xml");
+    let text = std::fs::read_to_string(path(SETUP)).unwrap().replace(
+        "</InverseDynamicsTool>",
+        "<joints_to_report_body_forces> ALL</joints_to_report_body_forces><output_body_forces_file>joints.sto</output_body_forces_file></InverseDynamicsTool>",
+    );
+    std::fs::write(&setup, text.replace("subject01_walk1_grf.xml", &path("fixtures/subject01/subject01_walk1_grf.xml"))).unwrap();
+    let output = folder.path().join("out").join("id.sto");
+    let (code, stdout, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--setup", s(&setup), "-o", s(&output)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("body forces of 12 joint(s)"), "{stdout}");
+    let ours = StorageTable::read(&folder.path().join("out").join("joints.sto")).unwrap();
+    let golden = StorageTable::read(&common::fixture("golden/inverse_dynamics/subject01_walk1_body_forces.sto")).unwrap();
+    assert_eq!(ours.labels(), golden.labels());
+    assert_eq!(ours.n_rows(), golden.n_rows());
+    let worst = ours.values().iter().zip(golden.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst <= 6e-9, "{worst:e}");
+    let (code, _, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--setup", s(&setup), "--body-force-joints", "knee_r,knee", "-o", s(&folder.path().join("again.sto"))]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("--body-force-joints: joint \"knee\" does not exist in the model"), "{stderr}");
+    assert!(!folder.path().join("again.sto").exists());
+}
+
 /// A setup that keeps the muscles in is refused (we apply gravity and external loads only).
 #[test]
 fn forces_left_in_the_model_are_refused() {

@@ -86,7 +86,7 @@ fn with_markers(file: &str, per_body: usize) -> ModelSpec {
     let offsets = [[0.05, 0.01, 0.0], [0.0, 0.06, 0.02], [0.01, 0.0, 0.07], [0.04, 0.04, 0.04]];
     for body in spec.bodies.clone() {
         for (k, location) in offsets.iter().take(per_body).enumerate() {
-            let frame = FrameChain { body: body.name.clone(), offsets: Vec::new() };
+            let frame = FrameChain { name: body.name.clone(), body: body.name.clone(), offsets: Vec::new() };
             spec.markers.push(MarkerSpec { name: format!("{}_m{k}", body.name), frame, location: *location, fixed: false });
         }
     }
@@ -290,7 +290,7 @@ fn couplers_hold_exactly_and_a_finite_weight_makes_them_goals() {
     let mut spec = ModelSpec::read(&OsimDocument::read(&common::fixture("models/leg6dof9musc.osim")).unwrap()).unwrap();
     let patella_markers = [[0.03, 0.0, 0.0], [0.0, 0.03, 0.0], [0.0, 0.0, 0.03]];
     for (k, location) in patella_markers.iter().enumerate() {
-        spec.markers.push(MarkerSpec { name: format!("patella_{k}"), frame: FrameChain { body: "patella_r".into(), offsets: Vec::new() }, location: *location, fixed: false });
+        spec.markers.push(MarkerSpec { name: format!("patella_{k}"), frame: FrameChain { name: "patella_r".into(), body: "patella_r".into(), offsets: Vec::new() }, location: *location, fixed: false });
     }
     let multibody = Multibody::new(&spec).unwrap();
     let coupler = multibody.couplers[0].clone();

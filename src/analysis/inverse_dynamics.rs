@@ -1,6 +1,8 @@
 //! OpenSim's `InverseDynamicsTool` along a motion: coordinates padded and low-pass filtered (when
 //! asked), differentiated by degree-5 GCV splines, and the generalized forces that give those
-//! accelerations with gravity and the external loads, in Simbody's mobility order.
+//! accelerations with gravity and the external loads, in Simbody's mobility order; and, for the
+//! joints asked (`joints_to_report_body_forces`), the body force and torque equivalent to each
+//! joint's generalized forces ([`Multibody::equivalent_body_force`]).
 
 use std::path::{Path, PathBuf};
 
@@ -37,14 +39,25 @@ pub struct InverseDynamicsSettings {
 pub struct InverseDynamicsResult {
     /// `<coordinate>_moment` (N·m) or `<coordinate>_force` (N) per coordinate, Simbody's order.
     pub forces: StorageTable,
+    /// `<joint>_<child frame>_F{X,Y,Z}` (N) and `_M{X,Y,Z}` (N·m), in ground, per joint asked;
+    /// `None` when none was.
+    pub body_forces: Option<StorageTable>,
     /// Coordinates held at their default value (not in the file).
     pub defaulted: Vec<String>,
     /// Columns that are no coordinate of the model.
     pub ignored_columns: Vec<String>,
 }
 
-/// Runs inverse dynamics on the coordinates in `table` (read from `file`) with `loads`.
-pub fn inverse_dynamics(multibody: &Multibody, table: &StorageTable, file: &Path, loads: Option<&ExternalLoads>, settings: &InverseDynamicsSettings) -> Result<InverseDynamicsResult, InverseDynamicsError> {
+/// Runs inverse dynamics on the coordinates in `table` (read from `file`) with `loads`, and
+/// reports the equivalent body forces of `body_force_joints` ([`Multibody::joints`] indices).
+pub fn inverse_dynamics(
+    multibody: &Multibody,
+    table: &StorageTable,
+    file: &Path,
+    loads: Option<&ExternalLoads>,
+    settings: &InverseDynamicsSettings,
+    body_force_joints: &[usize],
+) -> Result<InverseDynamicsResult, InverseDynamicsError> {
     let motion = Motion::from_table(table, file, multibody, true)?;
     let signal = |source| InverseDynamicsError::Signal { file: file.into(), source };
     let measured: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| !motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
@@ -61,6 +74,7 @@ pub fn inverse_dynamics(multibody: &Multibody, table: &StorageTable, file: &Path
     let order = tree_order(multibody);
     let mut values = Vec::with_capacity(series.times[frames.clone()].len() * (order.len() + 1));
     let mut kinematics = multibody.kinematics();
+    let mut body_forces = Vec::new();
     for &time in &series.times[frames] {
         let state = State::at(multibody, &measured, &splines, time);
         multibody.realize(&state.q, &mut kinematics);
@@ -68,10 +82,26 @@ pub fn inverse_dynamics(multibody: &Multibody, table: &StorageTable, file: &Path
         let forces = multibody.inverse_dynamics(&MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
         values.push(time);
         values.extend(order.iter().map(|&c| forces[c]));
+        body_forces.push(time);
+        for &joint in body_force_joints {
+            let (force, torque) = multibody.equivalent_body_force(&kinematics, joint, &forces);
+            body_forces.extend(force.iter().chain(torque.iter()));
+        }
     }
     let labels = std::iter::once("time".to_string()).chain(order.iter().map(|&c| label(multibody, c))).collect();
     let forces = StorageTable::new("Inverse Dynamics Generalized Forces", labels, values)?.with_in_degrees(false);
-    Ok(InverseDynamicsResult { forces, defaulted: motion.defaulted, ignored_columns: motion.ignored_columns })
+    let body_forces = if body_force_joints.is_empty() { None } else { Some(body_force_table(multibody, body_force_joints, body_forces)?) };
+    Ok(InverseDynamicsResult { forces, body_forces, defaulted: motion.defaulted, ignored_columns: motion.ignored_columns })
+}
+
+/// OpenSim's body-forces table: per joint `<joint>_<child frame>_FX … _MZ`.
+fn body_force_table(multibody: &Multibody, joints: &[usize], values: Vec<f64>) -> Result<StorageTable, TableError> {
+    let mut labels = vec!["time".to_string()];
+    for &j in joints {
+        let joint = &multibody.joints[j];
+        labels.extend(["FX", "FY", "FZ", "MX", "MY", "MZ"].map(|s| format!("{}_{}_{s}", joint.name, joint.child_frame)));
+    }
+    Ok(StorageTable::new("Inverse Dynamics Body Forces at Specified Joints", labels, values)?.with_in_degrees(false))
 }
 
 /// q, u and u̇ of every coordinate at one time: the splines' value and derivatives for the

@@ -88,28 +88,23 @@ pub struct JointReactionResult {
     pub rows_without_forces: Vec<f64>,
 }
 
-/// The reports OpenSim's `JointReaction` makes of its `joint_names` (`ALL`, any case, for every
-/// joint in `spec`'s order), `apply_on_bodies` (`child` or `parent`) and `express_in_frame`
+/// The reports OpenSim's `JointReaction` makes of its `joint_names` ([`super::named_joints`]),
+/// `apply_on_bodies` (`child` or `parent`) and `express_in_frame`
 /// (`ground`, a body's name, `child` or `parent`); the latter two hold one entry for all joints
 /// or one per joint, and are `child` and `ground` when empty. `file` is where they were given.
 pub fn reaction_reports(spec: &ModelSpec, multibody: &Multibody, joints: &[String], on: &[String], frames: &[String], file: &Path) -> Result<Vec<ReactionReport>, JointReactionError> {
     let request = |problem: String| JointReactionError::Request { file: file.into(), problem };
-    let names: Vec<String> = match joints {
-        [] => spec.joints.iter().map(|j| j.name.clone()).collect(),
-        [all] if all.eq_ignore_ascii_case("all") => spec.joints.iter().map(|j| j.name.clone()).collect(),
-        names => names.to_vec(),
-    };
+    let joints = super::named_joints(spec, multibody, joints).map_err(|problem| request(format!("joint_names (--joints): {problem}")))?;
     let entry = |list: &[String], k: usize, default: &str, what: &str| -> Result<String, JointReactionError> {
         match list.len() {
             0 => Ok(default.into()),
             1 => Ok(list[0].clone()),
-            n if n == names.len() => Ok(list[k].clone()),
-            n => Err(request(format!("{what} has {n} entries; expected 1 or one per joint ({})", names.len()))),
+            n if n == joints.len() => Ok(list[k].clone()),
+            n => Err(request(format!("{what} has {n} entries; expected 1 or one per joint ({})", joints.len()))),
         }
     };
-    let mut reports = Vec::with_capacity(names.len());
-    for (k, name) in names.iter().enumerate() {
-        let joint = multibody.joints.iter().position(|j| &j.name == name).ok_or_else(|| request(format!("joint_names (--joints): joint {name:?} does not exist in the model")))?;
+    let mut reports = Vec::with_capacity(joints.len());
+    for (k, &joint) in joints.iter().enumerate() {
         let (parent, child) = (multibody.joints[joint].parent, multibody.joints[joint].child);
         let side = entry(on, k, "child", "apply_on_bodies (--on)")?;
         let on = match side.to_ascii_lowercase().as_str() {

@@ -30,7 +30,8 @@ pub use static_optimization::{generators, static_optimization, FrameFailure, Gen
 pub use analyze_states::StatesError;
 
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::MuscleGeometry;
+use crate::mechanics::{MuscleGeometry, Multibody};
+use crate::model::ModelSpec;
 
 /// The coordinates some of the chosen paths span, in model order, and where each sits in each
 /// path's `spanned` list: `slots[t][k]` for coordinate t and chosen path k.
@@ -55,6 +56,24 @@ impl Spans {
 /// `time` and then one label per chosen path.
 fn path_labels(geometry: &MuscleGeometry, paths: &[usize]) -> Vec<String> {
     std::iter::once("time".to_string()).chain(paths.iter().map(|&p| geometry.paths[p].name.clone())).collect()
+}
+
+/// The joints ([`crate::mechanics::Multibody::joints`] indices) a tool's joint list names: every
+/// joint in the model's order for an empty list or one whose entry is `ALL` (any case, OpenSim's
+/// keyword, which ends the list), else the named ones in order; an unknown name is an error.
+pub fn named_joints(spec: &ModelSpec, multibody: &Multibody, names: &[String]) -> Result<Vec<usize>, String> {
+    let index = |name: &str| multibody.joints.iter().position(|j| j.name == name).ok_or_else(|| format!("joint {name:?} does not exist in the model"));
+    let mut joints = Vec::new();
+    for name in names {
+        if name.eq_ignore_ascii_case("all") {
+            return spec.joints.iter().map(|j| index(&j.name)).collect();
+        }
+        joints.push(index(name)?);
+    }
+    if names.is_empty() {
+        return spec.joints.iter().map(|j| index(&j.name)).collect();
+    }
+    Ok(joints)
 }
 
 /// A radian-valued storage table.

@@ -233,6 +233,16 @@ pub enum Command {
         /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
         #[arg(long)]
         lowpass: Option<f64>,
+        /// Joints whose equivalent body forces to report (OpenSim's joints_to_report_body_forces:
+        /// names, comma separated, or ALL; default: the setup's): per joint the force and torque
+        /// on its child at the child frame origin, in ground, whose power along the joint's
+        /// mobilities is its generalized forces (Joint::calcEquivalentSpatialForce).
+        #[arg(long, value_delimiter = ',')]
+        body_force_joints: Vec<String>,
+        /// Where the body forces go (default: the setup's output_body_forces_file, else
+        /// body_forces_at_joints.sto, beside the output).
+        #[arg(long)]
+        body_forces: Option<PathBuf>,
         /// Output generalized forces (.sto).
         #[arg(short, long)]
         output: PathBuf,

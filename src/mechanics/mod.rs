@@ -2,6 +2,7 @@
 
 mod actuator;
 mod coupling;
+mod equivalent_body_force;
 mod error;
 mod forward_dynamics;
 pub mod function;

@@ -47,6 +47,8 @@ pub struct Joint {
     pub parent_frame: Transform,
     /// X_MB: the child body in the child frame.
     pub child_body: Transform,
+    /// The child frame's name (e.g. `femur_r_offset`).
+    pub child_frame: String,
     pub mobilizer: Mobilizer,
     /// Indices into [`Multibody::coordinates`], in the joint's coordinate order.
     pub coordinates: Vec<usize>,
@@ -251,6 +253,7 @@ impl JointCompiler<'_> {
             child: self.body_index[joint.child.body.as_str()],
             parent_frame: chain_transform(&joint.parent),
             child_body: chain_transform(&joint.child).inverse(),
+            child_frame: joint.child.name.clone(),
             mobilizer,
             coordinates,
         })

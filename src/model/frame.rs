@@ -23,6 +23,8 @@ pub struct Offset {
 /// `offsets` in order, the first one expressed in the body.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FrameChain {
+    /// The frame's own name: the offset frame's, or the body's when there is no offset.
+    pub name: String,
     pub body: String,
     pub offsets: Vec<Offset>,
 }
@@ -58,12 +60,13 @@ impl FrameIndex {
     pub fn resolve(&self, owner: ComponentReader, socket: &str, property: &str) -> Result<FrameChain, ModelError> {
         let mut offsets = Vec::new();
         let mut current = join_socket(&opensim_path(owner.document, owner.element), socket);
+        let name = current.rsplit('/').next().unwrap_or_default().to_string();
         let mut current_owner = owner;
         for _ in 0..=self.entries.len() {
             match self.entries.get(&current) {
                 Some(FrameEntry::Body(body)) => {
                     offsets.reverse();
-                    return Ok(FrameChain { body: body.clone(), offsets });
+                    return Ok(FrameChain { name, body: body.clone(), offsets });
                 }
                 Some(FrameEntry::Offset { element, parent_socket, offset }) => {
                     offsets.push(offset.clone());

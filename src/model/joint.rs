@@ -45,11 +45,15 @@ impl JointSpec {
 
     /// Reads a 3.x joint nested in `<Body name=child_body><Joint>`.
     pub fn read_v3(reader: ComponentReader, child_body: &str) -> Result<JointSpec, ModelError> {
+        let parent_body = reader.text("parent_body")?;
+        // OpenSim's 3.x conversion always adds offset frames named `<body>_offset`.
         let parent = FrameChain {
-            body: reader.text("parent_body")?,
+            name: format!("{parent_body}_offset"),
+            body: parent_body,
             offsets: vec![Offset { translation: reader.vec3("location_in_parent")?, orientation: reader.vec3("orientation_in_parent")? }],
         };
         let child = FrameChain {
+            name: format!("{child_body}_offset"),
             body: child_body.to_string(),
             offsets: vec![Offset { translation: reader.vec3("location")?, orientation: reader.vec3("orientation")? }],
         };

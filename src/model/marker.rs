@@ -33,6 +33,7 @@ pub fn attachment_frame(reader: ComponentReader, dialect: Dialect, frames: &Fram
     if dialect == Dialect::V4 {
         frames.resolve(reader, &reader.text("socket_parent_frame")?, "socket_parent_frame")
     } else {
-        Ok(FrameChain { body: reader.text("body")?, offsets: Vec::new() })
+        let body = reader.text("body")?;
+        Ok(FrameChain { name: body.clone(), body, offsets: Vec::new() })
     }
 }

@@ -34,8 +34,10 @@ pub struct IdSetup {
     pub output_gen_force_file: String,
     /// Where the output goes (default `./`, the setup's directory).
     pub results_directory: SetupPath,
-    /// Joints whose equivalent body forces OpenSim also reports (not computed here).
+    /// Joints whose equivalent body forces are also reported (names or `ALL`).
     pub joints_to_report_body_forces: Vec<String>,
+    /// Where they go (default `body_forces_at_joints.sto`, in the results directory).
+    pub output_body_forces_file: String,
 }
 
 impl IdSetup {
@@ -62,6 +64,7 @@ impl IdSetup {
             output_gen_force_file: output,
             results_directory: results_directory_or_here(tool, &directory),
             joints_to_report_body_forces: words(tool, "joints_to_report_body_forces"),
+            output_body_forces_file: tool.optional_text("output_body_forces_file").filter(|f| !f.is_empty()).unwrap_or_else(|| "body_forces_at_joints.sto".into()),
         })
     }
 }

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::geometry::Worst;
-use crate::analysis::{generators, inverse_dynamics, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::analysis::{generators, inverse_dynamics, named_joints, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -14,6 +14,8 @@ use crate::model::{read_force_set, ModelSpec};
 
 /// The walk's inputs, read from the repository at `root`.
 pub struct Subject01Walk {
+    /// The scaled model's file.
+    pub model: PathBuf,
     pub geometry: MuscleGeometry,
     /// The model's muscles, then the residual actuators.
     pub generators: Vec<Generator>,
@@ -50,20 +52,25 @@ impl Subject01Walk {
         let (loads, _) = ExternalLoads::read(&fixture("subject01/subject01_walk1_grf.xml"), &geometry.multibody)?;
         let coordinates_file = fixture("golden/ik/subject01_walk1_ik.mot");
         let coordinates = StorageTable::read(&coordinates_file)?;
-        Ok(Subject01Walk { geometry, generators, loads, coordinates, coordinates_file })
+        Ok(Subject01Walk { model: fixture("golden/scale/subject01_simbody.osim"), geometry, generators, loads, coordinates, coordinates_file })
     }
 
     /// The InverseDynamicsTool run of subject01's setup (0.4–1.6 s) against OpenSim's table
-    /// `golden`: the worst absolute difference (N·m or N), or ∞ if the rows or columns differ.
-    pub fn inverse_dynamics(&self, golden: &StorageTable) -> Result<Worst, Box<dyn std::error::Error>> {
+    /// `golden`: the worst absolute difference (N·m or N), or ∞ if the rows or columns differ;
+    /// with `body_forces`, the equivalent body forces of every joint against OpenSim's
+    /// `joints_to_report_body_forces` ALL table instead.
+    pub fn inverse_dynamics(&self, golden: &StorageTable, body_forces: bool) -> Result<Worst, Box<dyn std::error::Error>> {
         let settings = InverseDynamicsSettings { time_range: [0.4, 1.6], lowpass_cutoff: Some(6.0) };
-        let result = inverse_dynamics(&self.geometry.multibody, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings)?;
+        let spec = ModelSpec::read(&OsimDocument::read(&self.model)?)?;
+        let joints = if body_forces { named_joints(&spec, &self.geometry.multibody, &["ALL".into()])? } else { Vec::new() };
+        let result = inverse_dynamics(&self.geometry.multibody, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings, &joints)?;
+        let ours = if body_forces { result.body_forces.ok_or("no body forces")? } else { result.forces };
         let mut worst = Worst::default();
-        if result.forces.labels() != golden.labels() || result.forces.n_rows() != golden.n_rows() {
-            worst.update(f64::INFINITY, || format!("{} rows of {:?} against OpenSim's {} of {:?}", result.forces.n_rows(), result.forces.labels(), golden.n_rows(), golden.labels()));
+        if ours.labels() != golden.labels() || ours.n_rows() != golden.n_rows() {
+            worst.update(f64::INFINITY, || format!("{} rows of {:?} against OpenSim's {} of {:?}", ours.n_rows(), ours.labels(), golden.n_rows(), golden.labels()));
             return Ok(worst);
         }
-        for (ours, theirs) in result.forces.rows().zip(golden.rows()) {
+        for (ours, theirs) in ours.rows().zip(golden.rows()) {
             for (label, (a, b)) in golden.labels().iter().zip(ours.iter().zip(theirs)) {
                 worst.update((a - b).abs(), || format!("t = {} s, {label}", theirs[0]));
             }

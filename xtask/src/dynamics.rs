@@ -34,7 +34,7 @@ pub fn rows() -> Vec<Row> {
     let mut rows: Vec<Row> = RANDOM_STATE_MODELS.iter().map(|(stem, model)| random_states(stem, model)).collect();
     match Subject01Walk::load(&root()) {
         Ok(walk) => {
-            rows.push(walk_inverse_dynamics(&walk));
+            rows.extend(walk_inverse_dynamics(&walk));
             rows.extend(walk_static_optimization(&walk));
             rows.extend(walk_physiological_inverse(&walk));
             rows.extend(static_optimization_cases().iter().flat_map(other_static_optimization));
@@ -101,13 +101,22 @@ fn pipeline_folder() -> Option<PathBuf> {
 }
 
 /// Every generalized force against OpenSim's table (printed to 8 decimals).
-fn walk_inverse_dynamics(walk: &Subject01Walk) -> Row {
-    let (what, reference) = ("ID tool, subject01 walk, 76 frames (N·m, N)", "OpenSim 4.6 InverseDynamicsTool (1e-8)");
-    let golden = StorageTable::read(&root().join("fixtures/golden/inverse_dynamics/subject01_walk1_InverseDynamics.sto"));
-    match golden.map_err(|e| e.to_string()).and_then(|g| walk.inverse_dynamics(&g).map_err(|e| e.to_string())) {
-        Ok(worst) => Row { what: what.into(), reference: reference.into(), worst: worst.error, tolerance: 6e-9, at: worst.at },
-        Err(error) => failed(what, reference, error),
-    }
+fn walk_inverse_dynamics(walk: &Subject01Walk) -> Vec<Row> {
+    let cases = [
+        ("ID tool, subject01 walk, 76 frames (N·m, N)", "subject01_walk1_InverseDynamics.sto", false),
+        ("ID tool body forces at all 12 joints, subject01 walk (N, N·m)", "subject01_walk1_body_forces.sto", true),
+    ];
+    let reference = "OpenSim 4.6 InverseDynamicsTool (1e-8)";
+    cases
+        .into_iter()
+        .map(|(what, file, body_forces)| {
+            let golden = StorageTable::read(&root().join("fixtures/golden/inverse_dynamics").join(file));
+            match golden.map_err(|e| e.to_string()).and_then(|g| walk.inverse_dynamics(&g, body_forces).map_err(|e| e.to_string())) {
+                Ok(worst) => Row { what: what.into(), reference: reference.into(), worst: worst.error, tolerance: 6e-9, at: worst.at },
+                Err(error) => failed(what, reference, error),
+            }
+        })
+        .collect()
 }
 
 /// OpenSim's controls judged on our problem, and its forces per unit control.

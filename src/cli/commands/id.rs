@@ -1,10 +1,10 @@
-//! `osim-tune id MODEL COORDINATES [--external-loads LOADS.xml] [--setup SETUP.xml] [--time START END] [--lowpass HZ] -o OUT.sto`
+//! `osim-tune id MODEL COORDINATES [--external-loads LOADS.xml] [--setup SETUP.xml] [--time START END] [--lowpass HZ] [--body-force-joints J,…|ALL] [--body-forces FILE.sto] -o OUT.sto`
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{inverse_dynamics, InverseDynamicsResult, InverseDynamicsSettings};
+use crate::analysis::{inverse_dynamics, named_joints, InverseDynamicsResult, InverseDynamicsSettings};
 use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
-use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::Multibody;
@@ -17,6 +17,8 @@ pub struct Request {
     pub setup: Option<PathBuf>,
     pub time: Option<[f64; 2]>,
     pub lowpass: Option<f64>,
+    pub body_force_joints: Vec<String>,
+    pub body_forces: Option<PathBuf>,
     pub output: PathBuf,
 }
 
@@ -33,12 +35,37 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     ensure_not_an_input(&request.output, &input_paths)?;
     let settings = settings(request, setup.as_ref())?;
+    let (joints, body_forces_file) = body_forces(request, setup.as_ref(), &spec, &multibody)?;
+    if let Some(file) = &body_forces_file {
+        ensure_not_an_input(file, &input_paths)?;
+    }
     let table = StorageTable::read(coordinates)?;
-    let result = inverse_dynamics(&multibody, &table, coordinates, loads.as_ref(), &settings)?;
-    create_output_folders([request.output.as_path()])?;
-    write_atomically(&request.output, result.forces.to_text().as_bytes(), &input_paths)?;
+    let result = inverse_dynamics(&multibody, &table, coordinates, loads.as_ref(), &settings, &joints)?;
+    let texts = [Some(result.forces.to_text()), result.body_forces.as_ref().map(StorageTable::to_text)];
+    let outputs: Vec<(&Path, &[u8])> = [Some(request.output.as_path()), body_forces_file.as_deref()].into_iter().zip(&texts).filter_map(|(file, text)| Some((file?, text.as_ref()?.as_bytes()))).collect();
+    create_output_folders(outputs.iter().map(|(file, _)| *file))?;
+    write_all_atomically(&outputs, &input_paths)?;
     report(&result, coordinates, loads_file.as_deref(), &settings, &request.output);
+    if let Some(file) = &body_forces_file {
+        println!("body forces of {} joint(s) → {}", joints.len(), file.display());
+    }
     Ok(Outcome::Success)
+}
+
+/// The joints whose equivalent body forces to report (`--body-force-joints`, else the setup's;
+/// none when neither names any) and where they go.
+fn body_forces(request: &Request, setup: Option<&IdSetup>, spec: &ModelSpec, multibody: &Multibody) -> Result<(Vec<usize>, Option<PathBuf>), Failure> {
+    let (names, source) = match setup {
+        Some(setup) if request.body_force_joints.is_empty() => (setup.joints_to_report_body_forces.clone(), format!("{}: joints_to_report_body_forces", setup.file.display())),
+        _ => (request.body_force_joints.clone(), "--body-force-joints".to_string()),
+    };
+    if names.is_empty() {
+        return Ok((Vec::new(), None));
+    }
+    let joints = named_joints(spec, multibody, &names).map_err(|problem| format!("{source}: {problem}"))?;
+    let default_name = setup.map_or("body_forces_at_joints.sto", |s| s.output_body_forces_file.as_str());
+    let file = request.body_forces.clone().unwrap_or_else(|| request.output.with_file_name(default_name));
+    Ok((joints, Some(file)))
 }
 
 /// The command line's time range and cutoff, else the setup's, else all frames unfiltered.
@@ -51,8 +78,8 @@ fn settings(request: &Request, setup: Option<&IdSetup>) -> Result<InverseDynamic
 }
 
 /// Our inverse dynamics applies gravity and external loads only, so every model force that
-/// applies (disabled ones do not) must be excluded by the setup (names, or the keywords `all`, `actuators`, `muscles`, any case), and
-/// body forces at joints are not reported.
+/// applies (disabled ones do not) must be excluded by the setup (names, or the keywords `all`,
+/// `actuators`, `muscles`, any case).
 fn check_excluded_forces(spec: &ModelSpec, setup: &IdSetup) -> Result<(), Failure> {
     let keyword = |k: &str| setup.forces_to_exclude.iter().any(|f| f.eq_ignore_ascii_case(k));
     let excluded = |force: &ForceSpec| {
@@ -69,9 +96,6 @@ fn check_excluded_forces(spec: &ModelSpec, setup: &IdSetup) -> Result<(), Failur
             left[..left.len().min(5)].join(", ")
         )
         .into());
-    }
-    if !setup.joints_to_report_body_forces.is_empty() {
-        return Err(format!("{}: joints_to_report_body_forces is not supported; leave it empty", setup.file.display()).into());
     }
     Ok(())
 }

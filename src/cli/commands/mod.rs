@@ -37,8 +37,8 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
-        Command::Id { model, coordinates, external_loads, setup, time, lowpass, output } => {
-            let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, output };
+        Command::Id { model, coordinates, external_loads, setup, time, lowpass, body_force_joints, body_forces, output } => {
+            let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, body_force_joints, body_forces, output };
             id::run(&model, &coordinates, &request)
         }
         Command::Emg { predicted, emg, pair, max_lag, json } => emg::run(&predicted, &emg, &pair, max_lag, json),
