@@ -148,3 +148,28 @@ fn a_nan_force_row_is_reported() {
         assert_eq!(nan, (time - 0.5).abs() < 1e-9, "t = {time}");
     }
 }
+
+/// A model whose constraints osim-tune does not apply (here a WeldConstraint) is refused by the
+/// dynamics commands, naming the constraint; a disabled one is not in the way.
+#[test]
+fn unsupported_constraints_are_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let weld = |enforced: &str| {
+        format!("<objects><WeldConstraint name=\"hold\"><isEnforced>{enforced}</isEnforced><socket_frame1>/ground</socket_frame1><socket_frame2>/bodyset/r_humerus</socket_frame2></WeldConstraint></objects>")
+    };
+    let original = std::fs::read_to_string(path(MODEL)).unwrap();
+    for (enforced, expected_code) in [("true", 2), ("false", 0)] {
+        let model = folder.path().join(format!("arm26_{enforced}.osim"));
+        let set = "<ConstraintSet name=\"constraintset\">";
+        let at = original.find(set).unwrap() + set.len();
+        let edited = format!("{}{}", &original[..at], original[at..].replacen("<objects />", &weld(enforced), 1));
+        std::fs::write(&model, edited).unwrap();
+        let out = folder.path().join(format!("out_{enforced}"));
+        let (code, _, stderr) = osim_tune(&["reaction", s(&model), &path(MOTION), "--forces", &path(FORCES), "--actuators", &path(RESERVES), "--time", "0.1", "0.9", "-o", s(&out)]);
+        assert_eq!(code, expected_code, "{enforced}: {stderr}");
+        if expected_code == 2 {
+            assert!(stderr.contains("hold (WeldConstraint)") && stderr.contains("only CoordinateCouplerConstraints"), "{stderr}");
+            assert!(!out.exists());
+        }
+    }
+}

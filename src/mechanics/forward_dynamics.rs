@@ -21,6 +21,8 @@ pub enum ForwardDynamicsError {
     Singular,
     #[error("coordinate {0:?} is prescribed; prescribed motion is not supported")]
     Prescribed(String),
+    #[error("the model's constraints {} are enforced; only CoordinateCouplerConstraints are applied", .0.join(", "))]
+    Constraints(Vec<String>),
 }
 
 impl Multibody {
@@ -50,6 +52,9 @@ impl Multibody {
         assert!(tau.len() == n, "one mobility force per coordinate");
         if let Some(c) = self.coordinates.iter().find(|c| c.prescribed && !c.locked) {
             return Err(ForwardDynamicsError::Prescribed(c.name.clone()));
+        }
+        if !self.other_constraints.is_empty() {
+            return Err(ForwardDynamicsError::Constraints(self.other_constraints.clone()));
         }
         let bias = DVector::from_vec(self.inverse_dynamics(&MotionState { q, u, udot: &vec![0.0; n] }, loads));
         let (projection, offset) = self.constraint_projection(q, u);

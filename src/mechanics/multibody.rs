@@ -74,6 +74,8 @@ pub struct Multibody {
     pub markers: Vec<Marker>,
     /// Enforced `CoordinateCouplerConstraint`s.
     pub couplers: Vec<Coupler>,
+    /// The other enforced constraints, `name (class)`: not applied (dynamics refuses them).
+    pub other_constraints: Vec<String>,
     /// The model's gravity, m/s² in ground.
     pub gravity: Vec3,
     /// `moved_by[body][joint]`: whether the joint's coordinates move the body.
@@ -112,7 +114,9 @@ impl Multibody {
             }
         }
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
-        let mut multibody = Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
+        let other_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none()).map(|c| format!("{} ({})", c.name, c.class)).collect();
+        let mut multibody =
+            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, other_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
         multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;
