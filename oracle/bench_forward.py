@@ -17,6 +17,7 @@ from gen_forward_simulation import ACCURACY, OUT, REPO, simulate
 CASES = {
     "arm26": REPO / "fixtures" / "models" / "arm26.osim",
     "arm26_degroote": REPO / "fixtures" / "models" / "arm26_degroote.osim",
+    "arm26_degroote_rigid": REPO / "fixtures" / "models" / "arm26_degroote_rigid.osim",
     "gait2392_millard": REPO / "models" / "gait2392_millard2012muscle.osim",
     "rajagopal": REPO / "fixtures" / "models" / "Rajagopal2016.osim",
 }

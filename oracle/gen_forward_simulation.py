@@ -67,6 +67,9 @@ Cases:
   statics, so all its DeGroote muscles use the first one's: the script checks they are equal.
   Its equilibrateMuscles bisects the normalized tendon force (to 1e-10) for the implicit
   residual with the path's lengthening speed and a zero tendon-force derivative.
+* `arm26_degroote_rigid` — the same with rigid tendons (`ignore_tendon_compliance`), written to
+  fixtures/models/arm26_degroote_rigid.osim: the fiber follows the path and its force takes the
+  path's lengthening speed.
 * `gait2392_millard` — models/gait2392_millard2012muscle.osim (the generic, unscaled gait2392 with
   92 Millard2012EquilibriumMuscles, compliant tendons, fiber damping 0.1); the subject01 walk's IK
   golden (fixtures/golden/ik/subject01_walk1_ik.mot, all 23 coordinates, ≈60 Hz), only its rows
@@ -169,19 +172,22 @@ def arm26_inputs(folder):
     return times
 
 
-def arm26_degroote_model():
-    """arm26 with DeGroote–Fregly muscles, printed to fixtures/models/arm26_degroote.osim."""
+def arm26_degroote_model(rigid=False):
+    """arm26 with DeGroote–Fregly muscles (with rigid tendons if `rigid`), printed to
+    fixtures/models/arm26_degroote.osim (arm26_degroote_rigid.osim)."""
     model = osim.Model(str(REPO / "fixtures" / "models" / "arm26.osim"))
     osim.DeGrooteFregly2016Muscle.replaceMuscles(model)
-    model.setName("arm26_degroote")
+    name = "arm26_degroote_rigid" if rigid else "arm26_degroote"
+    model.setName(name)
     model.finalizeConnections()
     muscles = model.getMuscles()
     constants = set()
     for i in range(muscles.getSize()):
         muscle = osim.DeGrooteFregly2016Muscle.safeDownCast(muscles.get(i))
         constants.add((muscle.get_activation_time_constant(), muscle.get_deactivation_time_constant(), muscle.get_activation_dynamics_smoothing()))
+        muscle.set_ignore_tendon_compliance(rigid)
     assert len(constants) == 1, f"OpenSim would use the first muscle's time constants for all: {constants}"
-    path = REPO / "fixtures" / "models" / "arm26_degroote.osim"
+    path = REPO / "fixtures" / "models" / f"{name}.osim"
     model.printToXML(str(path))
     return path
 
@@ -420,6 +426,7 @@ def run(case, model_path, inputs):
 CASES = {
     "arm26": (lambda: REPO / "fixtures" / "models" / "arm26.osim", arm26_inputs),
     "arm26_degroote": (arm26_degroote_model, arm26_inputs),
+    "arm26_degroote_rigid": (lambda: arm26_degroote_model(rigid=True), arm26_inputs),
     "gait2392_millard": (lambda: REPO / "models" / "gait2392_millard2012muscle.osim", gait_inputs),
     "rajagopal": (lambda: RAJAGOPAL, rajagopal_inputs),
 }

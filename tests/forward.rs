@@ -38,7 +38,8 @@ fn arm26_case() -> (PathBuf, PathBuf) {
 /// forces within 2.6e-6 / 1.1e-5 / 2.5e-6 of max(1 N, |F|) — rigid tendons included — and the
 /// muscles' generalized forces within 8.4e-6 / 1.2e-6 / 1.0e-5 of max(1, |τ|). arm26 with
 /// DeGroote muscles: fiber length 1.5e-12 m, tendon force 4.8e-9, activation 2.2e-10 — our own
-/// integration error there, 8.1e-12 at accuracy 1e-14.
+/// integration error there, 8.1e-12 at accuracy 1e-14; with rigid tendons 7.2e-13 m, 8.1e-9 and
+/// 1.1e-9 (OpenSim's own error).
 #[test]
 fn states_follow_opensims_integration() {
     for case in &FORWARD_CASES {
@@ -261,4 +262,5 @@ fn a_rigid_tendon_across_a_ball_joint_is_refused() {
     assert!(code == 2 && stderr.contains("muscle hip_knee") && stderr.contains("BallJoint"), "{stderr}");
     assert!(!out.exists());
 }
+
 

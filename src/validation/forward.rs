@@ -29,15 +29,17 @@ pub struct ForwardCase {
 }
 
 /// arm26 (Thelen muscles wrapping over cylinders and ellipsoids; and the same with
-/// DeGroote–Fregly muscles, explicit tendon dynamics), gait2392 (92 Millard muscles
+/// DeGroote–Fregly muscles, with compliant tendons in explicit mode and with rigid ones), gait2392 (92 Millard muscles
 /// with compliant, damped fibers) along a window of subject01's walk, and Rajagopal2016 (80
 /// Millard muscles, 34 with rigid tendons; patellae coupled to the knees).
-pub const FORWARD_CASES: [ForwardCase; 4] = [
+pub const FORWARD_CASES: [ForwardCase; 5] = [
     // OpenSim's error: 3.9e-9, 3.0e-9 m.
     ForwardCase { case: "arm26", model: "fixtures/models/arm26.osim", activation_tolerance: 6e-9, fiber_length_tolerance: 5e-9 },
     // OpenSim's error 4.8e-12, 1.6e-12 m; our own at 1e-12 dominates the activation (found 2.2e-10;
     // 8.1e-12 at accuracy 1e-14).
     ForwardCase { case: "arm26_degroote", model: "fixtures/models/arm26_degroote.osim", activation_tolerance: 5e-10, fiber_length_tolerance: 1e-11 },
+    // Rigid tendons: OpenSim's error 1.1e-9, 7.1e-13 m.
+    ForwardCase { case: "arm26_degroote_rigid", model: "fixtures/models/arm26_degroote_rigid.osim", activation_tolerance: 3e-9, fiber_length_tolerance: 5e-12 },
     // 3.5e-8, 2.5e-9 m.
     ForwardCase { case: "gait2392_millard", model: "models/gait2392_millard2012muscle.osim", activation_tolerance: 5e-8, fiber_length_tolerance: 5e-9 },
     // 3.5e-7 (addmagIsch_l as its excitation falls below its activation), 1.4e-8 m.

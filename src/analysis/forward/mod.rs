@@ -91,10 +91,7 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
         let muscle = HillMuscle::from_force(force).map_err(|e| refuse(&force.name, &e.to_string()))?;
         let properties = force.muscle.as_ref().ok_or_else(|| refuse(&force.name, "no muscle properties"))?;
         if let crate::model::MuscleModelSpec::DeGrooteFregly2016(class) = &properties.model {
-            if properties.ignore_tendon_compliance {
-                return Err(refuse(&force.name, "a DeGrooteFregly2016Muscle with a rigid tendon is not simulated here"));
-            }
-            if class.tendon_compliance_dynamics_mode != "explicit" {
+            if !properties.ignore_tendon_compliance && class.tendon_compliance_dynamics_mode != "explicit" {
                 return Err(refuse(&force.name, "tendon_compliance_dynamics_mode implicit: its tendon-force derivative is a control of a direct collocation problem, not a forward simulation state; use explicit"));
             }
         }

@@ -165,13 +165,15 @@ impl HillMuscle {
         }
     }
 
-    /// (L_m in m, F_t in N) of a rigid-tendon Millard muscle at `activation` on a path of length
-    /// `mt_length` (m) lengthening at `lengthening_speed` (m/s); `None` for other muscles.
+    /// (L_m in m, F_t in N) of a rigid-tendon Millard or DeGroote muscle at `activation` on a
+    /// path of length `mt_length` (m) lengthening at `lengthening_speed` (m/s); `None` for other
+    /// muscles.
     pub fn rigid_tendon_state(&self, activation: f64, mt_length: f64, lengthening_speed: f64) -> Option<(f64, f64)> {
         match self {
             HillMuscle::Millard(m) if m.ignore_tendon_compliance => {
                 Some((m.rigid_tendon_fiber_length(mt_length), m.rigid_tendon_force(activation, mt_length, lengthening_speed)))
             }
+            HillMuscle::DeGroote(m) if m.ignore_tendon_compliance => Some(m.rigid_tendon_state(activation, mt_length, lengthening_speed)),
             _ => None,
         }
     }

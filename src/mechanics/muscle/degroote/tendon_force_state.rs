@@ -16,6 +16,7 @@
 //! last midpoint returned.
 
 use super::curves::DeGrooteCurves;
+use super::muscle::LengthInfo;
 use super::DeGrooteFregly2016Muscle;
 use crate::mechanics::muscle::{check_compliant_tendon, check_inputs, MuscleError};
 
@@ -84,9 +85,26 @@ impl DeGrooteFregly2016Muscle {
         self.max_isometric_force
     }
 
+    /// (L_m in m, F_t in N) of a rigid-tendon muscle at activation `activation` on a path of
+    /// length `mt_length` (m) lengthening at `lengthening_speed` (m/s): the fiber takes the whole
+    /// speed and pulls along the tendon with a f_L f_V + f_PE + β ṽ (OpenSim's
+    /// `calcMuscleDynamicsInfo` with `ignore_tendon_compliance`).
+    pub fn rigid_tendon_state(&self, activation: f64, mt_length: f64, lengthening_speed: f64) -> (f64, f64) {
+        let length = self.length_info(mt_length, f64::NAN);
+        (length.fiber_length, self.fiber_force_along_tendon(activation, &length, lengthening_speed))
+    }
+
     /// OpenSim's `calcEquilibriumResidual(L_mt, v_mt, a, f̃_T, 0)`, its operations in its order.
     fn moving_residual(&self, activation: f64, mt_length: f64, lengthening_speed: f64, normalized_tendon_force: f64) -> f64 {
         let length = self.length_info(mt_length, normalized_tendon_force);
+        normalized_tendon_force - self.fiber_force_along_tendon(activation, &length, lengthening_speed) / self.max_isometric_force
+    }
+
+    /// The fiber force along the tendon (N) when the tendon does not stretch, so that the fiber
+    /// takes the path's whole lengthening speed (`calcFiberVelocityInfo`'s implicit branch with a
+    /// zero tendon-force derivative, then `calcMuscleDynamicsInfo`), its operations in OpenSim's
+    /// order.
+    fn fiber_force_along_tendon(&self, activation: f64, length: &LengthInfo, lengthening_speed: f64) -> f64 {
         let fiber_velocity = lengthening_speed * length.cos_pennation_angle;
         let normalized_velocity = fiber_velocity / (self.max_contraction_velocity * self.optimal_fiber_length);
         let curves = &self.curves;
@@ -95,8 +113,7 @@ impl DeGrooteFregly2016Muscle {
         let active = f_max * (activation * curves.calc_active_force_length_multiplier(length.normalized_fiber_length) * force_velocity);
         let passive = f_max * curves.calc_passive_force_multiplier(length.normalized_fiber_length);
         let damping = f_max * self.fiber_damping * normalized_velocity;
-        let along_tendon = (active + passive + damping) * length.cos_pennation_angle;
-        normalized_tendon_force - along_tendon / f_max
+        (active + passive + damping) * length.cos_pennation_angle
     }
 }
 
