@@ -352,28 +352,43 @@ impl GeometryPath {
 
     /// dL/dt (m/s) of the path `moment_arms` last placed in `scratch`, at speeds `u` of
     /// `coordinates` (each alone, no coupling applied; a coupler's dependent speed counts as the
-    /// state holds it): −Σ r u with r a unit tension's generalized force — the points' relative
-    /// velocities along the segments, wrap tangent points moving with their wrap object's body.
-    /// This is OpenSim's lengthening speed but over two wrap objects in series (Rajagopal2016's
-    /// gastrocnemii), where OpenSim's is neither this nor the exact dL/dt.
+    /// state holds it), as OpenSim's `computeLengtheningSpeed` sums `calcSpeedBetween` over every
+    /// pair of consecutive points: their relative velocity along the segment's direction, wrap
+    /// tangent points moving with their wrap object's body. Those directions are the stale ones
+    /// OpenSim sees ([`observed`]), so a pair on one body — two tangent points of a wrap, or a
+    /// tangent point and a path point — adds a little where the tangent points moved after they
+    /// were first measured (Rajagopal2016's gastrocnemii over their two cylinders: 9.4e-4 m/s),
+    /// which the pair's unit-tension forces (skipped on one body) do not.
     pub fn lengthening_speed(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &PathScratch, coordinates: &[usize], u: &[f64]) -> f64 {
-        -coordinates.iter().map(|&c| self.generalized_force(multibody, kinematics, q, scratch, c) * u[c]).sum::<f64>()
+        let mut speed = 0.0;
+        for (pair, d) in scratch.active.windows(2).zip(&scratch.directions) {
+            if !d.iter().all(|x| x.is_finite()) && pair[0].body == pair[1].body {
+                continue; // coincident points on one body do not separate
+            }
+            speed -= coordinates.iter().map(|&c| self.pair_force(multibody, kinematics, q, pair, d, c) * u[c]).sum::<f64>();
+        }
+        speed
     }
 
-    /// The generalized force about `coordinate` of a unit tension along the placed path.
+    /// The generalized force about `coordinate` of a unit tension along the placed path: the
+    /// pairs of consecutive points on different bodies.
     fn generalized_force(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &PathScratch, coordinate: usize) -> f64 {
-        let mut force = 0.0;
-        for (pair, d) in scratch.active.windows(2).zip(&scratch.directions) {
-            let (from, to) = (&pair[0], &pair[1]);
-            if from.body == to.body {
-                continue;
-            }
-            force += d.dot(&kinematics.point_partial(multibody, from.body, &from.location, coordinate));
-            force -= d.dot(&kinematics.point_partial(multibody, to.body, &to.location, coordinate));
-            force += self.moving_work(kinematics, q, from, coordinate).dot(d);
-            force -= self.moving_work(kinematics, q, to, coordinate).dot(d);
-        }
-        force
+        scratch
+            .active
+            .windows(2)
+            .zip(&scratch.directions)
+            .filter(|(pair, _)| pair[0].body != pair[1].body)
+            .map(|(pair, d)| self.pair_force(multibody, kinematics, q, pair, d, coordinate))
+            .sum()
+    }
+
+    /// The generalized force about `coordinate` of a unit tension pulling the two points of `pair`
+    /// together along the unit direction `d`: d·(∂v_from/∂u − ∂v_to/∂u), a `MovingPathPoint`'s
+    /// motion in its frame included.
+    fn pair_force(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], pair: &[ActivePoint], d: &Vec3, coordinate: usize) -> f64 {
+        let (from, to) = (&pair[0], &pair[1]);
+        let rate = |point: &ActivePoint| kinematics.point_partial(multibody, point.body, &point.location, coordinate) + self.moving_work(kinematics, q, point, coordinate);
+        d.dot(&(rate(from) - rate(to)))
     }
 
     /// OpenSim's `getdPointdQ` in ground for a `MovingPathPoint` whose x location is driven by
