@@ -35,12 +35,34 @@ pub fn run() -> ExitCode {
     let scale = crate::bench_scale::run();
     let functional = crate::bench_functional::run();
     let forward = crate::bench_forward::run();
-    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward) {
+    let reaction = crate::bench_reaction::run();
+    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// (case, seconds) from an oracle script printing `<case>_seconds=<s>` per line; empty when it
+/// cannot run (no `import opensim`).
+pub(crate) fn opensim_case_seconds(script: &str) -> Vec<(String, f64)> {
+    let Ok(output) = std::process::Command::new("python3").arg(crate::root().join(script)).output() else { return Vec::new() };
+    if !output.status.success() {
+        return Vec::new();
+    }
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .filter_map(|line| line.split_once("_seconds=").and_then(|(case, s)| Some((case.to_string(), s.trim().parse().ok()?))))
+        .collect()
+}
+
+/// The end of a case's line: OpenSim's time for it and the speed-up, or why it is missing.
+pub(crate) fn print_opensim_case(case: &str, ours: f64, theirs: &[(String, f64)]) {
+    match theirs.iter().find(|(name, _)| name == case) {
+        Some((_, seconds)) => println!("   OpenSim 4.6 {seconds:>8.3} s   speed-up {:>6.1}×", seconds / ours),
+        None => println!("   OpenSim 4.6 skipped (`python3 -c \"import opensim\"` failed)"),
     }
 }
 

@@ -8,6 +8,7 @@ mod bench_scale;
 mod bench_forward;
 mod bench_functional;
 mod bench_ik;
+mod bench_reaction;
 mod dynamics;
 mod functional;
 mod functional_generated;
