@@ -173,3 +173,12 @@ fn unsupported_constraints_are_refused() {
         }
     }
 }
+
+/// Without --time or a setup, the analysis covers the forces file's times.
+#[test]
+fn the_forces_file_sets_the_default_time_range() {
+    let folder = tempfile::tempdir().unwrap();
+    let (code, stdout, stderr) = osim_tune(&["reaction", &path(MODEL), &path(MOTION), "--forces", &path(FORCES), "--actuators", &path(RESERVES), "--joints", "r_elbow", "-o", s(folder.path())]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("1 joint loads at 81 frames") && stdout.contains("(0.1000–0.9000 s)"), "{stdout}");
+}

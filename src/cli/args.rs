@@ -335,7 +335,8 @@ pub enum Command {
         /// the model's muscles and actuators, comma separated; override the setup's.
         #[arg(long, value_delimiter = ',')]
         actuators: Vec<PathBuf>,
-        /// Time range in seconds (each end goes to the row at or before it).
+        /// Time range in seconds (each end goes to the row at or before it; default: the setup's,
+        /// else the forces file's times).
         #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
         time: Option<Vec<f64>>,
         /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).

@@ -47,8 +47,15 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     if request.step_interval == Some(0) {
         return Err("--step-interval 0: expected a whole number ≥ 1".into());
     }
+    // Without --time or a setup, the rows the forces file covers.
+    let force_times = forces_table.times();
+    let given = time_range(request.time, request.lowpass, setup.as_ref())?;
+    let range = match (force_times.first(), force_times.last()) {
+        (Some(&first), Some(&last)) if request.time.is_none() && setup.is_none() => [first, last],
+        _ => given,
+    };
     let settings = JointReactionSettings {
-        time_range: time_range(request.time, request.lowpass, setup.as_ref())?,
+        time_range: range,
         lowpass_cutoff: lowpass_cutoff(request.lowpass, setup.as_ref()),
         step_interval: request.step_interval.or(analysis.as_ref().map(|a| a.step_interval)).unwrap_or(1),
     };
