@@ -182,3 +182,25 @@ fn the_forces_file_sets_the_default_time_range() {
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("1 joint loads at 81 frames") && stdout.contains("(0.1000–0.9000 s)"), "{stdout}");
 }
+
+/// A `<ForceSet>` written as the root element (no `<OpenSimDocument>`, as OpenSim also reads)
+/// adds the same actuators.
+#[test]
+fn a_bare_force_set_file_is_read() {
+    let folder = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(path(RESERVES)).unwrap();
+    let (start, end) = (text.find("<ForceSet").unwrap(), text.find("</ForceSet>").unwrap() + "</ForceSet>".len());
+    let bare = folder.path().join("reserves.xml");
+    std::fs::write(&bare, format!("<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n{}\n", &text[start..end])).unwrap();
+    let tables: Vec<StorageTable> = [path(RESERVES), bare.display().to_string()]
+        .iter()
+        .enumerate()
+        .map(|(k, reserves)| {
+            let out = folder.path().join(format!("out{k}"));
+            let (code, _, stderr) = osim_tune(&["reaction", &path(MODEL), &path(MOTION), "--forces", &path(FORCES), "--actuators", reserves, "--name", "arm", "-o", s(&out)]);
+            assert_eq!(code, 0, "{reserves}: {stderr}");
+            StorageTable::read(&out.join("arm_JointReaction_ReactionLoads.sto")).unwrap()
+        })
+        .collect();
+    assert_eq!(tables[0].values(), tables[1].values());
+}

@@ -22,6 +22,7 @@ mod time_range;
 
 pub use analyze::{AnalyzeSetup, JointReactionSetup, StaticOptimizationSetup};
 pub use error::SetupError;
+pub use object::read_document;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};
 pub use ik::IkSetup;
 pub use inverse_dynamics::IdSetup;

@@ -6,14 +6,14 @@ use std::path::{Path, PathBuf};
 
 use crate::analysis::ExternalLoads;
 use crate::cli::{read_external_loads, Failure};
-use crate::io::osim::OsimDocument;
 use crate::mechanics::Multibody;
 use crate::model::{read_force_set, ActuatorSpec};
-use crate::setup::AnalyzeSetup;
+use crate::setup::{read_document, AnalyzeSetup};
 
-/// The actuators of the `--actuators` files, else of the setup's `force_set_files`, and whether
-/// they replace the model's forces (the setup's `replace_force_set`; never for `--actuators`).
-/// Each file read joins `inputs`.
+/// The actuators of the `--actuators` files, else of the setup's `force_set_files` (a `<ForceSet>`
+/// inside `<OpenSimDocument>` or as the root, as OpenSim reads both), and whether they replace
+/// the model's forces (the setup's `replace_force_set`; never for `--actuators`). Each file read
+/// joins `inputs`.
 pub fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
     let (files, replace): (Vec<PathBuf>, bool) = match setup {
         Some(setup) if actuators.is_empty() => (setup.force_set_files.iter().map(|f| f.resolved.clone()).collect(), setup.replace_force_set && !setup.force_set_files.is_empty()),
@@ -21,7 +21,7 @@ pub fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, input
     };
     let mut specs = Vec::new();
     for file in files {
-        specs.extend(read_force_set(&OsimDocument::read(&file)?)?);
+        specs.extend(read_force_set(&read_document(&file)?)?);
         inputs.push(file);
     }
     Ok((specs, replace))
