@@ -355,7 +355,7 @@ impl GeometryPath {
     /// state holds it), as OpenSim's `computeLengtheningSpeed` sums `calcSpeedBetween` over every
     /// pair of consecutive points: their relative velocity along the segment's direction, wrap
     /// tangent points moving with their wrap object's body. Those directions are the stale ones
-    /// OpenSim sees ([`observed`]), so a pair on one body — two tangent points of a wrap, or a
+    /// OpenSim sees (`observed`), so a pair on one body — two tangent points of a wrap, or a
     /// tangent point and a path point — adds a little where the tangent points moved after they
     /// were first measured (Rajagopal2016's gastrocnemii over their two cylinders: 9.4e-4 m/s),
     /// which the pair's unit-tension forces (skipped on one body) do not.
