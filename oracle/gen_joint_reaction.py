@@ -33,6 +33,8 @@ from pathlib import Path
 
 import opensim as osim
 
+from gen_static_optimization import analyze_tool
+
 REPO = Path(__file__).resolve().parent.parent
 SO = REPO / "fixtures" / "golden" / "static_optimization"
 OUT = REPO / "fixtures" / "golden" / "joint_reaction"
@@ -85,23 +87,7 @@ def run(case, keep=True):
     folder = OUT / case
     with tempfile.TemporaryDirectory() as scratch:
         scratch = Path(scratch)
-        tool = osim.AnalyzeTool()
-        tool.setName(case)
-        tool.setModelFilename(str(model))
-        files = osim.ArrayStr()
-        for f in force_sets:
-            files.append(str(f))
-        tool.setForceSetFiles(files)
-        tool.setReplaceForceSet(False)
-        tool.setResultsDir(str(scratch / "results"))
-        tool.setInitialTime(time_range[0])
-        tool.setFinalTime(time_range[1])
-        tool.setCoordinatesFileName(str(coordinates))
-        tool.setLowpassCutoffFrequency(cutoff)
-        tool.setSolveForEquilibrium(False)
-        tool.setOutputPrecision(20)
-        if loads:
-            tool.setExternalLoadsFileName(str(loads))
+        tool = analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, scratch / "results")
         tool.getAnalysisSet().cloneAndAppend(reaction("JointReaction", forces, "child", child_frame))
         tool.getAnalysisSet().cloneAndAppend(reaction("JointReactionParent", forces, "parent", parent_frame))
         setup = scratch / "setup.xml"

@@ -103,28 +103,36 @@ def leg_reserves(path):
     forces.printToXML(str(path))
 
 
+def analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, results):
+    """An AnalyzeTool named `case` as the goldens run it: the force-set files added (not
+    replacing the model's), muscles not equilibrated, tables printed with 20 digits, results in
+    `results`; the analyses are the caller's to append."""
+    tool = osim.AnalyzeTool()
+    tool.setName(case)
+    tool.setModelFilename(str(model))
+    files = osim.ArrayStr()
+    for f in force_sets:
+        files.append(str(f))
+    tool.setForceSetFiles(files)
+    tool.setReplaceForceSet(False)
+    tool.setResultsDir(str(results))
+    tool.setInitialTime(time_range[0])
+    tool.setFinalTime(time_range[1])
+    tool.setCoordinatesFileName(str(coordinates))
+    tool.setLowpassCutoffFrequency(cutoff)
+    tool.setSolveForEquilibrium(False)
+    tool.setOutputPrecision(20)
+    if loads:
+        tool.setExternalLoadsFileName(str(loads))
+    return tool
+
+
 def run(case, model, coordinates, force_sets, time_range, cutoff, exponent, loads=None):
     folder = OUT / case
     folder.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as scratch:
         scratch = Path(scratch)
-        tool = osim.AnalyzeTool()
-        tool.setName(case)
-        tool.setModelFilename(str(model))
-        files = osim.ArrayStr()
-        for f in force_sets:
-            files.append(str(f))
-        tool.setForceSetFiles(files)
-        tool.setReplaceForceSet(False)
-        tool.setResultsDir(str(scratch / "results"))
-        tool.setInitialTime(time_range[0])
-        tool.setFinalTime(time_range[1])
-        tool.setCoordinatesFileName(str(coordinates))
-        tool.setLowpassCutoffFrequency(cutoff)
-        tool.setSolveForEquilibrium(False)
-        tool.setOutputPrecision(20)
-        if loads:
-            tool.setExternalLoadsFileName(str(loads))
+        tool = analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, scratch / "results")
         so = osim.StaticOptimization()
         so.setName("StaticOptimization")
         so.setStartTime(time_range[0])

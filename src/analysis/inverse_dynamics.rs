@@ -79,7 +79,7 @@ pub fn inverse_dynamics(
         let state = State::at(multibody, &measured, &splines, time);
         multibody.realize(&state.q, &mut kinematics);
         let applied = loads.map(|l| l.at(time, &kinematics)).unwrap_or_default();
-        let forces = multibody.inverse_dynamics(&MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
+        let forces = multibody.inverse_dynamics_at(&kinematics, &MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
         values.push(time);
         values.extend(order.iter().map(|&c| forces[c]));
         body_forces.push(time);

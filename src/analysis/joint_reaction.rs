@@ -159,7 +159,7 @@ pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &P
         for (generator, &force) in generators.iter().zip(&forces) {
             generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut applied);
         }
-        let udot = multibody.accelerations(q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
+        let udot = multibody.accelerations(&kinematics, q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
         let reactions = multibody.joint_reactions(&MotionState { q, u, udot: &udot }, &applied.loads);
         values.push(time);
         for report in reports {

@@ -11,6 +11,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::inverse_dynamics::{BodyLoad, MotionState};
+use super::kinematics::Kinematics;
 use super::multibody::Multibody;
 use super::spatial::Vec3;
 
@@ -26,28 +27,29 @@ pub enum ForwardDynamicsError {
 }
 
 impl Multibody {
-    /// M(q) (kg·m², kg·m or kg), [`Multibody::coordinates`] order.
-    pub fn mass_matrix(&self, q: &[f64]) -> DMatrix<f64> {
+    /// M(q) (kg·m², kg·m or kg), [`Multibody::coordinates`] order, at the pose `kinematics`
+    /// holds ([`Multibody::realize`] at `q`).
+    pub fn mass_matrix(&self, kinematics: &Kinematics, q: &[f64]) -> DMatrix<f64> {
         let n = self.coordinates.len();
-        let mut kinematics = self.kinematics();
-        self.realize(q, &mut kinematics);
         let (zero, mut unit) = (vec![0.0; n], vec![0.0; n]);
         let mut matrix = DMatrix::zeros(n, n);
         for k in 0..n {
             unit[k] = 1.0;
-            let wrenches = self.body_wrenches(&MotionState { q, u: &zero, udot: &unit }, &[], &Vec3::zeros());
-            matrix.set_column(k, &DVector::from_vec(self.generalized_forces_of(&kinematics, &wrenches)));
+            let motions = self.body_motions(&MotionState { q, u: &zero, udot: &unit });
+            let wrenches = self.body_wrenches(&motions, &[], &Vec3::zeros());
+            matrix.set_column(k, &DVector::from_vec(self.generalized_forces_of(kinematics, &wrenches)));
             unit[k] = 0.0;
         }
         matrix
     }
 
-    /// u̇ at coordinates `q` and speeds `u` under gravity, the body `loads` and the mobility
-    /// forces `tau` (N·m or N per coordinate), with locks and couplers enforced.
+    /// u̇ at coordinates `q` (realized in `kinematics`) and speeds `u` under gravity, the body
+    /// `loads` and the mobility forces `tau` (N·m or N per coordinate), with locks and couplers
+    /// enforced.
     ///
     /// # Panics
     /// If a slice does not hold one value per coordinate.
-    pub fn accelerations(&self, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<Vec<f64>, ForwardDynamicsError> {
+    pub fn accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<Vec<f64>, ForwardDynamicsError> {
         let n = self.coordinates.len();
         assert!(tau.len() == n, "one mobility force per coordinate");
         if let Some(c) = self.coordinates.iter().find(|c| c.prescribed && !c.locked) {
@@ -56,9 +58,9 @@ impl Multibody {
         if !self.other_constraints.is_empty() {
             return Err(ForwardDynamicsError::Constraints(self.other_constraints.clone()));
         }
-        let bias = DVector::from_vec(self.inverse_dynamics(&MotionState { q, u, udot: &vec![0.0; n] }, loads));
+        let bias = DVector::from_vec(self.inverse_dynamics_at(kinematics, &MotionState { q, u, udot: &vec![0.0; n] }, loads));
         let (projection, offset) = self.constraint_projection(q, u);
-        let mass = self.mass_matrix(q);
+        let mass = self.mass_matrix(kinematics, q);
         let reduced = projection.transpose() * &mass * &projection;
         let rhs = projection.transpose() * (DVector::from_column_slice(tau) - bias - &mass * &offset);
         let free = reduced.cholesky().ok_or(ForwardDynamicsError::Singular)?.solve(&rhs);
@@ -121,10 +123,16 @@ mod tests {
         let n = multibody.coordinates.len();
         let udot: Vec<f64> = (0..n).map(|c| if multibody.coordinates[c].locked { 0.0 } else { ((c as f64) * 0.9).sin() }).collect();
         let tau = multibody.inverse_dynamics(&MotionState { q: &q, u: &u, udot: &udot }, &[]);
-        let found = multibody.accelerations(&q, &u, &[], &tau).unwrap();
+        let found = multibody.accelerations(&realized(&multibody, &q), &q, &u, &[], &tau).unwrap();
         for (a, b) in found.iter().zip(&udot) {
             assert_relative_eq!(a, b, epsilon = 1e-9);
         }
+    }
+
+    fn realized(multibody: &Multibody, q: &[f64]) -> Kinematics {
+        let mut kinematics = multibody.kinematics();
+        multibody.realize(q, &mut kinematics);
+        kinematics
     }
 
     /// The mass matrix is symmetric and gives the kinetic energy ½uᵀMu that the bodies' own
@@ -133,7 +141,7 @@ mod tests {
     fn mass_matrix_is_symmetric_and_gives_kinetic_energy() {
         let multibody = multibody("models/gait2392_thelen2003muscle.osim");
         let (q, u) = state(&multibody);
-        let mass = multibody.mass_matrix(&q);
+        let mass = multibody.mass_matrix(&realized(&multibody, &q), &q);
         assert_relative_eq!(mass, mass.transpose(), epsilon = 1e-12);
         let zero = vec![0.0; u.len()];
         let motions = multibody.body_motions(&MotionState { q: &q, u: &u, udot: &zero });
@@ -170,7 +178,7 @@ mod tests {
             tau[k.independent] += k.slope(&q) * demand[k.dependent];
             tau[k.dependent] = 0.0;
         }
-        let found = multibody.accelerations(&q, &u, &[], &tau).unwrap();
+        let found = multibody.accelerations(&realized(&multibody, &q), &q, &u, &[], &tau).unwrap();
         for (a, b) in found.iter().zip(&udot) {
             assert_relative_eq!(a, b, epsilon = 1e-9);
         }

@@ -84,14 +84,20 @@ impl Multibody {
     pub fn inverse_dynamics(&self, state: &MotionState, loads: &[BodyLoad]) -> Vec<f64> {
         let mut kinematics = self.kinematics();
         self.realize(state.q, &mut kinematics);
-        let wrenches = self.body_wrenches(state, loads, &self.gravity);
-        self.generalized_forces_of(&kinematics, &wrenches)
+        self.inverse_dynamics_at(&kinematics, state, loads)
     }
 
-    /// Each body's inertial wrench under `gravity` (m/s², in ground), less `loads`: what the
-    /// body needs from its joint beyond what it gets (ground's is zero).
-    pub(super) fn body_wrenches(&self, state: &MotionState, loads: &[BodyLoad], gravity: &Vec3) -> Vec<Wrench> {
-        let motions = self.body_motions(state);
+    /// [`Multibody::inverse_dynamics`] with the pose already realized in `kinematics`
+    /// ([`Multibody::realize`] at `state.q`).
+    pub fn inverse_dynamics_at(&self, kinematics: &Kinematics, state: &MotionState, loads: &[BodyLoad]) -> Vec<f64> {
+        let wrenches = self.body_wrenches(&self.body_motions(state), loads, &self.gravity);
+        self.generalized_forces_of(kinematics, &wrenches)
+    }
+
+    /// Each body's inertial wrench in its motion `motions` ([`Multibody::body_motions`]) under
+    /// `gravity` (m/s², in ground), less `loads`: what the body needs from its joint beyond
+    /// what it gets (ground's is zero).
+    pub(super) fn body_wrenches(&self, motions: &[TransformRates], loads: &[BodyLoad], gravity: &Vec3) -> Vec<Wrench> {
         let mut wrenches: Vec<Wrench> = motions.iter().zip(&self.bodies).map(|(motion, body)| inertial_wrench(motion, body, gravity)).collect();
         for load in loads {
             let wrench = &mut wrenches[load.body];

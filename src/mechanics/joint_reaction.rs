@@ -6,7 +6,7 @@
 //! subtree cancel.
 
 use super::inverse_dynamics::{BodyLoad, MotionState};
-use super::kinematics::Kinematics;
+use super::motion_rates::TransformRates;
 use super::multibody::Multibody;
 use super::spatial::Vec3;
 
@@ -37,10 +37,9 @@ impl Multibody {
     /// (its u̇ the accelerations the forces give, e.g. [`Multibody::accelerations`]) under
     /// gravity and the body `loads`.
     pub fn joint_reactions(&self, state: &MotionState, loads: &[BodyLoad]) -> Vec<JointReaction> {
-        let mut kinematics = self.kinematics();
-        self.realize(state.q, &mut kinematics);
+        let motions = self.body_motions(state);
         // Per body: force and moment about the ground origin, then summed over its subtree.
-        let mut subtree: Vec<(Vec3, Vec3)> = self.body_wrenches(state, loads, &self.gravity).iter().map(|w| (w.force, w.moment + w.point.cross(&w.force))).collect();
+        let mut subtree: Vec<(Vec3, Vec3)> = self.body_wrenches(&motions, loads, &self.gravity).iter().map(|w| (w.force, w.moment + w.point.cross(&w.force))).collect();
         for joint in self.joints.iter().rev() {
             let (force, moment) = subtree[joint.child];
             subtree[joint.parent].0 += force;
@@ -51,17 +50,18 @@ impl Multibody {
             .enumerate()
             .map(|(j, joint)| {
                 let (force, moment) = subtree[joint.child];
-                let (child_origin, parent_origin) = self.joint_origins(&kinematics, j);
+                let (child_origin, parent_origin) = self.joint_origins(&motions, j);
                 JointReaction { force, moment: moment - child_origin.cross(&force), child_origin, parent_origin }
             })
             .collect()
     }
 
-    /// The ground locations of joint `j`'s child and parent frame origins.
-    fn joint_origins(&self, kinematics: &Kinematics, j: usize) -> (Vec3, Vec3) {
+    /// The ground locations of joint `j`'s child and parent frame origins, bodies placed by
+    /// `motions`.
+    fn joint_origins(&self, motions: &[TransformRates], j: usize) -> (Vec3, Vec3) {
         let joint = &self.joints[j];
-        let child = kinematics.bodies[joint.child].compose(&joint.child_body.inverse());
-        let parent = kinematics.bodies[joint.parent].compose(&joint.parent_frame);
+        let child = motions[joint.child].transform.compose(&joint.child_body.inverse());
+        let parent = motions[joint.parent].transform.compose(&joint.parent_frame);
         (child.translation, parent.translation)
     }
 }

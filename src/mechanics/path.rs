@@ -370,6 +370,13 @@ impl GeometryPath {
         speed
     }
 
+    /// Path length (m) and [`GeometryPath::lengthening_speed`] (m/s) at coordinates `q` and speeds
+    /// `u` of `coordinates`, without the moment arms.
+    pub fn length_and_speed(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, coordinates: &[usize], u: &[f64]) -> (f64, f64) {
+        let length = self.place_with_directions(kinematics, q, scratch);
+        (length, self.lengthening_speed(multibody, kinematics, q, scratch, coordinates, u))
+    }
+
     /// The generalized force about `coordinate` of a unit tension along the placed path: the
     /// pairs of consecutive points on different bodies.
     fn generalized_force(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &PathScratch, coordinate: usize) -> f64 {
@@ -394,8 +401,8 @@ impl GeometryPath {
     /// OpenSim's `getdPointdQ` in ground for a `MovingPathPoint` whose x location is driven by
     /// `coordinate` (all three slopes, at the unclamped values); zero otherwise.
     fn moving_work(&self, kinematics: &Kinematics, q: &[f64], active: &ActivePoint, coordinate: usize) -> Vec3 {
-        match self.moving_point_rate(kinematics, q, active) {
-            Some((c, rate)) if c == coordinate => rate,
+        match self.moving_point(active) {
+            Some((point, axes)) if axes[0].coordinate == coordinate => moving_point_rate(kinematics, q, point, axes),
             _ => Vec3::zeros(),
         }
     }
@@ -403,11 +410,17 @@ impl GeometryPath {
     /// For a `MovingPathPoint`: the coordinate of its x location and OpenSim's `getdPointdQ` in
     /// ground.
     fn moving_point_rate(&self, kinematics: &Kinematics, q: &[f64], active: &ActivePoint) -> Option<(usize, Vec3)> {
+        self.moving_point(active).map(|(point, axes)| (axes[0].coordinate, moving_point_rate(kinematics, q, point, axes)))
+    }
+
+    /// The path point of `active` and its axes, when it is a `MovingPathPoint`.
+    fn moving_point(&self, active: &ActivePoint) -> Option<(&PathPoint, &[MovingAxis; 3])> {
         let Source::Point(index) = active.source else { return None };
         let point = &self.points[index];
-        let PointKind::Moving(axes) = &point.kind else { return None };
-        let slopes = Vec3::from_fn(|k, _| axes[k].function.derivative(q[axes[k].coordinate]));
-        Some((axes[0].coordinate, kinematics.bodies[point.body].rotation * point.frame.rotation * slopes))
+        match &point.kind {
+            PointKind::Moving(axes) => Some((point, axes)),
+            _ => None,
+        }
     }
 
     /// Fills `scratch.active` with the active points and their locations in ground.
@@ -518,6 +531,13 @@ fn current_length(active: &[ActivePoint], seen: &mut [[Option<Vec3>; 2]]) -> f64
         };
     }
     length
+}
+
+/// OpenSim's `getdPointdQ` of a `MovingPathPoint` in ground: all three slopes at the unclamped
+/// coordinate values, turned from the point's frame.
+fn moving_point_rate(kinematics: &Kinematics, q: &[f64], point: &PathPoint, axes: &[MovingAxis; 3]) -> Vec3 {
+    let slopes = Vec3::from_fn(|k, _| axes[k].function.derivative(q[axes[k].coordinate]));
+    kinematics.bodies[point.body].rotation * point.frame.rotation * slopes
 }
 
 /// Unit vector from `from` to `to`, NaN when the points coincide (as OpenSim).

@@ -18,7 +18,6 @@ struct Buffers {
     q: Vec<f64>,
     /// Generalized speeds (for the DeGroote muscles' path speeds).
     u: Vec<f64>,
-    moment_arms: Vec<f64>,
     kinematics: Kinematics,
     scratch: PathScratch,
 }
@@ -30,6 +29,8 @@ pub(super) struct MuscleDynamics<'a> {
     excitations: &'a Activations,
     /// The simulation's start, s.
     start: f64,
+    /// Whether some muscle's state rate takes its path's speed (DeGroote's tendon force).
+    needs_speeds: bool,
     buffers: RefCell<Buffers>,
     /// The last muscle failure (integrator time, error). Its derivative is NaN, which makes the
     /// integrator reject the step and try a shorter one; it matters only if that never succeeds.
@@ -47,8 +48,9 @@ impl<'a> MuscleDynamics<'a> {
     ) -> MuscleDynamics<'a> {
         let multibody = &geometry.multibody;
         let n = multibody.coordinates.len();
-        let buffers = Buffers { q: vec![0.0; n], u: vec![0.0; n], moment_arms: vec![0.0; n], kinematics: multibody.kinematics(), scratch: PathScratch::default() };
-        MuscleDynamics { geometry, muscles, motion, excitations, start, buffers: RefCell::new(buffers), failure }
+        let buffers = Buffers { q: vec![0.0; n], u: vec![0.0; n], kinematics: multibody.kinematics(), scratch: PathScratch::default() };
+        let needs_speeds = muscles.iter().any(|m| m.tendon_force_state().is_some());
+        MuscleDynamics { geometry, muscles, motion, excitations, start, needs_speeds, buffers: RefCell::new(buffers), failure }
     }
 }
 
@@ -57,11 +59,11 @@ impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
         let time = self.start + x;
         let n = self.muscles.len();
         let mut buffers = self.buffers.borrow_mut();
-        let Buffers { q, u, moment_arms, kinematics, scratch } = &mut *buffers;
+        let Buffers { q, u, kinematics, scratch } = &mut *buffers;
         let multibody = &self.geometry.multibody;
         self.motion.pose(time, q);
         multibody.realize(q, kinematics);
-        if self.muscles.iter().any(|m| m.tendon_force_state().is_some()) {
+        if self.needs_speeds {
             self.motion.speeds(time, q, u);
         }
         for (k, muscle) in self.muscles.iter().enumerate() {
@@ -82,8 +84,7 @@ impl System<f64, DVector<f64>> for MuscleDynamics<'_> {
             }
             let path = &self.geometry.paths[muscle.path];
             if let Some(degroote) = muscle.tendon_force_state() {
-                let length = path.moment_arms(multibody, kinematics, q, scratch, &path.loaded, moment_arms);
-                let speed = path.lengthening_speed(multibody, kinematics, q, scratch, &path.loaded, u);
+                let (length, speed) = path.length_and_speed(multibody, kinematics, q, scratch, &path.loaded, u);
                 dy[n + k] = degroote.normalized_tendon_force_rate(activation, y[n + k], length, speed);
                 continue;
             }

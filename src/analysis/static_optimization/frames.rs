@@ -64,7 +64,7 @@ impl<'a> Frames<'a> {
         self.paths.evaluate_moving(geometry, state.q, Some(state.u));
         let applied = self.loads.map(|l| l.at(time, self.paths.kinematics())).unwrap_or_default();
         let udot = constrained_accelerations(multibody, state);
-        let demand = multibody.inverse_dynamics(&MotionState { udot: &udot, ..*state }, &applied);
+        let demand = multibody.inverse_dynamics_at(self.paths.kinematics(), &MotionState { udot: &udot, ..*state }, &applied);
         let along = |forces: &[f64], c: usize| {
             let mut sum = 0.0;
             for_each_coupling(&multibody.couplers, state.q, c, |d, weight| sum += weight * forces[d]);

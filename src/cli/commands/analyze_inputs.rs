@@ -1,20 +1,53 @@
-//! What the AnalyzeTool commands (`so`, `reaction`) read besides the model and the coordinates:
-//! the added actuators, the external loads and the output name, from the command line or else
-//! from the AnalyzeTool setup.
+//! What the AnalyzeTool commands (`so`, `reaction`) read besides the coordinates: the model with
+//! its muscles and actuators and the added ones, the external loads, the output name, time range,
+//! cutoff and step interval — from the command line, or else from the AnalyzeTool setup.
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::ExternalLoads;
+use crate::analysis::{generators, ExternalLoads, Generator};
 use crate::cli::{read_external_loads, Failure};
-use crate::mechanics::Multibody;
-use crate::model::{read_force_set, ActuatorSpec};
+use crate::io::osim::OsimDocument;
+use crate::mechanics::{MuscleGeometry, Multibody};
+use crate::model::{read_force_set, ActuatorSpec, ModelSpec};
 use crate::setup::{read_document, AnalyzeSetup};
+
+/// What an AnalyzeTool command works on besides the coordinates.
+pub struct AnalyzeInputs {
+    pub spec: ModelSpec,
+    pub geometry: MuscleGeometry,
+    /// The model's muscles and actuators, then the added ones (or only those, with the setup's
+    /// `replace_force_set`).
+    pub generators: Vec<Generator>,
+    pub external: Option<ExternalLoads>,
+    /// Every file read (model, coordinates, setup, actuators, loads and their data), which no
+    /// output may overwrite.
+    pub files: Vec<PathBuf>,
+}
+
+impl AnalyzeInputs {
+    /// Reads `model` and the actuators and external loads the flags (`actuators`,
+    /// `external_loads`) or else the setup (read from `setup_file`) name.
+    pub fn read(model: &Path, coordinates: &Path, setup_file: Option<&Path>, setup: Option<&AnalyzeSetup>, actuators: &[PathBuf], external_loads: Option<&Path>) -> Result<AnalyzeInputs, Failure> {
+        let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
+        let geometry = MuscleGeometry::new(&spec)?;
+        let mut files: Vec<PathBuf> = [model, coordinates].into_iter().chain(setup_file).map(Path::to_path_buf).collect();
+        let (added, replace) = actuator_files(actuators, setup, &mut files)?;
+        let generators = generators(&spec, &geometry, &added, replace)?;
+        let external = external_loads_of(external_loads, setup, &geometry.multibody, &mut files)?;
+        Ok(AnalyzeInputs { spec, geometry, generators, external, files })
+    }
+
+    /// [`AnalyzeInputs::files`] as paths.
+    pub fn file_paths(&self) -> Vec<&Path> {
+        self.files.iter().map(PathBuf::as_path).collect()
+    }
+}
 
 /// The actuators of the `--actuators` files, else of the setup's `force_set_files` (a `<ForceSet>`
 /// inside `<OpenSimDocument>` or as the root, as OpenSim reads both), and whether they replace
 /// the model's forces (the setup's `replace_force_set`; never for `--actuators`). Each file read
 /// joins `inputs`.
-pub fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
+fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
     let (files, replace): (Vec<PathBuf>, bool) = match setup {
         Some(setup) if actuators.is_empty() => (setup.force_set_files.iter().map(|f| f.resolved.clone()).collect(), setup.replace_force_set && !setup.force_set_files.is_empty()),
         _ => (actuators.to_vec(), false),
@@ -28,7 +61,7 @@ pub fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, input
 }
 
 /// The `--external-loads` file, else the setup's, read on `multibody`; its files join `inputs`.
-pub fn external_loads(file: Option<&Path>, setup: Option<&AnalyzeSetup>, multibody: &Multibody, inputs: &mut Vec<PathBuf>) -> Result<Option<ExternalLoads>, Failure> {
+fn external_loads_of(file: Option<&Path>, setup: Option<&AnalyzeSetup>, multibody: &Multibody, inputs: &mut Vec<PathBuf>) -> Result<Option<ExternalLoads>, Failure> {
     let file = file.map(Path::to_path_buf).or_else(|| setup.and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
     file.map(|file| read_external_loads(&file, multibody, inputs)).transpose()
 }
@@ -44,6 +77,14 @@ pub fn output_name(name: Option<&str>, setup: Option<&AnalyzeSetup>, coordinates
 pub fn time_range(time: Option<[f64; 2]>, lowpass: Option<f64>, setup: Option<&AnalyzeSetup>) -> Result<[f64; 2], Failure> {
     crate::cli::check_time_and_cutoff(time, lowpass)?;
     Ok(time.or(setup.map(|s| [s.initial_time, s.final_time])).unwrap_or([f64::NEG_INFINITY, f64::INFINITY]))
+}
+
+/// The `--step-interval`, else the analysis's, else 1; 0 is refused.
+pub fn step_interval(flag: Option<usize>, analysis: Option<usize>) -> Result<usize, Failure> {
+    if flag == Some(0) {
+        return Err("--step-interval 0: expected a whole number ≥ 1".into());
+    }
+    Ok(flag.or(analysis).unwrap_or(1))
 }
 
 /// The `--lowpass` cutoff, else the setup's when it filters (≥ 0), else none.

@@ -2,14 +2,11 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::{actuator_files, external_loads, lowpass_cutoff, output_name, time_range};
-use crate::analysis::{generators, joint_reactions, reaction_reports, ActuatorForces, JointReactionSettings, ReactionProblem};
+use super::analyze_inputs::{lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
+use crate::analysis::{joint_reactions, reaction_reports, ActuatorForces, JointReactionSettings, ReactionProblem};
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
-use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
-use crate::mechanics::MuscleGeometry;
-use crate::model::ModelSpec;
 use crate::setup::{AnalyzeSetup, JointReactionSetup};
 
 /// What the command line asks for besides the model and the coordinates.
@@ -29,24 +26,17 @@ pub struct Request {
 }
 
 pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcome, Failure> {
-    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
-    let geometry = MuscleGeometry::new(&spec)?;
     let setup = request.setup.as_deref().map(AnalyzeSetup::read).transpose()?;
     let analysis = setup.as_ref().map(check_setup).transpose()?;
-    let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
-    let (added, replace) = actuator_files(&request.actuators, setup.as_ref(), &mut inputs)?;
-    let generators = generators(&spec, &geometry, &added, replace)?;
-    let external = external_loads(request.external_loads.as_deref(), setup.as_ref(), &geometry.multibody, &mut inputs)?;
+    let mut read = AnalyzeInputs::read(model, coordinates, request.setup.as_deref(), setup.as_ref(), &request.actuators, request.external_loads.as_deref())?;
     let forces_file = forces_file(request, analysis.as_ref())?;
-    inputs.push(forces_file.clone());
+    read.files.push(forces_file.clone());
     let forces_table = StorageTable::read(&forces_file)?;
     let given = |cli: &[String], set: fn(&JointReactionSetup) -> &Vec<String>| if cli.is_empty() { analysis.as_ref().map(|a| set(a).clone()).unwrap_or_default() } else { cli.to_vec() };
     let (joints, on, frames) = (given(&request.joints, |a| &a.joint_names), given(&request.on, |a| &a.apply_on_bodies), given(&request.frames, |a| &a.express_in_frame));
     let where_given = request.setup.clone().unwrap_or_else(|| "the command line".into());
-    let reports = reaction_reports(&spec, &geometry.multibody, &joints, &on, &frames, &where_given)?;
-    if request.step_interval == Some(0) {
-        return Err("--step-interval 0: expected a whole number ≥ 1".into());
-    }
+    let reports = reaction_reports(&read.spec, &read.geometry.multibody, &joints, &on, &frames, &where_given)?;
+    let step_interval = step_interval(request.step_interval, analysis.as_ref().map(|a| a.step_interval))?;
     // Without --time or a setup, the rows the forces file covers.
     let force_times = forces_table.times();
     let given = time_range(request.time, request.lowpass, setup.as_ref())?;
@@ -57,13 +47,13 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let settings = JointReactionSettings {
         time_range: range,
         lowpass_cutoff: lowpass_cutoff(request.lowpass, setup.as_ref()),
-        step_interval: request.step_interval.or(analysis.as_ref().map(|a| a.step_interval)).unwrap_or(1),
+        step_interval,
     };
     let name = output_name(request.name.as_deref(), setup.as_ref(), coordinates);
     let output = request.output.join(format!("{name}_JointReaction_ReactionLoads.sto"));
-    let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+    let input_paths = read.file_paths();
     ensure_not_an_input(&output, &input_paths)?;
-    let problem = ReactionProblem { geometry: &geometry, generators: &generators, forces: ActuatorForces { table: &forces_table, file: &forces_file }, external: external.as_ref() };
+    let problem = ReactionProblem { geometry: &read.geometry, generators: &read.generators, forces: ActuatorForces { table: &forces_table, file: &forces_file }, external: read.external.as_ref() };
     let result = joint_reactions(&problem, &StorageTable::read(coordinates)?, coordinates, &reports, &settings)?;
     create_output_folders([output.as_path()])?;
     write_all_atomically(&[(&output, result.loads.to_text().as_bytes())], &input_paths)?;

@@ -2,17 +2,15 @@
 
 use std::path::{Path, PathBuf};
 
+use super::analyze_inputs::{lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
 use crate::analysis::{
-    generators, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError,
-    StaticOptimizationResult, StaticOptimizationSettings,
+    physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
+    StaticOptimizationSettings,
 };
-use super::analyze_inputs::{actuator_files, external_loads, lowpass_cutoff, output_name, time_range};
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
-use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
-use crate::model::ModelSpec;
 use crate::setup::{AnalyzeSetup, StaticOptimizationSetup};
 
 /// What the command line asks for besides the model and the coordinates.
@@ -33,18 +31,13 @@ pub struct Request {
 }
 
 pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcome, Failure> {
-    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
-    let geometry = MuscleGeometry::new(&spec)?;
     let setup = request.setup.as_deref().map(AnalyzeSetup::read).transpose()?;
     let analysis = setup.as_ref().map(check_setup).transpose()?;
-    let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
-    let (added, replace) = actuator_files(&request.actuators, setup.as_ref(), &mut inputs)?;
-    let generators = generators(&spec, &geometry, &added, replace)?;
-    let loads = external_loads(request.external_loads.as_deref(), setup.as_ref(), &geometry.multibody, &mut inputs)?;
+    let read = AnalyzeInputs::read(model, coordinates, request.setup.as_deref(), setup.as_ref(), &request.actuators, request.external_loads.as_deref())?;
     let settings = settings(request, setup.as_ref(), analysis.as_ref())?;
     let name = output_name(request.name.as_deref(), setup.as_ref(), coordinates);
     let table = StorageTable::read(coordinates)?;
-    let problem = Problem { geometry: &geometry, generators: &generators, table: &table, coordinates, loads: loads.as_ref(), inputs: &inputs };
+    let problem = Problem { geometry: &read.geometry, generators: &read.generators, table: &table, coordinates, loads: read.external.as_ref(), inputs: &read.files };
     match request.pia {
         Some(criterion) => physiological(&problem, request, &name, PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale }),
         None => static_optimisation(&problem, request, &name, &settings),
@@ -138,11 +131,8 @@ fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure>
 /// The command line's values, else the setup's, else all rows, unfiltered, every row.
 fn settings(request: &Request, setup: Option<&AnalyzeSetup>, analysis: Option<&StaticOptimizationSetup>) -> Result<StaticOptimizationSettings, Failure> {
     let time_range = time_range(request.time, request.lowpass, setup)?;
-    if request.step_interval == Some(0) {
-        return Err("--step-interval 0: expected a whole number ≥ 1".into());
-    }
+    let step_interval = step_interval(request.step_interval, analysis.map(|a| a.step_interval))?;
     let lowpass_cutoff = lowpass_cutoff(request.lowpass, setup);
-    let step_interval = request.step_interval.or(analysis.map(|a| a.step_interval)).unwrap_or(1);
     let use_muscle_physiology = analysis.is_none_or(|a| a.use_muscle_physiology);
     let activation_exponent = request.activation_exponent.or(analysis.map(|a| a.activation_exponent)).unwrap_or(2.0);
     if !(activation_exponent > 1.0 && activation_exponent.is_finite()) {

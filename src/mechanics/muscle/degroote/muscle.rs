@@ -111,6 +111,11 @@ impl DeGrooteFregly2016Muscle {
     }
 
     /// w = L_opt sin α_opt (m): the fiber's constant width, the shortest possible fiber.
+    /// F_max, N.
+    pub fn max_isometric_force(&self) -> f64 {
+        self.max_isometric_force
+    }
+
     pub fn fiber_width(&self) -> f64 {
         self.fiber_width
     }

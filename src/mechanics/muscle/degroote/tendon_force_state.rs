@@ -80,11 +80,6 @@ impl DeGrooteFregly2016Muscle {
         self.max_isometric_force * self.curves.calc_tendon_force_multiplier((mt_length - along_tendon) / self.tendon_slack_length)
     }
 
-    /// F_max (N).
-    pub fn max_isometric_force(&self) -> f64 {
-        self.max_isometric_force
-    }
-
     /// (L_m in m, F_t in N) of a rigid-tendon muscle at activation `activation` on a path of
     /// length `mt_length` (m) lengthening at `lengthening_speed` (m/s): the fiber takes the whole
     /// speed and pulls along the tendon with a f_L f_V + f_PE + β ṽ (OpenSim's
