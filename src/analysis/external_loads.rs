@@ -78,6 +78,11 @@ impl ExternalLoads {
         self.forces.iter().map(|f| f.at(time, kinematics)).collect()
     }
 
+    /// Whether some force is applied to `body` ([`Multibody::bodies`] index).
+    pub fn loads_body(&self, body: usize) -> bool {
+        self.forces.iter().any(|f| f.body == body)
+    }
+
     /// OpenSim's `ForceReporter` labels: per force `<body>_<name>_F{x,y,z}`, `_p{x,y,z}` when it
     /// has a point and `_T{x,y,z}` when it has a torque.
     pub fn record_labels(&self) -> Vec<String> {
@@ -156,7 +161,7 @@ impl AppliedForce {
 }
 
 /// OpenSim's choice by the number of rows: constant, piecewise linear, or cubic GCV spline.
-fn interpolate(times: &[f64], values: &[f64]) -> Result<Function, SignalError> {
+pub(super) fn interpolate(times: &[f64], values: &[f64]) -> Result<Function, SignalError> {
     match times.len() {
         1 => Ok(Function::new(&FunctionSpec::Constant { value: values[0] })),
         2 | 3 => Ok(Function::new(&FunctionSpec::PiecewiseLinearFunction { x: times.to_vec(), y: values.to_vec() })),

@@ -4,23 +4,19 @@
 //! joints asked (`joints_to_report_body_forces`), the body force and torque equivalent to each
 //! joint's generalized forces ([`Multibody::equivalent_body_force`]).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::external_loads::ExternalLoads;
-use super::signal::{rows_in_range, Series, SignalError};
+use super::splined_motion::{SplinedMotion, SplinedMotionError};
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{Function, Motion, MotionError, MotionState, Multibody};
+use crate::mechanics::{MotionState, Multibody};
 use crate::model::MotionType;
 
 /// Why inverse dynamics cannot run.
 #[derive(Debug, thiserror::Error)]
 pub enum InverseDynamicsError {
     #[error(transparent)]
-    Motion(#[from] MotionError),
-    #[error("{}: {source}", file.display())]
-    Signal { file: PathBuf, source: SignalError },
-    #[error("{}: no frame lies in the time range {start}–{end} s (the coordinates span {first}–{last} s)", file.display())]
-    NoFrames { file: PathBuf, start: f64, end: f64, first: f64, last: f64 },
+    Motion(#[from] SplinedMotionError),
     #[error(transparent)]
     Table(#[from] TableError),
 }
@@ -58,25 +54,14 @@ pub fn inverse_dynamics(
     settings: &InverseDynamicsSettings,
     body_force_joints: &[usize],
 ) -> Result<InverseDynamicsResult, InverseDynamicsError> {
-    let motion = Motion::from_table(table, file, multibody, true)?;
-    let signal = |source| InverseDynamicsError::Signal { file: file.into(), source };
-    let measured: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| !motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
-    let columns = measured.iter().map(|&c| (0..motion.len()).map(|i| motion.pose(i)[c]).collect()).collect();
-    let series = Series::new(motion.times.clone(), columns, 6).and_then(|s| s.filtered(settings.lowpass_cutoff)).map_err(signal)?;
-    let splines = series.splines().map_err(signal)?;
-    let frames = rows_in_range(&series.times, settings.time_range).ok_or_else(|| InverseDynamicsError::NoFrames {
-        file: file.into(),
-        start: settings.time_range[0],
-        end: settings.time_range[1],
-        first: series.times[0],
-        last: series.times[series.times.len() - 1],
-    })?;
+    let motion = SplinedMotion::new(multibody, table, file, settings.lowpass_cutoff)?;
+    let frames = motion.frames(settings.time_range)?;
     let order = tree_order(multibody);
-    let mut values = Vec::with_capacity(series.times[frames.clone()].len() * (order.len() + 1));
+    let mut values = Vec::with_capacity(motion.times[frames.clone()].len() * (order.len() + 1));
     let mut kinematics = multibody.kinematics();
     let mut body_forces = Vec::new();
-    for &time in &series.times[frames] {
-        let state = State::at(multibody, &measured, &splines, time);
+    for &time in &motion.times[frames] {
+        let state = motion.state_at(multibody, time);
         multibody.realize(&state.q, &mut kinematics);
         let applied = loads.map(|l| l.at(time, &kinematics)).unwrap_or_default();
         let forces = multibody.inverse_dynamics_at(&kinematics, &MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
@@ -102,25 +87,6 @@ fn body_force_table(multibody: &Multibody, joints: &[usize], values: Vec<f64>) -
         labels.extend(["FX", "FY", "FZ", "MX", "MY", "MZ"].map(|s| format!("{}_{}_{s}", joint.name, joint.child_frame)));
     }
     Ok(StorageTable::new("Inverse Dynamics Body Forces at Specified Joints", labels, values)?.with_in_degrees(false))
-}
-
-/// q, u and u̇ of every coordinate at one time: the splines' value and derivatives for the
-/// coordinates in the file, the default value at rest for the others.
-struct State {
-    q: Vec<f64>,
-    u: Vec<f64>,
-    udot: Vec<f64>,
-}
-
-impl State {
-    fn at(multibody: &Multibody, measured: &[usize], splines: &[Function], time: f64) -> State {
-        let n = multibody.coordinates.len();
-        let mut state = State { q: multibody.default_pose(), u: vec![0.0; n], udot: vec![0.0; n] };
-        for (&c, spline) in measured.iter().zip(splines) {
-            (state.q[c], state.u[c], state.udot[c]) = (spline.value(time), spline.derivative(time), spline.second_derivative(time));
-        }
-        state
-    }
 }
 
 /// Coordinates in Simbody's mobility order: joints by their depth below ground, then in the

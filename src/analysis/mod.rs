@@ -2,6 +2,7 @@
 
 mod activation;
 mod analyze_states;
+mod dynamometer;
 mod emg_comparison;
 mod external_loads;
 mod forward;
@@ -11,9 +12,11 @@ mod joint_reaction;
 mod muscle_analysis;
 mod physiological_inverse;
 mod signal;
+mod splined_motion;
 mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
+pub use dynamometer::{agreement, dynamometer_analysis, Agreement, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
 pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
 pub use forward::{
@@ -26,6 +29,7 @@ pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, Join
 pub use muscle_analysis::MuscleAnalysis;
 pub use physiological_inverse::{physiological_inverse, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings};
 pub use signal::{spline, Series, SignalError};
+pub use splined_motion::{CoordinateState, SplinedMotion, SplinedMotionError};
 pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};
 pub use analyze_states::StatesError;
 

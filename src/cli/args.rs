@@ -362,6 +362,66 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// The knee moment from an extended dynamometer set-up (thesis ch. 5): 3D inverse dynamics of
+    /// crank, shank and foot with a 6-D load cell in the crank gives M3D, the moment about the
+    /// knee coordinate's (e.g. functional) axis; beside it the dynamometer's own moment Mdyn and
+    /// Herzog's 2D estimate M2D with their Bland–Altman agreement, the axes' offset, the pad
+    /// force's angle to the crank's normal, and M3D's sensitivity to the knee axis' pose and the
+    /// bodies' masses and mass centers (table 5.1). The crank is a body of MODEL on a PinJoint to
+    /// ground about the dynamometer's axis, its origin at the load cell. Writes the per-frame
+    /// table (.sto) and prints the summary. Exit 0 success, 2 error.
+    Dynamometer {
+        /// The model (.osim) with the knee and the crank.
+        model: PathBuf,
+        /// Coordinate trajectories (.mot or .sto) with the crank's coordinate, e.g. an inverse
+        /// kinematics result of the leg and crank markers.
+        coordinates: PathBuf,
+        /// An OpenSim ExternalLoads file (.xml) with its datafile: the load cell's wrench on the
+        /// crank (an ExternalForce applied to the crank).
+        #[arg(long)]
+        load_cell: PathBuf,
+        /// The crank's body.
+        #[arg(long, default_value = "crank")]
+        crank: String,
+        /// The knee's coordinate.
+        #[arg(long, default_value = "knee_angle_r")]
+        knee: String,
+        /// The load cell datafile's column with the dynamometer's moment (N·m, gravity-corrected,
+        /// positive about the crank coordinate's axis).
+        #[arg(long)]
+        dynamometer_moment: Option<String>,
+        /// -1 when that column is about the axis' other sense.
+        #[arg(long, default_value = "1", allow_negative_numbers = true, value_parser = ["1", "-1"])]
+        dynamometer_sign: String,
+        /// Time range in seconds (clipped to the coordinates; each end goes to the frame at or
+        /// before it).
+        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+        time: Option<Vec<f64>>,
+        /// Low-pass cutoff frequency for the coordinates, Hz (default: none).
+        #[arg(long)]
+        lowpass: Option<f64>,
+        /// Sensitivity: the knee axis' turn about the shank's X and Y axes, degrees.
+        #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+        perturb_axis_angle: f64,
+        /// Sensitivity: the knee axis' shift along the shank's X and Y axes, m.
+        #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+        perturb_axis_offset: f64,
+        /// Sensitivity: the change of each body's mass, kg.
+        #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
+        perturb_mass: f64,
+        /// Sensitivity: the shift of each body's mass center along its X and Y axes, m.
+        #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+        perturb_mass_center: f64,
+        /// Print the summary as JSON.
+        #[arg(long)]
+        json: bool,
+        /// Also write the summary as JSON to this file.
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// Output per-frame table (.sto).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Predicted activations against EMG by cross-correlation (the thesis' ch. 7 check of inverse
     /// simulations): per muscle, Pearson's r between the prediction at its rows and the EMG
     /// envelope linearly interpolated there, at zero lag and at the best lag up to --max-lag

@@ -4,6 +4,7 @@ mod analyze;
 mod analyze_inputs;
 mod axis;
 mod diff;
+mod dynamometer;
 mod emg;
 mod flatten;
 mod forward;
@@ -40,6 +41,29 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Id { model, coordinates, external_loads, setup, time, lowpass, body_force_joints, body_forces, output } => {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, body_force_joints, body_forces, output };
             id::run(&model, &coordinates, &request)
+        }
+        Command::Dynamometer {
+            model,
+            coordinates,
+            load_cell,
+            crank,
+            knee,
+            dynamometer_moment,
+            dynamometer_sign,
+            time,
+            lowpass,
+            perturb_axis_angle,
+            perturb_axis_offset,
+            perturb_mass,
+            perturb_mass_center,
+            json,
+            report,
+            output,
+        } => {
+            let perturbations = crate::analysis::Perturbations { axis_angle: perturb_axis_angle.to_radians(), axis_offset: perturb_axis_offset, mass: perturb_mass, mass_center: perturb_mass_center };
+            let time = time.map(|t| [t[0], t[1]]);
+            let request = dynamometer::Request { load_cell, crank, knee, dynamometer_moment, dynamometer_sign: if dynamometer_sign == "-1" { -1.0 } else { 1.0 }, time, lowpass, perturbations, json, report, output };
+            dynamometer::run(&model, &coordinates, &request)
         }
         Command::Emg { predicted, emg, pair, max_lag, json } => emg::run(&predicted, &emg, &pair, max_lag, json),
         Command::Forward { model, coordinates, excitations, activations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
