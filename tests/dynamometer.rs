@@ -8,11 +8,9 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::osim_tune;
-use osim_tune::analysis::{dynamometer_analysis, DynamometerModel, DynamometerResult, DynamometerSettings, ExternalLoads, MeasuredMoment, Perturbations, SplinedMotion};
-use osim_tune::io::osim::OsimDocument;
+use osim_tune::analysis::{Perturbations, SplinedMotion};
 use osim_tune::io::table::StorageTable;
-use osim_tune::mechanics::{Multibody, Vec3};
-use osim_tune::model::ModelSpec;
+use osim_tune::validation::{dynamometer_golden_run, DYNAMOMETER_CASES};
 
 fn model_file(case: &str) -> PathBuf {
     common::fixture(&format!("models/dynamometer_{case}.osim"))
@@ -22,67 +20,37 @@ fn golden(case: &str, file: &str) -> PathBuf {
     common::fixture(&format!("golden/dynamometer/{case}/{file}"))
 }
 
-/// The analysis of a golden case, with the dynamometer's moment.
-fn analyse(case: &str) -> (Multibody, DynamometerModel, DynamometerResult) {
-    let multibody = Multibody::new(&ModelSpec::read(&OsimDocument::read(&model_file(case)).unwrap()).unwrap()).unwrap();
-    let model = DynamometerModel::new(&multibody, "crank", "knee_angle_r").unwrap();
-    let (loads, data_file) = ExternalLoads::read(&golden(case, "loadcell.xml"), &multibody).unwrap();
-    let measured = MeasuredMoment::new(&StorageTable::read(&data_file).unwrap(), &data_file, "dynamometer_moment", 1.0).unwrap();
-    let coordinates = golden(case, "coordinates.mot");
-    let motion = SplinedMotion::new(&multibody, &StorageTable::read(&coordinates).unwrap(), &coordinates, None).unwrap();
-    let settings = DynamometerSettings { time_range: [f64::NEG_INFINITY, f64::INFINITY], lowpass_cutoff: None, perturbations: Perturbations::THESIS };
-    let result = dynamometer_analysis(&multibody, &model, &motion, &loads, Some(&measured), &settings).unwrap();
-    (multibody, model, result)
-}
-
-/// `pad_truth.csv`: per row F_tc (tibia on crank), its point p, its free torque T_tc (ground)
-/// and the dynamometer's moment.
-fn pad_truth(case: &str) -> Vec<[f64; 11]> {
-    let text = std::fs::read_to_string(golden(case, "pad_truth.csv")).unwrap();
-    text.lines().skip(1).map(|line| line.split(',').map(|v| v.parse().unwrap()).collect::<Vec<f64>>().try_into().unwrap()).collect()
-}
-
 fn largest(values: impl Iterator<Item = f64>) -> f64 {
     values.fold(0.0, |m, v| if v.is_nan() { f64::NAN } else { m.max(v.abs()) })
 }
 
-/// Misaligned axes (4° and 4–6 cm apart), a moving femur, an isokinetic sweep, a pad force
-/// off the crank's normal with a free torque: from the load cell alone, M3D is OpenSim's knee
-/// moment with the pad's load known (2.3e-13 N·m seen), and the pad's load is the truth.
-/// Bound: 1e-9 N·m and N, the goldens' 17 digits of loads and coordinates and OpenSim's
-/// splines reproduced.
+/// From the load cell alone: M3D is OpenSim's knee moment with the pad's load known, the pad's
+/// load (F_tc and its moment about D) is the truth, and the pad's moment about the
+/// dynamometer's axis less the crank's I_ZZ θ̈ is what a gravity-corrected dynamometer reads;
+/// where Herzog's assumptions hold, M2D is the knee moment too. Bounds in `DYNAMOMETER_CASES`.
 #[test]
 fn the_load_cell_gives_opensims_knee_moment() {
-    let (_, _, result) = analyse("spatial");
-    let id = StorageTable::read(&golden("spatial", "inverse_dynamics.sto")).unwrap();
-    let truth = id.column("knee_angle_r_moment").unwrap();
-    assert_eq!(result.frames.len(), truth.len());
-    assert!(largest(result.frames.iter().zip(&truth).map(|(f, t)| f.knee_moment - t)) < 1e-9);
-    let pads = pad_truth("spatial");
-    for (frame, row) in result.frames.iter().zip(&pads) {
-        let (force, point, torque) = (Vec3::new(row[1], row[2], row[3]), Vec3::new(row[4], row[5], row[6]), Vec3::new(row[7], row[8], row[9]));
-        assert!((frame.pad_force - force).norm() < 1e-9, "{} vs {force}", frame.pad_force);
-        let about_d = (point - frame.dynamometer_axis.point).cross(&force) + torque;
-        assert!((frame.pad_moment - about_d).norm() < 1e-9);
-        // What a gravity-corrected dynamometer reads: the pad's moment about its axis less the
-        // crank's inertial moment (I_ZZ θ̈).
-        assert!((frame.dynamometer_axis.direction.dot(&frame.pad_moment) - frame.crank_inertial_moment - row[10]).abs() < 1e-9);
+    for case in &DYNAMOMETER_CASES {
+        let c = case.compare(&common::root()).unwrap();
+        for (what, worst) in [("M3D", &c.knee_moment), ("pad load", &c.pad_load), ("Mdyn", &c.dynamometer_moment)].into_iter().chain(c.herzog.as_ref().map(|w| ("M2D", w))) {
+            assert!(worst.count > 0 && worst.error < case.tolerance, "{} {what}: {:e} at {}", case.case, worst.error, worst.at);
+        }
+        assert_eq!(c.herzog.is_some(), case.herzog_exact);
     }
-    // The knee and the dynamometer turn the same way here, so Mdyn keeps its sign.
-    let mdyn = result.dynamometer.as_ref().unwrap();
-    assert!(largest(mdyn.iter().zip(&pads).map(|(m, row)| m - row[10])) < 1e-12);
+    // The knee and the dynamometer turn the same way in the spatial case, so Mdyn keeps its sign.
+    let (_, _, result) = dynamometer_golden_run(&common::root(), "spatial").unwrap();
+    let reading = StorageTable::read(&golden("spatial", "loadcell.mot")).unwrap().column("dynamometer_moment").unwrap();
+    assert!(largest(result.dynamometer.unwrap().iter().zip(&reading).map(|(m, r)| m - r)) < 1e-12);
 }
 
 /// Herzog's 2D estimate is exact when the knee's axis is the dynamometer's direction and lies
 /// on the crank's line and the pad pushes perpendicular to the crank with no free moment
-/// (the `planar` case: pad 0.30 m from the dynamometer's axis, knee 0.03 m beyond it): M2D =
-/// OpenSim's knee moment, d_d = 0.30 m, d_k = 0.33 m.
+/// (the `planar` case: pad 0.30 m from the dynamometer's axis, knee 0.03 m beyond it): its
+/// lever arms are d_d = 0.30 m and d_k = 0.33 m, and M2D agrees with M3D in the summary.
 #[test]
 fn herzog_is_exact_where_its_assumptions_hold() {
-    let (_, _, result) = analyse("planar");
-    let truth = StorageTable::read(&golden("planar", "inverse_dynamics.sto")).unwrap().column("knee_angle_r_moment").unwrap();
+    let (_, _, result) = dynamometer_golden_run(&common::root(), "planar").unwrap();
     let herzog = result.herzog.as_ref().unwrap();
-    assert!(largest(herzog.iter().zip(&truth).map(|(h, t)| h.knee_moment - t)) < 1e-9);
     for (estimate, frame) in herzog.iter().zip(&result.frames).filter(|(_, f)| f.pad_force.norm() > 1.0) {
         assert!((estimate.pad_distance - 0.30).abs() < 1e-9 && (estimate.knee_distance - 0.33).abs() < 1e-9, "{estimate:?}");
         assert!(frame.pad_force_angle() < 1e-9 && frame.axis_angle() < 1e-9);
@@ -102,7 +70,7 @@ fn herzog_is_exact_where_its_assumptions_hold() {
 /// sensitivity to a mass is Δm |n·((c − r_knee) × g)|, the same in every frame.
 #[test]
 fn mass_sensitivity_is_the_weights_moment() {
-    let (multibody, model, result) = analyse("planar");
+    let (multibody, _, result) = dynamometer_golden_run(&common::root(), "planar").unwrap();
     let coordinates = golden("planar", "coordinates.mot");
     let motion = SplinedMotion::new(&multibody, &StorageTable::read(&coordinates).unwrap(), &coordinates, None).unwrap();
     let state = motion.state_at(&multibody, 0.5);
@@ -118,7 +86,6 @@ fn mass_sensitivity_is_the_weights_moment() {
     }
     // The femur is above the knee: not perturbed.
     assert!(!result.sensitivity.iter().any(|r| r.parameter.starts_with("femur")));
-    let _ = model;
 }
 
 fn s(path: &Path) -> &str {

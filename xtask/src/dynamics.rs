@@ -4,8 +4,9 @@
 //! `../shared/reference` or `$OSIM_TUNE_REFERENCE` has the pipeline goldens, else the fixture
 //! slice), and the physiological inverse approach on the walk against static optimisation and
 //! first principles (OpenSim has none), and muscle-driven forward simulation along prescribed
-//! kinematics against OpenSim 4.6's integration of the same prescribed model, and joint reactions
-//! against OpenSim 4.6's JointReaction analysis.
+//! kinematics against OpenSim 4.6's integration of the same prescribed model, joint reactions
+//! against OpenSim 4.6's JointReaction analysis, and the extended dynamometer set-up against
+//! OpenSim 4.6's inverse dynamics with the pad's load known.
 
 use std::path::PathBuf;
 
@@ -15,8 +16,8 @@ use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
 use osim_tune::validation::{
-    compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, ForwardCase, JointReactionCase, StaticOptimizationCase, Subject01Walk, FORWARD_CASES,
-    JOINT_REACTION_CASES,
+    compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, DynamometerCase, ForwardCase, JointReactionCase, StaticOptimizationCase, Subject01Walk,
+    DYNAMOMETER_CASES, FORWARD_CASES, JOINT_REACTION_CASES,
 };
 
 use crate::root;
@@ -43,7 +44,22 @@ pub fn rows() -> Vec<Row> {
     }
     rows.extend(FORWARD_CASES.iter().flat_map(forward));
     rows.extend(JOINT_REACTION_CASES.iter().flat_map(joint_reaction));
+    rows.extend(DYNAMOMETER_CASES.iter().flat_map(dynamometer));
     rows
+}
+
+/// The extended dynamometer set-up (thesis ch. 5): from the load cell, the knee moment, the
+/// pad's load and the dynamometer's reading against OpenSim's inverse dynamics with the pad's
+/// load known, and Herzog's estimate where it is exact.
+fn dynamometer(case: &DynamometerCase) -> Vec<Row> {
+    let reference = "OpenSim 4.6 InverseDynamicsTool, pad load known";
+    match case.compare(&root()) {
+        Ok(c) => [(Some(&c.knee_moment), "M3D (N·m)"), (Some(&c.pad_load), "pad force, moment (N, N·m)"), (Some(&c.dynamometer_moment), "dynamometer reading (N·m)"), (c.herzog.as_ref(), "Herzog M2D, exact here (N·m)")]
+            .into_iter()
+            .filter_map(|(w, what)| Some(Row { what: format!("dynamometer, {}: {what}", case.case), reference: reference.into(), worst: w?.error, tolerance: case.tolerance, at: w?.at.clone() }))
+            .collect(),
+        Err(error) => vec![failed(&format!("dynamometer, {}", case.case), reference, error.to_string())],
+    }
 }
 
 /// Every joint's load on its child and on its parent, driven by OpenSim's static optimisation
