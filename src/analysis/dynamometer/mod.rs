@@ -161,8 +161,12 @@ fn frames_of(multibody: &Multibody, model: &DynamometerModel, motion: &SplinedMo
         .collect()
 }
 
+/// Below this cosine between the series of Mdyn and M3D, Mdyn is taken to have the other sign
+/// convention (opposite series give −1; a mere mismatch stays well above −0.5).
+const OPPOSED: f64 = 0.5;
+
 /// Mdyn at `times` in the knee coordinate's sense; refused outside its table's times and when
-/// it opposes M3D overall (the other sign convention).
+/// it clearly opposes M3D (the other sign convention).
 fn dynamometer_moments(measured: &MeasuredMoment, times: &[f64], frames: &[DynamometerFrame]) -> Result<Vec<f64>, DynamometerError> {
     let data = |problem: String| DynamometerError::Data { file: measured.file.clone(), problem };
     let [first, last] = measured.span;
@@ -170,14 +174,19 @@ fn dynamometer_moments(measured: &MeasuredMoment, times: &[f64], frames: &[Dynam
         return Err(data(format!("the dynamometer's moment spans {first}–{last} s, but the trial has a frame at {time} s; choose --time within it")));
     }
     let moments: Vec<f64> = times.iter().zip(frames).map(|(&t, f)| measured.sign * measured.function.value(t) * f.sense()).collect();
-    let agreement: f64 = moments.iter().zip(frames).map(|(m, f)| m * f.knee_moment).sum();
-    if agreement < 0.0 {
+    let knee: Vec<f64> = frames.iter().map(|f| f.knee_moment).collect();
+    let cosine = dot(&moments, &knee) / (dot(&moments, &moments) * dot(&knee, &knee)).sqrt();
+    if cosine < -OPPOSED {
         return Err(data(format!(
-            "column {:?} opposes the knee moment M3D the load cell gives (Σ Mdyn·M3D < 0): the other sign convention. If the dynamometer reports the moment about the other sense of its axis, pass --dynamometer-sign -1; if the load cell's columns are the load on the sensor rather than on the crank, negate them",
+            "column {:?} opposes the knee moment M3D the load cell gives (cosine of the two series {cosine:.2}): the other sign convention. If the dynamometer reports the moment about the other sense of its axis, pass --dynamometer-sign -1; if the load cell's columns are the load on the sensor rather than on the crank, negate them",
             measured.column
         )));
     }
     Ok(moments)
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 impl DynamometerResult {
