@@ -142,6 +142,13 @@ fn bad_requests_are_refused() {
         assert!(stderr.contains(expected), "{extra:?}: {stderr}");
         assert!(!output.exists());
     }
+    // A motion without the crank's angle.
+    let partial = folder.path().join("no_crank.mot");
+    let text = std::fs::read_to_string(&coordinates).unwrap().replace("crank_angle", "dynamometer_angle");
+    std::fs::write(&partial, text).unwrap();
+    let (code, _, stderr) = osim_tune(&["dynamometer", s(&model), s(&partial), "--load-cell", s(&loads), "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("has no column for crank_angle"), "{stderr}");
     let (code, _, stderr) = osim_tune(&["dynamometer", s(&model), s(&coordinates), "--load-cell", s(&loads), "-o", s(&coordinates)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("input"), "{stderr}");

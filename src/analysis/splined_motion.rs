@@ -54,6 +54,11 @@ impl SplinedMotion {
         Ok(SplinedMotion { file: file.into(), times: series.times, measured, splines, defaulted: motion.defaulted, ignored_columns: motion.ignored_columns })
     }
 
+    /// The motion's file.
+    pub fn file(&self) -> &Path {
+        &self.file
+    }
+
     /// The rows within `range` (s), or why there are none.
     pub fn frames(&self, range: [f64; 2]) -> Result<RangeInclusive<usize>, SplinedMotionError> {
         rows_in_range(&self.times, range).ok_or_else(|| SplinedMotionError::NoFrames {

@@ -139,6 +139,12 @@ pub fn dynamometer_analysis(
     measured: Option<&MeasuredMoment>,
     settings: &DynamometerSettings,
 ) -> Result<DynamometerResult, DynamometerError> {
+    for c in [model.crank_coordinate, model.knee_coordinate] {
+        let name = &multibody.coordinates[c].name;
+        if motion.defaulted.contains(name) {
+            return Err(DynamometerError::Data { file: motion.file().into(), problem: format!("has no column for {name}; the crank's and the knee's motion must be measured") });
+        }
+    }
     let times = motion.times[motion.frames(settings.time_range)?].to_vec();
     let frames = frames_of(multibody, model, motion, loads, &times);
     let dynamometer = measured.map(|m| dynamometer_moments(m, &times, &frames)).transpose()?;
