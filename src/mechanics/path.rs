@@ -362,10 +362,12 @@ impl GeometryPath {
     pub fn lengthening_speed(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &PathScratch, coordinates: &[usize], u: &[f64]) -> f64 {
         let mut speed = 0.0;
         for (pair, d) in scratch.active.windows(2).zip(&scratch.directions) {
-            if !d.iter().all(|x| x.is_finite()) && pair[0].body == pair[1].body {
-                continue; // coincident points on one body do not separate
-            }
-            speed -= coordinates.iter().map(|&c| self.pair_force(multibody, kinematics, q, pair, d, c) * u[c]).sum::<f64>();
+            if d.iter().all(|x| x.is_finite()) {
+                speed -= coordinates.iter().map(|&c| self.pair_force(multibody, kinematics, q, pair, d, c) * u[c]).sum::<f64>();
+            } else if pair[0].body != pair[1].body {
+                // Coincident points: OpenSim's `calcSpeedBetween` takes their relative speed.
+                speed += coordinates.iter().map(|&c| self.pair_rate(multibody, kinematics, q, pair, c) * u[c]).sum::<Vec3>().norm();
+            } // (coincident points on one body do not separate)
         }
         speed
     }
@@ -393,9 +395,14 @@ impl GeometryPath {
     /// together along the unit direction `d`: d·(∂v_from/∂u − ∂v_to/∂u), a `MovingPathPoint`'s
     /// motion in its frame included.
     fn pair_force(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], pair: &[ActivePoint], d: &Vec3, coordinate: usize) -> f64 {
-        let (from, to) = (&pair[0], &pair[1]);
+        d.dot(&self.pair_rate(multibody, kinematics, q, pair, coordinate))
+    }
+
+    /// ∂(v_from − v_to)/∂u of `pair`'s two points, u the speed of `coordinate`, a
+    /// `MovingPathPoint`'s motion in its frame included.
+    fn pair_rate(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], pair: &[ActivePoint], coordinate: usize) -> Vec3 {
         let rate = |point: &ActivePoint| kinematics.point_partial(multibody, point.body, &point.location, coordinate) + self.moving_work(kinematics, q, point, coordinate);
-        d.dot(&(rate(from) - rate(to)))
+        rate(&pair[0]) - rate(&pair[1])
     }
 
     /// OpenSim's `getdPointdQ` in ground for a `MovingPathPoint` whose x location is driven by
@@ -590,6 +597,30 @@ mod tests {
                     assert!((applied - 100.0 * arms[c]).abs() < 1e-10, "{file} {} about {}: {applied} vs {}", path.name, multibody.coordinates[c].name, 100.0 * arms[c]);
                 }
             }
+        }
+    }
+
+    /// Two points on different bodies that coincide separate at their relative speed, whichever
+    /// way they move, as OpenSim's `calcSpeedBetween` has it (OpenSim 4.6 gives 0.3 m/s for
+    /// both signs on this slider, whose path runs from ground to the sliding block).
+    #[test]
+    fn coincident_points_separate_at_their_relative_speed() {
+        let spec = ModelSpec::read(&OsimDocument::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/models/degroote_bench.osim")).unwrap()).unwrap();
+        let geometry = MuscleGeometry::new(&spec).unwrap();
+        let multibody = &geometry.multibody;
+        let slider = multibody.coordinate_index("default_length").unwrap();
+        let path = geometry.paths.iter().find(|p| p.spanned.contains(&slider)).unwrap();
+        let mut q = multibody.default_pose();
+        q[slider] = 0.0;
+        let mut kinematics = multibody.kinematics();
+        multibody.realize(&q, &mut kinematics);
+        let mut scratch = PathScratch::default();
+        for speed in [0.3, -0.3] {
+            let mut u = vec![0.0; q.len()];
+            u[slider] = speed;
+            let (length, lengthening) = path.length_and_speed(multibody, &kinematics, &q, &mut scratch, &[slider], &u);
+            assert_eq!(length, 0.0);
+            assert!((lengthening - 0.3).abs() < 1e-15, "{lengthening}");
         }
     }
 }
