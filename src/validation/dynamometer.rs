@@ -56,7 +56,7 @@ pub fn dynamometer_golden_run(root: &Path, case: &str) -> Result<(Multibody, Dyn
     let measured = MeasuredMoment::new(&StorageTable::read(&data_file)?, &data_file, "dynamometer_moment", 1.0)?;
     let coordinates = golden(root, case, "coordinates.mot");
     let motion = SplinedMotion::new(&multibody, &StorageTable::read(&coordinates)?, &coordinates, None)?;
-    let settings = DynamometerSettings { time_range: [f64::NEG_INFINITY, f64::INFINITY], lowpass_cutoff: None, perturbations: Perturbations::THESIS };
+    let settings = DynamometerSettings { time_range: [f64::NEG_INFINITY, f64::INFINITY], perturbations: Perturbations::THESIS };
     let result = dynamometer_analysis(&multibody, &model, &motion, &loads, Some(&measured), &settings)?;
     Ok((multibody, model, result))
 }

@@ -36,8 +36,6 @@ pub enum DynamometerError {
     Data { file: PathBuf, problem: String },
     #[error(transparent)]
     Motion(#[from] SplinedMotionError),
-    #[error(transparent)]
-    Table(#[from] TableError),
 }
 
 /// The dynamometer's own moment, a column of a table, as a function of time.
@@ -71,8 +69,6 @@ impl MeasuredMoment {
 pub struct DynamometerSettings {
     /// s; clipped to the coordinates' times.
     pub time_range: [f64; 2],
-    /// Low-pass cutoff for the coordinates, Hz (`None`: no filtering).
-    pub lowpass_cutoff: Option<f64>,
     pub perturbations: Perturbations,
 }
 

@@ -39,9 +39,12 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     for output in std::iter::once(&request.output).chain(&request.report) {
         ensure_not_an_input(output, &inputs)?;
     }
-    let measured = request.dynamometer_moment.as_deref().map(|column| MeasuredMoment::new(&StorageTable::read(&data_file)?, &data_file, column, request.dynamometer_sign)).transpose()?;
+    let measured = match &request.dynamometer_moment {
+        Some(column) => Some(MeasuredMoment::new(&StorageTable::read(&data_file)?, &data_file, column, request.dynamometer_sign)?),
+        None => None,
+    };
     let motion = SplinedMotion::new(&multibody, &StorageTable::read(coordinates)?, coordinates, request.lowpass)?;
-    let settings = DynamometerSettings { time_range: request.time.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]), lowpass_cutoff: request.lowpass, perturbations: request.perturbations };
+    let settings = DynamometerSettings { time_range: request.time.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]), perturbations: request.perturbations };
     let result = dynamometer_analysis(&multibody, &dynamometer, &motion, &loads, measured.as_ref(), &settings)?;
     let table = result.table(&multibody, &dynamometer)?.to_text();
     let summary = result.summary();
