@@ -6,12 +6,15 @@
 //! - `power_sum.rs`: min Σ|xᵢ|ᵖ under equalities and bounds, on power cones ([`minimise_power_sum`]);
 //! - `sparse_qp.rs`: a sparse QP with a diagonal Hessian over whole trajectories ([`SparseQp`]);
 //! - `false_position.rs`: a bracketed scalar root without derivatives ([`false_position`]);
+//! - `kalman_smoother.rs`: a Rauch–Tung–Striebel smoother of coordinates with a constant 4th
+//!   derivative (De Groote et al. 2008);
 //! - `ik/`: inverse kinematics as OpenSim 4.6 computes it ([`InverseKinematics`]);
 //! - `error.rs`: [`IkError`].
 
 mod box_qp;
 mod error;
 mod false_position;
+pub mod kalman_smoother;
 pub mod ik;
 mod least_squares;
 pub mod nlp;

@@ -26,6 +26,8 @@ use std::collections::BTreeMap;
 
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix6, Rotation3, SMatrix, Vector3, Vector6};
 
+use crate::solvers::kalman_smoother::{information_update, rts_smooth, ORDER};
+
 use super::rotation::{chordal_mean, exp, left_jacobian, log};
 use super::segment_pose::{NoPose, SegmentPose};
 use super::trajectory::{FrameContext, FramePose};
@@ -35,8 +37,6 @@ use super::{AxisError, SegmentCluster};
 /// the rotation vector is singular at 180°.
 pub const MAX_ROTATION_FROM_MEAN: f64 = 170.0 * std::f64::consts::PI / 180.0;
 
-/// Number of state entries per coordinate: the value and four derivatives.
-const ORDER: usize = 5;
 /// Coordinates per segment: three translations, then three rotation-vector components.
 const DOFS: usize = 6;
 const STATES: usize = ORDER * DOFS;
@@ -186,13 +186,6 @@ struct SegmentModel {
     spectral_density: Vector6<f64>,
 }
 
-/// One frame of the forward pass: the filtered state and covariance (the prediction for the
-/// next frame is recomputed in the backward pass, which halves the memory).
-struct Filtered {
-    state: DVector<f64>,
-    covariance: DMatrix<f64>,
-}
-
 impl SegmentModel {
     /// One iterated-extended RTS pass linearised about `linearisation`; returns the smoothed
     /// coordinates of every frame.
@@ -202,33 +195,9 @@ impl SegmentModel {
         linearisation: &[Vector6<f64>],
         context: &FrameContext,
     ) -> Result<Vec<Vector6<f64>>, AxisError> {
-        let n = positions.len();
-        let times = context.times;
-        let h = if n > 1 { (times[n - 1] - times[0]) / (n - 1) as f64 } else { 1.0 };
-        let mut filtered: Vec<Filtered> = Vec::with_capacity(n);
-        for frame in 0..n {
-            let (predicted, predicted_covariance) = match filtered.last() {
-                None => self.prior(&linearisation[0]),
-                Some(previous) => {
-                    let (f, q) = self.transition(times[frame] - times[frame - 1], h);
-                    (&f * &previous.state, &f * &previous.covariance * f.transpose() + q)
-                }
-            };
-            let (state, covariance) = self.update(&predicted, &predicted_covariance, &positions[frame], &linearisation[frame]);
-            filtered.push(Filtered { state, covariance });
-        }
-        // Rauch–Tung–Striebel: x_s(k) = x_f(k) + P_f(k)·Fᵀ·P_p(k+1)⁻¹·(x_s(k+1) − x_p(k+1)).
-        let mut smoothed = vec![DVector::zeros(STATES); n];
-        smoothed[n - 1] = filtered[n - 1].state.clone();
-        for frame in (0..n - 1).rev() {
-            let current = &filtered[frame];
-            let (f, q) = self.transition(times[frame + 1] - times[frame], h);
-            let predicted_covariance = &f * &current.covariance * f.transpose() + q;
-            let difference = &smoothed[frame + 1] - &f * &current.state;
-            let gain_input = solve_symmetric(&predicted_covariance, &difference)
-                .ok_or_else(|| AxisError::Covariance { segment: context.segment.to_owned(), frame: context.frame_numbers[frame + 1] })?;
-            smoothed[frame] = &current.state + &current.covariance * (f.transpose() * gain_input);
-        }
+        let update = |frame: usize, predicted: &DVector<f64>, covariance: &DMatrix<f64>| self.update(predicted, covariance, &positions[frame], &linearisation[frame]);
+        let smoothed = rts_smooth(context.times, self.spectral_density.as_slice(), self.prior(&linearisation[0]), update)
+            .map_err(|frame| AxisError::Covariance { segment: context.segment.to_owned(), frame: context.frame_numbers[frame] })?;
         Ok(smoothed.iter().map(|x| Vector6::from_iterator(x.rows(0, DOFS).iter().copied())).collect())
     }
 
@@ -240,23 +209,6 @@ impl SegmentModel {
         let variance = |dof: usize| if dof < 3 { 1.0 } else { std::f64::consts::PI.powi(2) };
         let covariance = DMatrix::from_diagonal(&DVector::from_fn(STATES, |i, _| variance(i % DOFS)));
         (state, covariance)
-    }
-
-    /// Transition matrix F and process noise Q over `dt` seconds, for states scaled by
-    /// h^k/k!: F = F₁ ⊗ I₆, Q = Q₁ ⊗ diag(S).
-    fn transition(&self, dt: f64, h: f64) -> (DMatrix<f64>, DMatrix<f64>) {
-        let (f1, q1) = (transition_1d(dt, h), noise_1d(dt, h));
-        let mut f = DMatrix::zeros(STATES, STATES);
-        let mut q = DMatrix::zeros(STATES, STATES);
-        for i in 0..ORDER {
-            for j in 0..ORDER {
-                for dof in 0..DOFS {
-                    f[(i * DOFS + dof, j * DOFS + dof)] = f1[(i, j)];
-                    q[(i * DOFS + dof, j * DOFS + dof)] = q1[(i, j)] * self.spectral_density[dof];
-                }
-            }
-        }
-        (f, q)
     }
 
     /// The measurement update with the visible markers, in information form on the six
@@ -289,87 +241,8 @@ impl SegmentModel {
         if visible == 0 {
             return (predicted.clone(), covariance.clone());
         }
-        let p_qq = Matrix6::from_iterator(covariance.view((0, 0), (DOFS, DOFS)).iter().copied());
-        let system = Matrix6::identity() + information * p_qq;
-        let lu = system.lu();
-        let (Some(gain_residual), Some(gain_information)) = (lu.solve(&residual), lu.solve(&information)) else {
-            return (predicted.clone(), covariance.clone());
-        };
-        let pe = covariance.columns(0, DOFS).into_owned();
-        let state = predicted + &pe * DVector::from_iterator(DOFS, gain_residual.iter().copied());
-        let correction = &pe * DMatrix::from_iterator(DOFS, DOFS, gain_information.iter().copied()) * pe.transpose();
-        let updated = covariance - correction;
-        let symmetric = (&updated + updated.transpose()) * 0.5;
-        (state, symmetric)
-    }
-}
-
-/// Solves P·y = b for a symmetric positive-definite P (Cholesky, falling back to LU).
-fn solve_symmetric(p: &DMatrix<f64>, b: &DVector<f64>) -> Option<DVector<f64>> {
-    let y = match p.clone().cholesky() {
-        Some(cholesky) => cholesky.solve(b),
-        None => p.clone().lu().solve(b)?,
-    };
-    y.iter().all(|v| v.is_finite()).then_some(y)
-}
-
-/// The scaled state's transition for one coordinate: F₁[i][j] = C(j, i)·(Δt/h)^(j−i), j ≥ i.
-fn transition_1d(dt: f64, h: f64) -> SMatrix<f64, ORDER, ORDER> {
-    let ratio = dt / h;
-    SMatrix::from_fn(|i, j| if j >= i { binomial(j, i) * ratio.powi((j - i) as i32) } else { 0.0 })
-}
-
-/// The scaled process noise for one coordinate per unit spectral density:
-/// Q₁[i][j] = s_i·s_j·Δt^(9−i−j) / ((4−i)!·(4−j)!·(9−i−j)), s_k = h^k/k!.
-fn noise_1d(dt: f64, h: f64) -> SMatrix<f64, ORDER, ORDER> {
-    let scale = |k: usize| h.powi(k as i32) / factorial(k);
-    SMatrix::from_fn(|i, j| {
-        let power = 2 * (ORDER - 1) + 1 - i - j;
-        scale(i) * scale(j) * dt.powi(power as i32) / (factorial(ORDER - 1 - i) * factorial(ORDER - 1 - j) * power as f64)
-    })
-}
-
-fn factorial(n: usize) -> f64 {
-    (1..=n).map(|k| k as f64).product()
-}
-
-fn binomial(n: usize, k: usize) -> f64 {
-    factorial(n) / (factorial(k) * factorial(n - k))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// F₁ must propagate a quartic polynomial exactly: with q(t) = Σ c_k t^k, the scaled state at
-    /// t + Δt equals F₁ times the scaled state at t.
-    #[test]
-    fn transition_propagates_a_quartic_exactly() {
-        let (h, dt, t): (f64, f64, f64) = (0.01, 0.013, 0.7);
-        let c = [0.3, -1.2, 2.5, 4.0, -7.0];
-        let scaled_state = |t: f64| {
-            SMatrix::<f64, ORDER, 1>::from_fn(|k, _| {
-                let derivative: f64 = (k..ORDER).map(|p| c[p] * factorial(p) / factorial(p - k) * t.powi((p - k) as i32)).sum();
-                derivative * h.powi(k as i32) / factorial(k)
-            })
-        };
-        let propagated = transition_1d(dt, h) * scaled_state(t);
-        assert!((propagated - scaled_state(t + dt)).amax() < 1e-12);
-    }
-
-    /// Q₁ is the integral of F₁(s)·e₅·e₅ᵀ·F₁(s)ᵀ over the interval (checked by the midpoint rule).
-    #[test]
-    fn process_noise_is_the_integrated_fifth_derivative_noise() {
-        let (h, dt) = (0.01, 0.01);
-        let steps = 20_000;
-        let mut integral = SMatrix::<f64, ORDER, ORDER>::zeros();
-        for step in 0..steps {
-            let s = (step as f64 + 0.5) * dt / steps as f64;
-            // The unscaled input e₅ (noise on the 4th derivative's rate) scaled by s₄ = h⁴/4!.
-            let column = transition_1d(s, h).column(ORDER - 1) * (h.powi(4) / 24.0);
-            integral += column * column.transpose() * (dt / steps as f64);
-        }
-        let q = noise_1d(dt, h);
-        assert!(((integral - q).amax() / q.amax()) < 1e-6, "{integral}\n{q}");
+        let information = DMatrix::from_iterator(DOFS, DOFS, information.iter().copied());
+        let residual = DVector::from_iterator(DOFS, residual.iter().copied());
+        information_update(predicted, covariance, &information, &residual).unwrap_or_else(|| (predicted.clone(), covariance.clone()))
     }
 }
