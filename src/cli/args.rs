@@ -198,6 +198,12 @@ pub enum Command {
         /// separated, e.g. R.ASIS=10,L.ASIS=10; W = 0 only reports the marker.
         #[arg(long, value_delimiter = ',')]
         weights: Vec<String>,
+        /// Kalman-smooth the kinematics over the whole trial at about this cutoff (Hz), as the
+        /// thesis computes joint kinematics (De Groote et al. 2008): the markers through the
+        /// model with their weights, each coordinate's 4th derivative constant up to noise. Not
+        /// OpenSim's IK.
+        #[arg(long)]
+        kalman: Option<f64>,
         /// Output coordinates (.mot, OpenSim's IK layout, rotations in degrees).
         #[arg(short, long)]
         output: PathBuf,

@@ -39,4 +39,7 @@ pub enum IkError {
     /// A start pose of the wrong length.
     #[error("a pose needs {expected} coordinate values, got {found}")]
     PoseLength { expected: usize, found: usize },
+    /// The Kalman smoother cannot run.
+    #[error("Kalman smoothing: {problem}")]
+    Smoother { problem: String },
 }

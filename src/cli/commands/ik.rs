@@ -1,4 +1,4 @@
-//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] -o Q.mot [--errors ERR.sto]`
+//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] [--kalman HZ] -o Q.mot [--errors ERR.sto]`
 
 use std::path::{Path, PathBuf};
 
@@ -9,7 +9,7 @@ use crate::io::table::MarkerTable;
 use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
 use crate::setup::IkSetup;
-use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, MarkerTask, MissingFrom};
+use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, KalmanIkSettings, MarkerTask, MissingFrom};
 
 /// Where the results go.
 pub struct Outputs {
@@ -17,7 +17,20 @@ pub struct Outputs {
     pub errors: Option<PathBuf>,
 }
 
-pub fn run(model: &Path, trial_file: &Path, setup: Option<&Path>, time: Option<[f64; 2]>, weights: &[String], outputs: &Outputs) -> Result<Outcome, Failure> {
+/// What the command line asks for besides the model, the trial and the outputs.
+pub struct Request<'a> {
+    pub setup: Option<&'a Path>,
+    pub time: Option<[f64; 2]>,
+    pub weights: &'a [String],
+    /// Kalman smoothing at this cutoff (Hz) after the per-frame solve.
+    pub kalman: Option<f64>,
+}
+
+pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs) -> Result<Outcome, Failure> {
+    let Request { setup, time, weights, kalman } = *request;
+    if let Some(cutoff) = kalman.filter(|c| !(c.is_finite() && *c > 0.0)) {
+        return Err(format!("--kalman {cutoff}: expected a cutoff frequency > 0 Hz").into());
+    }
     let inputs: Vec<&Path> = [model, trial_file].into_iter().chain(setup).collect();
     let inputs = inputs.as_slice();
     ensure_not_an_input(&outputs.motion, inputs)?;
@@ -34,7 +47,11 @@ pub fn run(model: &Path, trial_file: &Path, setup: Option<&Path>, time: Option<[
     };
     apply_weights(&mut tasks, &multibody, &trial, model, trial_file, weights)?;
     let ik = InverseKinematics::new(&multibody, &trial, trial_file, &tasks, IkSettings::default())?;
-    let solution = ik.solve(time)?;
+    let mut solution = ik.solve(time)?;
+    if let Some(cutoff) = kalman {
+        solution = ik.smooth(&solution, &KalmanIkSettings::with_cutoff(cutoff))?;
+        println!("Kalman-smoothed over {} frames (about {cutoff} Hz; the errors below are the smoothed poses')", solution.frames.len());
+    }
     let motion = solution.motion_table(&multibody)?;
     let errors = solution.marker_errors_table()?;
     create_output_folders(std::iter::once(&outputs.motion).chain(&outputs.errors).map(PathBuf::as_path))?;

@@ -35,15 +35,18 @@
 //! - `coordinates.rs`: free, held and coupled coordinates, bounds, constraint weight;
 //! - `frame.rs`: one frame's residuals and Jacobian;
 //! - `solver.rs`: [`InverseKinematics`], the frame loop and time range;
-//! - `report.rs`: per-frame errors and OpenSim's output tables.
+//! - `report.rs`: per-frame errors and OpenSim's output tables;
+//! - `kalman.rs`: Kalman-smoothed kinematics over a whole trial (the thesis' IK, not OpenSim's).
 
 mod coordinates;
+mod kalman;
 mod frame;
 mod report;
 mod solver;
 mod tasks;
 
 pub use coordinates::ConstraintWeight;
+pub use kalman::KalmanIkSettings;
 pub use report::{IkFrame, IkSolution, MarkerErrors};
 pub use solver::{IkSettings, IkWorkspace, InverseKinematics};
 pub use tasks::{CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkTasks, MarkerTask, MissingFrom};

@@ -4,13 +4,15 @@
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
+use nalgebra::{DMatrix, DVector};
+
 use super::coordinates::{ConstraintWeight, CoordinateMap};
 use super::frame::{FrameModel, FrameObjective, FrameScratch};
 use super::report::{IkFrame, IkSolution, MarkerErrors};
 use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Multibody, Vec3};
-use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions, LeastSquaresProblem};
+use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 use crate::solvers::IkError;
 
 /// How to solve.
@@ -42,6 +44,15 @@ pub struct InverseKinematics<'m> {
     observed: Vec<Option<Vec3>>,
     ignored_marker_tasks: Vec<IgnoredMarkerTask>,
     locked_coordinate_tasks: Vec<String>,
+}
+
+/// A frame's IK residuals r and Jacobian J = ∂r/∂x at free values x, and the total weight of
+/// its markers with data.
+pub(super) struct Linearisation {
+    pub x: Vec<f64>,
+    pub residuals: DVector<f64>,
+    pub jacobian: DMatrix<f64>,
+    pub total_weight: f64,
 }
 
 /// Buffers of a solve, reused from frame to frame; make one with
@@ -162,18 +173,54 @@ impl<'m> InverseKinematics<'m> {
         let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
         let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
         self.map.pose(multibody, &workspace.x, q);
-        multibody.realize(q, &mut workspace.frame.kinematics);
-        let errors = MarkerErrors::measure(&self.model.markers, observed, |m| workspace.frame.kinematics.bodies[m.body].apply(&m.location));
-        Ok(IkFrame {
-            frame,
-            time: self.times[frame],
-            q: q.to_vec(),
-            errors,
-            missing_markers: observed.iter().enumerate().filter(|(_, o)| o.is_none()).map(|(i, _)| i).collect(),
-            objective: report.cost,
-            iterations: report.iterations,
-            status: report.status,
-        })
+        Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (report.cost, report.iterations, report.status)))
+    }
+
+    /// The frame's report at the pose `q` (realized into `scratch`) with the objective there and
+    /// how it was found (iterations, status).
+    fn frame_at(&self, frame: usize, q: &[f64], observed: &[Option<Vec3>], scratch: &mut FrameScratch, (objective, iterations, status): (f64, usize, LeastSquaresStatus)) -> IkFrame {
+        self.model.multibody.realize(q, &mut scratch.kinematics);
+        let errors = MarkerErrors::measure(&self.model.markers, observed, |m| scratch.kinematics.bodies[m.body].apply(&m.location));
+        let missing_markers = observed.iter().enumerate().filter(|(_, o)| o.is_none()).map(|(i, _)| i).collect();
+        IkFrame { frame, time: self.times[frame], q: q.to_vec(), errors, missing_markers, objective, iterations, status }
+    }
+
+    /// Frame `frame`'s residuals and Jacobian at pose `q` over the free values
+    /// ([`InverseKinematics::free_values`]), with the total weight W of its markers with data:
+    /// the residuals' variance is σ²/W for markers of weight 1 and noise σ.
+    pub(super) fn linearise(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<Linearisation, IkError> {
+        let observed = self.prepare(frame, q, workspace)?;
+        let total_weight = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
+        let mut residuals = vec![0.0; objective.residual_count()];
+        let mut jacobian = DMatrix::zeros(objective.residual_count(), objective.variable_count());
+        objective.evaluate(&workspace.x, &mut residuals, Some(&mut jacobian));
+        Ok(Linearisation { x: workspace.x.clone(), residuals: DVector::from_vec(residuals), jacobian, total_weight })
+    }
+
+    /// The pose of free values `x` (held coordinates at their values, dependents from their
+    /// couplers).
+    pub(super) fn pose_of(&self, x: &[f64]) -> Vec<f64> {
+        let mut q = self.model.multibody.default_pose();
+        self.map.pose(self.model.multibody, x, &mut q);
+        q
+    }
+
+    /// The free values of pose `q`.
+    pub(super) fn free_values(&self, q: &[f64]) -> Vec<f64> {
+        let mut x = vec![0.0; self.map.variable_count()];
+        self.map.free_values(q, &mut x);
+        x
+    }
+
+    /// The frame's report at free values `x` (clamped to the bounds) with the objective there,
+    /// for a pose found otherwise (`iterations`, `status` say how).
+    pub(super) fn frame_at_free_values(&self, frame: usize, x: &[f64], workspace: &mut IkWorkspace, iterations: usize, status: LeastSquaresStatus) -> Result<IkFrame, IkError> {
+        let clamped: Vec<f64> = x.iter().enumerate().map(|(i, &v)| v.max(self.map.bounds.lower[i]).min(self.map.bounds.upper[i])).collect();
+        let q = self.pose_of(&clamped);
+        let objective = self.objective(frame, &q, workspace)?;
+        let observed = &self.observed[frame * self.model.markers.len()..(frame + 1) * self.model.markers.len()];
+        Ok(self.frame_at(frame, &q, observed, &mut workspace.frame, (objective, iterations, status)))
     }
 
     /// The objective of frame `frame` at pose `q` (held coordinates taken at their values and

@@ -1,0 +1,115 @@
+//! Kalman-smoothed inverse kinematics, as the thesis computes joint kinematics (after De Groote
+//! et al. 2008): every frame's markers through the model (the IK residuals, their weights
+//! included) and a process model whose coordinates have a constant 4th derivative
+//! (`kalman_smoother.rs`), smoothed over the whole trial.
+//!
+//! The measurement model of a frame is the IK objective linearised about a trajectory (first
+//! the per-frame IK solution, then each pass's result: an iterated extended smoother): the
+//! residuals r ≈ r₀ + J(x − x₀) over the free values x have variance σ²/W, W the frame's
+//! total weight of markers with data, σ the noise of a marker of weight 1. Each free value's
+//! spectral density is set from the cutoff f_c: S = (2πf_c)¹⁰·σ_x²·Δt with σ_x² its median
+//! per-frame variance (the inverse of W·JᵀJ), so σ itself cancels and every coordinate is
+//! smoothed to about f_c. The smoothed values are clamped to the clamped coordinates' ranges.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::report::{IkFrame, IkSolution};
+use super::solver::{InverseKinematics, Linearisation};
+use crate::solvers::kalman_smoother::{information_update, rts_smooth, spectral_density_for_cutoff, ORDER};
+use crate::solvers::IkError;
+
+/// How the smoother runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KalmanIkSettings {
+    /// The smoother's bandwidth, Hz.
+    pub cutoff: f64,
+    /// Passes, each linearised about the previous one's result. Default 2.
+    pub iterations: usize,
+}
+
+impl KalmanIkSettings {
+    /// `cutoff` Hz, two passes.
+    pub fn with_cutoff(cutoff: f64) -> KalmanIkSettings {
+        KalmanIkSettings { cutoff, iterations: 2 }
+    }
+}
+
+/// The prior variance of every state entry at the first frame, in units of its value's median
+/// per-frame variance: diffuse.
+const PRIOR_VARIANCE: f64 = 1e8;
+/// Relative regularisation of W·JᵀJ when inverting it for a value's variance.
+const REGULARISATION: f64 = 1e-12;
+
+impl InverseKinematics<'_> {
+    /// The Kalman-smoothed kinematics of the frames `solution` solved (consecutive trial frames
+    /// from [`InverseKinematics::solve`]): their poses and errors; each frame keeps its IK
+    /// status, its iterations are the smoother's passes.
+    pub fn smooth(&self, solution: &IkSolution, settings: &KalmanIkSettings) -> Result<IkSolution, IkError> {
+        if !(settings.cutoff.is_finite() && settings.cutoff > 0.0) || settings.iterations == 0 {
+            return Err(IkError::Smoother { problem: format!("cutoff {} Hz and {} passes; expected a cutoff > 0 and at least one pass", settings.cutoff, settings.iterations) });
+        }
+        let frames: Vec<usize> = solution.frames.iter().map(|f| f.frame).collect();
+        let times: Vec<f64> = solution.frames.iter().map(|f| f.time).collect();
+        let mut workspace = self.workspace();
+        let mut trajectory: Vec<Vec<f64>> = solution.frames.iter().map(|f| self.free_values(&f.q)).collect();
+        let mut variances = Vec::new();
+        for pass in 0..settings.iterations {
+            let linearised = frames.iter().zip(&trajectory).map(|(&frame, x)| self.linearise(frame, &self.pose_of(x), &mut workspace)).collect::<Result<Vec<_>, _>>()?;
+            if pass == 0 {
+                variances = median_variances(&linearised);
+            }
+            trajectory = smooth_pass(&linearised, &times, &variances, settings.cutoff).map_err(|k| IkError::Smoother { problem: format!("the predicted covariance at t = {} s is singular", times[k]) })?;
+        }
+        let smoothed = frames
+            .iter()
+            .zip(&trajectory)
+            .zip(&solution.frames)
+            .map(|((&frame, x), solved)| self.frame_at_free_values(frame, x, &mut workspace, settings.iterations, solved.status))
+            .collect::<Result<Vec<IkFrame>, _>>()?;
+        Ok(IkSolution { markers: solution.markers.clone(), coordinates: solution.coordinates.clone(), frames: smoothed })
+    }
+}
+
+/// One smoothing pass over the linearised frames, each free value with its median per-frame
+/// variance `variances`; the smoothed free values per frame.
+fn smooth_pass(linearised: &[Linearisation], times: &[f64], variances: &[f64], cutoff: f64) -> Result<Vec<Vec<f64>>, usize> {
+    let n = variances.len();
+    let dt = if times.len() > 1 { (times[times.len() - 1] - times[0]) / (times.len() - 1) as f64 } else { 1.0 };
+    let spectral_density: Vec<f64> = variances.iter().map(|&v| spectral_density_for_cutoff(cutoff, v, dt)).collect();
+    let mut state = DVector::zeros(ORDER * n);
+    state.rows_mut(0, n).copy_from_slice(&linearised[0].x);
+    let prior = (state, DMatrix::from_fn(ORDER * n, ORDER * n, |r, c| if r == c { PRIOR_VARIANCE * variances[r % n] } else { 0.0 }));
+    let update = |k: usize, predicted: &DVector<f64>, covariance: &DMatrix<f64>| {
+        let l = &linearised[k];
+        let information = l.jacobian.transpose() * &l.jacobian * l.total_weight;
+        let offset = predicted.rows(0, n) - DVector::from_column_slice(&l.x);
+        let residual = -(l.jacobian.transpose() * (&l.residuals + &l.jacobian * offset)) * l.total_weight;
+        information_update(predicted, covariance, &information, &residual).unwrap_or_else(|| (predicted.clone(), covariance.clone()))
+    };
+    let smoothed = rts_smooth(times, &spectral_density, prior, update)?;
+    Ok(smoothed.iter().map(|x| x.rows(0, n).iter().copied().collect()).collect())
+}
+
+/// Each free value's median per-frame variance, the diagonal of (W·JᵀJ)⁻¹ (regularised where
+/// the markers leave a value undetermined), in units of σ².
+fn median_variances(linearised: &[Linearisation]) -> Vec<f64> {
+    let n = linearised[0].x.len();
+    let mut variances: Vec<Vec<f64>> = vec![Vec::with_capacity(linearised.len()); n];
+    for l in linearised {
+        let information = l.jacobian.transpose() * &l.jacobian * l.total_weight;
+        let scale = information.diagonal().max().max(f64::MIN_POSITIVE);
+        let regularised = &information + DMatrix::identity(n, n) * (REGULARISATION * scale);
+        if let Some(inverse) = regularised.cholesky().map(|c| c.inverse()) {
+            for (j, v) in variances.iter_mut().enumerate() {
+                v.push(inverse[(j, j)]);
+            }
+        }
+    }
+    variances
+        .into_iter()
+        .map(|mut v| {
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied().unwrap_or(1.0)
+        })
+        .collect()
+}
