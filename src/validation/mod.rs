@@ -9,6 +9,7 @@ mod golden;
 pub mod ik;
 mod inverse_dynamics;
 mod joint_reaction;
+pub mod kalman_ik;
 pub mod knee_axis;
 mod muscle;
 mod muscle_degroote;

@@ -15,6 +15,7 @@ mod functional_generated;
 mod fuzz;
 mod geometry;
 mod ik;
+mod kalman_ik;
 mod knee_axis;
 mod knee_swap;
 mod muscle;

@@ -32,6 +32,7 @@ pub fn run() -> ExitCode {
     rows.extend(muscle::thelen_velocity_rows());
     rows.extend(muscle::degroote_rows());
     rows.extend(ik::rows());
+    rows.extend(crate::kalman_ik::rows());
     rows.extend(crate::dynamics::rows());
     rows.extend(scale::rows());
     rows.extend(crate::knee_axis::rows());
