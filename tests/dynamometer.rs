@@ -8,7 +8,10 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::osim_tune;
-use osim_tune::analysis::{Perturbations, SplinedMotion};
+use osim_tune::analysis::{dynamometer_analysis, DynamometerModel, DynamometerSettings, ExternalLoads, Perturbations, SplinedMotion};
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::mechanics::{BodyLoad, MotionState, Multibody};
+use osim_tune::model::ModelSpec;
 use osim_tune::io::table::StorageTable;
 use osim_tune::validation::{dynamometer_golden_run, DYNAMOMETER_CASES};
 
@@ -86,6 +89,48 @@ fn mass_sensitivity_is_the_weights_moment() {
     }
     // The femur is above the knee: not perturbed.
     assert!(!result.sensitivity.iter().any(|r| r.parameter.starts_with("femur")));
+}
+
+/// On a knee whose translations follow splines of its angle (leg6dof9musc, its patella coupled)
+/// with a crank added by OpenSim 4.6 (`oracle/gen_crank_model.py`; the crank's coordinate
+/// written with all its defaults, range ±10): M3D is the knee's generalized force by inverse
+/// dynamics (Kane's sum) with the pad's load — the opposite of the crank's reaction — on the
+/// shank. The reaction's projection and Kane's sum are different code; they agree to rounding.
+#[test]
+fn m3d_is_inverse_dynamics_with_the_pad_load_on_a_spline_knee() {
+    let folder = tempfile::tempdir().unwrap();
+    let spec = ModelSpec::read(&OsimDocument::read(&common::fixture("models/leg6dof9musc_crank.osim")).unwrap()).unwrap();
+    let multibody = Multibody::new(&spec).unwrap();
+    assert_eq!(multibody.coordinates[multibody.coordinate_index("crank_angle").unwrap()].range, [-10.0, 10.0]);
+    let model = DynamometerModel::new(&multibody, "crank", "knee_angle_r").unwrap();
+    let leg = StorageTable::read(&common::fixture("golden/static_optimization/leg6dof9musc/leg_motion.mot")).unwrap();
+    let knee = leg.column_index("knee_angle_r").unwrap();
+    let mut labels = leg.labels().to_vec();
+    labels.push("crank_angle".into());
+    let values: Vec<f64> = leg.rows().flat_map(|row| row.iter().copied().chain([row[knee] - 90.0 + 3.0 * (6.0 * row[0]).sin()]).collect::<Vec<_>>()).collect();
+    let coordinates = folder.path().join("q.mot");
+    std::fs::write(&coordinates, StorageTable::new("q", labels, values).unwrap().with_in_degrees(true).to_text()).unwrap();
+    let mut cell = String::from("cell\nversion=1\nnRows=101\nnColumns=7\ninDegrees=no\nendheader\ntime\tlc_vx\tlc_vy\tlc_vz\tlc_tx\tlc_ty\tlc_tz\n");
+    for t in leg.times() {
+        cell += &format!("{t}\t{}\t{}\t{}\t{}\t{}\t{}\n", 100.0 * (3.0 * t).sin(), 400.0 + 100.0 * (2.0 * t).cos(), 20.0 * (5.0 * t).sin(), 2.0 * t.sin(), (3.0 * t).cos(), 3.0 * (2.0 * t).sin());
+    }
+    std::fs::write(folder.path().join("cell.mot"), cell).unwrap();
+    let setup = folder.path().join("cell.xml");
+    std::fs::write(&setup, r#"<?xml version="1.0" encoding="UTF-8" ?><OpenSimDocument Version="40000"><ExternalLoads name="cell"><objects><ExternalForce name="cell"><applied_to_body>crank</applied_to_body><force_expressed_in_body>crank</force_expressed_in_body><force_identifier>lc_v</force_identifier><torque_identifier>lc_t</torque_identifier></ExternalForce></objects><datafile>cell.mot</datafile></ExternalLoads></OpenSimDocument>"#).unwrap();
+    let (loads, _) = ExternalLoads::read(&setup, &multibody).unwrap();
+    let motion = SplinedMotion::new(&multibody, &StorageTable::read(&coordinates).unwrap(), &coordinates, None).unwrap();
+    let settings = DynamometerSettings { time_range: [f64::NEG_INFINITY, f64::INFINITY], perturbations: Perturbations::THESIS };
+    let result = dynamometer_analysis(&multibody, &model, &motion, &loads, None, &settings).unwrap();
+    let (shank, knee) = (multibody.body_index("tibia_r").unwrap(), multibody.coordinate_index("knee_angle_r").unwrap());
+    let mut kinematics = multibody.kinematics();
+    for (&time, frame) in result.times.iter().zip(&result.frames) {
+        let state = motion.state_at(&multibody, time);
+        multibody.realize(&state.q, &mut kinematics);
+        let mut applied = loads.at(time, &kinematics);
+        applied.push(BodyLoad { body: shank, force: -frame.pad_force, point: frame.dynamometer_axis.point, torque: -frame.pad_moment });
+        let forces = multibody.inverse_dynamics(&MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
+        assert!((forces[knee] - frame.knee_moment).abs() < 1e-9 * forces[knee].abs().max(1.0), "t = {time}: {} vs {}", frame.knee_moment, forces[knee]);
+    }
 }
 
 fn s(path: &Path) -> &str {

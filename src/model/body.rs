@@ -21,7 +21,7 @@ pub struct BodySpec {
 impl BodySpec {
     pub fn read(reader: ComponentReader, dialect: Dialect) -> Result<BodySpec, ModelError> {
         let inertia = if dialect == Dialect::V4 {
-            let i = reader.numbers("inertia", Some(6))?;
+            let i = reader.numbers_or("inertia", &[0.0; 6])?;
             [i[0], i[1], i[2], i[3], i[4], i[5]]
         } else {
             let mut i = [0.0; 6];
@@ -30,6 +30,6 @@ impl BodySpec {
             }
             i
         };
-        Ok(BodySpec { name: reader.name(), mass: reader.number("mass")?, mass_center: reader.vec3("mass_center")?, inertia })
+        Ok(BodySpec { name: reader.name(), mass: reader.number("mass")?, mass_center: reader.vec3_or("mass_center", [0.0; 3])?, inertia })
     }
 }

@@ -33,6 +33,9 @@ impl CoordinateUnit {
     }
 }
 
+/// OpenSim's default range (rad or m) of a coordinate that states none.
+const DEFAULT_RANGE: [f64; 2] = [-10.0, 10.0];
+
 /// A coordinate as written in the model.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CoordinateSpec {
@@ -56,7 +59,7 @@ impl CoordinateSpec {
         motion_type: MotionType,
         unit: CoordinateUnit,
     ) -> Result<CoordinateSpec, ModelError> {
-        let range = reader.numbers("range", Some(2))?;
+        let range = reader.numbers_or("range", &DEFAULT_RANGE)?;
         if range[0] > range[1] {
             return Err(reader.bad("range", "min ≤ max", &format!("{} {}", range[0], range[1])));
         }

@@ -49,7 +49,7 @@ impl FrameIndex {
         }
         for id in document.xml.ids().filter(|&id| document.xml.tag(id) == "PhysicalOffsetFrame") {
             let reader = ComponentReader::new(document, id);
-            let offset = Offset { translation: reader.vec3("translation")?, orientation: reader.vec3("orientation")? };
+            let offset = Offset { translation: reader.vec3_or("translation", [0.0; 3])?, orientation: reader.vec3_or("orientation", [0.0; 3])? };
             let parent_socket = reader.text("socket_parent")?;
             entries.insert(opensim_path(document, id), FrameEntry::Offset { element: id, parent_socket, offset });
         }

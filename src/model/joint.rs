@@ -94,7 +94,7 @@ fn read_spatial_transform(reader: ComponentReader) -> Result<Vec<TransformAxisSp
         spatial_transform.push(TransformAxisSpec {
             name: axis.name(),
             coordinates: axis.optional_text("coordinates").unwrap_or_default().split_whitespace().map(String::from).collect(),
-            axis: axis.vec3("axis")?,
+            axis: axis.vec3_or("axis", [1.0, 0.0, 0.0])?,
             function: axis.object_property("function").map(FunctionSpec::read).transpose()?,
         });
     }

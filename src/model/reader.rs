@@ -82,6 +82,17 @@ impl<'a> ComponentReader<'a> {
         Ok([values[0], values[1], values[2]])
     }
 
+    /// Three numbers with OpenSim's default for when the property is absent (OpenSim writes an
+    /// object whose properties all have their defaults as an empty element).
+    pub fn vec3_or(&self, property: &str, default: [f64; 3]) -> Result<[f64; 3], ModelError> {
+        if self.child(property).is_some() { self.vec3(property) } else { Ok(default) }
+    }
+
+    /// As many numbers as `default` has, which stands in when the property is absent.
+    pub fn numbers_or(&self, property: &str, default: &[f64]) -> Result<Vec<f64>, ModelError> {
+        if self.child(property).is_some() { self.numbers(property, Some(default.len())) } else { Ok(default.to_vec()) }
+    }
+
     /// A number with a default for when the property is absent.
     pub fn number_or(&self, property: &str, default: f64) -> Result<f64, ModelError> {
         if self.child(property).is_some() { self.number(property) } else { Ok(default) }

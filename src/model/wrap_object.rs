@@ -57,14 +57,13 @@ impl WrapShape {
 
 impl WrapObjectSpec {
     pub fn read(reader: ComponentReader, body: &str) -> Result<WrapObjectSpec, ModelError> {
-        let vec3_or_zero = |property: &str| if reader.child(property).is_some() { reader.vec3(property) } else { Ok([0.0; 3]) };
         Ok(WrapObjectSpec {
             name: reader.name(),
             class: reader.class().to_string(),
             body: body.to_string(),
             active: reader.boolean_or("active", true)?,
-            xyz_body_rotation: vec3_or_zero("xyz_body_rotation")?,
-            translation: vec3_or_zero("translation")?,
+            xyz_body_rotation: reader.vec3_or("xyz_body_rotation", [0.0; 3])?,
+            translation: reader.vec3_or("translation", [0.0; 3])?,
             quadrant: reader.optional_text("quadrant").unwrap_or_else(|| "Unassigned".into()),
             shape: WrapShape::read(&reader)?,
         })
