@@ -134,3 +134,46 @@ fn gcv_splines_read_half_order_and_error_variance() {
         other => panic!("{other:?}"),
     }
 }
+
+/// OpenSim writes an object whose properties all have their defaults as an empty element (with
+/// a comment saying so), and reads any missing property as its default: a Coordinate's range
+/// −10…10, a TransformAxis' axis (1, 0, 0), Constant 0, LinearFunction (1, 0), a body's mass
+/// center and inertia 0, an offset frame's translation and orientation 0.
+#[test]
+fn omitted_properties_take_opensims_defaults() {
+    let text = r#"<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40600">
+  <Model name="defaults">
+    <Ground name="ground"/>
+    <BodySet name="bodyset"><objects><Body name="b"><mass>1</mass></Body></objects></BodySet>
+    <JointSet name="jointset"><objects>
+      <CustomJoint name="j">
+        <socket_parent_frame>ground_offset</socket_parent_frame>
+        <socket_child_frame>b_offset</socket_child_frame>
+        <coordinates><Coordinate name="q"><!--All properties of this object have their default values.--></Coordinate></coordinates>
+        <frames>
+          <PhysicalOffsetFrame name="ground_offset"><socket_parent>/ground</socket_parent></PhysicalOffsetFrame>
+          <PhysicalOffsetFrame name="b_offset"><socket_parent>/bodyset/b</socket_parent></PhysicalOffsetFrame>
+        </frames>
+        <SpatialTransform>
+          <TransformAxis name="rotation1"><coordinates>q</coordinates><function><LinearFunction name="function"/></function></TransformAxis>
+          <TransformAxis name="rotation2"><axis>0 1 0</axis></TransformAxis>
+          <TransformAxis name="rotation3"><axis>0 0 1</axis></TransformAxis>
+          <TransformAxis name="translation1"><!--All properties of this object have their default values.--></TransformAxis>
+          <TransformAxis name="translation2"><axis>0 1 0</axis><function><Constant name="function"/></function></TransformAxis>
+          <TransformAxis name="translation3"><axis>0 0 1</axis></TransformAxis>
+        </SpatialTransform>
+      </CustomJoint>
+    </objects></JointSet>
+  </Model>
+</OpenSimDocument>
+"#;
+    let spec = ModelSpec::read(&OsimDocument::parse(text.to_string(), std::path::Path::new("defaults.osim")).unwrap()).unwrap_or_else(|e| panic!("{e}"));
+    let joint = &spec.joints[0];
+    assert_eq!((joint.coordinates[0].range, joint.coordinates[0].default_value, joint.coordinates[0].clamped), ([-10.0, 10.0], 0.0, false));
+    assert_eq!((joint.spatial_transform[0].axis, joint.spatial_transform[3].axis), ([1.0, 0.0, 0.0], [1.0, 0.0, 0.0]));
+    assert_eq!(joint.spatial_transform[0].function, Some(FunctionSpec::LinearFunction { slope: 1.0, intercept: 0.0 }));
+    assert_eq!(joint.spatial_transform[4].function, Some(FunctionSpec::Constant { value: 0.0 }));
+    assert_eq!((spec.bodies[0].mass_center, spec.bodies[0].inertia), ([0.0; 3], [0.0; 6]));
+    assert!(joint.parent.offsets.iter().chain(&joint.child.offsets).all(|o| o.translation == [0.0; 3] && o.orientation == [0.0; 3]));
+}

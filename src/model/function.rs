@@ -31,9 +31,9 @@ impl FunctionSpec {
     /// Reads the function object `reader` points at.
     pub fn read(reader: ComponentReader) -> Result<FunctionSpec, ModelError> {
         let function = match reader.class() {
-            "Constant" => FunctionSpec::Constant { value: reader.number("value")? },
+            "Constant" => FunctionSpec::Constant { value: reader.number_or("value", 0.0)? },
             "LinearFunction" => {
-                let c = reader.numbers("coefficients", Some(2))?;
+                let c = reader.numbers_or("coefficients", &[1.0, 0.0])?;
                 FunctionSpec::LinearFunction { slope: c[0], intercept: c[1] }
             }
             "SimmSpline" => {
