@@ -92,7 +92,7 @@ fn mass_sensitivity_is_the_weights_moment() {
 }
 
 /// On a knee whose translations follow splines of its angle (leg6dof9musc, its patella coupled)
-/// with a crank added by OpenSim 4.6 (`oracle/gen_crank_model.py`; the crank's coordinate
+/// with a crank added by OpenSim 4.6 (`oracle/gen_api_models.py`; the crank's coordinate
 /// written with all its defaults, range ±10): M3D is the knee's generalized force by inverse
 /// dynamics (Kane's sum) with the pad's load — the opposite of the crank's reaction — on the
 /// shank. The reaction's projection and Kane's sum are different code; they agree to rounding.

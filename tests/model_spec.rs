@@ -177,3 +177,21 @@ fn omitted_properties_take_opensims_defaults() {
     assert_eq!((spec.bodies[0].mass_center, spec.bodies[0].inertia), ([0.0; 3], [0.0; 6]));
     assert!(joint.parent.offsets.iter().chain(&joint.child.offsets).all(|o| o.translation == [0.0; 3] && o.orientation == [0.0; 3]));
 }
+
+/// `Model::addComponent` puts bodies and joints in the model's `<components>` (OpenSim's
+/// `ModelFactory.createSlidingPointMass()`, `oracle/gen_api_models.py`): they are read like the
+/// sets' members, and the slider's inverse dynamics is Newton's m(a − g·e) along its axis e.
+#[test]
+fn bodies_and_joints_among_the_components_are_read() {
+    let spec = read("fixtures/models/sliding_mass.osim");
+    assert_eq!((spec.bodies.len(), spec.joints.len()), (1, 1));
+    assert_eq!((spec.bodies[0].name.as_str(), spec.joints[0].class.as_str(), spec.joints[0].child.body.as_str()), ("body", "SliderJoint", "body"));
+    let multibody = osim_tune::mechanics::Multibody::new(&spec).unwrap();
+    let (q, u, udot) = ([0.3], [0.5], [2.0]);
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(&q, &mut kinematics);
+    let axis = kinematics.axes[0].linear;
+    let force = multibody.inverse_dynamics(&osim_tune::mechanics::MotionState { q: &q, u: &u, udot: &udot }, &[])[0];
+    let mass = spec.bodies[0].mass;
+    assert!((force - mass * (udot[0] - multibody.gravity.dot(&axis))).abs() < 1e-12, "{force}");
+}

@@ -82,7 +82,7 @@ impl ModelSpec {
                 }
             }
         }
-        for joint in set_members(model, "JointSet") {
+        for joint in set_members(model, "JointSet").into_iter().chain(component_members(model, |class| class.ends_with("Joint"))) {
             spec.joints.push(JointSpec::read_v4(model.at(joint), &frames)?);
         }
         for marker in set_members(model, "MarkerSet") {
@@ -114,7 +114,9 @@ impl ModelSpec {
     }
 }
 
-/// Ground and the bodies, named: 4.x `<Ground>` plus `BodySet`; 3.x `BodySet` (with `ground`).
+/// Ground and the bodies, named: 4.x `<Ground>` plus `BodySet` and the bodies among the model's
+/// `<components>` (where `Model::addComponent` puts them, e.g. OpenSim's `ModelFactory`); 3.x
+/// `BodySet` (with `ground`).
 fn body_elements(model: ComponentReader, dialect: Dialect) -> Vec<(String, ElementId)> {
     let mut bodies = Vec::new();
     if dialect == Dialect::V4 {
@@ -122,10 +124,16 @@ fn body_elements(model: ComponentReader, dialect: Dialect) -> Vec<(String, Eleme
             bodies.push((GROUND.to_string(), ground));
         }
     }
-    for body in set_members(model, "BodySet") {
+    for body in set_members(model, "BodySet").into_iter().chain(component_members(model, |class| class == "Body")) {
         bodies.push((model.at(body).name(), body));
     }
     bodies
+}
+
+/// The model's `<components>` of a class `class` accepts (empty without the list).
+fn component_members(model: ComponentReader, class: impl Fn(&str) -> bool) -> Vec<ElementId> {
+    let xml = &model.document.xml;
+    model.child("components").map(|list| xml.children(list).iter().copied().filter(|&c| class(xml.tag(c))).collect()).unwrap_or_default()
 }
 
 /// Members of the model's set `<tag>` (e.g. `ForceSet`), empty when the set is absent.

@@ -1,0 +1,43 @@
+#!/usr/bin/env python3
+"""Models as OpenSim 4.6's API writes them, for the model reader:
+
+- fixtures/models/leg6dof9musc_crank.osim: OpenSim's leg6dof9musc example (a knee whose
+  translations follow splines of its angle, a patella coupled to it) with a dynamometer crank
+  added as a lab would add one: a body `crank` (2 kg) on a PinJoint `crank_joint` to ground
+  about the ground's z axis through (0, 0.45, 0.1) m, its origin 0.25 m from the axis. OpenSim
+  writes the new coordinate `crank_angle`, whose properties all have their defaults, as an
+  empty element.
+- fixtures/models/sliding_mass.osim: `ModelFactory.createSlidingPointMass()` (Moco's example),
+  whose body and joint `Model::addComponent` put in the model's `<components>`, not in the sets.
+
+    python3 oracle/gen_api_models.py
+"""
+from pathlib import Path
+
+import opensim as osim
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def main():
+    model = osim.Model(str(REPO / "fixtures" / "models" / "leg6dof9musc.osim"))
+    crank = osim.Body("crank", 2.0, osim.Vec3(0.02, -0.01, 0.015), osim.Inertia(0.004, 0.02, 0.021, 0.0005, 0.0002, 0.0001))
+    model.addBody(crank)
+    joint = osim.PinJoint("crank_joint", model.getGround(), osim.Vec3(0.0, 0.45, 0.1), osim.Vec3(0, 0, 0), crank, osim.Vec3(-0.25, 0, 0), osim.Vec3(0, 0, 0))
+    joint.updCoordinate().setName("crank_angle")
+    model.addJoint(joint)
+    model.finalizeConnections()
+    write(model, "leg6dof9musc_crank.osim")
+    sliding = osim.ModelFactory.createSlidingPointMass()
+    sliding.finalizeConnections()
+    write(sliding, "sliding_mass.osim")
+
+
+def write(model, name):
+    out = REPO / "fixtures" / "models" / name
+    model.printToXML(str(out))
+    print(f"{out.relative_to(REPO)}: done")
+
+
+if __name__ == "__main__":
+    main()
