@@ -107,10 +107,15 @@ fn a_missing_or_unparsable_required_property_is_named() {
     let (code, _, stderr) = osim_tune(&["info", s(&input)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("broken.osim:") && stderr.contains("<mass> must be a number") && stderr.contains("thigh"), "{stderr}");
-    std::fs::write(&input, text.replacen("<range>-0.5 2.0</range>", "", 1)).unwrap();
+    // A body's mass has no default (OpenSim's is NaN); a coordinate's range has one (−10…10).
+    std::fs::write(&input, text.replacen("<mass>8.5</mass>", "", 1)).unwrap();
     let (code, _, stderr) = osim_tune(&["info", s(&input)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("hip_flexion: missing <range>"), "{stderr}");
+    assert!(stderr.contains("thigh: missing <mass>"), "{stderr}");
+    std::fs::write(&input, text.replacen("<range>-0.5 2.0</range>", "", 1)).unwrap();
+    let (code, stdout, stderr) = osim_tune(&["info", s(&input)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("hip_flexion") && stdout.contains("-10"), "{stdout}");
 }
 
 #[test]
