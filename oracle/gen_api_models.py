@@ -8,7 +8,8 @@
   writes the new coordinate `crank_angle`, whose properties all have their defaults, as an
   empty element.
 - fixtures/models/sliding_mass.osim: `ModelFactory.createSlidingPointMass()` (Moco's example),
-  whose body and joint `Model::addComponent` put in the model's `<components>`, not in the sets.
+  whose body and joint `Model::addComponent` put in the model's `<components>`, not in the sets,
+  with a Millard muscle from ground to the mass added there too.
 
     python3 oracle/gen_api_models.py
 """
@@ -29,7 +30,14 @@ def main():
     model.finalizeConnections()
     write(model, "leg6dof9musc_crank.osim")
     sliding = osim.ModelFactory.createSlidingPointMass()
+    sliding.finalizeFromProperties()
+    muscle = osim.Millard2012EquilibriumMuscle("muscle", 100.0, 0.1, 0.2, 0.0)
+    muscle.addNewPathPoint("origin", sliding.getGround(), osim.Vec3(-0.29, 0, 0))
+    muscle.addNewPathPoint("insertion", osim.PhysicalFrame.safeDownCast(sliding.getComponent("/body")), osim.Vec3(0, 0, 0))
+    sliding.addComponent(muscle)
     sliding.finalizeConnections()
+    state = sliding.initSystem()
+    print(f"sliding_mass: the muscle's path is {muscle.getLength(state)} m at position 0")
     write(sliding, "sliding_mass.osim")
 
 

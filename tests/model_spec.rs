@@ -178,13 +178,19 @@ fn omitted_properties_take_opensims_defaults() {
     assert!(joint.parent.offsets.iter().chain(&joint.child.offsets).all(|o| o.translation == [0.0; 3] && o.orientation == [0.0; 3]));
 }
 
-/// `Model::addComponent` puts bodies and joints in the model's `<components>` (OpenSim's
-/// `ModelFactory.createSlidingPointMass()`, `oracle/gen_api_models.py`): they are read like the
-/// sets' members, and the slider's inverse dynamics is Newton's m(a − g·e) along its axis e.
+/// `Model::addComponent` puts bodies, joints and forces in the model's `<components>` (OpenSim's
+/// `ModelFactory.createSlidingPointMass()` and a muscle added to it, `oracle/gen_api_models.py`):
+/// they are read like the sets' members — the muscle's path is 0.29 m at position 0, as
+/// OpenSim 4.6 printed — and the slider's inverse dynamics is Newton's m(a − g·e) along its
+/// axis e.
 #[test]
-fn bodies_and_joints_among_the_components_are_read() {
+fn bodies_joints_and_muscles_among_the_components_are_read() {
     let spec = read("fixtures/models/sliding_mass.osim");
-    assert_eq!((spec.bodies.len(), spec.joints.len()), (1, 1));
+    assert_eq!((spec.bodies.len(), spec.joints.len(), spec.muscles().count()), (1, 1, 1));
+    let geometry = osim_tune::mechanics::MuscleGeometry::new(&spec).unwrap();
+    let mut kinematics = geometry.multibody.kinematics();
+    geometry.multibody.realize(&[0.0], &mut kinematics);
+    assert!((geometry.paths[0].length(&kinematics, &[0.0], &mut Default::default()) - 0.29).abs() < 1e-15);
     assert_eq!((spec.bodies[0].name.as_str(), spec.joints[0].class.as_str(), spec.joints[0].child.body.as_str()), ("body", "SliderJoint", "body"));
     let multibody = osim_tune::mechanics::Multibody::new(&spec).unwrap();
     let (q, u, udot) = ([0.3], [0.5], [2.0]);

@@ -88,7 +88,7 @@ impl ModelSpec {
         for marker in set_members(model, "MarkerSet") {
             spec.markers.push(MarkerSpec::read(model.at(marker), dialect, &frames)?);
         }
-        for force in set_members(model, "ForceSet") {
+        for force in set_members(model, "ForceSet").into_iter().chain(component_members(model, |class| class.contains("Muscle") || class.ends_with("Actuator"))) {
             spec.forces.push(ForceSpec::read(model.at(force), dialect, &frames)?);
             spec.actuators.extend(ActuatorSpec::read(model.at(force))?);
         }
