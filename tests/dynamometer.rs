@@ -194,6 +194,9 @@ fn bad_requests_are_refused() {
     let (code, _, stderr) = osim_tune(&["dynamometer", s(&model), s(&partial), "--load-cell", s(&loads), "-o", s(&output)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("has no column for crank_angle"), "{stderr}");
+    let (code, _, stderr) = osim_tune(&["dynamometer", s(&model), s(&coordinates), "--load-cell", s(&loads), "--report", s(&output), "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--report and -o name the same file") && !output.exists(), "{stderr}");
     let (code, _, stderr) = osim_tune(&["dynamometer", s(&model), s(&coordinates), "--load-cell", s(&loads), "-o", s(&coordinates)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("input"), "{stderr}");

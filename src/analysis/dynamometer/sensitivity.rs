@@ -5,7 +5,7 @@
 //! is perturbed both ways; per frame the larger change counts.
 
 use super::frame::{Axis, DynamometerFrame, DynamometerModel};
-use crate::mechanics::{rotation_about, Multibody, Vec3};
+use crate::mechanics::{rotation_about, Body, Multibody, Vec3};
 
 /// The perturbation sizes; [`Perturbations::THESIS`] are table 5.1's.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,7 +54,7 @@ pub fn sensitivity(multibody: &Multibody, model: &DynamometerModel, frames: &[Dy
     let bodies = (0..multibody.bodies.len()).filter(|&b| b == model.crank || (multibody.is_moved_by(b, model.knee_joint) && multibody.bodies[b].mass > 0.0));
     for b in bodies {
         let name = &multibody.bodies[b].name;
-        let rerun_with = |change: &dyn Fn(&mut crate::mechanics::Body, f64)| {
+        let rerun_with = |change: &dyn Fn(&mut Body, f64)| {
             body_changes(frames, [1.0, -1.0].iter().map(|&sign| {
                 let mut perturbed = multibody.clone();
                 change(&mut perturbed.bodies[b], sign);

@@ -39,6 +39,9 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     for output in std::iter::once(&request.output).chain(&request.report) {
         ensure_not_an_input(output, &inputs)?;
     }
+    if let Some(report) = &request.report {
+        ensure_not_an_input(report, &[request.output.as_path()]).map_err(|_| format!("{}: --report and -o name the same file", report.display()))?;
+    }
     let measured = match &request.dynamometer_moment {
         Some(column) => Some(MeasuredMoment::new(&StorageTable::read(&data_file)?, &data_file, column, request.dynamometer_sign)?),
         None => None,
