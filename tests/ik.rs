@@ -396,14 +396,23 @@ fn cli_kalman_smooths_the_walk() {
     let directory = tempfile::tempdir().unwrap();
     let (model, trial) = (common::fixture("golden/scale/subject01_simbody.osim"), common::fixture("subject01/subject01_walk1.trc"));
     let (plain, smoothed) = (directory.path().join("plain.mot"), directory.path().join("kalman.mot"));
+    let rates = directory.path().join("rates.sto");
     for (extra, motion) in [(None, &plain), (Some("6"), &smoothed)] {
         let mut arguments = vec!["ik", model.to_str().unwrap(), trial.to_str().unwrap(), "--time", "0.5", "1.5", "-o", motion.to_str().unwrap()];
-        arguments.extend(extra.map(|cutoff| ["--kalman", cutoff]).into_iter().flatten());
+        arguments.extend(extra.map(|cutoff| ["--kalman", cutoff, "--kalman-rates", rates.to_str().unwrap()]).into_iter().flatten());
         let (code, stdout, stderr) = common::osim_tune(&arguments);
         assert_eq!(code, 0, "{stdout}{stderr}");
         assert_eq!(stdout.contains("Kalman-smoothed over 61 frames"), extra.is_some(), "{stdout}");
     }
-    let (plain, smoothed) = (StorageTable::read(&plain).unwrap(), StorageTable::read(&smoothed).unwrap());
+    let (plain, smoothed, rates) = (StorageTable::read(&plain).unwrap(), StorageTable::read(&smoothed).unwrap(), StorageTable::read(&rates).unwrap());
+    assert_eq!((rates.n_rows(), rates.labels()[1].as_str(), rates.labels()[2].as_str()), (61, "pelvis_tilt_speed", "pelvis_tilt_acceleration"));
+    // The speeds are the smoothed angles' rates (degrees in the .mot, rad/s here): central
+    // differences of the smoothed knee angle agree within a few percent of its range of speeds.
+    let (knee, knee_speed) = (smoothed.column("knee_angle_r").unwrap(), rates.column("knee_angle_r_speed").unwrap());
+    let times = smoothed.times();
+    let worst = (1..knee.len() - 1).map(|i| ((knee[i + 1] - knee[i - 1]).to_radians() / (times[i + 1] - times[i - 1]) - knee_speed[i]).abs()).fold(0.0, f64::max);
+    let range = knee_speed.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    assert!(worst < 0.05 * range, "{worst} of {range}");
     let roughness = |q: &[f64]| q.windows(3).map(|w| (w[0] - 2.0 * w[1] + w[2]).powi(2)).sum::<f64>();
     for label in ["pelvis_tilt", "hip_flexion_r", "knee_angle_r"] {
         let (a, b) = (plain.column(label).unwrap(), smoothed.column(label).unwrap());
@@ -455,9 +464,10 @@ fn cli_refuses_bad_requests_and_writes_nothing() {
     let (model, trial) = (common::fixture("golden/scale/subject01_simbody.osim"), common::fixture("subject01/subject01_walk1.trc"));
     let motion = directory.path().join("q.mot");
     let (model, trial, output) = (model.to_str().unwrap(), trial.to_str().unwrap(), motion.to_str().unwrap());
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 7] = [
         (&["--weights", "R.Bicep=2"], "is not a marker of the model"),
         (&["--kalman", "0"], "--kalman 0: expected a cutoff frequency > 0 Hz"),
+        (&["--kalman-rates", "rates.sto"], "--kalman-rates needs --kalman HZ"),
         (&["--weights", "R.Knee.Lat=2"], "has no data in the trial"),
         (&["--weights", "R.ASIS=heavy"], "expected a number"),
         (&["--time", "3", "4"], "does not overlap"),
@@ -495,8 +505,16 @@ fn kalman_smoothing_keeps_a_quartic_motion() {
     let trial = synthetic_trial(&multibody, &poses);
     let ik = InverseKinematics::new(&multibody, &trial, "synthetic.trc".as_ref(), &IkTasks::every_marker(), IkSettings::default()).unwrap();
     let smoothed = ik.smooth(&ik.solve(None).unwrap(), &KalmanIkSettings::with_cutoff(6.0)).unwrap();
-    let worst = smoothed.frames.iter().zip(&poses).map(|(f, q)| max_difference(&f.q, q)).fold(0.0, f64::max);
+    let worst = smoothed.solution.frames.iter().zip(&poses).map(|(f, q)| max_difference(&f.q, q)).fold(0.0, f64::max);
     assert!(worst < 1e-9, "{worst:e}");
+    // Its speeds and accelerations are the quartic's derivatives.
+    let speed = |c: usize, t: f64| 0.02 * (c as f64 + 1.0).sqrt() * (1.0 - 4.0 * t + 9.0 * t * t - 10.0 * t.powi(3));
+    let acceleration = |c: usize, t: f64| 0.02 * (c as f64 + 1.0).sqrt() * (-4.0 + 18.0 * t - 30.0 * t * t);
+    for ((frame, u), a) in smoothed.solution.frames.iter().zip(&smoothed.speeds).zip(&smoothed.accelerations) {
+        let expected_u: Vec<f64> = (0..u.len()).map(|c| speed(c, frame.time)).collect();
+        let expected_a: Vec<f64> = (0..a.len()).map(|c| acceleration(c, frame.time)).collect();
+        assert!(max_difference(u, &expected_u) < 1e-7 && max_difference(a, &expected_a) < 1e-5, "t = {}: {:e}, {:e}", frame.time, max_difference(u, &expected_u), max_difference(a, &expected_a));
+    }
 }
 
 /// From markers with 3 mm noise, the smoothed kinematics of a 1 Hz motion lie closer to the
@@ -514,7 +532,7 @@ fn kalman_smoothing_reduces_marker_noise() {
     let trial = MarkerTable::new(exact.header().clone(), exact.marker_names().to_vec(), exact.times().to_vec(), positions).unwrap();
     let ik = InverseKinematics::new(&multibody, &trial, "noisy.trc".as_ref(), &IkTasks::every_marker(), IkSettings::default()).unwrap();
     let solved = ik.solve(None).unwrap();
-    let smoothed = ik.smooth(&solved, &KalmanIkSettings::with_cutoff(6.0)).unwrap();
+    let smoothed = ik.smooth(&solved, &KalmanIkSettings::with_cutoff(6.0)).unwrap().solution;
     let rms = |solution: &osim_tune::solvers::IkSolution| {
         let squares: Vec<f64> = solution.frames.iter().zip(&poses).flat_map(|(f, q)| f.q.iter().zip(q).map(|(a, b)| (a - b).powi(2)).collect::<Vec<_>>()).collect();
         (squares.iter().sum::<f64>() / squares.len() as f64).sqrt()

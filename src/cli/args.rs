@@ -204,6 +204,10 @@ pub enum Command {
         /// OpenSim's IK.
         #[arg(long)]
         kalman: Option<f64>,
+        /// With --kalman: also write the smoother's speeds and accelerations of every coordinate
+        /// (`<coordinate>_speed`, `_acceleration`; rad/s, rad/s² or m/s, m/s²) to this file (.sto).
+        #[arg(long)]
+        kalman_rates: Option<PathBuf>,
         /// Output coordinates (.mot, OpenSim's IK layout, rotations in degrees).
         #[arg(short, long)]
         output: PathBuf,

@@ -27,7 +27,7 @@ pub use error::IkError;
 pub use false_position::false_position;
 pub use ik::{
     ConstraintWeight, CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkFrame, IkSettings, IkSolution, IkTasks, IkWorkspace,
-    InverseKinematics, KalmanIkSettings, MarkerErrors, MarkerTask, MissingFrom,
+    InverseKinematics, KalmanIkSettings, MarkerErrors, MarkerTask, MissingFrom, SmoothedKinematics,
 };
 pub use power_sum::{minimise_power_sum, PowerSumSolution};
 pub use sparse_qp::{SparseQp, SparseQpSolution, SparseRow};

@@ -47,7 +47,7 @@ pub fn kalman_ik_study(root: &Path, noise_sd: f64, seed: u64, cutoff: f64, frame
     let trial = noisy_markers(&multibody, &times, &poses, noise_sd, seed)?;
     let ik = InverseKinematics::new(&multibody, &trial, Path::new("synthetic.trc"), &IkTasks::every_marker(), IkSettings::default())?;
     let solved = ik.solve(None)?;
-    let smoothed = ik.smooth(&solved, &KalmanIkSettings::with_cutoff(cutoff))?;
+    let smoothed = ik.smooth(&solved, &KalmanIkSettings::with_cutoff(cutoff))?.solution;
     let mut study = KalmanIkStudy { frames: count, coordinate: Vec::new(), acceleration: Vec::new() };
     for name in STUDY_COORDINATES {
         let c = multibody.coordinate_index(name).ok_or_else(|| format!("{}: no coordinate {name}", model.display()))?;

@@ -1,20 +1,22 @@
-//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] [--kalman HZ] -o Q.mot [--errors ERR.sto]`
+//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] [--kalman HZ [--kalman-rates R.sto]] -o Q.mot [--errors ERR.sto]`
 
 use std::path::{Path, PathBuf};
 
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_atomically};
 use crate::io::osim::OsimDocument;
-use crate::io::table::MarkerTable;
+use crate::io::table::{MarkerTable, StorageTable};
 use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
 use crate::setup::IkSetup;
-use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, KalmanIkSettings, MarkerTask, MissingFrom};
+use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, KalmanIkSettings, MarkerTask, MissingFrom, SmoothedKinematics};
 
 /// Where the results go.
 pub struct Outputs {
     pub motion: PathBuf,
     pub errors: Option<PathBuf>,
+    /// The Kalman smoother's speeds and accelerations.
+    pub kalman_rates: Option<PathBuf>,
 }
 
 /// What the command line asks for besides the model, the trial and the outputs.
@@ -31,12 +33,20 @@ pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs
     if let Some(cutoff) = kalman.filter(|c| !(c.is_finite() && *c > 0.0)) {
         return Err(format!("--kalman {cutoff}: expected a cutoff frequency > 0 Hz").into());
     }
+    if outputs.kalman_rates.is_some() && kalman.is_none() {
+        return Err("--kalman-rates needs --kalman HZ (the rates are the smoother's)".into());
+    }
     let inputs: Vec<&Path> = [model, trial_file].into_iter().chain(setup).collect();
     let inputs = inputs.as_slice();
     ensure_not_an_input(&outputs.motion, inputs)?;
     if let Some(errors) = &outputs.errors {
         ensure_not_an_input(errors, inputs)?;
         ensure_not_an_input(errors, &[&outputs.motion]).map_err(|_| format!("{}: --errors and -o name the same file", errors.display()))?;
+    }
+    if let Some(rates) = &outputs.kalman_rates {
+        ensure_not_an_input(rates, inputs)?;
+        let others: Vec<&Path> = std::iter::once(outputs.motion.as_path()).chain(outputs.errors.as_deref()).collect();
+        ensure_not_an_input(rates, &others).map_err(|_| format!("{}: --kalman-rates names another output", rates.display()))?;
     }
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let multibody = Multibody::new(&spec)?;
@@ -48,19 +58,40 @@ pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs
     apply_weights(&mut tasks, &multibody, &trial, model, trial_file, weights)?;
     let ik = InverseKinematics::new(&multibody, &trial, trial_file, &tasks, IkSettings::default())?;
     let mut solution = ik.solve(time)?;
+    let mut rates = None;
     if let Some(cutoff) = kalman {
-        solution = ik.smooth(&solution, &KalmanIkSettings::with_cutoff(cutoff))?;
-        println!("Kalman-smoothed over {} frames (about {cutoff} Hz; the errors below are the smoothed poses')", solution.frames.len());
+        let smoothed = ik.smooth(&solution, &KalmanIkSettings::with_cutoff(cutoff))?;
+        println!("Kalman-smoothed over {} frames (about {cutoff} Hz; the errors below are the smoothed poses')", smoothed.solution.frames.len());
+        rates = Some(rates_table(&multibody, &smoothed)?);
+        solution = smoothed.solution;
     }
     let motion = solution.motion_table(&multibody)?;
     let errors = solution.marker_errors_table()?;
-    create_output_folders(std::iter::once(&outputs.motion).chain(&outputs.errors).map(PathBuf::as_path))?;
+    create_output_folders(std::iter::once(&outputs.motion).chain(&outputs.errors).chain(&outputs.kalman_rates).map(PathBuf::as_path))?;
     write_atomically(&outputs.motion, motion.to_text().as_bytes(), inputs)?;
     if let Some(file) = &outputs.errors {
         write_atomically(file, errors.to_text().as_bytes(), inputs)?;
     }
+    if let (Some(file), Some(rates)) = (&outputs.kalman_rates, &rates) {
+        write_atomically(file, rates.to_text().as_bytes(), inputs)?;
+    }
     report(&ik, &solution, trial_file, outputs);
     Ok(if solution.unconverged().next().is_some() { Outcome::NotConverged } else { Outcome::Success })
+}
+
+/// The smoother's `<coordinate>_speed` and `<coordinate>_acceleration` per frame (rad/s, rad/s²
+/// or m/s, m/s²).
+fn rates_table(multibody: &Multibody, smoothed: &SmoothedKinematics) -> Result<StorageTable, Failure> {
+    let mut labels = vec!["time".to_string()];
+    for coordinate in &multibody.coordinates {
+        labels.extend([format!("{}_speed", coordinate.name), format!("{}_acceleration", coordinate.name)]);
+    }
+    let mut values = Vec::with_capacity(smoothed.solution.frames.len() * labels.len());
+    for ((frame, speeds), accelerations) in smoothed.solution.frames.iter().zip(&smoothed.speeds).zip(&smoothed.accelerations) {
+        values.push(frame.time);
+        values.extend(speeds.iter().zip(accelerations).flat_map(|(u, a)| [*u, *a]));
+    }
+    Ok(StorageTable::new("Kalman-smoothed speeds and accelerations", labels, values)?.with_in_degrees(false))
 }
 
 /// Every model marker the trial has, weight 1 (no setup given).

@@ -154,6 +154,25 @@ impl CoordinateMap {
         }
     }
 
+    /// Speeds and accelerations of every coordinate at pose `q` (from [`CoordinateMap::pose`])
+    /// for rates `x_dot` and `x_ddot` of the free values: held coordinates rest, a dependent
+    /// follows its coupler (u_d = f′ u_i, u̇_d = f″ u_i² + f′ u̇_i).
+    pub fn rates(&self, multibody: &Multibody, q: &[f64], x_dot: &[f64], x_ddot: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (mut u, mut udot) = (vec![0.0; self.roles.len()], vec![0.0; self.roles.len()]);
+        for (c, role) in self.roles.iter().enumerate() {
+            if let Role::Free(k) = role {
+                (u[c], udot[c]) = (x_dot[*k], x_ddot[*k]);
+            }
+        }
+        for &k in &self.dependents {
+            let coupler = &multibody.couplers[k];
+            let (slope, curvature, speed) = (coupler.slope(q), coupler.curvature(q), u[coupler.independent]);
+            u[coupler.dependent] = slope * speed;
+            udot[coupler.dependent] = curvature * speed * speed + slope * udot[coupler.independent];
+        }
+        (u, udot)
+    }
+
     /// ∂q/∂x at pose `q` (from [`CoordinateMap::pose`]).
     pub fn derivatives(&self, multibody: &Multibody, q: &[f64], derivatives: &mut PoseDerivatives) {
         derivatives.lists.resize_with(self.roles.len(), Vec::new);

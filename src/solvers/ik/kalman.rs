@@ -40,39 +40,59 @@ const PRIOR_VARIANCE: f64 = 1e8;
 /// Relative regularisation of W·JᵀJ when inverting it for a value's variance.
 const REGULARISATION: f64 = 1e-12;
 
+/// Kalman-smoothed kinematics: the poses with their marker errors, and the smoother's speeds and
+/// accelerations of every coordinate per frame (rad/s, rad/s² or m/s, m/s²; [`Multibody`]
+/// coordinate order).
+///
+/// [`Multibody`]: crate::mechanics::Multibody
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmoothedKinematics {
+    pub solution: IkSolution,
+    pub speeds: Vec<Vec<f64>>,
+    pub accelerations: Vec<Vec<f64>>,
+}
+
 impl InverseKinematics<'_> {
     /// The Kalman-smoothed kinematics of the frames `solution` solved (consecutive trial frames
-    /// from [`InverseKinematics::solve`]): their poses and errors; each frame keeps its IK
-    /// status, its iterations are the smoother's passes.
-    pub fn smooth(&self, solution: &IkSolution, settings: &KalmanIkSettings) -> Result<IkSolution, IkError> {
+    /// from [`InverseKinematics::solve`]): their poses and errors (each frame keeps its IK
+    /// status, its iterations are the smoother's passes), speeds and accelerations.
+    pub fn smooth(&self, solution: &IkSolution, settings: &KalmanIkSettings) -> Result<SmoothedKinematics, IkError> {
         if !(settings.cutoff.is_finite() && settings.cutoff > 0.0) || settings.iterations == 0 {
             return Err(IkError::Smoother { problem: format!("cutoff {} Hz and {} passes; expected a cutoff > 0 and at least one pass", settings.cutoff, settings.iterations) });
         }
         let frames: Vec<usize> = solution.frames.iter().map(|f| f.frame).collect();
         let times: Vec<f64> = solution.frames.iter().map(|f| f.time).collect();
         let mut workspace = self.workspace();
-        let mut trajectory: Vec<Vec<f64>> = solution.frames.iter().map(|f| self.free_values(&f.q)).collect();
+        let mut states: Vec<FreeState> = solution.frames.iter().map(|f| FreeState { value: self.free_values(&f.q), rate: Vec::new(), acceleration: Vec::new() }).collect();
         let mut variances = Vec::new();
         for pass in 0..settings.iterations {
-            let linearised = frames.iter().zip(&trajectory).map(|(&frame, x)| self.linearise(frame, &self.pose_of(x), &mut workspace)).collect::<Result<Vec<_>, _>>()?;
+            let linearised = frames.iter().zip(&states).map(|(&frame, x)| self.linearise(frame, &self.pose_of(&x.value), &mut workspace)).collect::<Result<Vec<_>, _>>()?;
             if pass == 0 {
                 variances = median_variances(&linearised);
             }
-            trajectory = smooth_pass(&linearised, &times, &variances, settings.cutoff).map_err(|k| IkError::Smoother { problem: format!("the predicted covariance at t = {} s is singular", times[k]) })?;
+            states = smooth_pass(&linearised, &times, &variances, settings.cutoff).map_err(|k| IkError::Smoother { problem: format!("the predicted covariance at t = {} s is singular", times[k]) })?;
         }
         let smoothed = frames
             .iter()
-            .zip(&trajectory)
+            .zip(&states)
             .zip(&solution.frames)
-            .map(|((&frame, x), solved)| self.frame_at_free_values(frame, x, &mut workspace, settings.iterations, solved.status))
+            .map(|((&frame, x), solved)| self.frame_at_free_values(frame, &x.value, &mut workspace, settings.iterations, solved.status))
             .collect::<Result<Vec<IkFrame>, _>>()?;
-        Ok(IkSolution { markers: solution.markers.clone(), coordinates: solution.coordinates.clone(), frames: smoothed })
+        let (speeds, accelerations) = smoothed.iter().zip(&states).map(|(frame, x)| self.rates(&frame.q, &x.rate, &x.acceleration)).unzip();
+        Ok(SmoothedKinematics { solution: IkSolution { markers: solution.markers.clone(), coordinates: solution.coordinates.clone(), frames: smoothed }, speeds, accelerations })
     }
 }
 
+/// One frame's smoothed free values and their first two time derivatives.
+struct FreeState {
+    value: Vec<f64>,
+    rate: Vec<f64>,
+    acceleration: Vec<f64>,
+}
+
 /// One smoothing pass over the linearised frames, each free value with its median per-frame
-/// variance `variances`; the smoothed free values per frame.
-fn smooth_pass(linearised: &[Linearisation], times: &[f64], variances: &[f64], cutoff: f64) -> Result<Vec<Vec<f64>>, usize> {
+/// variance `variances`; the smoothed free values and derivatives per frame.
+fn smooth_pass(linearised: &[Linearisation], times: &[f64], variances: &[f64], cutoff: f64) -> Result<Vec<FreeState>, usize> {
     let n = variances.len();
     let dt = if times.len() > 1 { (times[times.len() - 1] - times[0]) / (times.len() - 1) as f64 } else { 1.0 };
     let spectral_density: Vec<f64> = variances.iter().map(|&v| spectral_density_for_cutoff(cutoff, v, dt)).collect();
@@ -87,7 +107,9 @@ fn smooth_pass(linearised: &[Linearisation], times: &[f64], variances: &[f64], c
         information_update(predicted, covariance, &information, &residual).unwrap_or_else(|| (predicted.clone(), covariance.clone()))
     };
     let smoothed = rts_smooth(times, &spectral_density, prior, update)?;
-    Ok(smoothed.iter().map(|x| x.rows(0, n).iter().copied().collect()).collect())
+    // Derivative k is stored scaled by h^k/k!, h the smoother's mean frame interval.
+    let entries = |x: &DVector<f64>, k: usize, factor: f64| x.rows(k * n, n).iter().map(|v| v * factor).collect();
+    Ok(smoothed.iter().map(|x| FreeState { value: entries(x, 0, 1.0), rate: entries(x, 1, 1.0 / dt), acceleration: entries(x, 2, 2.0 / (dt * dt)) }).collect())
 }
 
 /// Each free value's median per-frame variance, the diagonal of (W·JᵀJ)⁻¹ (regularised where

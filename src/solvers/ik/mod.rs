@@ -46,7 +46,7 @@ mod solver;
 mod tasks;
 
 pub use coordinates::ConstraintWeight;
-pub use kalman::KalmanIkSettings;
+pub use kalman::{KalmanIkSettings, SmoothedKinematics};
 pub use report::{IkFrame, IkSolution, MarkerErrors};
 pub use solver::{IkSettings, IkWorkspace, InverseKinematics};
 pub use tasks::{CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkTasks, MarkerTask, MissingFrom};

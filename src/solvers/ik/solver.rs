@@ -206,6 +206,11 @@ impl<'m> InverseKinematics<'m> {
         q
     }
 
+    /// Every coordinate's speed and acceleration at pose `q` for the free values' rates.
+    pub(super) fn rates(&self, q: &[f64], x_dot: &[f64], x_ddot: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        self.map.rates(self.model.multibody, q, x_dot, x_ddot)
+    }
+
     /// The free values of pose `q`.
     pub(super) fn free_values(&self, q: &[f64]) -> Vec<f64> {
         let mut x = vec![0.0; self.map.variable_count()];
