@@ -74,20 +74,19 @@ impl DynamometerModel {
     /// cell's on the crank, any others on their bodies).
     pub fn frame(&self, multibody: &Multibody, kinematics: &Kinematics, state: &MotionState, loads: &[BodyLoad]) -> DynamometerFrame {
         let free = multibody.joint_reactions(state, loads);
-        let crank = &free[self.crank_joint];
-        let pad = BodyLoad { body: self.shank, force: -crank.force, point: crank.child_origin, torque: -crank.moment };
-        let mut loaded = loads.to_vec();
-        loaded.push(pad);
-        let knee = &multibody.joint_reactions(state, &loaded)[self.knee_joint];
+        let (crank, free_knee) = (&free[self.crank_joint], &free[self.knee_joint]);
         let crank_axis = &kinematics.axes[self.crank_coordinate];
         let z = crank_axis.angular.normalize();
         let dynamometer_axis = Axis { point: crank_axis.origin, direction: z };
         let knee_axis_rates = &kinematics.axes[self.knee_coordinate];
         let knee_axis = Axis { point: knee_axis_rates.origin, direction: knee_axis_rates.angular.normalize() };
-        let knee_torque = moment_about(knee, &knee_axis.point);
-        let knee_moment = knee_axis_rates.angular.dot(&knee_torque) + knee_axis_rates.linear.dot(&knee.force);
+        // The pad's load on the shank (the crank's reaction reversed) lies in the knee's subtree:
+        // the knee must supply the crank's reaction on top of its free reaction.
+        let limb_torque = moment_about(free_knee, &knee_axis.point);
+        let (knee_force, knee_torque) = (free_knee.force + crank.force, limb_torque + moment_about(crank, &knee_axis.point));
+        let knee_moment = knee_axis_rates.angular.dot(&knee_torque) + knee_axis_rates.linear.dot(&knee_force);
         let sense = knee_axis.direction.dot(&z).signum();
-        let limb_moment = sense * z.dot(&moment_about(&free[self.knee_joint], &knee_axis.point));
+        let limb_moment = sense * z.dot(&limb_torque);
         let crank_origin = kinematics.bodies[self.crank].translation;
         DynamometerFrame {
             knee_moment,
@@ -96,7 +95,7 @@ impl DynamometerModel {
             crank_direction: perpendicular(&(crank_origin - dynamometer_axis.point), &z).normalize(),
             pad_force: crank.force,
             pad_moment: moment_about(crank, &dynamometer_axis.point),
-            knee_force: knee.force,
+            knee_force,
             knee_torque,
             limb_moment,
             crank_inertial_moment: self.crank_axial_inertia(multibody, kinematics, &dynamometer_axis) * state.udot[self.crank_coordinate],
