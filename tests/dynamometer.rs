@@ -187,6 +187,13 @@ fn bad_requests_are_refused() {
         assert!(stderr.contains(expected), "{extra:?}: {stderr}");
         assert!(!output.exists());
     }
+    // A load cell (the crank's origin) on the dynamometer's axis.
+    let on_axis = folder.path().join("on_axis.osim");
+    let text = std::fs::read_to_string(&model).unwrap().replace("<translation>-0.25 0 0</translation>", "<translation>0 0 0.1</translation>");
+    std::fs::write(&on_axis, text).unwrap();
+    let (code, _, stderr) = osim_tune(&["dynamometer", s(&on_axis), s(&coordinates), "--load-cell", s(&loads), "-o", s(&output)]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("origin (the load cell) lies") && stderr.contains("off the axis") && !output.exists(), "{stderr}");
     // A motion without the crank's angle.
     let partial = folder.path().join("no_crank.mot");
     let text = std::fs::read_to_string(&coordinates).unwrap().replace("crank_angle", "dynamometer_angle");

@@ -204,3 +204,35 @@ fn a_bare_force_set_file_is_read() {
         .collect();
     assert_eq!(tables[0].values(), tables[1].values());
 }
+
+/// The chain the README gives for a forward simulation's joint loads: `forward` writes each
+/// muscle's tendon force, `reaction --forces` takes them as its muscles' forces (arm26 has no
+/// other actuator) over the simulation's times; with every force zero instead, the joints carry
+/// other loads.
+#[test]
+fn forward_tendon_forces_drive_the_reaction() {
+    let folder = tempfile::tempdir().unwrap();
+    let case = common::root().join("fixtures/golden/forward/arm26");
+    let (motion, excitations) = (case.join("motion.mot"), case.join("excitations.sto"));
+    let simulation = folder.path().join("forward");
+    let (code, _, stderr) = osim_tune(&["forward", &path(MODEL), s(&motion), "--excitations", s(&excitations), "--time", "0.2", "0.8", "--name", "arm", "-o", s(&simulation)]);
+    assert_eq!(code, 0, "{stderr}");
+    let tendon_forces = simulation.join("arm_tendon_force.sto");
+    let reaction = |forces: &Path, out: &Path| {
+        let (code, stdout, stderr) = osim_tune(&["reaction", &path(MODEL), s(&motion), "--forces", s(forces), "--name", "arm", "-o", s(out)]);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("3 joint loads at 61 frames") && stdout.contains("(0.2000–0.8000 s)"), "{stdout}");
+        StorageTable::read(&out.join("arm_JointReaction_ReactionLoads.sto")).unwrap()
+    };
+    let driven = reaction(&tendon_forces, &folder.path().join("driven"));
+    assert!(driven.values().iter().all(|v| v.is_finite()));
+    let table = StorageTable::read(&tendon_forces).unwrap();
+    assert!(table.rows().all(|row| row[1..].iter().all(|f| *f > 0.0)), "every muscle pulls");
+    let zeros = folder.path().join("zero_force.sto");
+    let labels: Vec<String> = table.labels().to_vec();
+    let values: Vec<f64> = table.rows().flat_map(|row| std::iter::once(row[0]).chain(row[1..].iter().map(|_| 0.0)).collect::<Vec<_>>()).collect();
+    std::fs::write(&zeros, StorageTable::new("zero", labels, values).unwrap().to_text()).unwrap();
+    let passive = reaction(&zeros, &folder.path().join("passive"));
+    let largest = driven.values().iter().zip(passive.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(largest > 1.0, "the muscles' forces change the joint loads by {largest} N");
+}

@@ -168,6 +168,6 @@ fn line_angle(a: &Vec3, b: &Vec3) -> f64 {
 }
 
 /// The part of `v` perpendicular to the unit vector `axis`.
-fn perpendicular(v: &Vec3, axis: &Vec3) -> Vec3 {
+pub(super) fn perpendicular(v: &Vec3, axis: &Vec3) -> Vec3 {
     v - axis.dot(v) * axis
 }

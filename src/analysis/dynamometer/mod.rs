@@ -96,6 +96,12 @@ impl DynamometerModel {
         if joint.parent != GROUND_INDEX || joint.coordinates.len() != 1 || !rotational(joint.coordinates[0]) || !turns_about_fixed_axis(multibody, joint.coordinates[0]) {
             return Err(problem(format!("the crank's joint {:?} must turn it about an axis fixed in ground (a PinJoint to ground: the dynamometer's axis)", joint.name)));
         }
+        let arm = crank_arm(multibody, crank_body, joint.coordinates[0]);
+        if arm < MIN_CRANK_ARM {
+            return Err(problem(format!(
+                "the crank {crank:?}'s origin (the load cell) lies {arm:.1e} m from the dynamometer's axis; it must lie on the crank, off the axis (the crank's direction, Herzog's lever arms and the pad force's angle are measured from it)"
+            )));
+        }
         let knee_coordinate = multibody.coordinate_index(knee).ok_or_else(|| problem(format!("the knee coordinate {knee:?} is not a coordinate of the model")))?;
         if !rotational(knee_coordinate) {
             return Err(problem(format!("the knee coordinate {knee:?} is not rotational")));
@@ -107,6 +113,18 @@ impl DynamometerModel {
         let shank = multibody.joints[knee_joint].child;
         Ok(DynamometerModel { crank: crank_body, crank_joint, crank_coordinate: joint.coordinates[0], knee_coordinate, knee_joint, shank })
     }
+}
+
+/// The least distance of the load cell (the crank's origin) from the dynamometer's axis, m.
+const MIN_CRANK_ARM: f64 = 1e-3;
+
+/// The distance of `body`'s origin from the axis of `coordinate` (its joint's), m, in the
+/// default pose.
+fn crank_arm(multibody: &Multibody, body: usize, coordinate: usize) -> f64 {
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(&multibody.default_pose(), &mut kinematics);
+    let axis = kinematics.axes[coordinate];
+    frame::perpendicular(&(kinematics.bodies[body].translation - axis.origin), &axis.angular.normalize()).norm()
 }
 
 /// Whether the coordinate turns its body about one line at two values (a pin's axis).
