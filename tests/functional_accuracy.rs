@@ -1,6 +1,6 @@
 //! The fast slice of `cargo xtask validate`'s functional-scaling study: noise-free fits of the
 //! OpenSim-generated subjects (ground truth beside them) from every 13th of the thesis' 81
-//! initial guesses (train01) and from five of them (train03, among them guesses from which an
+//! initial guesses (train01) and from seven of them (train03, among them guesses from which an
 //! earlier search ended in another basin) must land within 1 % of every true L_opt and L_ts;
 //! and on the first four held-out generated subjects (noisy, set5) the default posterior mean
 //! must have smaller RMS errors than the MAP fit, and its sampled posterior sd must cover them.
@@ -27,13 +27,18 @@ fn subject(name: &str) -> (ModelSpec, DynamometryData, Vec<MuscleParameters>, Op
     (spec, data, parameters, moments)
 }
 
-/// Every L_opt and L_ts within 1 % from the thesis guesses `picked` (of the 81).
+/// Every L_opt and L_ts within 1 % from the thesis guesses `picked` (of the 81, jitter seed
+/// 81).
 fn recovers_from_guesses(name: &str, picked: &[usize]) {
+    recovers_from_seeded_guesses(name, 81, picked);
+}
+
+fn recovers_from_seeded_guesses(name: &str, seed: u64, picked: &[usize]) {
     let (spec, data, truth, moments) = subject(name);
     let moments = moments.expect("the noise-free moments");
     let knee = KneeMomentModel::new(&spec, &data).unwrap();
     let study = StudySubject { spec: &spec, knee: &knee, data: &data, truth: &truth };
-    let guesses = thesis_initial_guesses(&truth, &data, 81);
+    let guesses = thesis_initial_guesses(&truth, &data, seed);
     // The moments are noise-free even where the subject file gives a σ (train03).
     let settings = FitSettings { noise_sd: Some(0.0), ..FitSettings::default() };
     for &g in picked {
@@ -55,6 +60,15 @@ fn train01_noise_free_from_thesis_guesses() {
 #[test]
 fn train03_noise_free_from_thesis_guesses() {
     recovers_from_guesses("train03", &[0, 1, 10, 39, 78]);
+}
+
+/// The guesses (jitter seeds 6 and 1) from which train03's fit ended in a neighbouring basin
+/// (rect_fem_r, bifemlh_r and med_gas_r 25–30 % short, moment RMS 0.012 N·m) until the search
+/// was run again around its own result.
+#[test]
+fn train03_from_guesses_whose_first_search_misses_the_truth() {
+    recovers_from_seeded_guesses("train03", 6, &[43]);
+    recovers_from_seeded_guesses("train03", 1, &[9]);
 }
 
 /// gen01–gen04 (σ = 5 N·m, set5, their own noisy moments, the bundled model as the prior's

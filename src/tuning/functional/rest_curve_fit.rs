@@ -82,6 +82,8 @@ pub struct RestCurveFit {
     pub starts: usize,
     /// M − M_meas per trial, N·m.
     pub residuals: Vec<f64>,
+    /// ½ Σ (M − M_meas)² plus the prior's ½ Σ squared residuals at the refined point, N²·m².
+    pub cost: f64,
     /// The prior's weight σ/τ, N·m (0 without a prior).
     pub prior_weight: f64,
     /// When the fit is the posterior mean: each muscle's posterior sd of [L_opt, L_ts] (m) from
@@ -154,13 +156,13 @@ pub fn fit_rest_curves(
             best = Some((report.cost, x, report.status, report.iterations));
         }
     }
-    let (_, x, status, iterations) = best.ok_or_else(|| FunctionalError::all_muscles("no refinement of the rest-curve fit had finite moments"))?;
+    let (cost, x, status, iterations) = best.ok_or_else(|| FunctionalError::all_muscles("no refinement of the rest-curve fit had finite moments"))?;
     let mut residuals = vec![0.0; problem.residual_count()];
     problem.evaluate(&x, &mut residuals, None);
     residuals.truncate(measured.len());
     let parameters = problem.parameters_at(&x).ok_or_else(|| FunctionalError::all_muscles("the rest-curve fit's point lost its equilibrium"))?;
     let search = tables.map(|tables| SearchTables { curves, tables });
-    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, prior_weight, sampled_sd: None, search })
+    Ok(RestCurveFit { parameters, status, iterations, starts: starts.len(), residuals, cost, prior_weight, sampled_sd: None, search })
 }
 
 /// Moves the fit `fit` to `measured` (N·m, one per trial) to its posterior mean under `prior`,

@@ -3,7 +3,9 @@
 //!
 //! - without a prior (τ unset), or on noise-free moments — σ given at most
 //!   [`NEGLIGIBLE_NOISE`], or the fit without prior reproducing the moments so that the
-//!   marginal likelihood finds σ at most that — the least-squares fit;
+//!   marginal likelihood finds σ at most that — the least-squares fit; unless it reproduces
+//!   the moments, its global search is run again around it until the cost stops falling
+//!   ([`RestCurveProblem::recentred`]);
 //! - σ given (option or subject file): the fit under the prior with that σ;
 //! - else σ from the marginal likelihood of the moments under the prior (its posterior mean,
 //!   `noise_evidence.rs`), linearised first at the fit without prior, then at each MAP estimate,
@@ -32,6 +34,10 @@ pub const NEGLIGIBLE_NOISE: f64 = 1e-3;
 pub const EVIDENCE_TOLERANCE: f64 = 0.01;
 /// Local refits of the evidence fixed point at most.
 pub const EVIDENCE_ROUNDS: usize = 10;
+/// Global searches re-centred on the fit at most, and the relative fall of the cost that counts
+/// as a gain (below it the re-centred search found the same minimum).
+pub const RECENTRED_SEARCHES: usize = 3;
+pub const RECENTRED_GAIN: f64 = 1e-6;
 /// The source of a σ estimated with the prior.
 const MARGINAL_LIKELIHOOD: &str = "marginal likelihood";
 /// The estimates under the prior.
@@ -81,6 +87,7 @@ pub fn fit_on_rest_curves(
         }
     }
     let plain = problem.fit(&starts, None, true, progress)?;
+    let plain = problem.recentred(plain, progress)?;
     let Some(coordinate_sd) = prior_sd else { return Ok((plain, None)) };
     let noise_sd = match noise {
         Some((sd, _)) => sd,
@@ -119,6 +126,12 @@ fn evidence_fixed_point(
     Ok((RestCurveFit { search, ..curves }, prior))
 }
 
+/// Whether `fit`'s moments are within [`NEGLIGIBLE_NOISE`] of the measured ones (RMS).
+fn reproduced(fit: &RestCurveFit) -> bool {
+    let squares: f64 = fit.residuals.iter().map(|r| r * r).sum();
+    squares <= NEGLIGIBLE_NOISE.powi(2) * fit.residuals.len() as f64
+}
+
 impl RestCurveProblem<'_> {
     /// The rest-curve fit from `starts` (with the global search when `global_search`).
     fn fit(&self, starts: &[Vec<MuscleParameters>], prior: Option<AppliedPrior>, global_search: bool, progress: &mut dyn FnMut(&str)) -> Result<RestCurveFit, FunctionalError> {
@@ -134,6 +147,30 @@ impl RestCurveProblem<'_> {
             curves.residuals.iter().fold(0.0, |m: f64, r| m.max(r.abs()))
         ));
         Ok(curves)
+    }
+
+    /// The global search again with the curves' origins at `fit` (its tables and starts centred
+    /// there), while that lowers the cost by more than [`RECENTRED_GAIN`], at most
+    /// [`RECENTRED_SEARCHES`] times, and not once the fit reproduces the moments to within
+    /// [`NEGLIGIBLE_NOISE`] (RMS). A search centred elsewhere samples other basins: from a
+    /// guess 25 % off, the search around it can miss the truth that the search around its own
+    /// result finds.
+    fn recentred(&self, mut fit: RestCurveFit, progress: &mut dyn FnMut(&str)) -> Result<RestCurveFit, FunctionalError> {
+        if !self.settings.global_search {
+            return Ok(fit);
+        }
+        for _ in 0..RECENTRED_SEARCHES {
+            if reproduced(&fit) {
+                break;
+            }
+            let again = fit_rest_curves(self.knee, self.references, &fit.parameters, self.measured, std::slice::from_ref(&fit.parameters), None, self.settings)?;
+            if !(again.cost < (1.0 - RECENTRED_GAIN) * fit.cost) {
+                break;
+            }
+            progress(&format!("rest curves: the search around the fit found a lower cost ({:.3e} → {:.3e} N²·m²)", fit.cost, again.cost));
+            fit = again;
+        }
+        Ok(fit)
     }
 
     /// The estimate from the MAP fit `map` under `prior`: its posterior mean when the settings
