@@ -24,6 +24,22 @@ pub fn spectral_density_for_cutoff(cutoff: f64, variance: f64, dt: f64) -> f64 {
     (2.0 * std::f64::consts::PI * cutoff).powi(2 * ORDER as i32) * variance * dt
 }
 
+/// The mean frame interval h of `times` (s) that scales the state's derivatives (1 for a
+/// single frame).
+pub fn mean_interval(times: &[f64]) -> f64 {
+    match times {
+        [first, .., last] => (last - first) / (times.len() - 1) as f64,
+        _ => 1.0,
+    }
+}
+
+/// Derivative k of each of the `dims` coordinates in `state`, unscaled (in unit/s^k) for the
+/// mean frame interval `h`.
+pub fn derivative(state: &DVector<f64>, dims: usize, k: usize, h: f64) -> Vec<f64> {
+    let factor = (1..=k).product::<usize>() as f64 / h.powi(k as i32);
+    state.rows(k * dims, dims).iter().map(|v| v * factor).collect()
+}
+
 /// Smooths over frames at `times` (s) with spectral densities `spectral_density` (one per
 /// coordinate): `prior` is the first frame's predicted state and covariance, `update(frame,
 /// predicted, covariance)` returns the frame's filtered ones. Returns every frame's smoothed
@@ -35,7 +51,7 @@ pub fn rts_smooth(
     mut update: impl FnMut(usize, &DVector<f64>, &DMatrix<f64>) -> (DVector<f64>, DMatrix<f64>),
 ) -> Result<Vec<DVector<f64>>, usize> {
     let n = times.len();
-    let h = if n > 1 { (times[n - 1] - times[0]) / (n - 1) as f64 } else { 1.0 };
+    let h = mean_interval(times);
     let transition = |dt: f64| (transition(spectral_density.len(), dt, h), process_noise(spectral_density, dt, h));
     let mut filtered: Vec<(DVector<f64>, DMatrix<f64>)> = Vec::with_capacity(n);
     for frame in 0..n {

@@ -15,7 +15,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::report::{IkFrame, IkSolution};
 use super::solver::{InverseKinematics, Linearisation};
-use crate::solvers::kalman_smoother::{information_update, rts_smooth, spectral_density_for_cutoff, ORDER};
+use crate::solvers::kalman_smoother::{derivative, information_update, mean_interval, rts_smooth, spectral_density_for_cutoff, ORDER};
 use crate::solvers::IkError;
 
 /// How the smoother runs.
@@ -94,22 +94,20 @@ struct FreeState {
 /// variance `variances`; the smoothed free values and derivatives per frame.
 fn smooth_pass(linearised: &[Linearisation], times: &[f64], variances: &[f64], cutoff: f64) -> Result<Vec<FreeState>, usize> {
     let n = variances.len();
-    let dt = if times.len() > 1 { (times[times.len() - 1] - times[0]) / (times.len() - 1) as f64 } else { 1.0 };
+    let dt = mean_interval(times);
     let spectral_density: Vec<f64> = variances.iter().map(|&v| spectral_density_for_cutoff(cutoff, v, dt)).collect();
     let mut state = DVector::zeros(ORDER * n);
     state.rows_mut(0, n).copy_from_slice(&linearised[0].x);
     let prior = (state, DMatrix::from_fn(ORDER * n, ORDER * n, |r, c| if r == c { PRIOR_VARIANCE * variances[r % n] } else { 0.0 }));
     let update = |k: usize, predicted: &DVector<f64>, covariance: &DMatrix<f64>| {
         let l = &linearised[k];
-        let information = l.jacobian.transpose() * &l.jacobian * l.total_weight;
+        let information = l.information();
         let offset = predicted.rows(0, n) - DVector::from_column_slice(&l.x);
         let residual = -(l.jacobian.transpose() * (&l.residuals + &l.jacobian * offset)) * l.total_weight;
         information_update(predicted, covariance, &information, &residual).unwrap_or_else(|| (predicted.clone(), covariance.clone()))
     };
     let smoothed = rts_smooth(times, &spectral_density, prior, update)?;
-    // Derivative k is stored scaled by h^k/k!, h the smoother's mean frame interval.
-    let entries = |x: &DVector<f64>, k: usize, factor: f64| x.rows(k * n, n).iter().map(|v| v * factor).collect();
-    Ok(smoothed.iter().map(|x| FreeState { value: entries(x, 0, 1.0), rate: entries(x, 1, 1.0 / dt), acceleration: entries(x, 2, 2.0 / (dt * dt)) }).collect())
+    Ok(smoothed.iter().map(|x| FreeState { value: derivative(x, n, 0, dt), rate: derivative(x, n, 1, dt), acceleration: derivative(x, n, 2, dt) }).collect())
 }
 
 /// Each free value's median per-frame variance, the diagonal of (W·JᵀJ)⁻¹ (regularised where
@@ -118,7 +116,7 @@ fn median_variances(linearised: &[Linearisation]) -> Vec<f64> {
     let n = linearised[0].x.len();
     let mut variances: Vec<Vec<f64>> = vec![Vec::with_capacity(linearised.len()); n];
     for l in linearised {
-        let information = l.jacobian.transpose() * &l.jacobian * l.total_weight;
+        let information = l.information();
         let scale = information.diagonal().max().max(f64::MIN_POSITIVE);
         let regularised = &information + DMatrix::identity(n, n) * (REGULARISATION * scale);
         if let Some(inverse) = regularised.cholesky().map(|c| c.inverse()) {

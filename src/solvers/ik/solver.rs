@@ -55,6 +55,13 @@ pub(super) struct Linearisation {
     pub total_weight: f64,
 }
 
+impl Linearisation {
+    /// The frame's information on its free values, W·JᵀJ (in units of 1/σ²).
+    pub fn information(&self) -> DMatrix<f64> {
+        self.jacobian.transpose() * &self.jacobian * self.total_weight
+    }
+}
+
 /// Buffers of a solve, reused from frame to frame; make one with
 /// [`InverseKinematics::workspace`] of the solver that uses it.
 #[derive(Debug, Clone)]
