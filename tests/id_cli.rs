@@ -101,3 +101,67 @@ fn the_output_may_not_overwrite_an_input() {
     assert_eq!(code, 2, "{stderr}");
     assert_eq!(std::fs::read(&coordinates).unwrap(), before);
 }
+
+/// A 1 kg mass on a slider along ground's X (`sliding_mass.osim`) at x = A·sin(ωt), sampled
+/// coarsely: with its exact speeds and accelerations given (`--rates`), the slider's force is
+/// Newton's m·ẍ = −m·A·ω²·sin(ωt) to rounding — no spline error, no filter (the splines of the
+/// same samples miss it by far more).
+#[test]
+fn given_rates_are_used_as_they_are() {
+    let folder = tempfile::tempdir().unwrap();
+    let (amplitude, omega) = (0.2, 2.0 * std::f64::consts::PI);
+    let times: Vec<f64> = (0..=20).map(|i| i as f64 * 0.05).collect();
+    let write = |name: &str, labels: &[&str], row: &dyn Fn(f64) -> Vec<f64>| {
+        let values = times.iter().flat_map(|&t| std::iter::once(t).chain(row(t))).collect();
+        let table = StorageTable::new(name, labels.iter().map(|l| l.to_string()).collect(), values).unwrap().with_in_degrees(false);
+        let file = folder.path().join(format!("{name}.sto"));
+        std::fs::write(&file, table.to_text()).unwrap();
+        file
+    };
+    let coordinates = write("coordinates", &["time", "position"], &|t| vec![amplitude * (omega * t).sin()]);
+    let rates = write("rates", &["time", "position_speed", "position_acceleration"], &|t| vec![amplitude * omega * (omega * t).cos(), -amplitude * omega * omega * (omega * t).sin()]);
+    let model = path("fixtures/models/sliding_mass.osim");
+    let run = |extra: &[&str], name: &str| {
+        let output = folder.path().join(name);
+        let mut arguments = vec!["id", &model, s(&coordinates), "-o", s(&output)];
+        arguments.extend_from_slice(extra);
+        let (code, stdout, stderr) = osim_tune(&arguments);
+        assert_eq!(code, 0, "{stderr}");
+        (stdout, StorageTable::read(&output).unwrap().column("position_force").unwrap())
+    };
+    let (stdout, given) = run(&["--rates", s(&rates)], "given.sto");
+    assert!(stdout.contains("21 frames") && stdout.contains("not filtered, rates from"), "{stdout}");
+    let newton = |t: f64| -amplitude * omega * omega * (omega * t).sin();
+    let worst = times.iter().zip(&given).map(|(&t, f)| (f - newton(t)).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-12, "{worst:e}");
+    let (_, splined) = run(&[], "splined.sto");
+    let spline_error = times.iter().zip(&splined).map(|(&t, f)| (f - newton(t)).abs()).fold(0.0, f64::max);
+    assert!(spline_error > 1e-3, "{spline_error:e}");
+}
+
+/// A rates file that does not match the coordinates is refused, naming what is wrong; --rates
+/// and --lowpass exclude each other.
+#[test]
+fn mismatched_rates_are_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let output = folder.path().join("id.sto");
+    let write = |name: &str, text: &str| {
+        let file = folder.path().join(name);
+        std::fs::write(&file, text).unwrap();
+        file
+    };
+    let coordinates = write("q.sto", "q\nversion=1\nnRows=2\nnColumns=2\ninDegrees=no\nendheader\ntime\tposition\n0\t0\n0.1\t0.01\n");
+    let short = write("short.sto", "r\nversion=1\nnRows=1\nnColumns=3\ninDegrees=no\nendheader\ntime\tposition_speed\tposition_acceleration\n0\t0\t0\n");
+    let shifted = write("shifted.sto", "r\nversion=1\nnRows=2\nnColumns=3\ninDegrees=no\nendheader\ntime\tposition_speed\tposition_acceleration\n0\t0\t0\n0.2\t0\t0\n");
+    let no_acceleration = write("partial.sto", "r\nversion=1\nnRows=2\nnColumns=2\ninDegrees=no\nendheader\ntime\tposition_speed\n0\t0\n0.1\t0\n");
+    let model = path("fixtures/models/sliding_mass.osim");
+    for (rates, expected) in [(&short, "has 1 rows; the coordinates"), (&shifted, "row 2 is at 0.2 s"), (&no_acceleration, "has no column \"position_acceleration\"")] {
+        let (code, _, stderr) = osim_tune(&["id", &model, s(&coordinates), "--rates", s(rates), "-o", s(&output)]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(expected) && stderr.contains(s(rates)), "{stderr}");
+        assert!(!output.exists());
+    }
+    let (code, _, stderr) = osim_tune(&["id", &model, s(&coordinates), "--rates", s(&short), "--lowpass", "6", "-o", s(&output)]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("cannot be used with"), "{stderr}");
+}

@@ -390,7 +390,9 @@ fn cli_writes_the_motion_and_the_errors() {
 }
 
 /// `--kalman 6` smooths the walk: the poses stay within a few degrees of the per-frame IK's and
-/// their second differences shrink.
+/// their second differences shrink; `--kalman-rates` gives their speeds, and `id --rates` takes
+/// them (found: RMS 2.3, 3.9 and 3.0 % of the hip, knee and ankle moments' ranges from inverse
+/// dynamics on splines of the smoothed angles).
 #[test]
 fn cli_kalman_smooths_the_walk() {
     let directory = tempfile::tempdir().unwrap();
@@ -404,6 +406,7 @@ fn cli_kalman_smooths_the_walk() {
         assert_eq!(code, 0, "{stdout}{stderr}");
         assert_eq!(stdout.contains("Kalman-smoothed over 61 frames"), extra.is_some(), "{stdout}");
     }
+    let (smoothed_file, rates_file) = (smoothed.clone(), rates.clone());
     let (plain, smoothed, rates) = (StorageTable::read(&plain).unwrap(), StorageTable::read(&smoothed).unwrap(), StorageTable::read(&rates).unwrap());
     assert_eq!((rates.n_rows(), rates.labels()[1].as_str(), rates.labels()[2].as_str()), (61, "pelvis_tilt_speed", "pelvis_tilt_acceleration"));
     // The speeds are the smoothed angles' rates (degrees in the .mot, rad/s here): central
@@ -418,6 +421,24 @@ fn cli_kalman_smooths_the_walk() {
         let (a, b) = (plain.column(label).unwrap(), smoothed.column(label).unwrap());
         assert!(max_difference(&a, &b) < 3.0, "{label}: {}°", max_difference(&a, &b));
         assert!(roughness(&b) < roughness(&a), "{label}");
+    }
+    // `id --rates` takes them: inverse dynamics (no loads) on the smoother's own rates, and on
+    // splines of its smoothed angles, agree within a few percent of each moment's range.
+    let model = model.to_str().unwrap();
+    let forces = |extra: &[&str], name: &str| {
+        let output = directory.path().join(name);
+        let mut arguments = vec!["id", model, smoothed_file.to_str().unwrap(), "-o", output.to_str().unwrap()];
+        arguments.extend_from_slice(extra);
+        let (code, stdout, stderr) = common::osim_tune(&arguments);
+        assert_eq!(code, 0, "{stdout}{stderr}");
+        StorageTable::read(&output).unwrap()
+    };
+    let (given, splined) = (forces(&["--rates", rates_file.to_str().unwrap()], "given.sto"), forces(&[], "splined.sto"));
+    for label in ["hip_flexion_r_moment", "knee_angle_r_moment", "ankle_angle_r_moment"] {
+        let (a, b) = (given.column(label).unwrap(), splined.column(label).unwrap());
+        let range = b.iter().fold(f64::NEG_INFINITY, |m, v| m.max(*v)) - b.iter().fold(f64::INFINITY, |m, v| m.min(*v));
+        let rms = (a.iter().zip(&b).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt();
+        assert!(rms < 0.05 * range, "{label}: RMS {rms} N·m of a range of {range} N·m");
     }
 }
 

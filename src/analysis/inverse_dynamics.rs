@@ -1,12 +1,14 @@
 //! OpenSim's `InverseDynamicsTool` along a motion: coordinates padded and low-pass filtered (when
-//! asked), differentiated by degree-5 GCV splines, and the generalized forces that give those
-//! accelerations with gravity and the external loads, in Simbody's mobility order; and, for the
+//! asked), differentiated by degree-5 GCV splines (or with their speeds and accelerations given,
+//! e.g. the Kalman smoother's), and the generalized forces that give those accelerations with
+//! gravity and the external loads, in Simbody's mobility order; and, for the
 //! joints asked (`joints_to_report_body_forces`), the body force and torque equivalent to each
 //! joint's generalized forces ([`Multibody::equivalent_body_force`]).
 
 use std::path::Path;
 
 use super::external_loads::ExternalLoads;
+use super::sampled_motion::{SampledMotion, SampledMotionError};
 use super::splined_motion::{SplinedMotion, SplinedMotionError};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{MotionState, Multibody};
@@ -18,16 +20,26 @@ pub enum InverseDynamicsError {
     #[error(transparent)]
     Motion(#[from] SplinedMotionError),
     #[error(transparent)]
+    Sampled(#[from] SampledMotionError),
+    #[error(transparent)]
     Table(#[from] TableError),
 }
 
-/// How the tool runs.
+/// How the tool differentiates the coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InverseDynamicsSettings {
     /// s; clipped to the coordinates' times.
     pub time_range: [f64; 2],
     /// Low-pass cutoff for the coordinates, Hz (`None`: no filtering).
     pub lowpass_cutoff: Option<f64>,
+}
+
+impl InverseDynamicsSettings {
+    /// The coordinates of `table` (read from `file`) as the tool differentiates them, at its
+    /// frames within the time range.
+    pub fn motion(&self, multibody: &Multibody, table: &StorageTable, file: &Path) -> Result<SampledMotion, SplinedMotionError> {
+        SplinedMotion::new(multibody, table, file, self.lowpass_cutoff)?.sample(multibody, self.time_range)
+    }
 }
 
 /// The generalized forces along the motion and what the coordinates file lacked.
@@ -44,24 +56,14 @@ pub struct InverseDynamicsResult {
     pub ignored_columns: Vec<String>,
 }
 
-/// Runs inverse dynamics on the coordinates in `table` (read from `file`) with `loads`, and
-/// reports the equivalent body forces of `body_force_joints` ([`Multibody::joints`] indices).
-pub fn inverse_dynamics(
-    multibody: &Multibody,
-    table: &StorageTable,
-    file: &Path,
-    loads: Option<&ExternalLoads>,
-    settings: &InverseDynamicsSettings,
-    body_force_joints: &[usize],
-) -> Result<InverseDynamicsResult, InverseDynamicsError> {
-    let motion = SplinedMotion::new(multibody, table, file, settings.lowpass_cutoff)?;
-    let frames = motion.frames(settings.time_range)?;
+/// Runs inverse dynamics at the frames of `motion` with `loads`, and reports the equivalent body
+/// forces of `body_force_joints` ([`Multibody::joints`] indices).
+pub fn inverse_dynamics(multibody: &Multibody, motion: &SampledMotion, loads: Option<&ExternalLoads>, body_force_joints: &[usize]) -> Result<InverseDynamicsResult, InverseDynamicsError> {
     let order = tree_order(multibody);
-    let mut values = Vec::with_capacity(motion.times[frames.clone()].len() * (order.len() + 1));
+    let mut values = Vec::with_capacity(motion.times.len() * (order.len() + 1));
     let mut kinematics = multibody.kinematics();
     let mut body_forces = Vec::new();
-    for &time in &motion.times[frames] {
-        let state = motion.state_at(multibody, time);
+    for (&time, state) in motion.times.iter().zip(&motion.states) {
         multibody.realize(&state.q, &mut kinematics);
         let applied = loads.map(|l| l.at(time, &kinematics)).unwrap_or_default();
         let forces = multibody.inverse_dynamics_at(&kinematics, &MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied);
@@ -76,7 +78,7 @@ pub fn inverse_dynamics(
     let labels = std::iter::once("time".to_string()).chain(order.iter().map(|&c| label(multibody, c))).collect();
     let forces = StorageTable::new("Inverse Dynamics Generalized Forces", labels, values)?.with_in_degrees(false);
     let body_forces = if body_force_joints.is_empty() { None } else { Some(body_force_table(multibody, body_force_joints, body_forces)?) };
-    Ok(InverseDynamicsResult { forces, body_forces, defaulted: motion.defaulted, ignored_columns: motion.ignored_columns })
+    Ok(InverseDynamicsResult { forces, body_forces, defaulted: motion.defaulted.clone(), ignored_columns: motion.ignored_columns.clone() })
 }
 
 /// OpenSim's body-forces table: per joint `<joint>_<child frame>_FX … _MZ`.

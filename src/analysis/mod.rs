@@ -12,6 +12,7 @@ mod joint_reaction;
 mod muscle_analysis;
 mod physiological_inverse;
 mod signal;
+mod sampled_motion;
 mod splined_motion;
 mod static_optimization;
 
@@ -29,7 +30,8 @@ pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, Join
 pub use muscle_analysis::MuscleAnalysis;
 pub use physiological_inverse::{physiological_inverse, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings};
 pub use signal::{spline, Series, SignalError};
-pub use splined_motion::{CoordinateState, SplinedMotion, SplinedMotionError};
+pub use sampled_motion::{CoordinateState, SampledMotion, SampledMotionError};
+pub use splined_motion::{SplinedMotion, SplinedMotionError};
 pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};
 pub use analyze_states::StatesError;
 

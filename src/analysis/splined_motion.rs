@@ -5,6 +5,7 @@
 use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
+use super::sampled_motion::{CoordinateState, SampledMotion};
 use super::signal::{rows_in_range, Series, SignalError};
 use crate::io::table::StorageTable;
 use crate::mechanics::{Function, Motion, MotionError, Multibody};
@@ -34,13 +35,6 @@ pub struct SplinedMotion {
     pub ignored_columns: Vec<String>,
 }
 
-/// q, u and u̇ of every coordinate at one time ([`Multibody::coordinates`] order).
-pub struct CoordinateState {
-    pub q: Vec<f64>,
-    pub u: Vec<f64>,
-    pub udot: Vec<f64>,
-}
-
 impl SplinedMotion {
     /// Splines the coordinates of `table` (read from `file`), low-pass filtered at `cutoff` Hz
     /// when given.
@@ -68,6 +62,13 @@ impl SplinedMotion {
             first: self.times[0],
             last: self.times[self.times.len() - 1],
         })
+    }
+
+    /// The frames within `range` (s) with the splines' states.
+    pub fn sample(&self, multibody: &Multibody, range: [f64; 2]) -> Result<SampledMotion, SplinedMotionError> {
+        let times = self.times[self.frames(range)?].to_vec();
+        let states = times.iter().map(|&time| self.state_at(multibody, time)).collect();
+        Ok(SampledMotion { file: self.file.clone(), times, states, defaulted: self.defaulted.clone(), ignored_columns: self.ignored_columns.clone() })
     }
 
     /// The splines' value and derivatives at `time` for the coordinates in the file, the

@@ -241,8 +241,13 @@ pub enum Command {
         #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
         time: Option<Vec<f64>>,
         /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "rates")]
         lowpass: Option<f64>,
+        /// The coordinates' speeds and accelerations per frame (`<coordinate>_speed`,
+        /// `_acceleration`, e.g. `ik --kalman HZ --kalman-rates`): used as they are, the
+        /// coordinates neither filtered nor splined.
+        #[arg(long)]
+        rates: Option<PathBuf>,
         /// Joints whose equivalent body forces to report (OpenSim's joints_to_report_body_forces:
         /// names, comma separated, or ALL; default: the setup's): per joint the force and torque
         /// on its child at the child frame origin, in ground, whose power along the joint's

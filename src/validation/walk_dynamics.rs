@@ -63,7 +63,8 @@ impl Subject01Walk {
         let settings = InverseDynamicsSettings { time_range: [0.4, 1.6], lowpass_cutoff: Some(6.0) };
         let spec = ModelSpec::read(&OsimDocument::read(&self.model)?)?;
         let joints = if body_forces { named_joints(&spec, &self.geometry.multibody, &["ALL".into()])? } else { Vec::new() };
-        let result = inverse_dynamics(&self.geometry.multibody, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings, &joints)?;
+        let motion = settings.motion(&self.geometry.multibody, &self.coordinates, &self.coordinates_file)?;
+        let result = inverse_dynamics(&self.geometry.multibody, &motion, Some(&self.loads), &joints)?;
         let ours = if body_forces { result.body_forces.ok_or("no body forces")? } else { result.forces };
         let mut worst = Worst::default();
         if ours.labels() != golden.labels() || ours.n_rows() != golden.n_rows() {

@@ -1,8 +1,8 @@
-//! `osim-tune id MODEL COORDINATES [--external-loads LOADS.xml] [--setup SETUP.xml] [--time START END] [--lowpass HZ] [--body-force-joints J,…|ALL] [--body-forces FILE.sto] -o OUT.sto`
+//! `osim-tune id MODEL COORDINATES [--external-loads LOADS.xml] [--setup SETUP.xml] [--time START END] [--lowpass HZ | --rates RATES.sto] [--body-force-joints J,…|ALL] [--body-forces FILE.sto] -o OUT.sto`
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{inverse_dynamics, named_joints, InverseDynamicsResult, InverseDynamicsSettings};
+use crate::analysis::{inverse_dynamics, named_joints, InverseDynamicsResult, InverseDynamicsSettings, SampledMotion};
 use crate::cli::{check_time_and_cutoff, create_output_folders, read_external_loads, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
 use crate::io::osim::OsimDocument;
@@ -17,6 +17,8 @@ pub struct Request {
     pub setup: Option<PathBuf>,
     pub time: Option<[f64; 2]>,
     pub lowpass: Option<f64>,
+    /// The coordinates' speeds and accelerations per frame, used instead of splines.
+    pub rates: Option<PathBuf>,
     pub body_force_joints: Vec<String>,
     pub body_forces: Option<PathBuf>,
     pub output: PathBuf,
@@ -30,7 +32,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
         check_excluded_forces(&spec, setup)?;
     }
     let loads_file = request.external_loads.clone().or_else(|| setup.as_ref().and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
-    let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).collect();
+    let mut inputs: Vec<PathBuf> = [model, coordinates].iter().map(|p| p.to_path_buf()).chain(request.setup.clone()).chain(request.rates.clone()).collect();
     let loads = loads_file.as_deref().map(|file| read_external_loads(file, &multibody, &mut inputs)).transpose()?;
     let input_paths: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     ensure_not_an_input(&request.output, &input_paths)?;
@@ -40,12 +42,16 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
         ensure_not_an_input(file, &input_paths)?;
     }
     let table = StorageTable::read(coordinates)?;
-    let result = inverse_dynamics(&multibody, &table, coordinates, loads.as_ref(), &settings, &joints)?;
+    let motion = match &request.rates {
+        Some(rates) => SampledMotion::with_rates(&multibody, &table, coordinates, &StorageTable::read(rates)?, rates)?.within(settings.time_range)?,
+        None => settings.motion(&multibody, &table, coordinates)?,
+    };
+    let result = inverse_dynamics(&multibody, &motion, loads.as_ref(), &joints)?;
     let texts = [Some(result.forces.to_text()), result.body_forces.as_ref().map(StorageTable::to_text)];
     let outputs: Vec<(&Path, &[u8])> = [Some(request.output.as_path()), body_forces_file.as_deref()].into_iter().zip(&texts).filter_map(|(file, text)| Some((file?, text.as_ref()?.as_bytes()))).collect();
     create_output_folders(outputs.iter().map(|(file, _)| *file))?;
     write_all_atomically(&outputs, &input_paths)?;
-    report(&result, coordinates, loads_file.as_deref(), &settings, &request.output);
+    report(&result, coordinates, loads_file.as_deref(), &differentiation(request, &settings), &request.output);
     if let Some(file) = &body_forces_file {
         println!("body forces of {} joint(s) → {}", joints.len(), file.display());
     }
@@ -68,12 +74,14 @@ fn body_forces(request: &Request, setup: Option<&IdSetup>, spec: &ModelSpec, mul
     Ok((joints, Some(file)))
 }
 
-/// The command line's time range and cutoff, else the setup's, else all frames unfiltered.
+/// The command line's time range and cutoff, else the setup's (its cutoff not with rates given),
+/// else all frames unfiltered.
 fn settings(request: &Request, setup: Option<&IdSetup>) -> Result<InverseDynamicsSettings, Failure> {
     check_time_and_cutoff(request.time, request.lowpass)?;
     let from_setup = setup.map(|s| (s.time_range, s.lowpass_cutoff_frequency_for_coordinates));
     let time_range = request.time.or(from_setup.map(|(r, _)| [r.start, r.end])).unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
-    let lowpass_cutoff = request.lowpass.or(from_setup.map(|(_, c)| c).filter(|&c| c >= 0.0));
+    let setup_cutoff = from_setup.map(|(_, c)| c).filter(|&c| c >= 0.0 && request.rates.is_none());
+    let lowpass_cutoff = request.lowpass.or(setup_cutoff);
     Ok(InverseDynamicsSettings { time_range, lowpass_cutoff })
 }
 
@@ -100,10 +108,18 @@ fn check_excluded_forces(spec: &ModelSpec, setup: &IdSetup) -> Result<(), Failur
     Ok(())
 }
 
-fn report(result: &InverseDynamicsResult, coordinates: &Path, loads: Option<&Path>, settings: &InverseDynamicsSettings, output: &Path) {
+/// How the speeds and accelerations came about, for the report.
+fn differentiation(request: &Request, settings: &InverseDynamicsSettings) -> String {
+    match (&request.rates, settings.lowpass_cutoff) {
+        (Some(rates), _) => format!("not filtered, rates from {}", rates.display()),
+        (None, Some(cutoff)) => format!("low-pass {cutoff} Hz"),
+        (None, None) => "unfiltered".to_string(),
+    }
+}
+
+fn report(result: &InverseDynamicsResult, coordinates: &Path, loads: Option<&Path>, filter: &str, output: &Path) {
     let times = result.forces.times();
     let (Some(first), Some(last)) = (times.first(), times.last()) else { return };
-    let filter = settings.lowpass_cutoff.map_or("unfiltered".to_string(), |c| format!("low-pass {c} Hz"));
     let loads = loads.map_or("no external loads".to_string(), |l| format!("external loads {}", l.display()));
     println!("{} frames of {} ({first:.4}–{last:.4} s, {filter}), {loads} → {}", times.len(), coordinates.display(), output.display());
     if !result.defaulted.is_empty() {

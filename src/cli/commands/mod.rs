@@ -38,8 +38,8 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
-        Command::Id { model, coordinates, external_loads, setup, time, lowpass, body_force_joints, body_forces, output } => {
-            let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, body_force_joints, body_forces, output };
+        Command::Id { model, coordinates, external_loads, setup, time, lowpass, rates, body_force_joints, body_forces, output } => {
+            let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, rates, body_force_joints, body_forces, output };
             id::run(&model, &coordinates, &request)
         }
         Command::Dynamometer {

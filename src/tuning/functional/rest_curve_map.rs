@@ -164,7 +164,7 @@ impl RestCurveProblem<'_> {
                 break;
             }
             let again = fit_rest_curves(self.knee, self.references, &fit.parameters, self.measured, std::slice::from_ref(&fit.parameters), None, self.settings)?;
-            if !(again.cost < (1.0 - RECENTRED_GAIN) * fit.cost) {
+            if again.cost >= (1.0 - RECENTRED_GAIN) * fit.cost {
                 break;
             }
             progress(&format!("rest curves: the search around the fit found a lower cost ({:.3e} → {:.3e} N²·m²)", fit.cost, again.cost));
