@@ -10,9 +10,13 @@
 - fixtures/models/sliding_mass.osim: `ModelFactory.createSlidingPointMass()` (Moco's example),
   whose body and joint `Model::addComponent` put in the model's `<components>`, not in the sets,
   with a Millard muscle from ground to the mass added there too.
+- fixtures/models/sliding_mass_components.osim: the same with a second mass coupled to the
+  first, a marker, a CoordinateLimitForce and the CoordinateCouplerConstraint, all in
+  `<components>`; fixtures/golden/model_components.json: the marker in ground at position 0.3 m.
 
     python3 oracle/gen_api_models.py
 """
+import json
 from pathlib import Path
 
 import opensim as osim
@@ -39,6 +43,46 @@ def main():
     state = sliding.initSystem()
     print(f"sliding_mass: the muscle's path is {muscle.getLength(state)} m at position 0")
     write(sliding, "sliding_mass.osim")
+    components_model()
+
+
+def components_model():
+    """createSlidingPointMass with a second mass coupled to the first (follower = 2·position),
+    a marker, a CoordinateLimitForce and the coupler, all through `Model::addComponent`; the
+    marker's location in ground at position 0.3 m goes to the golden."""
+    model = osim.ModelFactory.createSlidingPointMass()
+    model.finalizeFromProperties()
+    follower = osim.Body("follower", 0.5, osim.Vec3(0), osim.Inertia(0))
+    model.addComponent(follower)
+    slider = osim.SliderJoint("follower_slider", model.getGround(), osim.Vec3(0, 0.1, 0), osim.Vec3(0), follower, osim.Vec3(0), osim.Vec3(0))
+    slider.updCoordinate().setName("follower_position")
+    model.addComponent(slider)
+    marker = osim.Marker("tip", follower, osim.Vec3(0.05, 0.02, 0))
+    model.addComponent(marker)
+    limit = osim.CoordinateLimitForce("position", 0.5, 100.0, -0.5, 100.0, 1.0, 0.01)
+    limit.setName("position_limit")
+    model.addComponent(limit)
+    coupling = osim.LinearFunction(2.0, 0.0)
+    independent = osim.ArrayStr()
+    independent.append("position")
+    coupler = osim.CoordinateCouplerConstraint()
+    coupler.setName("follower_coupler")
+    coupler.setIndependentCoordinateNames(independent)
+    coupler.setDependentCoordinateName("follower_position")
+    coupler.setFunction(coupling)
+    model.addComponent(coupler)
+    model.finalizeConnections()
+    state = model.initSystem()
+    coordinates = model.getCoordinateSet()
+    coordinates.get("position").setValue(state, 0.3, False)
+    coordinates.get("follower_position").setValue(state, 2.0 * 0.3, False)
+    model.realizePosition(state)
+    assert abs(state.getQErr().get(0)) < 1e-15, "the coupler holds"
+    tip = marker.getLocationInGround(state)
+    write(model, "sliding_mass_components.osim")
+    golden = REPO / "fixtures" / "golden" / "model_components.json"
+    golden.write_text(json.dumps({"position": 0.3, "follower_position": coordinates.get("follower_position").getValue(state), "tip_in_ground": [tip.get(i) for i in range(3)]}, indent=1) + "\n")
+    print(f"{golden.relative_to(REPO)}: done")
 
 
 def write(model, name):

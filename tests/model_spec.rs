@@ -201,3 +201,29 @@ fn bodies_joints_and_muscles_among_the_components_are_read() {
     let mass = spec.bodies[0].mass;
     assert!((force - mass * (udot[0] - multibody.gravity.dot(&axis))).abs() < 1e-12, "{force}");
 }
+
+/// A marker, a `CoordinateLimitForce` and a `CoordinateCouplerConstraint` added by
+/// `Model::addComponent` (`oracle/gen_api_models.py`) are read like the sets' members: with
+/// the coupler's dependent from its function at position 0.3 m, the marker on the coupled mass
+/// lies where OpenSim 4.6 puts it (`golden/model_components.json`).
+#[test]
+fn markers_forces_and_constraints_among_the_components_are_read() {
+    let spec = read("fixtures/models/sliding_mass_components.osim");
+    assert_eq!((spec.bodies.len(), spec.joints.len(), spec.markers.len()), (2, 2, 1));
+    assert!(spec.forces.iter().any(|f| f.name == "position_limit" && f.class == "CoordinateLimitForce"), "{:?}", spec.forces.iter().map(|f| &f.name).collect::<Vec<_>>());
+    assert_eq!((spec.constraints.len(), spec.constraints[0].class.as_str(), spec.constraints[0].enforced), (1, "CoordinateCouplerConstraint", true));
+    let golden: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(common::fixture("golden/model_components.json")).unwrap()).unwrap();
+    let multibody = osim_tune::mechanics::Multibody::new(&spec).unwrap();
+    let coupler = &multibody.couplers[0];
+    let mut q = vec![0.0; 2];
+    q[coupler.independent] = golden["position"].as_f64().unwrap();
+    q[coupler.dependent] = coupler.dependent_value(&q);
+    assert!((q[coupler.dependent] - golden["follower_position"].as_f64().unwrap()).abs() < 1e-15);
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(&q, &mut kinematics);
+    let marker = multibody.markers.iter().position(|m| m.name == "tip").unwrap();
+    let tip = kinematics.marker_location(&multibody, marker);
+    for (axis, expected) in golden["tip_in_ground"].as_array().unwrap().iter().enumerate() {
+        assert!((tip[axis] - expected.as_f64().unwrap()).abs() < 1e-15, "{tip:?}");
+    }
+}

@@ -85,14 +85,14 @@ impl ModelSpec {
         for joint in set_members(model, "JointSet").into_iter().chain(component_members(model, |class| class.ends_with("Joint"))) {
             spec.joints.push(JointSpec::read_v4(model.at(joint), &frames)?);
         }
-        for marker in set_members(model, "MarkerSet") {
+        for marker in set_members(model, "MarkerSet").into_iter().chain(component_members(model, |class| class == "Marker")) {
             spec.markers.push(MarkerSpec::read(model.at(marker), dialect, &frames)?);
         }
-        for force in set_members(model, "ForceSet").into_iter().chain(component_members(model, |class| class.contains("Muscle") || class.ends_with("Actuator"))) {
+        for force in set_members(model, "ForceSet").into_iter().chain(component_members(model, is_force_class)) {
             spec.forces.push(ForceSpec::read(model.at(force), dialect, &frames)?);
             spec.actuators.extend(ActuatorSpec::read(model.at(force))?);
         }
-        for constraint in set_members(model, "ConstraintSet") {
+        for constraint in set_members(model, "ConstraintSet").into_iter().chain(component_members(model, |class| class.ends_with("Constraint"))) {
             spec.constraints.push(ConstraintSpec::read(model.at(constraint))?);
         }
         Ok(spec)
@@ -128,6 +128,12 @@ fn body_elements(model: ComponentReader, dialect: Dialect) -> Vec<(String, Eleme
         bodies.push((model.at(body).name(), body));
     }
     bodies
+}
+
+/// Whether a component of this class is a force: muscles, actuators, `…Force` (e.g.
+/// `CoordinateLimitForce`, `ExpressionBasedCoordinateForce`), ligaments and springs.
+fn is_force_class(class: &str) -> bool {
+    class.contains("Muscle") || ["Actuator", "Force", "Ligament", "Spring"].iter().any(|suffix| class.ends_with(suffix))
 }
 
 /// The model's `<components>` of a class `class` accepts (empty without the list).
