@@ -282,22 +282,8 @@ pub enum Command {
         /// use_muscle_physiology are used (its model and coordinates file names are not).
         #[arg(long)]
         setup: Option<PathBuf>,
-        /// An OpenSim ExternalLoads file (.xml) with its datafile; overrides the setup's.
-        #[arg(long)]
-        external_loads: Option<PathBuf>,
-        /// ForceSet files of Coordinate-, Point- and TorqueActuators (residuals, reserves) added to
-        /// the model's muscles and actuators, comma separated; override the setup's.
-        #[arg(long, value_delimiter = ',')]
-        actuators: Vec<PathBuf>,
-        /// Time range in seconds (each end goes to the row at or before it).
-        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
-        time: Option<Vec<f64>>,
-        /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
-        #[arg(long)]
-        lowpass: Option<f64>,
-        /// Solve the first and last rows and every row whose index is a multiple of N.
-        #[arg(long)]
-        step_interval: Option<usize>,
+        #[command(flatten)]
+        analyze: AnalyzeArgs,
         /// p of the objective Σ|a|ᵖ (> 1; default: the setup's, else 2).
         #[arg(long)]
         activation_exponent: Option<f64>,
@@ -314,12 +300,6 @@ pub enum Command {
         /// With --pia: multiplies every muscle's activation and deactivation time constants.
         #[arg(long, default_value_t = 1.0)]
         time_constant_scale: f64,
-        /// Prefix of the output files (default: the setup's name, else the coordinates file's stem).
-        #[arg(long)]
-        name: Option<String>,
-        /// Output folder (created if needed).
-        #[arg(short, long)]
-        output: PathBuf,
     },
     /// Joint reaction loads like OpenSim 4.6's JointReaction analysis (AnalyzeTool): along the
     /// coordinates (filtered and differentiated as the AnalyzeTool does), every muscle and
@@ -343,23 +323,8 @@ pub enum Command {
         /// express_in_frame and step_interval are used.
         #[arg(long)]
         setup: Option<PathBuf>,
-        /// An OpenSim ExternalLoads file (.xml) with its datafile; overrides the setup's.
-        #[arg(long)]
-        external_loads: Option<PathBuf>,
-        /// ForceSet files of Coordinate-, Point- and TorqueActuators (residuals, reserves) added to
-        /// the model's muscles and actuators, comma separated; override the setup's.
-        #[arg(long, value_delimiter = ',')]
-        actuators: Vec<PathBuf>,
-        /// Time range in seconds (each end goes to the row at or before it; default: the setup's,
-        /// else the forces file's times).
-        #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
-        time: Option<Vec<f64>>,
-        /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
-        #[arg(long)]
-        lowpass: Option<f64>,
-        /// Record the first and last rows and every row whose index is a multiple of N.
-        #[arg(long)]
-        step_interval: Option<usize>,
+        #[command(flatten)]
+        analyze: AnalyzeArgs,
         /// Joints to report, comma separated (default: the setup's, else all).
         #[arg(long, value_delimiter = ',')]
         joints: Vec<String>,
@@ -370,12 +335,6 @@ pub enum Command {
         /// all joints or one per joint.
         #[arg(long = "in", value_delimiter = ',')]
         frames: Vec<String>,
-        /// Prefix of the output file (default: the setup's name, else the coordinates file's stem).
-        #[arg(long)]
-        name: Option<String>,
-        /// Output folder (created if needed).
-        #[arg(short, long)]
-        output: PathBuf,
     },
     /// The knee moment from an extended dynamometer set-up (thesis ch. 5): 3D inverse dynamics of
     /// crank, shank and foot with a 6-D load cell in the crank gives M3D, the moment about the
@@ -599,4 +558,32 @@ pub enum PoseArgument {
     LeastSquares,
     /// A Rauch–Tung–Striebel smoother, constant 4th derivative (thesis default settings).
     Kalman,
+}
+
+/// The AnalyzeTool's flags `so` and `reaction` share.
+#[derive(Debug, clap::Args)]
+pub struct AnalyzeArgs {
+    /// An OpenSim ExternalLoads file (.xml) with its datafile; overrides the setup's.
+    #[arg(long)]
+    pub external_loads: Option<PathBuf>,
+    /// ForceSet files of Coordinate-, Point- and TorqueActuators (residuals, reserves) added to
+    /// the model's muscles and actuators, comma separated; override the setup's.
+    #[arg(long, value_delimiter = ',')]
+    pub actuators: Vec<PathBuf>,
+    /// Time range in seconds (each end goes to the row at or before it; default: the setup's,
+    /// else `reaction`'s forces file's times, else all rows).
+    #[arg(long, num_args = 2, value_names = ["START", "END"], allow_negative_numbers = true)]
+    pub time: Option<Vec<f64>>,
+    /// Low-pass cutoff frequency for the coordinates, Hz (default: the setup's, else none).
+    #[arg(long)]
+    pub lowpass: Option<f64>,
+    /// Analyse the first and last rows and every row whose index is a multiple of N.
+    #[arg(long)]
+    pub step_interval: Option<usize>,
+    /// Prefix of the output files (default: the setup's name, else the coordinates file's stem).
+    #[arg(long)]
+    pub name: Option<String>,
+    /// Output folder (created if needed).
+    #[arg(short, long)]
+    pub output: PathBuf,
 }

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
-pub use args::{Arguments, AxisMethodArgument, Command, PoseArgument};
+pub use args::{AnalyzeArgs, Arguments, AxisMethodArgument, Command, PoseArgument};
 
 /// A command's failure; printed as `error: …` with exit code 2.
 pub type Failure = Box<dyn std::error::Error>;

@@ -17,7 +17,7 @@ mod scale_functional;
 mod set;
 mod so;
 
-use super::{Command, Failure, Outcome};
+use super::{AnalyzeArgs, Command, Failure, Outcome};
 
 pub fn run(command: Command) -> Result<Outcome, Failure> {
     match command {
@@ -70,12 +70,14 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = forward::Request { excitations, activations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
             forward::run(&model, &coordinates, &request)
         }
-        Command::So { model, coordinates, setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output } => {
+        Command::So { model, coordinates, setup, analyze, activation_exponent, compare, pia, time_constant_scale } => {
+            let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, name, output } = analyze;
             let (time, pia) = (time.map(|t| [t[0], t[1]]), pia.map(Into::into));
             let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, name, output };
             so::run(&model, &coordinates, &request)
         }
-        Command::Reaction { model, coordinates, forces, setup, external_loads, actuators, time, lowpass, step_interval, joints, on, frames, name, output } => {
+        Command::Reaction { model, coordinates, forces, setup, analyze, joints, on, frames } => {
+            let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, name, output } = analyze;
             let time = time.map(|t| [t[0], t[1]]);
             let request = reaction::Request { forces, setup, external_loads, actuators, time, lowpass, step_interval, joints, on, frames, name, output };
             reaction::run(&model, &coordinates, &request)
