@@ -17,7 +17,7 @@ mod splined_motion;
 mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
-pub use dynamometer::{agreement, dynamometer_analysis, Agreement, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
+pub use dynamometer::{agreement, dynamometer_analysis, isometric_contraction, plateau, Agreement, IsometricContraction, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
 pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
 pub use forward::{

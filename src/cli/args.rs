@@ -336,6 +336,31 @@ pub enum Command {
         #[arg(long = "in", value_delimiter = ',')]
         frames: Vec<String>,
     },
+    /// Functional-scaling trials from isometric dynamometer contractions (thesis ch. 5 → 6): per
+    /// contraction of SESSION.json, M3D along its motion with its load cell (as `dynamometer`
+    /// computes it), averaged over the plateau around its peak (|M3D| ≥ the fraction of the peak)
+    /// with the coordinates and the agonists' activations; one row per contraction in TRIALS/
+    /// <set>_<direction>.mot and TRIALS/subject.json (the session's subject fields and the trial
+    /// files), the folder `scale MODEL TRIALS/` reads. Exit 0 success, 2 error.
+    Trials {
+        /// The model (.osim) with the knee and the crank (as for `dynamometer`).
+        model: PathBuf,
+        /// The session (.json): `subject` (the subject file's fields: estimated_muscles,
+        /// extension_agonists, flexion_agonists, agonist_activation, …), optional `crank`,
+        /// `knee`, `hip`, `ankle` names, and `contractions`: per contraction `set`, `direction`
+        /// (extension or flexion), `coordinates` (.mot), `load_cell` (ExternalLoads .xml) and
+        /// optionally `activations` (.sto, a column per agonist); paths relative to the session.
+        session: PathBuf,
+        /// The plateau: the frames around the peak where |M3D| is at least this fraction of it.
+        #[arg(long, default_value_t = 0.9)]
+        plateau_fraction: f64,
+        /// The largest turn of the crank over a plateau (degrees) an isometric contraction allows.
+        #[arg(long, default_value_t = 2.0)]
+        max_crank_motion: f64,
+        /// Output folder (created if needed).
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// The knee moment from an extended dynamometer set-up (thesis ch. 5): 3D inverse dynamics of
     /// crank, shank and foot with a 6-D load cell in the crank gives M3D, the moment about the
     /// knee coordinate's (e.g. functional) axis; beside it the dynamometer's own moment Mdyn and

@@ -10,6 +10,7 @@
 
 mod agreement;
 mod frame;
+mod plateau;
 mod sensitivity;
 mod summary;
 
@@ -17,6 +18,7 @@ use std::path::{Path, PathBuf};
 
 pub use agreement::{agreement, Agreement};
 pub use frame::{Axis, DynamometerFrame, DynamometerModel, HerzogEstimate};
+pub use plateau::{isometric_contraction, plateau, IsometricContraction};
 pub use sensitivity::{Perturbations, SensitivityRow};
 pub use summary::{Agreements, DynamometerSummary, Spread, PERPENDICULAR_TOLERANCE};
 

@@ -16,6 +16,7 @@ mod scale;
 mod scale_functional;
 mod set;
 mod so;
+mod trials;
 
 use super::{AnalyzeArgs, Command, Failure, Outcome};
 
@@ -65,6 +66,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = dynamometer::Request { load_cell, crank, knee, dynamometer_moment, dynamometer_sign: if dynamometer_sign == "-1" { -1.0 } else { 1.0 }, time, lowpass, perturbations, json, report, output };
             dynamometer::run(&model, &coordinates, &request)
         }
+        Command::Trials { model, session, plateau_fraction, max_crank_motion, output } => trials::run(&model, &session, &trials::Request { plateau_fraction, max_crank_motion, output }),
         Command::Emg { predicted, emg, pair, max_lag, json } => emg::run(&predicted, &emg, &pair, max_lag, json),
         Command::Forward { model, coordinates, excitations, activations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
             let request = forward::Request { excitations, activations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
