@@ -85,7 +85,8 @@ fn a_contraction_becomes_a_trial_row_at_its_plateau() {
 
 /// Refusals name the contraction and the problem, exit 2 and write nothing: a crank that turns
 /// (the `spatial` golden's isokinetic sweep), a set without one direction, contractions of one
-/// direction pushing opposite ways, an activation outside (0, 1].
+/// direction pushing opposite ways, an activation outside (0, 1], an unknown direction, a set
+/// name that is no file name.
 #[test]
 fn contractions_that_cannot_be_trials_are_refused() {
     let folder = tempfile::tempdir().unwrap();
@@ -117,6 +118,7 @@ fn contractions_that_cannot_be_trials_are_refused() {
         (json!([contraction("set5", "extension", "loadcell.xml"), contraction("set5", "extension", "pull.xml"), contraction("set5", "flexion", "loadcell.xml")]), "dynamometer_planar", "contraction 2 (extension) has M3D of the other sign"),
         (json!([high, contraction("set5", "flexion", "loadcell.xml")]), "dynamometer_planar", "vas_lat_r's mean activation over the plateau is 1.2"),
         (json!([contraction("set5", "sideways", "loadcell.xml")]), "dynamometer_planar", "direction \"sideways\""),
+        (json!([contraction("../set5", "extension", "loadcell.xml")]), "dynamometer_planar", "set \"../set5\"; expected a name of letters"),
     ];
     for (contractions, model, expected) in cases {
         let session = session(folder.path(), contractions);

@@ -103,6 +103,9 @@ pub fn run(model: &Path, session_file: &Path, request: &Request) -> Result<Outco
     let mut rows = Vec::with_capacity(session.contractions.len());
     for (k, contraction) in session.contractions.iter().enumerate() {
         let context = format!("{}: contraction {} ({} {})", session_file.display(), k + 1, contraction.set, contraction.direction);
+        if !is_file_stem(&contraction.set) {
+            return Err(format!("{context}: set {:?}; expected a name of letters, digits, '_' or '-' (it names the trial files)", contraction.set).into());
+        }
         let direction = match contraction.direction.as_str() {
             "extension" => Direction::Extension,
             "flexion" => Direction::Flexion,
@@ -129,6 +132,11 @@ pub fn run(model: &Path, session_file: &Path, request: &Request) -> Result<Outco
     write_all_atomically(&outputs, &input_paths)?;
     report(&rows, &multibody, &dynamometer, &request.output);
     Ok(Outcome::Success)
+}
+
+/// Whether `name` can name a file in the trial folder as it is.
+fn is_file_stem(name: &str) -> bool {
+    !name.is_empty() && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
 fn read_session(file: &Path) -> Result<Session, Failure> {
