@@ -154,7 +154,8 @@ impl RestCurveProblem<'_> {
     /// [`RECENTRED_SEARCHES`] times, and not once the fit reproduces the moments to within
     /// [`NEGLIGIBLE_NOISE`] (RMS). A search centred elsewhere samples other basins: from a
     /// guess 25 % off, the search around it can miss the truth that the search around its own
-    /// result finds.
+    /// result finds. Where no search can run around the fit (a curve without a point in the
+    /// span about it), the fit stands, and the progress says so.
     fn recentred(&self, mut fit: RestCurveFit, progress: &mut dyn FnMut(&str)) -> Result<RestCurveFit, FunctionalError> {
         if !self.settings.global_search {
             return Ok(fit);
@@ -163,7 +164,13 @@ impl RestCurveProblem<'_> {
             if reproduced(&fit) {
                 break;
             }
-            let again = fit_rest_curves(self.knee, self.references, &fit.parameters, self.measured, std::slice::from_ref(&fit.parameters), None, self.settings)?;
+            let again = match fit_rest_curves(self.knee, self.references, &fit.parameters, self.measured, std::slice::from_ref(&fit.parameters), None, self.settings) {
+                Ok(again) => again,
+                Err(error) => {
+                    progress(&format!("rest curves: no search around the fit ({error}); the fit stands"));
+                    break;
+                }
+            };
             if again.cost >= (1.0 - RECENTRED_GAIN) * fit.cost {
                 break;
             }
