@@ -54,7 +54,7 @@ impl SplinedMotion {
     }
 
     /// The rows within `range` (s), or why there are none.
-    pub fn frames(&self, range: [f64; 2]) -> Result<RangeInclusive<usize>, SplinedMotionError> {
+    fn frames(&self, range: [f64; 2]) -> Result<RangeInclusive<usize>, SplinedMotionError> {
         rows_in_range(&self.times, range).ok_or_else(|| SplinedMotionError::NoFrames {
             file: self.file.clone(),
             start: range[0],

@@ -24,6 +24,7 @@ pub use summary::{Agreements, DynamometerSummary, Spread, PERPENDICULAR_TOLERANC
 
 use super::external_loads::{interpolate, ExternalLoads};
 use sensitivity::sensitivity;
+use super::sampled_motion::SampledMotion;
 use super::splined_motion::{SplinedMotion, SplinedMotionError};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Function, MotionState, Multibody, Vec3, GROUND_INDEX};
@@ -155,27 +156,45 @@ pub fn dynamometer_analysis(
     measured: Option<&MeasuredMoment>,
     settings: &DynamometerSettings,
 ) -> Result<DynamometerResult, DynamometerError> {
-    for c in [model.crank_coordinate, model.knee_coordinate] {
-        let name = &multibody.coordinates[c].name;
-        if motion.defaulted.contains(name) {
-            return Err(DynamometerError::Data { file: motion.file().into(), problem: format!("has no column for {name}; the crank's and the knee's motion must be measured") });
-        }
-    }
-    let times = motion.times[motion.frames(settings.time_range)?].to_vec();
-    let frames = frames_of(multibody, model, motion, loads, &times);
-    let dynamometer = measured.map(|m| dynamometer_moments(m, &times, &frames)).transpose()?;
+    let motion = model.measured_motion(multibody, motion, settings.time_range)?;
+    let frames = frames_of(multibody, model, &motion, loads);
+    let dynamometer = measured.map(|m| dynamometer_moments(m, &motion.times, &frames)).transpose()?;
     let herzog = dynamometer.as_ref().map(|d| d.iter().zip(&frames).map(|(&m, f)| f.herzog(m)).collect());
-    let sensitivity = sensitivity(multibody, model, &frames, &settings.perturbations, |perturbed| frames_of(perturbed, model, motion, loads, &times));
-    Ok(DynamometerResult { times, frames, dynamometer, herzog, sensitivity, defaulted: motion.defaulted.clone() })
+    let sensitivity = sensitivity(multibody, model, &frames, &settings.perturbations, |perturbed| frames_of(perturbed, model, &motion, loads));
+    Ok(DynamometerResult { times: motion.times, frames, dynamometer, herzog, sensitivity, defaulted: motion.defaulted })
 }
 
-/// The frames at `times`.
-fn frames_of(multibody: &Multibody, model: &DynamometerModel, motion: &SplinedMotion, loads: &ExternalLoads, times: &[f64]) -> Vec<DynamometerFrame> {
+impl DynamometerModel {
+    /// The load cell's file `file` (read as `loads`) must load the crank.
+    pub fn check_load_cell(&self, multibody: &Multibody, loads: &ExternalLoads, file: &Path) -> Result<(), DynamometerError> {
+        if loads.loads_body(self.crank) {
+            return Ok(());
+        }
+        let problem = format!("no ExternalForce is applied to the crank {:?}; the load cell's wrench on the crank is what the analysis needs", multibody.bodies[self.crank].name);
+        Err(DynamometerError::Data { file: file.into(), problem })
+    }
+
+    /// `motion`'s frames within `range` (s), sampled once for every run along them; refused
+    /// when the crank's or the knee's coordinate is not in its file.
+    fn measured_motion(&self, multibody: &Multibody, motion: &SplinedMotion, range: [f64; 2]) -> Result<SampledMotion, DynamometerError> {
+        for c in [self.crank_coordinate, self.knee_coordinate] {
+            let name = &multibody.coordinates[c].name;
+            if motion.defaulted.contains(name) {
+                return Err(DynamometerError::Data { file: motion.file().into(), problem: format!("has no column for {name}; the crank's and the knee's motion must be measured") });
+            }
+        }
+        Ok(motion.sample(multibody, range)?)
+    }
+}
+
+/// The frames of `motion`.
+fn frames_of(multibody: &Multibody, model: &DynamometerModel, motion: &SampledMotion, loads: &ExternalLoads) -> Vec<DynamometerFrame> {
     let mut kinematics = multibody.kinematics();
-    times
+    motion
+        .times
         .iter()
-        .map(|&time| {
-            let state = motion.state_at(multibody, time);
+        .zip(&motion.states)
+        .map(|(&time, state)| {
             multibody.realize(&state.q, &mut kinematics);
             let applied = loads.at(time, &kinematics);
             model.frame(multibody, &kinematics, &MotionState { q: &state.q, u: &state.u, udot: &state.udot }, &applied)

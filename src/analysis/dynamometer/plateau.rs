@@ -47,24 +47,23 @@ pub fn plateau(moments: &[f64], fraction: f64) -> Option<RangeInclusive<usize>> 
 /// The contraction along `motion` with the load cell in `loads`: M3D at every frame of the
 /// motion, its plateau at `fraction` of the peak, and the plateau's means.
 pub fn isometric_contraction(multibody: &Multibody, model: &DynamometerModel, motion: &SplinedMotion, loads: &ExternalLoads, fraction: f64) -> Result<IsometricContraction, DynamometerError> {
-    let frames = frames_of(multibody, model, motion, loads, &motion.times);
-    let moments: Vec<f64> = frames.iter().map(|f| f.knee_moment).collect();
-    let rows = plateau(&moments, fraction).ok_or_else(|| DynamometerError::Data { file: motion.file().into(), problem: "M3D is zero at every frame: no contraction".into() })?;
-    let times = &motion.times[rows.clone()];
-    let n = times.len() as f64;
+    let motion = model.measured_motion(multibody, motion, [f64::NEG_INFINITY, f64::INFINITY])?;
+    let moments: Vec<f64> = frames_of(multibody, model, &motion, loads).iter().map(|f| f.knee_moment).collect();
+    let rows = plateau(&moments, fraction).ok_or_else(|| DynamometerError::Data { file: motion.file.clone(), problem: "M3D is zero at every frame: no contraction".into() })?;
+    let states = &motion.states[rows.clone()];
+    let n = states.len() as f64;
     let mut coordinates = vec![0.0; multibody.coordinates.len()];
-    let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &time in times {
-        let q = motion.state_at(multibody, time).q;
-        coordinates.iter_mut().zip(&q).for_each(|(mean, value)| *mean += value / n);
-        (lowest, highest) = (lowest.min(q[model.crank_coordinate]), highest.max(q[model.crank_coordinate]));
+    for state in states {
+        coordinates.iter_mut().zip(&state.q).for_each(|(mean, value)| *mean += value / n);
     }
+    let crank = states.iter().map(|state| state.q[model.crank_coordinate]);
+    let crank_motion = crank.clone().fold(f64::NEG_INFINITY, f64::max) - crank.fold(f64::INFINITY, f64::min);
     Ok(IsometricContraction {
-        times: times.to_vec(),
+        times: motion.times[rows.clone()].to_vec(),
         knee_moment: moments[rows].iter().sum::<f64>() / n,
         peak: moments.iter().fold(0.0, |m: f64, v| m.max(v.abs())),
         coordinates,
-        crank_motion: highest - lowest,
+        crank_motion,
     })
 }
 

@@ -32,9 +32,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let multibody = Multibody::new(&ModelSpec::read(&OsimDocument::read(model)?)?)?;
     let dynamometer = DynamometerModel::new(&multibody, &request.crank, &request.knee)?;
     let (loads, data_file) = ExternalLoads::read(&request.load_cell, &multibody)?;
-    if !loads.loads_body(dynamometer.crank) {
-        return Err(format!("{}: no ExternalForce is applied to the crank {:?}; the load cell's wrench on the crank is what the analysis needs", request.load_cell.display(), request.crank).into());
-    }
+    dynamometer.check_load_cell(&multibody, &loads, &request.load_cell)?;
     let inputs = [model, coordinates, request.load_cell.as_path(), data_file.as_path()];
     for output in std::iter::once(&request.output).chain(&request.report) {
         ensure_not_an_input(output, &inputs)?;

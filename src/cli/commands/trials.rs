@@ -77,6 +77,15 @@ struct Agonists {
     agonist_activation: f64,
 }
 
+impl Agonists {
+    fn of(&self, direction: Direction) -> &[String] {
+        match direction {
+            Direction::Extension => &self.extension_agonists,
+            Direction::Flexion => &self.flexion_agonists,
+        }
+    }
+}
+
 /// One trial row: the contraction's plateau and its agonists' activations.
 struct Row {
     set: String,
@@ -106,10 +115,8 @@ pub fn run(model: &Path, session_file: &Path, request: &Request) -> Result<Outco
         if !is_file_stem(&contraction.set) {
             return Err(format!("{context}: set {:?}; expected a name of letters, digits, '_' or '-' (it names the trial files)", contraction.set).into());
         }
-        let direction = match contraction.direction.as_str() {
-            "extension" => Direction::Extension,
-            "flexion" => Direction::Flexion,
-            other => return Err(format!("{context}: direction {other:?}; expected \"extension\" or \"flexion\"").into()),
+        let Some(direction) = Direction::BOTH.into_iter().find(|d| d.key() == contraction.direction) else {
+            return Err(format!("{context}: direction {:?}; expected \"extension\" or \"flexion\"", contraction.direction).into());
         };
         let row = contraction_row(&setup, contraction, direction, &mut inputs).map_err(|e| format!("{context}: {e}"))?;
         rows.push(row);
@@ -176,13 +183,8 @@ fn contraction_row(setup: &SessionSetUp, contraction: &Contraction, direction: D
     let SessionSetUp { multibody, dynamometer, base, agonists, request } = *setup;
     let (coordinates, load_cell) = (base.join(&contraction.coordinates), base.join(&contraction.load_cell));
     let (loads, data_file) = ExternalLoads::read(&load_cell, multibody)?;
-    if !loads.loads_body(dynamometer.crank) {
-        return Err(format!("{}: no ExternalForce is applied to the crank", load_cell.display()).into());
-    }
+    dynamometer.check_load_cell(multibody, &loads, &load_cell)?;
     let motion = SplinedMotion::new(multibody, &StorageTable::read(&coordinates)?, &coordinates, None)?;
-    if motion.defaulted.contains(&multibody.coordinates[dynamometer.crank_coordinate].name) {
-        return Err(format!("{}: no column for the crank's coordinate {:?}", coordinates.display(), multibody.coordinates[dynamometer.crank_coordinate].name).into());
-    }
     let plateau = isometric_contraction(multibody, dynamometer, &motion, &loads, request.plateau_fraction)?;
     if plateau.crank_motion.to_degrees() > request.max_crank_motion {
         return Err(format!(
@@ -194,10 +196,7 @@ fn contraction_row(setup: &SessionSetUp, contraction: &Contraction, direction: D
         )
         .into());
     }
-    let muscles = match direction {
-        Direction::Extension => &agonists.extension_agonists,
-        Direction::Flexion => &agonists.flexion_agonists,
-    };
+    let muscles = agonists.of(direction);
     let activations = match &contraction.activations {
         Some(file) => {
             let file = base.join(file);
@@ -278,10 +277,7 @@ fn subject_json(session: &Session, files: &[(String, [String; 2])]) -> Result<St
 /// The set's trial file of `direction`: per contraction the plateau's knee, hip and ankle angles
 /// (degrees), `knee_moment` (N·m) and `<agonist>.activation`; `time` numbers the rows from 1.
 fn trial_table(rows: &[Row], set: &str, direction: Direction, angles: &[usize; 3], multibody: &Multibody, agonists: &Agonists) -> Result<StorageTable, Failure> {
-    let muscles = match direction {
-        Direction::Extension => &agonists.extension_agonists,
-        Direction::Flexion => &agonists.flexion_agonists,
-    };
+    let muscles = agonists.of(direction);
     let mut labels = vec!["time".to_string()];
     labels.extend(angles.iter().map(|&c| multibody.coordinates[c].name.clone()));
     labels.push("knee_moment".into());
