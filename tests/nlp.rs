@@ -425,10 +425,8 @@ fn not_a_number_counts_as_a_failed_evaluation() {
     // f = √x₀ + (x₁ − 1)² + … is NaN for x₀ < 0; the solution x₀ = 0.25 is inside.
     let mut problem = Closure::new(2, (vec![], vec![]), |x, _| (x[0] - 1.0).powi(2) + x[0].sqrt() * 0.0 + (x[1] - 1.0).powi(2) - x[0].ln());
     let solution = solve(&mut problem, &[3.0, 0.0]);
-    let x0 = 0.5 + 0.5f64.sqrt() * 3f64.sqrt() / 2.0_f64.sqrt();
     // f'(x₀) = 2(x₀ − 1) − 1/x₀ = 0 → x₀ = (1 + √3)/2.
     let expected = (1.0 + 3f64.sqrt()) / 2.0;
-    let _ = x0;
     assert_optimum(&solution, &[expected, 1.0], (expected - 1.0).powi(2) - expected.ln(), 1e-7);
 }
 
@@ -712,4 +710,59 @@ fn objective_target_stops_at_a_small_enough_objective() {
     assert_eq!(stopped.status, NlpStatus::ObjectiveTarget, "{stopped:#?}");
     assert!(stopped.objective <= 0.1 && stopped.objective > full.objective, "{} vs {}", stopped.objective, full.objective);
     assert!(stopped.constraint_violation <= 1e-8 && stopped.iterations < full.iterations);
+}
+
+/// f = (x − 1)⁴ + c with its exact gradient: Newton-like steps approach x = 1 by a steady
+/// factor, so f − c falls geometrically and the gradient stays above any tight tolerance for
+/// many iterations.
+struct Quartic {
+    offset: f64,
+}
+
+impl NlpProblem for Quartic {
+    fn dimension(&self) -> usize {
+        1
+    }
+
+    fn constraint_bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        (vec![], vec![])
+    }
+
+    fn evaluate(&mut self, x: &[f64], _: &mut [f64]) -> Result<f64, EvaluationError> {
+        Ok((x[0] - 1.0).powi(4) + self.offset)
+    }
+
+    fn derivatives(&mut self, x: &[f64], gradient: &mut [f64], _: &mut DMatrix<f64>) -> Result<(), EvaluationError> {
+        gradient[0] = 4.0 * (x[0] - 1.0).powi(3);
+        Ok(())
+    }
+}
+
+/// A KKT tolerance the quartic cannot meet soon; a stall over 5 iterations at 10⁻⁶.
+fn stall_settings() -> NlpSettings {
+    NlpSettings { tolerance: 1e-14, stall_iterations: 5, stall_tolerance: 1e-6, ..NlpSettings::default() }
+}
+
+/// Above a floor c = 3 the objective stops changing, relative to itself, long before the
+/// gradient meets a tight tolerance: the solve ends `ObjectiveStalled` at the first iterate
+/// whose f moved by at most 10⁻⁶·f over 5 iterations.
+#[test]
+fn an_objective_that_stops_changing_is_a_stall() {
+    let solution = solve_with(&mut Quartic { offset: 3.0 }, &[3.0], stall_settings());
+    assert_eq!(solution.status, NlpStatus::ObjectiveStalled, "{solution:#?}");
+    let f: Vec<f64> = solution.history.iter().map(|r| r.objective).collect();
+    let moved = |k: usize| (f[k - 5] - f[k]).abs() / f[k];
+    let last = f.len() - 1;
+    assert!(moved(last) <= 1e-6, "{f:?}");
+    assert!((5..last).all(|k| moved(k) > 1e-6), "stopped at the first stalled iterate: {f:?}");
+    assert!(solution.kkt_error > 1e-14 && (solution.x[0] - 1.0).abs() > 1e-3, "a stall, not a KKT point: {solution:#?}");
+}
+
+/// The stall test is relative to f alone: an objective falling geometrically towards 0 moves
+/// by nearly all of itself over any 5 iterations, however small it gets, and never stalls.
+#[test]
+fn an_objective_falling_towards_zero_never_stalls() {
+    let solution = solve_with(&mut Quartic { offset: 0.0 }, &[3.0], NlpSettings { max_iterations: 60, ..stall_settings() });
+    assert_ne!(solution.status, NlpStatus::ObjectiveStalled, "{solution:#?}");
+    assert!(solution.objective < 1e-12, "{solution:#?}");
 }

@@ -5,7 +5,7 @@
 //! gait2392 model (σ = 5 N·m for gen13–15, 10 N·m for gen16–18). Each is fitted once on its own
 //! noisy moments with its family's model as the prior's centre, as a lab would run it. Per family
 //! and trial selection (set5, all 70 trials): fits that fail or do not converge (the posterior
-//! mean, the MAP fit, Garner & Pandy), the RMS relative error of L_opt and L_ts over every muscle
+//! mean, the MAP fit, Phase II alone as `--no-rest-curve` runs it, Garner & Pandy), the RMS relative error of L_opt and L_ts over every muscle
 //! and subject of each estimator beside the model's own, and whether the posterior mean's
 //! sampled sd is calibrated: the errors in units of it (z) should be about standard normal, about
 //! 5 % of them beyond 2.
@@ -74,9 +74,10 @@ fn family_rows(family: &Family, spec: &ModelSpec, label: &str, sets: SetSelectio
     let estimators = [
         ("posterior mean", FitSettings::default(), true),
         ("MAP", FitSettings::maximum_a_posteriori(), false),
+        ("Phase II alone", FitSettings { rest_curve: None, ..FitSettings::default() }, false),
         ("Garner & Pandy", FitSettings { method: FitMethod::GarnerPandy, ..FitSettings::default() }, false),
     ];
-    let (mut model, mut errors, mut failed) = (Squares::default(), [Squares::default(); 3], Vec::new());
+    let (mut model, mut errors, mut failed) = (Squares::default(), [Squares::default(); 4], Vec::new());
     let mut calibration = Calibration::default();
     for k in family.subjects.clone() {
         let folder = root.join(SUBJECTS).join(format!("gen{k:02}"));
@@ -102,8 +103,16 @@ fn family_rows(family: &Family, spec: &ModelSpec, label: &str, sets: SetSelectio
         }
     }
     let cell = |s: &Squares| format!("{:.2} / {:.2} %", 100.0 * s.rms()[0], 100.0 * s.rms()[1]);
-    let [mean, mode, garner_pandy] = &errors;
-    println!("  {} {label:<14} posterior mean {}   MAP {}   Garner & Pandy {}   the model {}", family.label, cell(mean), cell(mode), cell(garner_pandy), cell(&model));
+    let [mean, mode, phase_two, garner_pandy] = &errors;
+    println!(
+        "  {} {label:<14} posterior mean {}   MAP {}   Phase II alone {}   Garner & Pandy {}   the model {}",
+        family.label,
+        cell(mean),
+        cell(mode),
+        cell(phase_two),
+        cell(garner_pandy),
+        cell(&model)
+    );
     println!(
         "  {} {label:<14} posterior mean's error / its sampled sd: RMS {:.2}, beyond 2: {:.1} % of {} ({} muscle fits without a sampled sd)",
         family.label,

@@ -51,11 +51,11 @@ pub struct NlpSettings {
     /// `fstopval`): for problems whose optimal value is known, e.g. 0 for a fit to exact data,
     /// where the KKT test degenerates. −∞: never.
     pub objective_target: f64,
-    /// A feasible iterate whose objective changed by at most `stall_tolerance` · max(1, |f|)
-    /// over the last `stall_iterations` iterations ends the solve as `ObjectiveStalled`
-    /// (KNITRO's `ftol`/`ftol_iters`): for degenerate problems (non-unique minimisers, e.g. a
-    /// min–max fit whose parameters are not all identifiable) where the KKT test is never met.
-    /// 0: never.
+    /// A feasible iterate whose objective changed by at most `stall_tolerance` · |f| over the
+    /// last `stall_iterations` iterations ends the solve as `ObjectiveStalled` (KNITRO's
+    /// `ftol`/`ftol_iters`): for degenerate problems (non-unique minimisers, e.g. a min–max fit
+    /// whose parameters are not all identifiable) where the KKT test is never met. The test is
+    /// relative to f alone, so an objective still falling towards 0 never stalls. 0: never.
     pub stall_iterations: usize,
     pub stall_tolerance: f64,
     /// clarabel's gap and feasibility tolerance for the QP subproblems.

@@ -246,11 +246,13 @@ impl Sqp {
         (progress.iterations >= settings.max_iterations).then_some(NlpStatus::MaxIterations)
     }
 
-    /// Whether f moved by at most `stall_tolerance` · max(1, |f|) over `stall_iterations` steps.
+    /// Whether f moved by at most `stall_tolerance` · |f| over `stall_iterations` steps.
     fn stalled(&self, progress: &Progress) -> bool {
         let n = self.settings.stall_iterations;
         let f = self.current.objective;
-        n > 0 && progress.history.len() > n && (progress.history[progress.history.len() - 1 - n].objective - f).abs() <= self.settings.stall_tolerance * f.abs().max(1.0)
+        // history[k] holds iterate k; the current iterate m = history.len() is not in it yet.
+        let m = progress.history.len();
+        n > 0 && m >= n && (progress.history[m - n].objective - f).abs() <= self.settings.stall_tolerance * f.abs()
     }
 
     /// The line search along `search.step` (second-order correction only for an optimality
