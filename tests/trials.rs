@@ -9,8 +9,10 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use common::osim_tune;
+use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
-use osim_tune::tuning::functional::{DynamometryData, TrialColumns, TrialOptions};
+use osim_tune::model::ModelSpec;
+use osim_tune::tuning::functional::{DynamometryData, KneeMomentModel, TrialColumns, TrialOptions};
 use serde_json::json;
 
 fn golden(file: &str) -> PathBuf {
@@ -126,5 +128,90 @@ fn contractions_that_cannot_be_trials_are_refused() {
         assert_eq!(code, 2, "{expected}: {stderr}");
         assert!(stderr.contains(expected), "{expected}: {stderr}");
         assert!(!output.exists(), "{expected}");
+    }
+}
+
+/// One table file: `name`, `columns` (time first) and `rows`, in degrees when `degrees`.
+fn write_table(path: &Path, name: &str, columns: &[&str], rows: &[Vec<f64>], degrees: bool) {
+    let body: String = rows.iter().map(|r| r.iter().map(f64::to_string).collect::<Vec<_>>().join("\t") + "\n").collect();
+    let header = format!("{name}\nversion=1\nnRows={}\nnColumns={}\ninDegrees={}\nendheader\n{}\n", rows.len(), columns.len(), if degrees { "yes" } else { "no" }, columns.join("\t"));
+    std::fs::write(path, header + &body).unwrap();
+}
+
+/// M3D at the first frame of `dynamometer` on `coordinates` with the load cell `xml`.
+fn m3d(model: &Path, coordinates: &Path, xml: &Path, output: &Path) -> f64 {
+    let (code, _, stderr) = osim_tune(&["dynamometer", s(model), s(coordinates), "--load-cell", s(xml), "-o", s(output)]);
+    assert_eq!(code, 0, "{stderr}");
+    StorageTable::read(output).unwrap().column("knee_angle_r_moment").unwrap()[0]
+}
+
+/// The thesis' chain from the dynamometer to the muscles (ch. 5 → ch. 6), end to end. For each
+/// of train01's set5 trials (OpenSim-generated knee moments of the subject01 model with known
+/// true L_opt and L_ts), a held contraction on the planar dynamometer set-up — its hip coordinate
+/// renamed `hip_flexion_r`, posed at the trial's knee, hip and ankle angles — whose load cell
+/// pushes with the force that makes M3D the trial's moment (M3D is affine in the load cell's
+/// wrench: two `dynamometer` runs give the line). `trials` turns the ten contractions into a
+/// trials folder and `scale` fits the subject01 model on it: every L_opt and L_ts within 10⁻⁴ of
+/// the truth, as on train01's own files.
+#[test]
+fn contractions_scale_a_muscle_model_to_the_subjects_truth() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    let planar = std::fs::read_to_string(common::fixture("models/dynamometer_planar.osim")).unwrap();
+    let model = dir.join("dynamometer.osim");
+    std::fs::write(&model, planar.replace("femur_rz", "hip_flexion_r")).unwrap();
+    let train01 = common::fixture("dynamometry/train01");
+    let mut subject: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(train01.join("subject.json")).unwrap()).unwrap();
+    let object = subject.as_object_mut().unwrap();
+    object.remove("trial_files");
+    object.remove("trial_index");
+    let coordinate_names = ["time", "femur_rx", "femur_ry", "hip_flexion_r", "femur_tx", "femur_ty", "femur_tz", "knee_angle_r", "ankle_angle_r", "crank_angle"];
+    let load_cell_names = ["time", "loadcell_force_vx", "loadcell_force_vy", "loadcell_force_vz", "loadcell_torque_x", "loadcell_torque_y", "loadcell_torque_z"];
+    // The planar golden's load cell at its peak (t = 1 s): the wrench the contractions scale.
+    let golden_load_cell = StorageTable::read(&golden("planar/loadcell.mot")).unwrap();
+    let peak: Vec<f64> = load_cell_names[1..].iter().map(|c| golden_load_cell.column(c).unwrap()[100]).collect();
+    let load_cell = |file: &str, scale: f64| {
+        let rows: Vec<Vec<f64>> = (0..=20).map(|i| std::iter::once(0.1 * i as f64).chain(peak.iter().map(|w| scale * w)).collect()).collect();
+        write_table(&dir.join(format!("{file}.mot")), "loadcell", &load_cell_names, &rows, false);
+        let xml = std::fs::read_to_string(golden("planar/loadcell.xml")).unwrap().replace("loadcell.mot", &format!("{file}.mot"));
+        std::fs::write(dir.join(format!("{file}.xml")), xml).unwrap();
+        dir.join(format!("{file}.xml"))
+    };
+    let mut contractions = Vec::new();
+    let mut expected = Vec::new();
+    for direction in ["extension", "flexion"] {
+        let trials = StorageTable::read(&train01.join(format!("set5_{direction}.mot"))).unwrap();
+        for row in 0..trials.times().len() {
+            let value = |c: &str| trials.column(c).unwrap()[row];
+            let (knee, hip, ankle, moment) = (value("knee_angle_r"), value("hip_flexion_r"), value("ankle_angle_r"), value("knee_moment"));
+            let name = format!("{direction}{row}");
+            let coordinates = dir.join(format!("{name}_ik.mot"));
+            let posture = (0..=20).map(|i| vec![0.1 * i as f64, 0.0, 0.0, hip, 0.0, 0.5, 0.0, knee, ankle, knee]).collect::<Vec<_>>();
+            write_table(&coordinates, "coordinates", &coordinate_names, &posture, true);
+            let unloaded = m3d(&model, &coordinates, &load_cell(&format!("{name}_zero"), 0.0), &dir.join("m3d.sto"));
+            let loaded = m3d(&model, &coordinates, &load_cell(&format!("{name}_peak"), 1.0), &dir.join("m3d.sto"));
+            load_cell(&name, (moment - unloaded) / (loaded - unloaded));
+            contractions.push(json!({ "set": "set5", "direction": direction, "coordinates": format!("{name}_ik.mot"), "load_cell": format!("{name}.xml") }));
+            expected.push(moment);
+        }
+    }
+    let session = dir.join("session.json");
+    std::fs::write(&session, json!({ "subject": subject, "contractions": contractions }).to_string()).unwrap();
+    let output = dir.join("trials");
+    let (code, _, stderr) = osim_tune(&["trials", s(&model), s(&session), "-o", s(&output)]);
+    assert_eq!(code, 0, "{stderr}");
+    let data = DynamometryData::read(&output, &TrialOptions::default()).unwrap();
+    for (trial, moment) in data.trials.iter().zip(&expected) {
+        assert!((trial.moment - moment).abs() < 1e-6 * moment.abs().max(1.0), "{} against train01's {moment}", trial.moment);
+    }
+    let scaled = dir.join("scaled.osim");
+    let (code, _, stderr) = osim_tune(&["scale", s(&common::fixture("golden/scale/subject01_simbody.osim")), s(&output), "-o", s(&scaled)]);
+    assert_eq!(code, 0, "{stderr}");
+    let spec = ModelSpec::read(&OsimDocument::read(&scaled).unwrap()).unwrap();
+    let knee = KneeMomentModel::new(&spec, &data).unwrap();
+    for (fitted, truth) in knee.nominal_parameters().iter().zip(common::true_parameters(&train01, knee.nominal_parameters())) {
+        for (value, true_value) in [(fitted.optimal_fiber_length, truth.optimal_fiber_length), (fitted.tendon_slack_length, truth.tendon_slack_length)] {
+            assert!((value / true_value - 1.0).abs() < 1e-4, "{}: {value} m against the truth {true_value} m", fitted.name);
+        }
     }
 }
