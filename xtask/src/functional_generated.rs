@@ -5,8 +5,9 @@
 //! gait2392 model (σ = 5 N·m for gen13–15, 10 N·m for gen16–18). Each is fitted once on its own
 //! noisy moments with its family's model as the prior's centre, as a lab would run it. Per family
 //! and trial selection (set5, all 70 trials): fits that fail or do not converge (the posterior
-//! mean, the MAP fit, Phase II alone as `--no-rest-curve` runs it, Garner & Pandy), the RMS relative error of L_opt and L_ts over every muscle
-//! and subject of each estimator beside the model's own, and whether the posterior mean's
+//! mean, the MAP fit, Phase II alone as `--no-rest-curve` runs it, Garner & Pandy), the RMS
+//! relative error of L_opt and L_ts over every muscle and subject of each estimator beside the
+//! model's own, and whether the posterior mean's
 //! sampled sd is calibrated: the errors in units of it (z) should be about standard normal, about
 //! 5 % of them beyond 2.
 

@@ -34,8 +34,8 @@
 //! ends at `MaxIterations` (gen19, all trials): rect_fem's tendon sits at its slack length
 //! (strain row 6.18 active, at the kink of the tendon's force–length curve), the steps shrink to
 //! 10⁻⁴ of the QP's, and the iterates drift 10⁻⁷–10⁻⁶ outside that row, so no iterate counts as
-//! feasible. Tried and not adopted: the exact Lagrangian Hessian (finite differences, 2×2 per muscle) is
-//! indefinite (eigenvalues −109 … 1.9·10⁶), so the shift that makes it positive definite turns
+//! feasible. Tried and not adopted: the exact Lagrangian Hessian (finite differences, 2×2 per
+//! muscle) is indefinite (eigenvalues −109 … 1.9·10⁶), so the shift that makes it positive definite turns
 //! the steps gradient-like; flipping or clipping each block's negative eigenvalues ends most
 //! crawls within 40–60 iterations but stops a noise-free fit at 0.2 N·m and makes two other
 //! runs fail; scaling the variables to their bounds fails more often. Convexifying the exact
