@@ -165,3 +165,26 @@ fn mismatched_rates_are_refused() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("cannot be used with"), "{stderr}");
 }
+
+/// A time range that holds no frame is refused, naming the file, the range and the frames'
+/// span — from the splined coordinates and from given rates alike.
+#[test]
+fn a_time_range_without_frames_is_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let output = folder.path().join("id.sto");
+    let coordinates = folder.path().join("q.sto");
+    let rates = folder.path().join("rates.sto");
+    let rows: String = (0..=10).map(|i| format!("{}\t{}\n", 0.1 * i as f64, 0.01 * i as f64)).collect();
+    std::fs::write(&coordinates, format!("q\nversion=1\nnRows=11\nnColumns=2\ninDegrees=no\nendheader\ntime\tposition\n{rows}")).unwrap();
+    let rows: String = (0..=10).map(|i| format!("{}\t0.1\t0\n", 0.1 * i as f64)).collect();
+    std::fs::write(&rates, format!("r\nversion=1\nnRows=11\nnColumns=3\ninDegrees=no\nendheader\ntime\tposition_speed\tposition_acceleration\n{rows}")).unwrap();
+    let model = path("fixtures/models/sliding_mass.osim");
+    for extra in [vec![], vec!["--rates", s(&rates)]] {
+        let mut arguments = vec!["id", &model, s(&coordinates), "--time", "5", "6", "-o", s(&output)];
+        arguments.extend_from_slice(&extra);
+        let (code, _, stderr) = osim_tune(&arguments);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(s(&coordinates)) && stderr.contains("no frame lies in the time range 5–6 s (the frames span 0–1 s)"), "{stderr}");
+        assert!(!output.exists());
+    }
+}

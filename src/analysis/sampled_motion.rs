@@ -3,10 +3,9 @@
 //! accelerations frame by frame — e.g. by the Kalman smoother (`ik --kalman HZ --kalman-rates
 //! R.sto`), whose rates are consistent with its poses and need no splines or filter.
 
-use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
-use super::signal::rows_in_range;
+use super::signal::{frames_in_range, NoFramesInRange};
 use crate::io::table::StorageTable;
 use crate::mechanics::{Motion, MotionError, Multibody};
 use crate::model::MotionType;
@@ -21,8 +20,8 @@ pub enum SampledMotionError {
     Motion(#[from] MotionError),
     #[error("{}: {problem}", file.display())]
     Rates { file: PathBuf, problem: String },
-    #[error("{}: no frame lies in the time range {start}–{end} s (the frames span {first}–{last} s)", file.display())]
-    NoFrames { file: PathBuf, start: f64, end: f64, first: f64, last: f64 },
+    #[error(transparent)]
+    NoFrames(#[from] NoFramesInRange),
 }
 
 /// q, u and u̇ of every coordinate at one time ([`Multibody::coordinates`] order; rad or m, per s,
@@ -84,19 +83,10 @@ impl SampledMotion {
     /// The frames within `range` (s; each end goes to the frame at or before it), or why there
     /// are none.
     pub fn within(mut self, range: [f64; 2]) -> Result<SampledMotion, SampledMotionError> {
-        let rows = self.rows(range)?;
+        let rows = frames_in_range(&self.file, &self.times, range)?;
         self.states = self.states.drain(rows.clone()).collect();
         self.times = self.times[rows].to_vec();
         Ok(self)
     }
 
-    fn rows(&self, range: [f64; 2]) -> Result<RangeInclusive<usize>, SampledMotionError> {
-        rows_in_range(&self.times, range).ok_or_else(|| SampledMotionError::NoFrames {
-            file: self.file.clone(),
-            start: range[0],
-            end: range[1],
-            first: self.times[0],
-            last: self.times[self.times.len() - 1],
-        })
-    }
 }

@@ -123,6 +123,24 @@ pub fn rows_in_range(times: &[f64], range: [f64; 2]) -> Option<std::ops::RangeIn
     Some(index(start)..=index(end))
 }
 
+/// No frame of a motion file lies in the requested time range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}: no frame lies in the time range {start}–{end} s (the frames span {first}–{last} s)", file.display())]
+pub struct NoFramesInRange {
+    pub file: std::path::PathBuf,
+    /// The requested range, s.
+    pub start: f64,
+    pub end: f64,
+    /// The file's first and last frame times, s.
+    pub first: f64,
+    pub last: f64,
+}
+
+/// [`rows_in_range`] of the frames at `times` (s) of `file`, or why there are none.
+pub fn frames_in_range(file: &std::path::Path, times: &[f64], range: [f64; 2]) -> Result<std::ops::RangeInclusive<usize>, NoFramesInRange> {
+    rows_in_range(times, range).ok_or_else(|| NoFramesInRange { file: file.into(), start: range[0], end: range[1], first: times[0], last: times[times.len() - 1] })
+}
+
 /// An interpolating GCV spline of `degree` through (times, values), as OpenSim builds one
 /// (`GCVSpline(degree, n, x, y)`, error variance 0).
 pub fn spline(degree: usize, times: &[f64], values: &[f64]) -> Result<Function, SignalError> {

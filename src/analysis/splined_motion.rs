@@ -2,11 +2,10 @@
 //! padded and low-pass filtered (when asked), then degree-5 GCV splines give q, q̇ and q̈ at any
 //! time; the coordinates the file lacks rest at their default values.
 
-use std::ops::RangeInclusive;
 use std::path::{Path, PathBuf};
 
 use super::sampled_motion::{CoordinateState, SampledMotion};
-use super::signal::{rows_in_range, Series, SignalError};
+use super::signal::{frames_in_range, NoFramesInRange, Series, SignalError};
 use crate::io::table::StorageTable;
 use crate::mechanics::{Function, Motion, MotionError, Multibody};
 
@@ -17,8 +16,8 @@ pub enum SplinedMotionError {
     Motion(#[from] MotionError),
     #[error("{}: {source}", file.display())]
     Signal { file: PathBuf, source: SignalError },
-    #[error("{}: no frame lies in the time range {start}–{end} s (the coordinates span {first}–{last} s)", file.display())]
-    NoFrames { file: PathBuf, start: f64, end: f64, first: f64, last: f64 },
+    #[error(transparent)]
+    NoFrames(#[from] NoFramesInRange),
 }
 
 /// The coordinates of a motion file as splines of time.
@@ -53,20 +52,10 @@ impl SplinedMotion {
         &self.file
     }
 
-    /// The rows within `range` (s), or why there are none.
-    fn frames(&self, range: [f64; 2]) -> Result<RangeInclusive<usize>, SplinedMotionError> {
-        rows_in_range(&self.times, range).ok_or_else(|| SplinedMotionError::NoFrames {
-            file: self.file.clone(),
-            start: range[0],
-            end: range[1],
-            first: self.times[0],
-            last: self.times[self.times.len() - 1],
-        })
-    }
 
     /// The frames within `range` (s) with the splines' states.
     pub fn sample(&self, multibody: &Multibody, range: [f64; 2]) -> Result<SampledMotion, SplinedMotionError> {
-        let times = self.times[self.frames(range)?].to_vec();
+        let times = self.times[frames_in_range(&self.file, &self.times, range)?].to_vec();
         let states = times.iter().map(|&time| self.state_at(multibody, time)).collect();
         Ok(SampledMotion { file: self.file.clone(), times, states, defaulted: self.defaulted.clone(), ignored_columns: self.ignored_columns.clone() })
     }
