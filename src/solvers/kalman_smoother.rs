@@ -47,8 +47,8 @@ pub fn derivative(state: &DVector<f64>, dims: usize, k: usize, h: f64) -> Vec<f6
 /// covariance could not be inverted.
 ///
 /// Memory: the filtered states of all N frames, but the (5·dims)² covariances of only about
-/// 2√N: the forward pass keeps those of every ⌈√N⌉-th frame, and the backward
-/// pass refilters one stretch between checkpoints at a time (one more update per frame).
+/// 2√N: the forward pass keeps those of every ⌈√N⌉-th frame, and the backward pass refilters
+/// one stretch between checkpoints at a time (one more update per frame).
 pub fn rts_smooth(
     times: &[f64],
     spectral_density: &[f64],
@@ -70,7 +70,7 @@ pub fn rts_smooth(
         }
     };
     let stride = checkpoint_stride(n);
-    let (mut states, mut checkpoints) = (Vec::with_capacity(n), Vec::with_capacity(n.div_ceil(stride.max(1))));
+    let (mut states, mut checkpoints) = (Vec::with_capacity(n), Vec::with_capacity(n.div_ceil(stride)));
     let mut covariance = DMatrix::zeros(0, 0);
     for frame in 0..n {
         let (state, next) = filter(frame, states.last().map(|state| (state, &covariance)));
@@ -207,8 +207,8 @@ mod tests {
     /// Σ ‖x_k+1 − F_k x_k‖²_Q_k⁻¹ + Σ (y_k − x_k,0)²/r, solved here as one linear system. Two
     /// coordinates, uneven frame intervals, N = 1 (no stretch), 2, 17 (a short last stretch)
     /// and 36 (a square). They agree to 10⁻⁴ of the states' size: Q₁ alone has a condition
-    /// number near 10⁶, and the batch system inverts it (the difference stays below 10⁻⁵; a stretch
-    /// refiltered from the wrong covariance misses by far more).
+    /// number near 10⁶, and the batch system inverts it (the difference stays below 10⁻⁵; a
+    /// stretch refiltered from the wrong covariance misses by far more).
     #[test]
     fn smoothed_states_are_the_batch_least_squares_solution() {
         let (dims, r) = (2, 0.04);
