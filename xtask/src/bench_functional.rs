@@ -56,7 +56,7 @@ fn verdict(met: bool) -> &'static str {
 }
 
 /// VmHWM from /proc/self/status, KiB.
-fn peak_resident_kib() -> Option<u64> {
+pub fn peak_resident_kib() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     status.lines().find_map(|l| l.strip_prefix("VmHWM:")?.trim().strip_suffix("kB")?.trim().parse().ok())
 }

@@ -3,7 +3,10 @@
 //! `InverseKinematicsTool` through its Python bindings (`oracle/bench_ik.py`):
 //! - whole run: read the model and the trial, solve every frame, build both output tables
 //!   (OpenSim: `InverseKinematicsTool.run()`, which also writes them);
-//! - per frame: the solver alone (OpenSim: `InverseKinematicsSolver.track`).
+//! - per frame: the solver alone (OpenSim: `InverseKinematicsSolver.track`);
+//! - Kalman smoothing of the solved frames (`ik --kalman 6`, no OpenSim counterpart): its run
+//!   time on the trial and on the trial's frames ten times over (1510 frames), and the
+//!   process's peak resident memory after the long run.
 
 use std::path::Path;
 use std::process::Command;
@@ -13,7 +16,7 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::MarkerTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
-use osim_tune::solvers::{IkSettings, InverseKinematics};
+use osim_tune::solvers::{IkFrame, IkSettings, IkSolution, InverseKinematics, KalmanIkSettings};
 use osim_tune::validation::ik::{read_setup_tasks, IkCase};
 
 use crate::root;
@@ -29,7 +32,44 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     let theirs = opensim(&case);
     print_row("whole run", whole, theirs.map(|t| t.0), "s");
     print_row("per frame", per_frame, theirs.map(|t| t.1), "µs");
+    kalman(&case)
+}
+
+/// Times the Kalman smoother (6 Hz, two passes) on the trial's solved frames and on them
+/// repeated ten times in a row, then prints the process's peak resident memory.
+fn kalman(case: &IkCase) -> Result<(), Box<dyn std::error::Error>> {
+    let (tasks, time_range) = read_setup_tasks(&case.setup)?;
+    let spec = ModelSpec::read(&OsimDocument::read(&case.model)?)?;
+    let multibody = Multibody::new(&spec)?;
+    let trial = MarkerTable::read(&case.trial)?;
+    let ik = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default())?;
+    let solution = ik.solve(time_range)?;
+    let settings = KalmanIkSettings::with_cutoff(6.0);
+    for repeats in [1, 10] {
+        let long = repeated(&solution, repeats);
+        let mut seconds = Vec::new();
+        for _ in 0..if repeats == 1 { 5 } else { 1 } {
+            let start = Instant::now();
+            std::hint::black_box(ik.smooth(&long, &settings)?);
+            seconds.push(start.elapsed().as_secs_f64());
+        }
+        println!("  Kalman smoothing, {} frames: osim-tune {:>10.3} s", long.frames.len(), median(seconds));
+    }
+    match crate::bench_functional::peak_resident_kib() {
+        Some(kib) => println!("  peak resident memory of the process after it {:>8.1} MiB", kib as f64 / 1024.0),
+        None => println!("  peak resident memory: /proc/self/status not readable"),
+    }
     Ok(())
+}
+
+/// `solution`'s frames `repeats` times in a row, each copy shifted by the trial's span plus
+/// one frame interval (the same trial rows, so the smoother linearises the same markers).
+fn repeated(solution: &IkSolution, repeats: usize) -> IkSolution {
+    let frames = &solution.frames;
+    let interval = (frames[frames.len() - 1].time - frames[0].time) / (frames.len() - 1) as f64;
+    let period = frames[frames.len() - 1].time - frames[0].time + interval;
+    let copies = (0..repeats).flat_map(|r| frames.iter().map(move |f| IkFrame { time: f.time + r as f64 * period, ..f.clone() }));
+    IkSolution { markers: solution.markers.clone(), coordinates: solution.coordinates.clone(), frames: copies.collect() }
 }
 
 fn print_row(what: &str, ours: f64, theirs: Option<f64>, unit: &str) {
