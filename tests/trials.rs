@@ -200,6 +200,9 @@ fn contractions_scale_a_muscle_model_to_the_subjects_truth() {
     let output = dir.join("trials");
     let (code, _, stderr) = osim_tune(&["trials", s(&model), s(&session), "-o", s(&output)]);
     assert_eq!(code, 0, "{stderr}");
+    let written: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(output.join("subject.json")).unwrap()).unwrap();
+    let keys = |v: &serde_json::Value| v.as_object().unwrap().keys().cloned().collect::<Vec<_>>();
+    assert_eq!(keys(&written), [keys(&subject), vec!["trial_files".to_string()]].concat(), "the subject's fields in the session's order");
     let data = DynamometryData::read(&output, &TrialOptions::default()).unwrap();
     for (trial, moment) in data.trials.iter().zip(&expected) {
         assert!((trial.moment - moment).abs() < 1e-6 * moment.abs().max(1.0), "{} against train01's {moment}", trial.moment);
