@@ -36,7 +36,8 @@ pub fn run() -> ExitCode {
     let functional = crate::bench_functional::run();
     let forward = crate::bench_forward::run();
     let reaction = crate::bench_reaction::run();
-    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction) {
+    let kalman = crate::bench_ik::kalman();
+    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction).and(kalman) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

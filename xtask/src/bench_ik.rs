@@ -4,9 +4,9 @@
 //! - whole run: read the model and the trial, solve every frame, build both output tables
 //!   (OpenSim: `InverseKinematicsTool.run()`, which also writes them);
 //! - per frame: the solver alone (OpenSim: `InverseKinematicsSolver.track`);
-//! - Kalman smoothing of the solved frames (`ik --kalman 6`, no OpenSim counterpart): its run
-//!   time on the trial and on the trial's frames ten times over (1510 frames), and the
-//!   process's peak resident memory after the long run.
+//! - [`kalman`], run last by `bench.rs`: Kalman smoothing of the solved frames (`ik --kalman 6`,
+//!   no OpenSim counterpart): its run time on the trial and on the trial's frames ten times
+//!   over (1510 frames), and the peak resident memory over the long run.
 
 use std::path::Path;
 use std::process::Command;
@@ -19,6 +19,7 @@ use osim_tune::model::ModelSpec;
 use osim_tune::solvers::{IkFrame, IkSettings, IkSolution, InverseKinematics, KalmanIkSettings};
 use osim_tune::validation::ik::{read_setup_tasks, IkCase};
 
+use crate::bench_functional::{print_peak_resident, reset_peak_resident};
 use crate::root;
 
 /// OpenSim must take at least this many times as long as osim-tune.
@@ -32,12 +33,15 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     let theirs = opensim(&case);
     print_row("whole run", whole, theirs.map(|t| t.0), "s");
     print_row("per frame", per_frame, theirs.map(|t| t.1), "µs");
-    kalman(&case)
+    Ok(())
 }
 
-/// Times the Kalman smoother (6 Hz, two passes) on the trial's solved frames and on them
-/// repeated ten times in a row, then prints the process's peak resident memory.
-fn kalman(case: &IkCase) -> Result<(), Box<dyn std::error::Error>> {
+/// Times the Kalman smoother (6 Hz, two passes) on walk1's solved frames and on them repeated
+/// ten times in a row, then prints the peak resident memory over the long run. Run last: the
+/// allocator keeps what the long run freed, which would raise later peaks.
+pub fn kalman() -> Result<(), Box<dyn std::error::Error>> {
+    let case = &IkCase::subject01_walk1(&root());
+    println!("Kalman-smoothed inverse kinematics (6 Hz, two passes): subject01 walk1");
     let (tasks, time_range) = read_setup_tasks(&case.setup)?;
     let spec = ModelSpec::read(&OsimDocument::read(&case.model)?)?;
     let multibody = Multibody::new(&spec)?;
@@ -45,20 +49,19 @@ fn kalman(case: &IkCase) -> Result<(), Box<dyn std::error::Error>> {
     let ik = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default())?;
     let solution = ik.solve(time_range)?;
     let settings = KalmanIkSettings::with_cutoff(6.0);
+    let mut reset = false;
     for repeats in [1, 10] {
         let long = repeated(&solution, repeats);
+        reset = reset_peak_resident();
         let mut seconds = Vec::new();
         for _ in 0..if repeats == 1 { 5 } else { 1 } {
             let start = Instant::now();
             std::hint::black_box(ik.smooth(&long, &settings)?);
             seconds.push(start.elapsed().as_secs_f64());
         }
-        println!("  Kalman smoothing, {} frames: osim-tune {:>10.3} s", long.frames.len(), median(seconds));
+        println!("  {} frames: osim-tune {:>10.3} s", long.frames.len(), median(seconds));
     }
-    match crate::bench_functional::peak_resident_kib() {
-        Some(kib) => println!("  peak resident memory of the process after it {:>8.1} MiB", kib as f64 / 1024.0),
-        None => println!("  peak resident memory: /proc/self/status not readable"),
-    }
+    print_peak_resident(reset, "the 1510-frame smoothing");
     Ok(())
 }
 
