@@ -148,3 +148,24 @@ fn opensim_seconds_per_pose(script: &str, pairs: bool) -> Option<f64> {
     let stdout = String::from_utf8_lossy(&output.stdout);
     stdout.lines().find_map(|line| line.strip_prefix("seconds_per_pose=")).and_then(|v| v.trim().parse().ok())
 }
+
+/// Prints VmHWM: over `what` when the mark was `reset` before it, else the process's.
+pub fn print_peak_resident(reset: bool, what: &str) {
+    let over = if reset { what } else { "the process (the mark could not be reset)" };
+    match peak_resident_kib() {
+        Some(kib) => println!("  peak resident memory over {over}: {:.1} MiB", kib as f64 / 1024.0),
+        None => println!("  peak resident memory: /proc/self/status not readable"),
+    }
+}
+
+/// Resets VmHWM to the current resident set (Linux ≥ 4.0: `5` to /proc/self/clear_refs);
+/// whether it could.
+pub fn reset_peak_resident() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// VmHWM from /proc/self/status, KiB.
+fn peak_resident_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    status.lines().find_map(|l| l.strip_prefix("VmHWM:")?.trim().strip_suffix("kB")?.trim().parse().ok())
+}

@@ -10,6 +10,7 @@ use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{estimate, fit, DynamometryData, FitSettings, KneeMomentModel, SetSelection, TrialOptions};
 use osim_tune::validation::functional::thesis_initial_guesses;
 
+use crate::bench::{print_peak_resident, reset_peak_resident};
 use crate::root;
 
 const REPEATS: usize = 5;
@@ -38,21 +39,6 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Prints VmHWM: over `what` when the mark was `reset` before it, else the process's.
-pub fn print_peak_resident(reset: bool, what: &str) {
-    let over = if reset { what } else { "the process (the mark could not be reset)" };
-    match peak_resident_kib() {
-        Some(kib) => println!("  peak resident memory over {over}: {:.1} MiB", kib as f64 / 1024.0),
-        None => println!("  peak resident memory: /proc/self/status not readable"),
-    }
-}
-
-/// Resets VmHWM to the current resident set (Linux ≥ 4.0: `5` to /proc/self/clear_refs);
-/// whether it could.
-pub fn reset_peak_resident() -> bool {
-    std::fs::write("/proc/self/clear_refs", "5").is_ok()
-}
-
 fn median(mut run: impl FnMut() -> Result<(), osim_tune::tuning::functional::FunctionalError>) -> Result<f64, Box<dyn std::error::Error>> {
     let mut samples = Vec::with_capacity(REPEATS);
     for _ in 0..REPEATS {
@@ -66,10 +52,4 @@ fn median(mut run: impl FnMut() -> Result<(), osim_tune::tuning::functional::Fun
 
 fn verdict(met: bool) -> &'static str {
     if met { "met" } else { "NOT met" }
-}
-
-/// VmHWM from /proc/self/status, KiB.
-fn peak_resident_kib() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    status.lines().find_map(|l| l.strip_prefix("VmHWM:")?.trim().strip_suffix("kB")?.trim().parse().ok())
 }

@@ -16,10 +16,11 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::MarkerTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
+use osim_tune::solvers::kalman_smoother::mean_interval;
 use osim_tune::solvers::{IkFrame, IkSettings, IkSolution, InverseKinematics, KalmanIkSettings};
 use osim_tune::validation::ik::{read_setup_tasks, IkCase};
 
-use crate::bench_functional::{print_peak_resident, reset_peak_resident};
+use crate::bench::{print_peak_resident, reset_peak_resident};
 use crate::root;
 
 /// OpenSim must take at least this many times as long as osim-tune.
@@ -49,28 +50,28 @@ pub fn kalman() -> Result<(), Box<dyn std::error::Error>> {
     let ik = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default())?;
     let solution = ik.solve(time_range)?;
     let settings = KalmanIkSettings::with_cutoff(6.0);
-    let mut reset = false;
-    for repeats in [1, 10] {
-        let long = repeated(&solution, repeats);
-        reset = reset_peak_resident();
-        let mut seconds = Vec::new();
-        for _ in 0..if repeats == 1 { 5 } else { 1 } {
-            let start = Instant::now();
-            std::hint::black_box(ik.smooth(&long, &settings)?);
-            seconds.push(start.elapsed().as_secs_f64());
-        }
-        println!("  {} frames: osim-tune {:>10.3} s", long.frames.len(), median(seconds));
+    let mut seconds = Vec::new();
+    for _ in 0..5 {
+        let start = Instant::now();
+        std::hint::black_box(ik.smooth(&solution, &settings)?);
+        seconds.push(start.elapsed().as_secs_f64());
     }
-    print_peak_resident(reset, "the 1510-frame smoothing");
+    println!("  {} frames: osim-tune {:>10.3} s", solution.frames.len(), median(seconds));
+    let long = repeated(&solution, 10);
+    let reset = reset_peak_resident();
+    let start = Instant::now();
+    std::hint::black_box(ik.smooth(&long, &settings)?);
+    println!("  {} frames: osim-tune {:>10.3} s", long.frames.len(), start.elapsed().as_secs_f64());
+    print_peak_resident(reset, "the long smoothing");
     Ok(())
 }
 
-/// `solution`'s frames `repeats` times in a row, each copy shifted by the trial's span plus
-/// one frame interval (the same trial rows, so the smoother linearises the same markers).
+/// `solution`'s frames `repeats` times in a row, each copy shifted by its frame count times the
+/// mean frame interval (the same trial rows, so the smoother linearises the same markers).
 fn repeated(solution: &IkSolution, repeats: usize) -> IkSolution {
     let frames = &solution.frames;
-    let interval = (frames[frames.len() - 1].time - frames[0].time) / (frames.len() - 1) as f64;
-    let period = frames[frames.len() - 1].time - frames[0].time + interval;
+    let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
+    let period = mean_interval(&times) * frames.len() as f64;
     let copies = (0..repeats).flat_map(|r| frames.iter().map(move |f| IkFrame { time: f.time + r as f64 * period, ..f.clone() }));
     IkSolution { markers: solution.markers.clone(), coordinates: solution.coordinates.clone(), frames: copies.collect() }
 }
