@@ -48,6 +48,10 @@ pub enum FunctionalError {
     /// Parameters given for evaluation do not fit the model's estimated muscles.
     #[error("parameters of muscle {muscle:?}: {problem}")]
     Parameters { muscle: String, problem: String },
+    /// No point of a muscle's rest curve within the searched L_opt span (relative to `optimal`,
+    /// m) reproduces its rest fiber length `reference` (m) with an equilibrium in every trial.
+    #[error("parameters of muscle {muscle:?}: no L_opt in {span:?} × {optimal} m reproduces the rest fiber length {reference} m with an equilibrium in every trial")]
+    NoRestCurvePoint { muscle: String, span: [f64; 2], optimal: f64, reference: f64 },
     /// Too few trials for the parameters of one direction's agonists.
     #[error("{}: the {direction} trials give {observations} observation(s) (distinct knee angles + rest fiber lengths) for {parameters} parameters; not identifiable: {unidentifiable}; add trials at more knee angles", folder.display())]
     NotIdentifiable { folder: PathBuf, direction: &'static str, observations: usize, parameters: usize, unidentifiable: String },

@@ -219,10 +219,7 @@ fn contribution_tables(model: &KneeMomentModel, workspace: &mut EstimatedMuscles
     let tables: Vec<ContributionTable> = curves.iter().map(|curve| ContributionTable::compute(model, workspace, curve, ranges[curve.e], settings.table_points, settings.step)).collect();
     if let Some(curve) = curves.iter().find(|curve| tables[curve.e].points.iter().all(Option::is_none)) {
         let origin = curve.origin();
-        return Err(FunctionalError::Parameters {
-            muscle: origin.name.clone(),
-            problem: format!("no L_opt in {:?} × {} m reproduces the rest fiber length {} m with an equilibrium in every trial", settings.span, origin.optimal_fiber_length, curve.reference),
-        });
+        return Err(FunctionalError::NoRestCurvePoint { muscle: origin.name.clone(), span: settings.span, optimal: origin.optimal_fiber_length, reference: curve.reference });
     }
     Ok(tables)
 }

@@ -155,7 +155,8 @@ impl RestCurveProblem<'_> {
     /// [`NEGLIGIBLE_NOISE`] (RMS). A search centred elsewhere samples other basins: from a
     /// guess 25 % off, the search around it can miss the truth that the search around its own
     /// result finds. Where no search can run around the fit (a curve without a point in the
-    /// span about it), the fit stands, and the progress says so.
+    /// span about it, [`FunctionalError::NoRestCurvePoint`]), the fit stands, and the progress
+    /// says so; any other error of the search is returned.
     fn recentred(&self, mut fit: RestCurveFit, progress: &mut dyn FnMut(&str)) -> Result<RestCurveFit, FunctionalError> {
         if !self.settings.global_search {
             return Ok(fit);
@@ -166,10 +167,11 @@ impl RestCurveProblem<'_> {
             }
             let again = match fit_rest_curves(self.knee, self.references, &fit.parameters, self.measured, std::slice::from_ref(&fit.parameters), None, self.settings) {
                 Ok(again) => again,
-                Err(error) => {
+                Err(error @ FunctionalError::NoRestCurvePoint { .. }) => {
                     progress(&format!("rest curves: no search around the fit ({error}); the fit stands"));
                     break;
                 }
+                Err(error) => return Err(error),
             };
             if again.cost >= (1.0 - RECENTRED_GAIN) * fit.cost {
                 break;
@@ -201,5 +203,44 @@ impl RestCurveProblem<'_> {
     fn evidence(&self, curves: &RestCurveFit, coordinate_sd: f64) -> Result<f64, FunctionalError> {
         let information = RestCurveInformation::new(self.knee, &curves.parameters, self.references, 1.0)?;
         Ok(information.noise_by_evidence(&curves.residuals, coordinate_sd, self.centre))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::osim::OsimDocument;
+    use crate::model::ModelSpec;
+    use crate::tuning::functional::{DynamometryData, SetSelection, TrialOptions};
+    use std::path::Path;
+
+    /// A search around the fit that finds a rest curve without a point in its span (rect_fem's
+    /// rest fiber length 10 m: no L_ts gives it) leaves the fit as it is and says so; any other
+    /// error of the search (here, one moment short) is returned.
+    #[test]
+    fn a_recentred_search_that_cannot_run_leaves_the_fit() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let spec = ModelSpec::read(&OsimDocument::read(&root.join("fixtures/golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
+        let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() };
+        let data = DynamometryData::read(&root.join("fixtures/dynamometry/train01"), &options).unwrap();
+        let knee = KneeMomentModel::new(&spec, &data).unwrap();
+        let model = knee.nominal_parameters();
+        let references: Vec<f64> = model.iter().map(|p| data.reference_rest_fiber_length(&p.name).unwrap()).collect();
+        let measured: Vec<f64> = data.measured_moments().iter().map(|m| m + 3.0).collect();
+        let settings = RestCurveSettings::default();
+        let fit = fit_rest_curves(&knee, &references, &model, &measured, &[], None, &settings).unwrap();
+        let mut unreachable = references.clone();
+        unreachable[0] = 10.0;
+        let error = fit_rest_curves(&knee, &unreachable, &fit.parameters, &measured, &[], None, &settings).unwrap_err();
+        assert!(matches!(&error, FunctionalError::NoRestCurvePoint { muscle, .. } if muscle == "rect_fem_r"), "{error}");
+
+        let problem = RestCurveProblem { knee: &knee, references: &unreachable, origin: &model, measured: &measured, centre: &model, settings: &settings };
+        let mut said = Vec::new();
+        let kept = problem.recentred(fit.clone(), &mut |line: &str| said.push(line.to_string())).unwrap();
+        assert_eq!(kept.parameters, fit.parameters);
+        assert!(said.iter().any(|line| line.contains("no search around the fit") && line.contains("rect_fem_r")), "{said:?}");
+
+        let short = RestCurveProblem { measured: &measured[1..], ..problem };
+        assert!(matches!(short.recentred(fit, &mut |_: &str| {}), Err(FunctionalError::Parameters { .. })));
     }
 }
