@@ -7,11 +7,13 @@
 //!   activations respect the activation-dynamics bounds, excitations lie in [0, 1], and the
 //!   cost cannot fall below the unconstrained one;
 //! - the min–max criterion's largest activation is no larger than any feasible solution's, the
-//!   sum-of-squares one among them.
+//!   sum-of-squares one among them;
+//! - with compliant tendons the Hill model's nonlinear forces meet inverse dynamics once the
+//!   linearised re-solves settle.
 
 mod common;
 
-use osim_tune::analysis::Criterion;
+use osim_tune::analysis::{Contraction, Criterion, PhysiologicalInverseResult, MAX_LINEARISATIONS, SETTLED_VIOLATION};
 use osim_tune::io::table::StorageTable;
 use osim_tune::validation::Subject01Walk;
 
@@ -24,7 +26,7 @@ fn without_activation_dynamics_it_is_static_optimization() {
     let walk = walk();
     let golden = StorageTable::read(&common::fixture("golden/static_optimization/subject01_walk1_StaticOptimization_activation.sto")).unwrap();
     let so = walk.static_optimization(&golden, &common::fixture("golden/static_optimization")).unwrap();
-    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6).unwrap();
+    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6, Contraction::RigidTendon).unwrap();
     assert_eq!(pia.activations.labels(), so.activations.labels());
     assert_eq!(pia.activations.n_rows(), so.activations.n_rows());
     let worst = pia.activations.values().iter().zip(so.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -36,10 +38,18 @@ fn without_activation_dynamics_it_is_static_optimization() {
 #[test]
 fn activation_dynamics_bind_consecutive_frames() {
     let walk = walk();
-    let free = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6).unwrap();
-    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1.0).unwrap();
+    let free = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6, Contraction::RigidTendon).unwrap();
+    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::RigidTendon).unwrap();
     assert!(pia.max_violation <= 1e-6, "generalized forces off inverse dynamics by {:e}", pia.max_violation);
     assert!(pia.sum_of_squares >= free.sum_of_squares * (1.0 - 1e-9), "{} < {}", pia.sum_of_squares, free.sum_of_squares);
+    assert_within_activation_dynamics(&pia);
+    let changed = pia.activations.values().iter().zip(free.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(changed > 1e-2, "the walk's activations should need dynamics somewhere ({changed:e})");
+}
+
+/// Consecutive activations of all 92 muscles within gait2392's activation-dynamics bounds
+/// (τ_a = 0.01 s, τ_d = 0.04 s), excitations in [0, 1].
+fn assert_within_activation_dynamics(pia: &PhysiologicalInverseResult) {
     let (times, labels) = (pia.activations.times(), pia.activations.labels().to_vec());
     let rows: Vec<&[f64]> = pia.activations.rows().collect();
     let (activation, deactivation) = (0.01, 0.04);
@@ -54,15 +64,29 @@ fn activation_dynamics_bind_consecutive_frames() {
         }
     }
     assert!(pia.excitations.rows().all(|r| r[1..].iter().all(|u| (0.0..=1.0).contains(u))));
-    let changed = pia.activations.values().iter().zip(free.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-    assert!(changed > 1e-2, "the walk's activations should need dynamics somewhere ({changed:e})");
+}
+
+/// With compliant tendons the muscles pull with their Hill model's equilibrium forces, passive
+/// force included: the linearised re-solves settle within their limit, the nonlinear forces meet
+/// inverse dynamics at every frame, activation dynamics still binds, and the forces are not the
+/// rigid tendon's a·F₁ (`tests/so_cli.rs` checks them against `analyze`'s equilibria).
+#[test]
+fn compliant_tendons_settle_on_the_hill_models_forces() {
+    let walk = walk();
+    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::CompliantTendon).unwrap();
+    assert!((1..MAX_LINEARISATIONS).contains(&pia.iterations), "{} re-solves", pia.iterations);
+    assert!(pia.max_violation <= SETTLED_VIOLATION, "generalized forces off inverse dynamics by {:e}", pia.max_violation);
+    assert_within_activation_dynamics(&pia);
+    let rigid = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::RigidTendon).unwrap();
+    let changed = pia.forces.values().iter().zip(rigid.forces.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(changed > 1.0, "compliant and rigid forces differ by {changed:e} N at most");
 }
 
 #[test]
 fn min_max_lowers_the_largest_activation() {
     let walk = walk();
-    let squares = walk.physiological_inverse(Criterion::SumOfSquares, 1.0).unwrap();
-    let min_max = walk.physiological_inverse(Criterion::MinMax, 1.0).unwrap();
+    let squares = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::RigidTendon).unwrap();
+    let min_max = walk.physiological_inverse(Criterion::MinMax, 1.0, Contraction::RigidTendon).unwrap();
     assert!(min_max.max_violation <= 1e-6, "{:e}", min_max.max_violation);
     assert!(min_max.max_activation <= squares.max_activation + 1e-6, "{} > {}", min_max.max_activation, squares.max_activation);
 }

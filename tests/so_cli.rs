@@ -121,6 +121,38 @@ fn the_physiological_inverse_approach_runs_from_the_command_line() {
     assert!(stderr.contains("does not apply with --pia"), "{stderr}");
 }
 
+/// --pia --compliant-tendons on arm26 (Thelen muscles over wrap objects, unfiltered): the
+/// written forces are each muscle's tendon force in static equilibrium at its written
+/// activation — as `analyze --activations` solves them row by row — and they meet inverse
+/// dynamics. The flag needs --pia.
+#[test]
+fn compliant_tendons_pull_with_their_equilibrium_forces() {
+    let folder = tempfile::tempdir().unwrap();
+    let (model, motion) = (path("fixtures/models/arm26.osim"), path("fixtures/golden/static_optimization/arm26/arm26_motion.mot"));
+    let output = folder.path().join("pia");
+    let reserves = path("fixtures/golden/static_optimization/arm26/arm26_reserves.xml");
+    let (code, stdout, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--pia", "sum-of-squares", "--compliant-tendons", "--name", "arm", "-o", s(&output)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("settled after"), "{stdout}");
+    let violation: f64 = stdout.split("inverse dynamics| ").nth(1).and_then(|t| t.split_whitespace().next()).unwrap().parse().unwrap();
+    assert!(violation <= 1e-6, "{stdout}");
+    let activations = output.join("arm_PhysiologicalInverse_activation.sto");
+    let analysis = folder.path().join("analysis");
+    let (code, _, stderr) = osim_tune(&["analyze", &model, "--motion", &motion, "--activations", s(&activations), "-o", s(&analysis)]);
+    assert_eq!(code, 0, "{stderr}");
+    let (ours, equilibria) = (StorageTable::read(&output.join("arm_PhysiologicalInverse_force.sto")).unwrap(), StorageTable::read(&analysis.join("TendonForce.sto")).unwrap());
+    assert_eq!(ours.times(), equilibria.times());
+    for (j, muscle) in equilibria.labels().iter().enumerate().skip(1) {
+        let k = ours.column_index(muscle).unwrap();
+        for (row, expected) in ours.rows().zip(equilibria.rows()) {
+            assert!((row[k] - expected[j]).abs() <= 1e-9 * expected[j].abs().max(1.0), "{muscle} at {} s: {} N, equilibrium {} N", row[0], row[k], expected[j]);
+        }
+    }
+    let (code, _, stderr) = osim_tune(&["so", &model, &motion, "--compliant-tendons", "-o", s(&folder.path().join("so"))]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("give --pia"), "{stderr}");
+}
+
 /// Without residual actuators nothing can hold the pelvis against the ground reactions: the
 /// physiological inverse problem has no solution, which exits 1 and writes nothing.
 #[test]

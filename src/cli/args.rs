@@ -300,6 +300,12 @@ pub enum Command {
         /// With --pia: multiplies every muscle's activation and deactivation time constants.
         #[arg(long, default_value_t = 1.0)]
         time_constant_scale: f64,
+        /// With --pia: muscles pull with their Hill model's tendon force in static equilibrium
+        /// beside the compliant tendon (passive force included, fiber velocity neglected; thesis
+        /// §3.2), linearised and solved again until it settles, instead of a·F₁ with a rigid
+        /// tendon.
+        #[arg(long)]
+        compliant_tendons: bool,
     },
     /// Joint reaction loads like OpenSim 4.6's JointReaction analysis (AnalyzeTool): along the
     /// coordinates (filtered and differentiated as the AnalyzeTool does), every muscle and

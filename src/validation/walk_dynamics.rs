@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::geometry::Worst;
-use crate::analysis::{generators, inverse_dynamics, named_joints, physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::analysis::{generators, inverse_dynamics, named_joints, physiological_inverse, static_optimization, Contraction, Criterion, ExternalLoads, Generator, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -90,10 +90,10 @@ impl Subject01Walk {
 
 impl Subject01Walk {
     /// The physiological inverse approach over 0.5–2 s, every row, by `criterion`, with every
-    /// muscle's time constants multiplied by `time_constant_scale`.
-    pub fn physiological_inverse(&self, criterion: Criterion, time_constant_scale: f64) -> Result<PhysiologicalInverseResult, Box<dyn std::error::Error>> {
+    /// muscle's time constants multiplied by `time_constant_scale` and its force by `contraction`.
+    pub fn physiological_inverse(&self, criterion: Criterion, time_constant_scale: f64, contraction: Contraction) -> Result<PhysiologicalInverseResult, Box<dyn std::error::Error>> {
         let frames = StaticOptimizationSettings { time_range: [0.5, 2.0], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
-        let settings = PhysiologicalInverseSettings { frames, criterion, time_constant_scale };
+        let settings = PhysiologicalInverseSettings { frames, criterion, time_constant_scale, contraction };
         Ok(physiological_inverse(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings)?)
     }
 }

@@ -23,6 +23,10 @@ pub struct FrameProblem {
     pub rhs: Vec<f64>,
     /// Fⱼ: a muscle's force at activation 1 (N), an actuator's optimal force.
     pub unit_forces: Vec<f64>,
+    /// `matrix` per unit force instead of per unit control: N·m or N per N or N·m.
+    pub arms: DMatrix<f64>,
+    /// A muscle's path length (m); 0 for an actuator.
+    pub lengths: Vec<f64>,
 }
 
 /// What every frame's problem shares, and its buffers.
@@ -70,21 +74,26 @@ impl<'a> Frames<'a> {
             for_each_coupling(&multibody.couplers, state.q, c, |d, weight| sum += weight * forces[d]);
             sum
         };
-        let mut matrix = DMatrix::zeros(self.rows.len(), generators.len());
-        let mut unit_forces = Vec::with_capacity(generators.len());
+        let mut arms = DMatrix::zeros(self.rows.len(), generators.len());
+        let (mut unit_forces, mut lengths) = (Vec::with_capacity(generators.len()), Vec::with_capacity(generators.len()));
         for (j, generator) in generators.iter().enumerate() {
             generator.generalized_forces(geometry, &self.paths, &mut self.column);
             let muscle = generator.muscle_path();
-            let unit = match muscle {
-                Some((_, k)) => generator.unit_force(physiology, self.paths.length(k), self.paths.lengthening_speed(k)),
-                None => generator.unit_force(physiology, 0.0, 0.0),
+            let (unit, length) = match muscle {
+                Some((_, k)) => (generator.unit_force(physiology, self.paths.length(k), self.paths.lengthening_speed(k)), self.paths.length(k)),
+                None => (generator.unit_force(physiology, 0.0, 0.0), 0.0),
             };
             for (r, &c) in self.rows.iter().enumerate() {
-                matrix[(r, j)] = unit * if muscle.is_some() { self.column[c] } else { along(&self.column, c) };
+                arms[(r, j)] = if muscle.is_some() { self.column[c] } else { along(&self.column, c) };
             }
             unit_forces.push(unit);
+            lengths.push(length);
         }
-        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces }
+        let mut matrix = arms.clone();
+        for (mut column, unit) in matrix.column_iter_mut().zip(&unit_forces) {
+            column *= *unit;
+        }
+        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces, arms, lengths }
     }
 }
 

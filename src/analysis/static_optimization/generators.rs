@@ -3,7 +3,7 @@
 //! actuators of added force-set files), each with its control bounds, its generalized forces per
 //! unit control in a state and the loads a force of it applies.
 
-use crate::mechanics::muscle::HillMuscle;
+use crate::mechanics::muscle::{HillMuscle, MuscleError};
 use crate::mechanics::{Actuator, AppliedForces, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch};
 use crate::model::{ActuatorSpec, ModelSpec, MuscleModelSpec};
 
@@ -90,6 +90,16 @@ impl Generator {
                 }
             }
             Kind::Actuator { optimal_force, .. } => *optimal_force,
+        }
+    }
+
+    /// The force (N or N·m) at control `control`: a muscle's tendon force with its fiber in
+    /// static equilibrium (zero fiber velocity, passive force included) on a path of length
+    /// `length` (m); an actuator's control × optimal force.
+    pub fn equilibrium_force(&self, control: f64, length: f64) -> Result<f64, MuscleError> {
+        match &self.kind {
+            Kind::Muscle { muscle, .. } => Ok(muscle.equilibrium(control, length)?.tendon_force),
+            Kind::Actuator { optimal_force, .. } => Ok(control * optimal_force),
         }
     }
 

@@ -186,7 +186,7 @@ struct Solved {
 /// frame; `other`: another solution's controls there, to judge.
 /// `bounds`: every generator's (min_control, max_control).
 fn solve(frames: &mut Frames, bounds: &(Vec<f64>, Vec<f64>), exponent: f64, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
-    let FrameProblem { matrix, rhs, unit_forces } = frames.problem(state, time);
+    let FrameProblem { matrix, rhs, unit_forces, .. } = frames.problem(state, time);
     let n = unit_forces.len();
     let (lower, upper) = bounds;
     let solved = if exponent == 2.0 {

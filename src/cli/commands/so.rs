@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::analyze_inputs::{lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
 use crate::analysis::{
-    physiological_inverse, static_optimization, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
+    physiological_inverse, static_optimization, Contraction, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
     StaticOptimizationSettings,
 };
 use crate::cli::{create_output_folders, Failure, Outcome};
@@ -26,6 +26,8 @@ pub struct Request {
     /// The physiological inverse approach by this criterion instead of static optimisation.
     pub pia: Option<Criterion>,
     pub time_constant_scale: f64,
+    /// With `pia`: the Hill model's equilibrium forces with compliant tendons.
+    pub compliant_tendons: bool,
     pub name: Option<String>,
     pub output: PathBuf,
 }
@@ -39,7 +41,11 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let table = StorageTable::read(coordinates)?;
     let problem = Problem { geometry: &read.geometry, generators: &read.generators, table: &table, coordinates, loads: read.external.as_ref(), inputs: &read.files };
     match request.pia {
-        Some(criterion) => physiological(&problem, request, &name, PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale }),
+        Some(criterion) => {
+            let contraction = if request.compliant_tendons { Contraction::CompliantTendon } else { Contraction::RigidTendon };
+            physiological(&problem, request, &name, PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale, contraction })
+        }
+        None if request.compliant_tendons => Err("--compliant-tendons applies to the physiological inverse approach; give --pia".into()),
         None => static_optimisation(&problem, request, &name, &settings),
     }
 }
@@ -100,6 +106,9 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
         println!("{} frames of {} ({first:.4}–{last:.4} s), {:?} → {}", times.len(), problem.coordinates.display(), settings.criterion, request.output.display());
     }
     println!("largest activation {:.4}, Σa² over the motion {:.4}, largest |generalized force − inverse dynamics| {:.2e}", result.max_activation, result.sum_of_squares, result.max_violation);
+    if settings.contraction == Contraction::CompliantTendon {
+        println!("compliant tendons: the linearised Hill model settled after {} re-solves", result.iterations);
+    }
     Ok(Outcome::Success)
 }
 

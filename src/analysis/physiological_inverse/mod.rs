@@ -1,0 +1,148 @@
+//! The physiological inverse approach (De Groote et al. 2009; thesis §3.2, ch. 7): the muscle
+//! activations of a whole motion at once, each frame's muscle and actuator forces producing the
+//! inverse-dynamics generalized forces as in static optimisation, and consecutive activations
+//! bound by activation dynamics.
+//!
+//! Activation dynamics ȧ = (u − a)·(u/τ_a + (1 − u)/τ_d) with excitation u ∈ [0, 1] reach
+//! ȧ = (1 − a)/τ_a at u = 1 and ȧ = −a/τ_d at u = 0; we bound ȧ between these, linearly in a
+//! (for a > τ_a/(τ_d − τ_a) the rate dips below −a/τ_d at an intermediate u, so there the lower
+//! bound is conservative), so with ȧ by backward differences between solved
+//! frames, (a_k − a_{k−1})/Δt, the whole problem stays convex (the "nonlinear transformation of
+//! variables" of De Groote et al.: the excitation is recovered from a and ȧ afterwards). Muscles
+//! pull with a·F₁, F₁ static optimisation's force at activation 1 with a rigid tendon, or with
+//! the Hill model's static equilibrium force beside their compliant tendons (`contraction.rs`),
+//! linearised at the last solution and solved again until the rows hold for the nonlinear
+//! forces. The criterion is the sum of squared controls over all frames, or (thesis ch. 7) the
+//! largest muscle activation over the motion, with non-muscle actuators at their squared
+//! controls and ties broken by 10⁻³ times the sum of squared activations. Each solve is one
+//! sparse QP (clarabel).
+
+mod contraction;
+mod layout;
+
+use std::path::Path;
+
+pub use contraction::Contraction;
+
+use super::analyze_states::AnalyzeStates;
+use super::external_loads::ExternalLoads;
+use super::static_optimization::{solved_rows, FrameProblem, Frames, Generator, StaticOptimizationError, StaticOptimizationSettings};
+use crate::io::table::StorageTable;
+use crate::mechanics::{MotionState, MuscleGeometry};
+use crate::solvers::qp::QpSettings;
+use layout::{FrameRows, Layout};
+
+/// What the optimisation minimises over the motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Criterion {
+    /// Σ over frames and generators of the squared control.
+    SumOfSquares,
+    /// The largest muscle activation over the motion (thesis ch. 7).
+    MinMax,
+}
+
+/// Weight of the sum of squared activations that breaks the min–max criterion's ties.
+const TIE_BREAK: f64 = 1e-3;
+/// Re-solves of the linearised Hill model at most.
+pub const MAX_LINEARISATIONS: usize = 30;
+/// The compliant-tendon solution has settled when the nonlinear forces meet every row to this
+/// (N·m or N) and no control moved by more than [`SETTLED_STEP`] in the last re-solve.
+pub const SETTLED_VIOLATION: f64 = 1e-6;
+pub const SETTLED_STEP: f64 = 1e-5;
+
+/// How the analysis runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhysiologicalInverseSettings {
+    /// Time range, filtering, step interval and muscle physiology, as static optimisation's (its
+    /// activation exponent is not used).
+    pub frames: StaticOptimizationSettings,
+    pub criterion: Criterion,
+    /// Multiplies every muscle's τ_a and τ_d (1: the model's).
+    pub time_constant_scale: f64,
+    pub contraction: Contraction,
+}
+
+/// Controls, forces and excitations per frame.
+#[derive(Debug, Clone)]
+pub struct PhysiologicalInverseResult {
+    pub activations: StorageTable,
+    /// Force of every generator (N or N·m).
+    pub forces: StorageTable,
+    /// Each muscle's excitation u ∈ [0, 1] from its activation and backward-difference rate (the
+    /// first frame: u = a).
+    pub excitations: StorageTable,
+    /// Largest |generalized force − inverse dynamics| over the frames, N·m or N.
+    pub max_violation: f64,
+    /// Largest muscle activation over the motion.
+    pub max_activation: f64,
+    /// Σ over frames and generators of the squared control.
+    pub sum_of_squares: f64,
+    /// Re-solves of the linearised Hill model (0 with rigid tendons).
+    pub iterations: usize,
+}
+
+/// Runs the physiological inverse approach over the coordinates in `table` (read from `file`).
+pub fn physiological_inverse(
+    geometry: &MuscleGeometry,
+    generators: &[Generator],
+    table: &StorageTable,
+    file: &Path,
+    loads: Option<&ExternalLoads>,
+    settings: &PhysiologicalInverseSettings,
+) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
+    let frames_settings = &settings.frames;
+    let states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
+    let rows = solved_rows(&states, frames_settings, file)?;
+    let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);
+    let problems: Vec<FrameProblem> = rows
+        .iter()
+        .map(|&i| frames.problem(&MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] }, states.times[i]))
+        .collect();
+    let times: Vec<f64> = rows.iter().map(|&i| states.times[i]).collect();
+    let (lower, upper) = frames.bounds();
+    let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion, scale: settings.time_constant_scale };
+    let solve = |frame_rows: &[FrameRows]| -> Result<Vec<f64>, StaticOptimizationError> {
+        let qp = layout.problem(generators, frame_rows, &times, &lower, &upper);
+        let no_solution = |status: String| StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status };
+        let solution = qp.solve(&QpSettings { tolerance: 1e-9, max_iterations: 400, ..QpSettings::default() }).map_err(|e| no_solution(e.to_string()))?;
+        if !solution.status.is_solved() {
+            return Err(no_solution(format!("{:?}", solution.status)));
+        }
+        Ok(solution.x)
+    };
+    let mut x = solve(&problems.iter().map(FrameRows::rigid).collect::<Vec<_>>())?;
+    let mut forces = contraction::forces(settings.contraction, generators, &problems, &times, &x, file)?;
+    let mut iterations = 0;
+    if settings.contraction == Contraction::CompliantTendon {
+        let bounds = (lower.as_slice(), upper.as_slice());
+        loop {
+            let step_from = x.clone();
+            x = solve(&contraction::linearised_rows(generators, &problems, &times, &x, bounds, file)?)?;
+            forces = contraction::forces(settings.contraction, generators, &problems, &times, &x, file)?;
+            iterations += 1;
+            let step = x[..layout.controls()].iter().zip(&step_from).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+            let violation = largest_violation(&problems, &forces);
+            if violation <= SETTLED_VIOLATION && step <= SETTLED_STEP {
+                break;
+            }
+            if iterations == MAX_LINEARISATIONS {
+                let status = format!("the linearised Hill model has not settled after {iterations} re-solves (largest row violation {violation:.3e}, last step {step:.3e})");
+                return Err(StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status });
+            }
+        }
+    }
+    layout.result(generators, &problems, &times, &x, &forces, iterations)
+}
+
+/// Largest |R·F − inverse dynamics| (N·m or N) over the frames `problems` with generator forces
+/// `forces` (per frame).
+fn largest_violation(problems: &[FrameProblem], forces: &[Vec<f64>]) -> f64 {
+    problems
+        .iter()
+        .zip(forces)
+        .map(|(problem, f)| {
+            let produced = &problem.arms * nalgebra::DVector::from_column_slice(f);
+            produced.iter().zip(&problem.rhs).map(|(p, d)| (p - d).abs()).fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
+}
