@@ -32,13 +32,12 @@ pub(super) fn muscle_groups(data: &DynamometryData, estimated: &[String]) -> Vec
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tuning::functional::test_data::train01;
     use crate::tuning::functional::TrialOptions;
-    use std::path::Path;
 
     #[test]
     fn gait2392_knee_muscles_form_six_groups() {
-        let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/dynamometry/train01");
-        let data = DynamometryData::read(&folder, &TrialOptions::default()).unwrap();
+        let data = train01(&TrialOptions::default());
         let names: Vec<String> = data.estimated_muscles.clone();
         let groups = muscle_groups(&data, &names);
         let named: Vec<(&str, Vec<&str>)> = groups.iter().map(|(g, m)| (g.as_str(), m.iter().map(|&e| names[e].as_str()).collect())).collect();

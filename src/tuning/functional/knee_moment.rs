@@ -450,15 +450,13 @@ fn construction_error(model: &ModelSpec, muscle: &str, source: MuscleError) -> F
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::osim::OsimDocument;
+    use crate::tuning::functional::test_data::{subject01, train01};
     use crate::tuning::functional::TrialOptions;
-    use std::path::Path;
 
     #[test]
     fn new_activations_give_the_moments_of_a_rebuilt_model() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let spec = ModelSpec::read(&OsimDocument::read(&root.join("fixtures/golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
-        let mut data = DynamometryData::read(&root.join("fixtures/dynamometry/train01"), &TrialOptions::default()).unwrap();
+        let spec = subject01();
+        let mut data = train01(&TrialOptions::default());
         let model = KneeMomentModel::new(&spec, &data).unwrap();
         for (t, trial) in data.trials.iter_mut().enumerate() {
             trial.activations.iter_mut().for_each(|(_, a)| *a *= 0.7 + 0.004 * t as f64);

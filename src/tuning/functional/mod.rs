@@ -110,3 +110,23 @@ pub use sensitivity::{Applicability, SensitivityClass, SensitivityEntry, Sensiti
 pub use sigma_points::{noise_from_residuals, propagate_noise, NoisePropagation, SigmaPoint, SigmaPointError, SigmaPoints};
 pub use trials::{DynamometryData, Direction, IsometricTrial, SetSelection, Side, TrialColumns, TrialOptions, ACTIVATION_SUFFIX, SUBJECT_FILE};
 pub(crate) use trials::root_mean_square;
+
+/// The shared test data of the unit tests: the scaled subject01 model and train01's trials.
+#[cfg(test)]
+pub(crate) mod test_data {
+    use std::path::Path;
+
+    use super::{DynamometryData, TrialOptions};
+    use crate::io::osim::OsimDocument;
+    use crate::model::ModelSpec;
+
+    /// `fixtures/golden/scale/subject01_simbody.osim`, OpenSim 4.6's scaled subject01.
+    pub fn subject01() -> ModelSpec {
+        ModelSpec::read(&OsimDocument::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/golden/scale/subject01_simbody.osim")).unwrap()).unwrap()
+    }
+
+    /// `fixtures/dynamometry/train01` read with `options`.
+    pub fn train01(options: &TrialOptions) -> DynamometryData {
+        DynamometryData::read(&Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/dynamometry/train01"), options).unwrap()
+    }
+}

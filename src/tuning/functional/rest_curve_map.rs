@@ -209,21 +209,16 @@ impl RestCurveProblem<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::osim::OsimDocument;
-    use crate::model::ModelSpec;
-    use crate::tuning::functional::{DynamometryData, SetSelection, TrialOptions};
-    use std::path::Path;
+    use crate::tuning::functional::test_data::{subject01, train01};
+    use crate::tuning::functional::{SetSelection, TrialOptions};
 
     /// A search around the fit that finds a rest curve without a point in its span (rect_fem's
     /// rest fiber length 10 m: no L_ts gives it) leaves the fit as it is and says so; any other
     /// error of the search (here, one moment short) is returned.
     #[test]
     fn a_recentred_search_that_cannot_run_leaves_the_fit() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let spec = ModelSpec::read(&OsimDocument::read(&root.join("fixtures/golden/scale/subject01_simbody.osim")).unwrap()).unwrap();
-        let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() };
-        let data = DynamometryData::read(&root.join("fixtures/dynamometry/train01"), &options).unwrap();
-        let knee = KneeMomentModel::new(&spec, &data).unwrap();
+        let data = train01(&TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), ..TrialOptions::default() });
+        let knee = KneeMomentModel::new(&subject01(), &data).unwrap();
         let model = knee.nominal_parameters();
         let references: Vec<f64> = model.iter().map(|p| data.reference_rest_fiber_length(&p.name).unwrap()).collect();
         let measured: Vec<f64> = data.measured_moments().iter().map(|m| m + 3.0).collect();
