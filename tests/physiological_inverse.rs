@@ -13,7 +13,7 @@
 
 mod common;
 
-use osim_tune::analysis::{Contraction, Criterion, PhysiologicalInverseResult, MAX_LINEARISATIONS, SETTLED_VIOLATION};
+use osim_tune::analysis::{Contraction, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings, MAX_LINEARISATIONS, SETTLED_VIOLATION};
 use osim_tune::io::table::StorageTable;
 use osim_tune::validation::Subject01Walk;
 
@@ -26,7 +26,7 @@ fn without_activation_dynamics_it_is_static_optimization() {
     let walk = walk();
     let golden = StorageTable::read(&common::fixture("golden/static_optimization/subject01_walk1_StaticOptimization_activation.sto")).unwrap();
     let so = walk.static_optimization(&golden, &common::fixture("golden/static_optimization")).unwrap();
-    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6, Contraction::RigidTendon).unwrap();
+    let pia = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1e-6)).unwrap();
     assert_eq!(pia.activations.labels(), so.activations.labels());
     assert_eq!(pia.activations.n_rows(), so.activations.n_rows());
     let worst = pia.activations.values().iter().zip(so.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -38,8 +38,8 @@ fn without_activation_dynamics_it_is_static_optimization() {
 #[test]
 fn activation_dynamics_bind_consecutive_frames() {
     let walk = walk();
-    let free = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6, Contraction::RigidTendon).unwrap();
-    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::RigidTendon).unwrap();
+    let free = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1e-6)).unwrap();
+    let pia = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0)).unwrap();
     assert!(pia.max_violation <= 1e-6, "generalized forces off inverse dynamics by {:e}", pia.max_violation);
     assert!(pia.sum_of_squares >= free.sum_of_squares * (1.0 - 1e-9), "{} < {}", pia.sum_of_squares, free.sum_of_squares);
     assert_within_activation_dynamics(&pia);
@@ -73,11 +73,11 @@ fn assert_within_activation_dynamics(pia: &PhysiologicalInverseResult) {
 #[test]
 fn compliant_tendons_settle_on_the_hill_models_forces() {
     let walk = walk();
-    let pia = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::CompliantTendon).unwrap();
+    let pia = walk.physiological_inverse(&PhysiologicalInverseSettings { contraction: Contraction::CompliantTendon, ..Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0) }).unwrap();
     assert!((1..MAX_LINEARISATIONS).contains(&pia.iterations), "{} re-solves", pia.iterations);
     assert!(pia.max_violation <= SETTLED_VIOLATION, "generalized forces off inverse dynamics by {:e}", pia.max_violation);
     assert_within_activation_dynamics(&pia);
-    let rigid = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::RigidTendon).unwrap();
+    let rigid = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0)).unwrap();
     let changed = pia.forces.values().iter().zip(rigid.forces.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(changed > 1.0, "compliant and rigid forces differ by {changed:e} N at most");
 }
@@ -85,8 +85,8 @@ fn compliant_tendons_settle_on_the_hill_models_forces() {
 #[test]
 fn min_max_lowers_the_largest_activation() {
     let walk = walk();
-    let squares = walk.physiological_inverse(Criterion::SumOfSquares, 1.0, Contraction::RigidTendon).unwrap();
-    let min_max = walk.physiological_inverse(Criterion::MinMax, 1.0, Contraction::RigidTendon).unwrap();
+    let squares = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0)).unwrap();
+    let min_max = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::MinMax, 1.0)).unwrap();
     assert!(min_max.max_violation <= 1e-6, "{:e}", min_max.max_violation);
     assert!(min_max.max_activation <= squares.max_activation + 1e-6, "{} > {}", min_max.max_activation, squares.max_activation);
 }

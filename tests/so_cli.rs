@@ -105,7 +105,7 @@ fn the_physiological_inverse_approach_runs_from_the_command_line() {
         ];
         let (code, stdout, stderr) = osim_tune(&arguments);
         assert_eq!(code, 0, "{stderr}");
-        for kind in ["activation", "force", "excitation"] {
+        for kind in ["activation", "force", "excitation", "deviation"] {
             assert!(output.join(format!("walk_PhysiologicalInverse_{kind}.sto")).exists(), "{kind}");
         }
         let excitations = StorageTable::read(&output.join("walk_PhysiologicalInverse_excitation.sto")).unwrap();
@@ -153,8 +153,44 @@ fn compliant_tendons_pull_with_their_equilibrium_forces() {
     assert!(stderr.contains("give --pia"), "{stderr}");
 }
 
+/// --moment-weight W: skeleton dynamics as a penalty, min Σa² + W Σ d² with d = generalized force
+/// − inverse dynamics. arm26's reserves are unbounded coordinate actuators of optimal force 1, so
+/// at the optimum each one's control is a = −W·d on its coordinate (the gradient 2a + 2W·d = 0),
+/// with rigid tendons and, at the settled linearisation, with compliant ones. The deviations are
+/// written per coordinate.
+#[test]
+fn a_moment_weight_trades_deviations_against_controls() {
+    let folder = tempfile::tempdir().unwrap();
+    let (model, motion) = (path("fixtures/models/arm26.osim"), path("fixtures/golden/static_optimization/arm26/arm26_motion.mot"));
+    let reserves = path("fixtures/golden/static_optimization/arm26/arm26_reserves.xml");
+    let weight = 0.5;
+    for (label, compliant, tolerance) in [("rigid", None, 1e-6), ("compliant", Some("--compliant-tendons"), 1e-5)] {
+        let output = folder.path().join(label);
+        let mut arguments = vec!["so", &model, &motion, "--actuators", &reserves, "--pia", "sum-of-squares", "--moment-weight", "0.5", "--name", "arm", "-o", s(&output)];
+        arguments.extend(compliant);
+        let (code, stdout, stderr) = osim_tune(&arguments);
+        assert_eq!(code, 0, "{stderr}");
+        assert!(stdout.contains("as a penalty (W = 0.5)"), "{stdout}");
+        let activations = StorageTable::read(&output.join("arm_PhysiologicalInverse_activation.sto")).unwrap();
+        let deviations = StorageTable::read(&output.join("arm_PhysiologicalInverse_deviation.sto")).unwrap();
+        let mut largest = 0.0f64;
+        for coordinate in ["r_shoulder_elev", "r_elbow_flex"] {
+            let (a, d) = (activations.column_index(&format!("reserve_{coordinate}")).unwrap(), deviations.column_index(&format!("{coordinate}_moment")).unwrap());
+            for (control, deviation) in activations.rows().zip(deviations.rows()) {
+                assert!((control[a] + weight * deviation[d]).abs() <= tolerance * control[a].abs().max(1.0), "{label} {coordinate} at {} s: control {}, deviation {}", control[0], control[a], deviation[d]);
+                largest = largest.max(deviation[d].abs());
+            }
+        }
+        assert!(largest > 0.1, "{label}: the penalty should leave deviations ({largest} N·m at most)");
+    }
+    let (code, _, stderr) = osim_tune(&["so", &model, &motion, "--pia", "min-max", "--moment-weight", "0", "-o", s(&folder.path().join("zero"))]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--moment-weight 0: expected a number > 0"), "{stderr}");
+}
+
 /// Without residual actuators nothing can hold the pelvis against the ground reactions: the
-/// physiological inverse problem has no solution, which exits 1 and writes nothing.
+/// physiological inverse problem has no solution, which exits 1 and writes nothing — unless
+/// skeleton dynamics is a penalty.
 #[test]
 fn an_unsolvable_physiological_inverse_problem_exits_1_and_writes_nothing() {
     let folder = tempfile::tempdir().unwrap();
@@ -164,4 +200,14 @@ fn an_unsolvable_physiological_inverse_problem_exits_1_and_writes_nothing() {
     assert_eq!(code, 1, "{stderr}");
     assert!(stderr.contains("physiological inverse problem has no solution"), "{stderr}");
     assert!(!output.exists());
+    // As a penalty, skeleton dynamics is met where the muscles can meet it (the coordinates
+    // filtered as OpenSim's setups do): the pelvis rows keep what no muscle can hold.
+    let (code, _, stderr) = osim_tune(&[&arguments[..], &["--lowpass", "6", "--moment-weight", "1"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let deviations = StorageTable::read(&output.join("subject01_walk1_ik_PhysiologicalInverse_deviation.sto")).unwrap();
+    let largest = |pelvis: bool| {
+        let columns: Vec<usize> = (1..deviations.n_columns()).filter(|&j| deviations.labels()[j].starts_with("pelvis") == pelvis).collect();
+        deviations.rows().flat_map(|row| columns.iter().map(move |&j| row[j].abs())).fold(0.0, f64::max)
+    };
+    assert!(largest(true) > 10.0 && largest(false) < 1.0, "pelvis {} N or N·m, joints {} N·m", largest(true), largest(false));
 }

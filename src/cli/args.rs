@@ -306,6 +306,11 @@ pub enum Command {
         /// tendon.
         #[arg(long)]
         compliant_tendons: bool,
+        /// With --pia: skeleton dynamics as a penalty (the thesis' bi-objective form) — W times
+        /// the sum of squared differences between the generalized forces and inverse dynamics
+        /// (per N²·m² or N²) joins the criterion, instead of meeting inverse dynamics exactly.
+        #[arg(long, value_name = "W")]
+        moment_weight: Option<f64>,
     },
     /// Joint reaction loads like OpenSim 4.6's JointReaction analysis (AnalyzeTool): along the
     /// coordinates (filtered and differentiated as the AnalyzeTool does), every muscle and

@@ -89,12 +89,17 @@ impl Subject01Walk {
 }
 
 impl Subject01Walk {
-    /// The physiological inverse approach over 0.5–2 s, every row, by `criterion`, with every
-    /// muscle's time constants multiplied by `time_constant_scale` and its force by `contraction`.
-    pub fn physiological_inverse(&self, criterion: Criterion, time_constant_scale: f64, contraction: Contraction) -> Result<PhysiologicalInverseResult, Box<dyn std::error::Error>> {
+    /// The physiological inverse approach's settings over 0.5–2 s (6 Hz, every row) by
+    /// `criterion`, with every muscle's time constants multiplied by `time_constant_scale`, rigid
+    /// tendons and exact rows.
+    pub fn pia_settings(criterion: Criterion, time_constant_scale: f64) -> PhysiologicalInverseSettings {
         let frames = StaticOptimizationSettings { time_range: [0.5, 2.0], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
-        let settings = PhysiologicalInverseSettings { frames, criterion, time_constant_scale, contraction };
-        Ok(physiological_inverse(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings)?)
+        PhysiologicalInverseSettings { frames, criterion, time_constant_scale, contraction: Contraction::RigidTendon, moment_weight: None }
+    }
+
+    /// The physiological inverse approach on the walk with `settings`.
+    pub fn physiological_inverse(&self, settings: &PhysiologicalInverseSettings) -> Result<PhysiologicalInverseResult, Box<dyn std::error::Error>> {
+        Ok(physiological_inverse(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), settings)?)
     }
 }
 

@@ -10,7 +10,7 @@
 
 use std::path::PathBuf;
 
-use osim_tune::analysis::{Contraction, Criterion};
+use osim_tune::analysis::Criterion;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
@@ -190,8 +190,8 @@ fn walk_physiological_inverse(walk: &Subject01Walk) -> Vec<Row> {
     let golden = root().join("fixtures/golden/static_optimization");
     let compared = StorageTable::read(&golden.join("subject01_walk1_StaticOptimization_activation.sto")).map_err(|e| e.to_string()).and_then(|activations| {
         let so = walk.static_optimization(&activations, &golden).map_err(|e| e.to_string())?;
-        let free = walk.physiological_inverse(Criterion::SumOfSquares, 1e-6, Contraction::RigidTendon).map_err(|e| e.to_string())?;
-        let bound = walk.physiological_inverse(Criterion::MinMax, 1.0, Contraction::RigidTendon).map_err(|e| e.to_string())?;
+        let free = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1e-6)).map_err(|e| e.to_string())?;
+        let bound = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::MinMax, 1.0)).map_err(|e| e.to_string())?;
         let difference = free.activations.values().iter().zip(so.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         Ok((difference, bound.max_violation))
     });

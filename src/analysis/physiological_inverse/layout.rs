@@ -22,13 +22,18 @@ impl FrameRows {
     }
 }
 
-/// Where each control sits in the QP's variables: frame-major, then s for min–max; `scale`
+/// Where each control sits in the QP's variables: frame-major, then s for min–max, then (with
+/// a moment weight W) each frame's row deviations e = rhs − rows·a, frame-major; `scale`
 /// multiplies every muscle's time constants.
 pub(super) struct Layout {
     pub generators: usize,
     pub frames: usize,
     pub criterion: Criterion,
     pub scale: f64,
+    /// W (per N²·m² or N²): the rows are met in the objective's W Σ e² instead of exactly.
+    pub moment_weight: Option<f64>,
+    /// Each row's label, its coordinate's generalized force as inverse dynamics names it.
+    pub row_labels: Vec<String>,
 }
 
 impl Layout {
@@ -45,8 +50,14 @@ impl Layout {
     pub fn problem(&self, generators: &[Generator], rows: &[FrameRows], times: &[f64], lower: &[f64], upper: &[f64]) -> SparseQp {
         let scale = self.scale;
         let controls = self.controls();
-        let n = controls + usize::from(self.criterion == Criterion::MinMax);
+        let deviations = usize::from(self.moment_weight.is_some()) * rows.iter().map(|r| r.rhs.len()).sum::<usize>();
+        let first_deviation = controls + usize::from(self.criterion == Criterion::MinMax);
+        let n = first_deviation + deviations;
         let mut qp = SparseQp { hessian: vec![2.0; n], linear: vec![0.0; n], rows: Vec::new(), lower: vec![f64::NEG_INFINITY; n], upper: vec![f64::INFINITY; n] };
+        let mut deviation = first_deviation..n;
+        if let Some(weight) = self.moment_weight {
+            qp.hessian[first_deviation..].fill(2.0 * weight);
+        }
         for (k, frame) in rows.iter().enumerate() {
             for j in 0..self.generators {
                 let i = self.index(k, j);
@@ -57,7 +68,8 @@ impl Layout {
                 }
             }
             for (r, &demand) in frame.rhs.iter().enumerate() {
-                let entries = (0..self.generators).map(|j| (self.index(k, j), frame.matrix[(r, j)])).filter(|&(_, a)| a != 0.0).collect();
+                let mut entries: Vec<(usize, f64)> = (0..self.generators).map(|j| (self.index(k, j), frame.matrix[(r, j)])).filter(|&(_, a)| a != 0.0).collect();
+                entries.extend(deviation.next().map(|e| (e, 1.0)));
                 qp.rows.push(SparseRow { entries, lower: demand, upper: demand });
             }
         }
@@ -79,11 +91,12 @@ impl Layout {
     }
 
     /// The tables of controls `x`, with `forces` (per frame, per generator; N or N·m) what the
-    /// generators apply at them and `iterations` the linearised re-solves behind them.
+    /// generators apply at them, `deviations` (per frame, per row; N·m or N) their generalized
+    /// forces less inverse dynamics and `iterations` the linearised re-solves behind them.
     pub fn result(
         &self,
         generators: &[Generator],
-        problems: &[FrameProblem],
+        deviations: &[Vec<f64>],
         times: &[f64],
         x: &[f64],
         forces: &[Vec<f64>],
@@ -91,7 +104,7 @@ impl Layout {
     ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
         let scale = self.scale;
         let control = |k: usize, j: usize| x[self.index(k, j)];
-        let (mut activation_rows, mut force_rows, mut excitations) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut activation_rows, mut force_rows, mut excitations, mut deviation_rows) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let (mut max_activation, mut sum_of_squares) = (0.0f64, 0.0);
         for k in 0..self.frames {
             let a: Vec<f64> = (0..self.generators).map(|j| control(k, j)).collect();
@@ -100,6 +113,8 @@ impl Layout {
             activation_rows.extend(&a);
             force_rows.push(times[k]);
             force_rows.extend(&forces[k]);
+            deviation_rows.push(times[k]);
+            deviation_rows.extend(&deviations[k]);
             excitations.push(times[k]);
             for (j, generator) in generators.iter().enumerate() {
                 let Some([activation, deactivation]) = generator.time_constants() else { continue };
@@ -114,7 +129,8 @@ impl Layout {
             activations: StorageTable::new("Physiological Inverse Approach", names.clone(), activation_rows)?.with_in_degrees(false),
             forces: StorageTable::new("ModelForces", names, force_rows)?.with_in_degrees(false),
             excitations: StorageTable::new("Excitations", muscles, excitations)?.with_in_degrees(false),
-            max_violation: super::largest_violation(problems, forces),
+            deviations: StorageTable::new("Generalized forces less inverse dynamics", std::iter::once("time".to_string()).chain(self.row_labels.iter().cloned()).collect(), deviation_rows)?.with_in_degrees(false),
+            max_violation: deviations.iter().flatten().fold(0.0, |m: f64, d| m.max(d.abs())),
             max_activation,
             sum_of_squares,
             iterations,

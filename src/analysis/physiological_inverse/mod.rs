@@ -26,6 +26,7 @@ pub use contraction::Contraction;
 
 use super::analyze_states::AnalyzeStates;
 use super::external_loads::ExternalLoads;
+use super::inverse_dynamics;
 use super::static_optimization::{solved_rows, FrameProblem, Frames, Generator, StaticOptimizationError, StaticOptimizationSettings};
 use crate::io::table::StorageTable;
 use crate::mechanics::{MotionState, MuscleGeometry};
@@ -45,8 +46,9 @@ pub enum Criterion {
 const TIE_BREAK: f64 = 1e-3;
 /// Re-solves of the linearised Hill model at most.
 pub const MAX_LINEARISATIONS: usize = 30;
-/// The compliant-tendon solution has settled when the nonlinear forces meet every row to this
-/// (N·m or N) and no control moved by more than [`SETTLED_STEP`] in the last re-solve.
+/// The compliant-tendon solution has settled when the Hill model's generalized forces differ from
+/// the linearised rows' by at most this (N·m or N; with exact rows: they meet inverse dynamics to
+/// this) and no control moved by more than [`SETTLED_STEP`] in the last re-solve.
 pub const SETTLED_VIOLATION: f64 = 1e-6;
 pub const SETTLED_STEP: f64 = 1e-5;
 
@@ -60,6 +62,10 @@ pub struct PhysiologicalInverseSettings {
     /// Multiplies every muscle's τ_a and τ_d (1: the model's).
     pub time_constant_scale: f64,
     pub contraction: Contraction,
+    /// W (per N²·m² or N²): skeleton dynamics as a penalty W Σ (generalized force − inverse
+    /// dynamics)² added to the criterion (thesis §3.2's bi-objective form) instead of exact
+    /// rows; `None`: exact.
+    pub moment_weight: Option<f64>,
 }
 
 /// Controls, forces and excitations per frame.
@@ -71,6 +77,10 @@ pub struct PhysiologicalInverseResult {
     /// Each muscle's excitation u ∈ [0, 1] from its activation and backward-difference rate (the
     /// first frame: u = a).
     pub excitations: StorageTable,
+    /// Generalized force less inverse dynamics per tracked coordinate (`<coordinate>_moment`,
+    /// N·m, or `_force`, N): 0 to the solver's accuracy with exact rows, what the penalty
+    /// leaves with a moment weight.
+    pub deviations: StorageTable,
     /// Largest |generalized force − inverse dynamics| over the frames, N·m or N.
     pub max_violation: f64,
     /// Largest muscle activation over the motion.
@@ -100,7 +110,8 @@ pub fn physiological_inverse(
         .collect();
     let times: Vec<f64> = rows.iter().map(|&i| states.times[i]).collect();
     let (lower, upper) = frames.bounds();
-    let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion, scale: settings.time_constant_scale };
+    let row_labels = frames.tracked().iter().map(|&c| inverse_dynamics::label(&geometry.multibody, c)).collect();
+    let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion, scale: settings.time_constant_scale, moment_weight: settings.moment_weight, row_labels };
     let solve = |frame_rows: &[FrameRows]| -> Result<Vec<f64>, StaticOptimizationError> {
         let qp = layout.problem(generators, frame_rows, &times, &lower, &upper);
         let no_solution = |status: String| StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status };
@@ -117,32 +128,47 @@ pub fn physiological_inverse(
         let bounds = (lower.as_slice(), upper.as_slice());
         loop {
             let step_from = x.clone();
-            x = solve(&contraction::linearised_rows(generators, &problems, &times, &x, bounds, file)?)?;
+            let linear = contraction::linearised_rows(generators, &problems, &times, &x, bounds, file)?;
+            x = solve(&linear)?;
             forces = contraction::forces(settings.contraction, generators, &problems, &times, &x, file)?;
             iterations += 1;
             let step = x[..layout.controls()].iter().zip(&step_from).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            let violation = largest_violation(&problems, &forces);
-            if violation <= SETTLED_VIOLATION && step <= SETTLED_STEP {
+            let mismatch = linearisation_error(&problems, &forces, &linear, &x, generators.len());
+            if mismatch <= SETTLED_VIOLATION && step <= SETTLED_STEP {
                 break;
             }
             if iterations == MAX_LINEARISATIONS {
-                let status = format!("the linearised Hill model has not settled after {iterations} re-solves (largest row violation {violation:.3e}, last step {step:.3e})");
+                let status = format!("the linearised Hill model has not settled after {iterations} re-solves (its generalized forces off the Hill model's by {mismatch:.3e}, last step {step:.3e})");
                 return Err(StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status });
             }
         }
     }
-    layout.result(generators, &problems, &times, &x, &forces, iterations)
+    layout.result(generators, &deviations(&problems, &forces), &times, &x, &forces, iterations)
 }
 
-/// Largest |R·F − inverse dynamics| (N·m or N) over the frames `problems` with generator forces
+/// Largest difference (N·m or N) between the generalized forces of the nonlinear `forces` (per
+/// frame) and of the `linear` rows at the controls `x` (frame-major, `generators` per frame).
+fn linearisation_error(problems: &[FrameProblem], forces: &[Vec<f64>], linear: &[FrameRows], x: &[f64], generators: usize) -> f64 {
+    let mut largest = 0.0f64;
+    for (k, ((problem, f), rows)) in problems.iter().zip(forces).zip(linear).enumerate() {
+        let produced = &problem.arms * nalgebra::DVector::from_column_slice(f);
+        let linearised = &rows.matrix * nalgebra::DVector::from_column_slice(&x[k * generators..(k + 1) * generators]);
+        for r in 0..problem.rhs.len() {
+            largest = largest.max(((produced[r] - problem.rhs[r]) - (linearised[r] - rows.rhs[r])).abs());
+        }
+    }
+    largest
+}
+
+/// R·F − inverse dynamics (N·m or N) per frame of `problems` and row, with generator forces
 /// `forces` (per frame).
-fn largest_violation(problems: &[FrameProblem], forces: &[Vec<f64>]) -> f64 {
+fn deviations(problems: &[FrameProblem], forces: &[Vec<f64>]) -> Vec<Vec<f64>> {
     problems
         .iter()
         .zip(forces)
         .map(|(problem, f)| {
             let produced = &problem.arms * nalgebra::DVector::from_column_slice(f);
-            produced.iter().zip(&problem.rhs).map(|(p, d)| (p - d).abs()).fold(0.0, f64::max)
+            produced.iter().zip(&problem.rhs).map(|(p, d)| p - d).collect()
         })
-        .fold(0.0, f64::max)
+        .collect()
 }

@@ -56,6 +56,11 @@ impl<'a> Frames<'a> {
         self.generators.iter().map(|g| (g.bounds[0], g.bounds[1])).unzip()
     }
 
+    /// The coordinates whose rows each frame has, in row order.
+    pub fn tracked(&self) -> &[usize] {
+        &self.rows
+    }
+
     /// The body poses of the last frame.
     pub fn kinematics(&self) -> &Kinematics {
         self.paths.kinematics()

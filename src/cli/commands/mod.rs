@@ -72,10 +72,10 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = forward::Request { excitations, activations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
             forward::run(&model, &coordinates, &request)
         }
-        Command::So { model, coordinates, setup, analyze, activation_exponent, compare, pia, time_constant_scale, compliant_tendons } => {
+        Command::So { model, coordinates, setup, analyze, activation_exponent, compare, pia, time_constant_scale, compliant_tendons, moment_weight } => {
             let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, name, output } = analyze;
             let (time, pia) = (time.map(|t| [t[0], t[1]]), pia.map(Into::into));
-            let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, compliant_tendons, name, output };
+            let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, compliant_tendons, moment_weight, name, output };
             so::run(&model, &coordinates, &request)
         }
         Command::Reaction { model, coordinates, forces, setup, analyze, joints, on, frames } => {

@@ -28,6 +28,8 @@ pub struct Request {
     pub time_constant_scale: f64,
     /// With `pia`: the Hill model's equilibrium forces with compliant tendons.
     pub compliant_tendons: bool,
+    /// With `pia`: the weight of skeleton dynamics as a penalty, per N²·m² or N².
+    pub moment_weight: Option<f64>,
     pub name: Option<String>,
     pub output: PathBuf,
 }
@@ -43,9 +45,10 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     match request.pia {
         Some(criterion) => {
             let contraction = if request.compliant_tendons { Contraction::CompliantTendon } else { Contraction::RigidTendon };
-            physiological(&problem, request, &name, PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale, contraction })
+            let settings = PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale, contraction, moment_weight: request.moment_weight };
+            physiological(&problem, request, &name, settings)
         }
-        None if request.compliant_tendons => Err("--compliant-tendons applies to the physiological inverse approach; give --pia".into()),
+        None if request.compliant_tendons || request.moment_weight.is_some() => Err("--compliant-tendons and --moment-weight apply to the physiological inverse approach; give --pia".into()),
         None => static_optimisation(&problem, request, &name, &settings),
     }
 }
@@ -83,7 +86,10 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
     if !(settings.time_constant_scale > 0.0 && settings.time_constant_scale.is_finite()) {
         return Err(format!("--time-constant-scale {}: expected a number > 0", settings.time_constant_scale).into());
     }
-    let kinds = ["activation", "force", "excitation"];
+    if let Some(weight) = settings.moment_weight.filter(|w| !(*w > 0.0 && w.is_finite())) {
+        return Err(format!("--moment-weight {weight}: expected a number > 0").into());
+    }
+    let kinds = ["activation", "force", "excitation", "deviation"];
     let outputs = kinds.map(|kind| output_file(&request.output, name, "PhysiologicalInverse", kind));
     let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).collect();
     for output in &outputs {
@@ -98,7 +104,7 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
         Err(error) => return Err(error.into()),
     };
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
-    let texts = [&result.activations, &result.forces, &result.excitations].map(StorageTable::to_text);
+    let texts = [&result.activations, &result.forces, &result.excitations, &result.deviations].map(StorageTable::to_text);
     let files: Vec<(&Path, &[u8])> = outputs.iter().map(PathBuf::as_path).zip(texts.iter().map(String::as_bytes)).collect();
     write_all_atomically(&files, &input_paths)?;
     let times = result.activations.times();
@@ -106,6 +112,16 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
         println!("{} frames of {} ({first:.4}–{last:.4} s), {:?} → {}", times.len(), problem.coordinates.display(), settings.criterion, request.output.display());
     }
     println!("largest activation {:.4}, Σa² over the motion {:.4}, largest |generalized force − inverse dynamics| {:.2e}", result.max_activation, result.sum_of_squares, result.max_violation);
+    if let Some(weight) = settings.moment_weight {
+        println!("skeleton dynamics as a penalty (W = {weight}): RMS generalized force − inverse dynamics per coordinate, where above 10⁻³");
+        for (j, label) in result.deviations.labels().iter().enumerate().skip(1) {
+            let column: Vec<f64> = result.deviations.rows().map(|row| row[j]).collect();
+            let rms = (column.iter().map(|d| d * d).sum::<f64>() / column.len() as f64).sqrt();
+            if rms > 1e-3 {
+                println!("  {label:<28} {rms:>10.4}");
+            }
+        }
+    }
     if settings.contraction == Contraction::CompliantTendon {
         println!("compliant tendons: the linearised Hill model settled after {} re-solves", result.iterations);
     }
