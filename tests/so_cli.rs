@@ -56,7 +56,19 @@ fn the_walk_is_solved_and_opensims_controls_are_judged() {
     assert!(stdout.contains("95 frames") && stdout.contains("19 frames compared"), "{stdout}");
     let activations = StorageTable::read(&folder.path().join("walk_StaticOptimization_activation.sto")).unwrap();
     assert_eq!(activations.labels(), StorageTable::read(Path::new(&path(ACTIVATIONS))).unwrap().labels());
-    assert!(folder.path().join("walk_StaticOptimization_force.sto").exists());
+    // The model check: each residual actuator's peak |force| as the force file has it, and the
+    // muscles at their limit with their frame counts.
+    let forces = StorageTable::read(&folder.path().join("walk_StaticOptimization_force.sto")).unwrap();
+    for actuator in ["FX", "FY", "FZ", "MX", "MY", "MZ"] {
+        let j = forces.column_index(actuator).unwrap();
+        let peak = forces.rows().map(|row| row[j].abs()).fold(0.0, f64::max);
+        let line = stdout.lines().find(|l| l.split_whitespace().next() == Some(actuator)).unwrap_or_else(|| panic!("no line for {actuator}: {stdout}"));
+        let printed: f64 = line.split_whitespace().nth(2).unwrap().parse().unwrap();
+        assert!((printed - peak).abs() <= 5e-4, "{actuator}: printed {printed}, file {peak}");
+    }
+    let j = activations.column_index("med_gas_r").unwrap();
+    let saturated = activations.rows().filter(|row| row[j] >= 0.99).count();
+    assert!(saturated > 0 && stdout.contains(&format!("med_gas_r ({saturated})")), "{saturated}: {stdout}");
 }
 
 /// The setup's step interval solves the first and last rows and every 10th between them.

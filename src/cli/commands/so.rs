@@ -76,6 +76,7 @@ fn static_optimisation(problem: &Problem, request: &Request, name: &str, setting
     let texts = [result.activations.to_text(), result.forces.to_text()];
     write_all_atomically(&[(&outputs[0], texts[0].as_bytes()), (&outputs[1], texts[1].as_bytes())], &input_paths)?;
     report(&result, problem.coordinates, &outputs, request.compare.as_deref());
+    print_model_check(problem.generators, &result.activations, &result.forces);
     Ok(if result.failures.is_empty() { Outcome::Success } else { Outcome::NotConverged })
 }
 
@@ -125,7 +126,43 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
     if settings.contraction == Contraction::CompliantTendon {
         println!("compliant tendons: the linearised Hill model settled after {} re-solves", result.iterations);
     }
+    print_model_check(problem.generators, &result.activations, &result.forces);
     Ok(Outcome::Success)
+}
+
+/// Activation at or above which a muscle counts as at its limit.
+const SATURATED: f64 = 0.99;
+
+/// What the solution says of the model: the muscles at their limit (activation ≥
+/// [`SATURATED`]) in how many frames, and each actuator's RMS and peak force — the reserves and
+/// residuals an OpenSim user keeps small against the joint moments.
+fn print_model_check(generators: &[Generator], activations: &StorageTable, forces: &StorageTable) {
+    let frames = activations.n_rows();
+    let column = |table: &StorageTable, name: &str| -> Vec<f64> {
+        let Some(j) = table.column_index(name) else { return Vec::new() };
+        table.rows().map(|row| row[j]).filter(|v| v.is_finite()).collect()
+    };
+    let saturated: Vec<String> = generators
+        .iter()
+        .filter(|g| g.time_constants().is_some())
+        .filter_map(|g| {
+            let count = column(activations, &g.name).iter().filter(|&&a| a >= SATURATED).count();
+            (count > 0).then(|| format!("{} ({count})", g.name))
+        })
+        .collect();
+    match saturated.is_empty() {
+        true => println!("no muscle reaches activation {SATURATED}"),
+        false => println!("muscles at activation ≥ {SATURATED} (frames of {frames}): {}", saturated.join(", ")),
+    }
+    let actuators: Vec<&Generator> = generators.iter().filter(|g| g.time_constants().is_none()).collect();
+    if !actuators.is_empty() {
+        println!("actuators: RMS and peak |force| (N·m or N)");
+        for actuator in actuators {
+            let force = column(forces, &actuator.name);
+            let rms = (force.iter().map(|f| f * f).sum::<f64>() / force.len().max(1) as f64).sqrt();
+            println!("  {:<28} {rms:>10.3} {:>10.3}", actuator.name, force.iter().fold(0.0, |m: f64, f| m.max(f.abs())));
+        }
+    }
 }
 
 /// `<DIR>/<name>_<method>_<kind>.sto` (OpenSim's names for static optimisation).
