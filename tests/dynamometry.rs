@@ -321,7 +321,7 @@ fn left_side_trials() {
         let text = std::fs::read_to_string(source.join(file)).unwrap().replace("_r\"", "_l\"").replace("_r\t", "_l\t").replace("_r.", "_l.");
         std::fs::write(folder.path().join(file), text).unwrap();
     }
-    let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), columns: TrialColumns::for_side(Side::Left) };
+    let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), columns: TrialColumns::for_side(Side::Left), ..TrialOptions::default() };
     let left = DynamometryData::read(folder.path(), &options).unwrap();
     assert_eq!(left.estimated_muscles[0], "rect_fem_l");
     let spec = model();
@@ -378,6 +378,15 @@ fn bad_trials_are_refused_with_the_file_and_place() {
     let folder = edited_subject("subject.json", |t| t.replace("\"agonist_activation\": 0.8", "\"agonist_activation\": \"high\""));
     let message = read_error(folder.path(), &["set5"]);
     assert_eq!(message, format!("{}:38:30: invalid type: string \"high\", expected f64", folder.path().join("subject.json").display()));
+    // A rest length or abbreviation may name any muscle the file names (the estimated ones'
+    // are used); a name it does not, e.g. a typo, is refused.
+    let folder = edited_subject("subject.json", |t| t.replacen("\"RF\"", "\"RF\", \"rect_fem\": \"RF2\"", 1));
+    let message = read_error(folder.path(), &["set5"]);
+    assert!(message.ends_with("key \"muscle_abbreviations\" is a key \"rect_fem\"; expected only muscles the file names in estimated_muscles, extension_agonists or flexion_agonists as keys"), "{message}");
+    let options = TrialOptions { sets: SetSelection::Only(vec!["set5".into()]), estimated_muscles: Some(vec!["vas_lat_r".into()]), ..TrialOptions::default() };
+    let data = DynamometryData::read(&subject("train01"), &options).unwrap();
+    assert_eq!((data.estimated_muscles.len(), data.abbreviations.len(), data.reference_rest_fiber_lengths.len()), (1, 1, 1));
+    assert_eq!(data.reference_rest_fiber_lengths[0].0, "vas_lat_r");
 
     let folder = edited_subject("set5_flexion.mot", |t| t.replace("knee_moment", "moment"));
     let flexion = |folder: &tempfile::TempDir| folder.path().join("set5_flexion.mot").display().to_string();

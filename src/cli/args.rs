@@ -85,6 +85,10 @@ pub enum Command {
         /// Functional: trial sets to use, comma-separated (e.g. set5,set10); default all.
         #[arg(long, value_delimiter = ',')]
         sets: Option<Vec<String>>,
+        /// Functional: the muscles whose L_opt and L_ts are estimated, comma-separated; default the
+        /// subject file's estimated_muscles.
+        #[arg(long, value_delimiter = ',')]
+        muscles: Option<Vec<String>>,
         /// Functional: accepted rest fiber length deviation in Phase I, relative (thesis Δ; default 0.1).
         #[arg(long)]
         rest_tolerance: Option<f64>,

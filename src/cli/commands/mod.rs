@@ -93,6 +93,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             trials,
             method,
             sets,
+            muscles,
             rest_tolerance,
             rest_constraint,
             no_rest_curve,
@@ -116,7 +117,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             Some(folder) => {
                 let options = scale_functional::Options { method, rest_tolerance, rest_constraint, rest_curve: !no_rest_curve, prior_sd, no_prior, map, group_ratios, noise_sd, sigma_points };
                 let settings = options.settings();
-                let request = scale_functional::Request { sets, settings, force, report, cause_model, json };
+                let request = scale_functional::Request { sets, muscles, settings, force, report, cause_model, json };
                 scale_functional::run(&model, folder, &output, &request)
             }
             None => {

@@ -18,6 +18,8 @@ use super::super::args::ScaleMethodArgument;
 /// What the user asked for besides the files.
 pub struct Request {
     pub sets: Option<Vec<String>>,
+    /// The estimated muscles, replacing the subject file's.
+    pub muscles: Option<Vec<String>>,
     pub settings: FitSettings,
     pub force: bool,
     pub report: Option<PathBuf>,
@@ -75,8 +77,12 @@ impl Options {
 
 pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Result<Outcome, Failure> {
     check_settings(&request.settings)?;
+    let muscles = request.muscles.as_deref().unwrap_or_default();
+    if let Some(repeated) = muscles.iter().enumerate().find(|(i, m)| muscles[..*i].contains(m)).map(|(_, m)| m) {
+        return Err(format!("--muscles names {repeated} twice; expected each muscle once").into());
+    }
     let sets = request.sets.clone().map_or(SetSelection::All, SetSelection::Only);
-    let data = DynamometryData::read(folder, &TrialOptions { sets, ..Default::default() })?;
+    let data = DynamometryData::read(folder, &TrialOptions { sets, estimated_muscles: request.muscles.clone(), ..Default::default() })?;
     let mut inputs: Vec<PathBuf> = vec![model.to_path_buf(), folder.join(SUBJECT_FILE)];
     inputs.extend(data.trials.iter().map(|t| t.file.clone()));
     let input_refs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();

@@ -2,7 +2,9 @@
 //! agonists of each direction, trial files, optional rest fiber lengths and noise level) and one
 //! `.mot` table per trial set and direction (`setN_extension.mot`, `setN_flexion.mot`) whose rows
 //! are trials: knee, hip and ankle angles, the measured knee moment and the agonists'
-//! activations. Angles are converted to radians here; everything after works in SI units.
+//! activations. Angles are converted to radians here; everything after works in SI units. The
+//! estimated muscles may be replaced ([`TrialOptions::estimated_muscles`]); rest lengths and
+//! abbreviations may name any muscle the file names, and the estimated muscles' are kept.
 //!
 //! `ground_truth.json`, when present, is never read: it exists only to score estimates.
 
@@ -104,6 +106,8 @@ pub enum SetSelection {
 pub struct TrialOptions {
     pub sets: SetSelection,
     pub columns: TrialColumns,
+    /// The muscles to estimate instead of the subject file's `estimated_muscles`.
+    pub estimated_muscles: Option<Vec<String>>,
 }
 
 /// One isometric trial: a fixed posture, the agonists' activations and the measured moment.
@@ -195,13 +199,17 @@ impl DynamometryData {
     pub fn read(folder: &Path, options: &TrialOptions) -> Result<DynamometryData, FunctionalError> {
         let file = folder.join(SUBJECT_FILE);
         let text = std::fs::read_to_string(&file).map_err(|source| FunctionalError::Io { file: file.clone(), source })?;
-        let subject: SubjectFile = serde_json::from_str(&text).map_err(|e| {
+        let mut subject: SubjectFile = serde_json::from_str(&text).map_err(|e| {
             let message = e.to_string();
             let place = format!(" at line {} column {}", e.line(), e.column());
             let problem = message.strip_suffix(&place).unwrap_or(&message).to_string();
             FunctionalError::Subject { file: file.clone(), line: e.line(), column: e.column(), problem }
         })?;
-        let checked = subject.check(&file)?;
+        let declared: Vec<String> = subject.estimated_muscles.iter().chain(&subject.extension_agonists).chain(&subject.flexion_agonists).cloned().collect();
+        if let Some(muscles) = &options.estimated_muscles {
+            subject.estimated_muscles = muscles.clone();
+        }
+        let checked = subject.check(&file, &declared)?;
         let mut trials = Vec::new();
         for set in selected_sets(&subject.trial_files, &options.sets, &file)? {
             let files = &subject.trial_files[&set];
@@ -266,7 +274,10 @@ struct CheckedSubject {
 }
 
 impl SubjectFile {
-    fn check(&self, file: &Path) -> Result<CheckedSubject, FunctionalError> {
+    /// Checks the values of the subject file `file` (its estimated muscles possibly replaced);
+    /// abbreviations and rest lengths may name any of the `declared` muscles (those the file
+    /// names), and only the estimated ones' are kept.
+    fn check(&self, file: &Path, declared: &[String]) -> Result<CheckedSubject, FunctionalError> {
         let bad = |key: &str, value: String, expected: &str| FunctionalError::SubjectValue {
             file: file.into(),
             key: key.into(),
@@ -297,21 +308,24 @@ impl SubjectFile {
         if self.trial_files.is_empty() {
             return Err(bad("trial_files", "empty".into(), "at least one trial set"));
         }
-        let estimated = |key: String, name: &String| {
-            if self.estimated_muscles.contains(name) {
-                Ok(())
+        let estimated = |key: &str, name: &String| {
+            if declared.contains(name) {
+                Ok(self.estimated_muscles.contains(name))
             } else {
-                Err(bad(&key, format!("a key {name:?}"), "only estimated muscles as keys"))
+                Err(bad(key, format!("a key {name:?}"), "only muscles the file names in estimated_muscles, extension_agonists or flexion_agonists as keys"))
             }
         };
         let mut abbreviations = Vec::new();
         for (name, abbreviation) in &self.muscle_abbreviations {
-            estimated("muscle_abbreviations".into(), name)?;
-            abbreviations.push((name.clone(), abbreviation.clone()));
+            if estimated("muscle_abbreviations", name)? {
+                abbreviations.push((name.clone(), abbreviation.clone()));
+            }
         }
         let mut lengths = Vec::new();
         for (name, &length) in &self.reference_rest_fiber_lengths {
-            estimated("reference_rest_fiber_length_m".into(), name)?;
+            if !estimated("reference_rest_fiber_length_m", name)? {
+                continue;
+            }
             if !(length > 0.0 && length.is_finite()) {
                 return Err(bad(&format!("reference_rest_fiber_length_m.{name}"), length.to_string(), "a positive length in m"));
             }
