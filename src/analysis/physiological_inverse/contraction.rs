@@ -8,6 +8,13 @@
 //! path length — passive fiber force included. F is nonlinear in a (the fiber shortens as the
 //! tendon stretches), so the rows are linearised at the current controls a₀,
 //! F(a) ≈ F(a₀) + F′(a₀)(a − a₀), F′ by central differences within the control's bounds.
+//!
+//! Taking the fiber velocities from the fiber lengths of the last solution instead (central
+//! differences between frames) was tried: on the walk the re-solves diverge within four
+//! (the velocities change by 0.3, 2 and 9 m/s), as an explicit step through the stiff
+//! fiber–tendon dynamics would — that needs the fiber lengths as variables of one problem.
+
+use std::path::Path;
 
 use super::layout::FrameRows;
 use crate::analysis::static_optimization::{FrameProblem, Generator, StaticOptimizationError};
@@ -25,58 +32,50 @@ pub enum Contraction {
 /// Activation step of the central differences for F′(a).
 const ACTIVATION_STEP: f64 = 1e-6;
 
-/// Each frame's forces (N or N·m) at the controls `x` (frame-major, `generators` per frame) of
-/// frames `problems` at `times` (s); `file` names the motion in errors.
-pub(super) fn forces(
-    contraction: Contraction,
-    generators: &[Generator],
-    problems: &[FrameProblem],
-    times: &[f64],
-    x: &[f64],
-    file: &std::path::Path,
-) -> Result<Vec<Vec<f64>>, StaticOptimizationError> {
-    let n = generators.len();
-    problems
-        .iter()
-        .enumerate()
-        .map(|(k, problem)| {
-            let a = &x[k * n..(k + 1) * n];
-            match contraction {
-                Contraction::RigidTendon => Ok(a.iter().zip(&problem.unit_forces).map(|(c, f)| c * f).collect()),
-                Contraction::CompliantTendon => {
-                    generators.iter().zip(a).zip(&problem.lengths).map(|((g, &c), &length)| force(g, c, length, times[k], file)).collect()
-                }
-            }
-        })
-        .collect()
+/// What the muscle forces are evaluated with: the generators, the frames at `times` (s), each
+/// generator's control bounds and the motion `file` errors name.
+pub(super) struct Muscles<'a> {
+    pub generators: &'a [Generator],
+    pub problems: &'a [FrameProblem],
+    pub times: &'a [f64],
+    pub bounds: (&'a [f64], &'a [f64]),
+    pub file: &'a Path,
 }
 
-/// Each frame's rows with the compliant-tendon forces linearised at the controls `x`
-/// (frame-major): the columns F′(a₀)·R, the right-hand side less R·(F(a₀) − F′(a₀)·a₀), R the
-/// generalized forces per unit force. Actuators stay linear. `bounds` are each generator's
-/// [lower, upper] control bounds.
-pub(super) fn linearised_rows(
-    generators: &[Generator],
-    problems: &[FrameProblem],
-    times: &[f64],
-    x: &[f64],
-    bounds: (&[f64], &[f64]),
-    file: &std::path::Path,
-) -> Result<Vec<FrameRows>, StaticOptimizationError> {
-    let n = generators.len();
-    problems
-        .iter()
-        .enumerate()
-        .map(|(k, problem)| {
+impl Muscles<'_> {
+    /// Each frame's forces (N or N·m, per generator) at the controls `x` (frame-major, then
+    /// anything else) by `contraction`.
+    pub fn forces(&self, contraction: Contraction, x: &[f64]) -> Result<Vec<Vec<f64>>, StaticOptimizationError> {
+        let n = self.generators.len();
+        self.problems
+            .iter()
+            .enumerate()
+            .map(|(k, problem)| {
+                let a = &x[k * n..(k + 1) * n];
+                match contraction {
+                    Contraction::RigidTendon => Ok(a.iter().zip(&problem.unit_forces).map(|(c, f)| c * f).collect()),
+                    Contraction::CompliantTendon => (0..n).map(|j| self.force(k, j, a[j])).collect(),
+                }
+            })
+            .collect()
+    }
+
+    /// Each frame's rows with the muscle forces linearised at the controls `x` (frame-major): the
+    /// columns F′(a₀)·R, the right-hand side less R·(F(a₀) − F′(a₀)·a₀), R the generalized forces
+    /// per unit force. Actuators stay linear.
+    pub fn linearised_rows(&self, x: &[f64]) -> Result<Vec<FrameRows>, StaticOptimizationError> {
+        let n = self.generators.len();
+        let mut all = Vec::with_capacity(self.problems.len());
+        for (k, problem) in self.problems.iter().enumerate() {
             let mut rows = FrameRows { matrix: problem.arms.clone(), rhs: problem.rhs.clone() };
-            for (j, generator) in generators.iter().enumerate() {
+            for (j, generator) in self.generators.iter().enumerate() {
                 let a = x[k * n + j];
                 let (value, slope) = match generator.muscle_path() {
                     Some(_) => {
-                        let (low, high) = ((a - ACTIVATION_STEP).max(bounds.0[j].max(0.0)), (a + ACTIVATION_STEP).min(bounds.1[j].min(1.0)));
-                        let at = |c: f64| force(generator, c, problem.lengths[j], times[k], file);
-                        let slope = if high > low { (at(high)? - at(low)?) / (high - low) } else { 0.0 };
-                        (at(a)?, slope)
+                        let [lowest, highest] = self.range(j);
+                        let (low, high) = ((a - ACTIVATION_STEP).max(lowest), (a + ACTIVATION_STEP).min(highest));
+                        let slope = if high > low { (self.force(k, j, high)? - self.force(k, j, low)?) / (high - low) } else { 0.0 };
+                        (self.force(k, j, a)?, slope)
                     }
                     None => (a * problem.unit_forces[j], problem.unit_forces[j]),
                 };
@@ -87,15 +86,25 @@ pub(super) fn linearised_rows(
                     rows.matrix[(r, j)] = arm * slope;
                 }
             }
-            Ok(rows)
-        })
-        .collect()
-}
+            all.push(rows);
+        }
+        Ok(all)
+    }
 
-/// `generator`'s equilibrium force at control `control` on a path of length `length` (m), at
-/// `time` (s) of the motion `file`; its failure names both.
-fn force(generator: &Generator, control: f64, length: f64, time: f64, file: &std::path::Path) -> Result<f64, StaticOptimizationError> {
-    generator
-        .equilibrium_force(control, length)
-        .map_err(|error| StaticOptimizationError::Model(format!("{}: at t = {time} s, {} has no static equilibrium: {error}", file.display(), generator.name)))
+    /// The activations muscle `j` is evaluated at: its control bounds within [0, 1].
+    fn range(&self, j: usize) -> [f64; 2] {
+        [self.bounds.0[j].max(0.0), self.bounds.1[j].min(1.0)]
+    }
+
+    /// The equilibrium force of generator `j` at frame `k` and control `control`, clamped to its
+    /// range (the QP's solution may leave a bound by its tolerance); a failure names the muscle,
+    /// the time and the motion.
+    fn force(&self, k: usize, j: usize, control: f64) -> Result<f64, StaticOptimizationError> {
+        let generator = &self.generators[j];
+        let [lowest, highest] = self.range(j);
+        let control = if generator.muscle_path().is_some() { control.clamp(lowest, highest.max(lowest)) } else { control };
+        generator.equilibrium_force(control, self.problems[k].lengths[j]).map_err(|error| {
+            StaticOptimizationError::Model(format!("{}: at t = {} s, {} has no static equilibrium: {error}", self.file.display(), self.times[k], generator.name))
+        })
+    }
 }

@@ -31,6 +31,7 @@ use super::static_optimization::{solved_rows, FrameProblem, Frames, Generator, S
 use crate::io::table::StorageTable;
 use crate::mechanics::{MotionState, MuscleGeometry};
 use crate::solvers::qp::QpSettings;
+use contraction::Muscles;
 use layout::{FrameRows, Layout};
 
 /// What the optimisation minimises over the motion.
@@ -122,28 +123,34 @@ pub fn physiological_inverse(
         Ok(solution.x)
     };
     let mut x = solve(&problems.iter().map(FrameRows::rigid).collect::<Vec<_>>())?;
-    let mut forces = contraction::forces(settings.contraction, generators, &problems, &times, &x, file)?;
-    let mut iterations = 0;
-    if settings.contraction == Contraction::CompliantTendon {
-        let bounds = (lower.as_slice(), upper.as_slice());
-        loop {
-            let step_from = x.clone();
-            let linear = contraction::linearised_rows(generators, &problems, &times, &x, bounds, file)?;
-            x = solve(&linear)?;
-            forces = contraction::forces(settings.contraction, generators, &problems, &times, &x, file)?;
-            iterations += 1;
-            let step = x[..layout.controls()].iter().zip(&step_from).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            let mismatch = linearisation_error(&problems, &forces, &linear, &x, generators.len());
-            if mismatch <= SETTLED_VIOLATION && step <= SETTLED_STEP {
-                break;
-            }
-            if iterations == MAX_LINEARISATIONS {
-                let status = format!("the linearised Hill model has not settled after {iterations} re-solves (its generalized forces off the Hill model's by {mismatch:.3e}, last step {step:.3e})");
-                return Err(StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status });
-            }
+    let muscles = Muscles { generators, problems: &problems, times: &times, bounds: (&lower, &upper), file };
+    let iterations = match settings.contraction {
+        Contraction::RigidTendon => 0,
+        Contraction::CompliantTendon => settle(&muscles, &solve, &mut x)?,
+    };
+    let forces = muscles.forces(settings.contraction, &x)?;
+    layout.result(generators, &deviations(&problems, &forces), &times, &x, &forces, iterations)
+}
+
+/// Re-solves the problem on the Hill model linearised at the controls `x` until it settles
+/// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]); returns the re-solves, or a
+/// [`StaticOptimizationError::NoSolution`] after [`MAX_LINEARISATIONS`].
+fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows]) -> Result<Vec<f64>, StaticOptimizationError>, x: &mut Vec<f64>) -> Result<usize, StaticOptimizationError> {
+    let (generators, frames) = (muscles.generators.len(), muscles.problems.len());
+    let (mut mismatch, mut step) = (f64::INFINITY, f64::INFINITY);
+    for iteration in 1..=MAX_LINEARISATIONS {
+        let linear = muscles.linearised_rows(x)?;
+        let next = solve(&linear)?;
+        step = next[..generators * frames].iter().zip(x.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        *x = next;
+        let forces = muscles.forces(Contraction::CompliantTendon, x)?;
+        mismatch = linearisation_error(muscles.problems, &forces, &linear, x, generators);
+        if mismatch <= SETTLED_VIOLATION && step <= SETTLED_STEP {
+            return Ok(iteration);
         }
     }
-    layout.result(generators, &deviations(&problems, &forces), &times, &x, &forces, iterations)
+    let status = format!("the linearised Hill model has not settled after {MAX_LINEARISATIONS} re-solves (its generalized forces off the Hill model's by {mismatch:.3e}, last step {step:.3e})");
+    Err(StaticOptimizationError::NoSolution { file: muscles.file.into(), problem: "physiological inverse problem", status })
 }
 
 /// Largest difference (N·m or N) between the generalized forces of the nonlinear `forces` (per
