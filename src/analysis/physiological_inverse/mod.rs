@@ -43,6 +43,9 @@ pub enum Criterion {
     MinMax,
 }
 
+/// A solve's variables (controls frame-major, then the min–max bound and the deviations).
+type Controls = Result<Vec<f64>, StaticOptimizationError>;
+
 /// Weight of the sum of squared activations that breaks the min–max criterion's ties.
 const TIE_BREAK: f64 = 1e-3;
 /// Re-solves of the linearised Hill model at most.
@@ -113,7 +116,7 @@ pub fn physiological_inverse(
     let (lower, upper) = frames.bounds();
     let row_labels = frames.tracked().iter().map(|&c| inverse_dynamics::label(&geometry.multibody, c)).collect();
     let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion, scale: settings.time_constant_scale, moment_weight: settings.moment_weight, row_labels };
-    let solve = |frame_rows: &[FrameRows]| -> Result<Vec<f64>, StaticOptimizationError> {
+    let solve = |frame_rows: &[FrameRows]| -> Controls {
         let qp = layout.problem(generators, frame_rows, &times, &lower, &upper);
         let no_solution = |status: String| StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status };
         let solution = qp.solve(&QpSettings { tolerance: 1e-9, max_iterations: 400, ..QpSettings::default() }).map_err(|e| no_solution(e.to_string()))?;
@@ -135,7 +138,7 @@ pub fn physiological_inverse(
 /// Re-solves the problem on the Hill model linearised at the controls `x` until it settles
 /// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]); returns the re-solves, or a
 /// [`StaticOptimizationError::NoSolution`] after [`MAX_LINEARISATIONS`].
-fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows]) -> Result<Vec<f64>, StaticOptimizationError>, x: &mut Vec<f64>) -> Result<usize, StaticOptimizationError> {
+fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows]) -> Controls, x: &mut Vec<f64>) -> Result<usize, StaticOptimizationError> {
     let (generators, frames) = (muscles.generators.len(), muscles.problems.len());
     let (mut mismatch, mut step) = (f64::INFINITY, f64::INFINITY);
     for iteration in 1..=MAX_LINEARISATIONS {
