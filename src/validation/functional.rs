@@ -7,6 +7,7 @@
 
 use std::path::Path;
 
+use rayon::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
@@ -306,10 +307,9 @@ pub fn relative_errors(fitted: &[MuscleParameters], truth: &[MuscleParameters]) 
 /// Fits from each of `guesses` to the subject's own (noise-free) moments.
 pub fn initial_guess_study(subject: &StudySubject, guesses: &[Vec<MuscleParameters>], settings: &FitSettings) -> StudyResult {
     let measured = subject.data.measured_moments();
+    let fits: Vec<_> = guesses.par_iter().map(|guess| fit_errors(subject, guess, &measured, settings)).collect();
     let mut result = StudyResult::default();
-    for guess in guesses {
-        result.record(fit_errors(subject, guess, &measured, settings));
-    }
+    fits.into_iter().for_each(|fit| result.record(fit));
     result
 }
 
@@ -318,10 +318,9 @@ pub fn noise_study(subject: &StudySubject, noise_sd: f64, draws: usize, seed: u6
     let measured = subject.data.measured_moments();
     let normal = Normal::new(0.0, noise_sd).expect("a finite, non-negative σ");
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let draws: Vec<Vec<f64>> = (0..draws).map(|_| measured.iter().map(|m| m + normal.sample(&mut rng)).collect()).collect();
+    let fits: Vec<_> = draws.par_iter().map(|noisy| fit_errors(subject, subject.truth, noisy, settings)).collect();
     let mut result = StudyResult::default();
-    for _ in 0..draws {
-        let noisy: Vec<f64> = measured.iter().map(|m| m + normal.sample(&mut rng)).collect();
-        result.record(fit_errors(subject, subject.truth, &noisy, settings));
-    }
+    fits.into_iter().for_each(|fit| result.record(fit));
     result
 }
