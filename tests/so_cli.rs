@@ -133,6 +133,13 @@ fn the_physiological_inverse_approach_runs_from_the_command_line() {
     assert!(stderr.contains("does not apply with --pia"), "{stderr}");
 }
 
+/// arm26 (six Thelen muscles over wrap objects), the smooth motion of its OpenSim static
+/// optimisation golden, and its reserve actuators.
+fn arm26() -> (String, String, String) {
+    let golden = "fixtures/golden/static_optimization/arm26";
+    (path("fixtures/models/arm26.osim"), path(&format!("{golden}/arm26_motion.mot")), path(&format!("{golden}/arm26_reserves.xml")))
+}
+
 /// --pia --compliant-tendons on arm26 (Thelen muscles over wrap objects, unfiltered): the
 /// written forces are each muscle's tendon force in static equilibrium at its written
 /// activation — as `analyze --activations` solves them row by row — and they meet inverse
@@ -140,9 +147,8 @@ fn the_physiological_inverse_approach_runs_from_the_command_line() {
 #[test]
 fn compliant_tendons_pull_with_their_equilibrium_forces() {
     let folder = tempfile::tempdir().unwrap();
-    let (model, motion) = (path("fixtures/models/arm26.osim"), path("fixtures/golden/static_optimization/arm26/arm26_motion.mot"));
+    let (model, motion, reserves) = arm26();
     let output = folder.path().join("pia");
-    let reserves = path("fixtures/golden/static_optimization/arm26/arm26_reserves.xml");
     let (code, stdout, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--pia", "sum-of-squares", "--compliant-tendons", "--name", "arm", "-o", s(&output)]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("settled after"), "{stdout}");
@@ -173,8 +179,7 @@ fn compliant_tendons_pull_with_their_equilibrium_forces() {
 #[test]
 fn a_moment_weight_trades_deviations_against_controls() {
     let folder = tempfile::tempdir().unwrap();
-    let (model, motion) = (path("fixtures/models/arm26.osim"), path("fixtures/golden/static_optimization/arm26/arm26_motion.mot"));
-    let reserves = path("fixtures/golden/static_optimization/arm26/arm26_reserves.xml");
+    let (model, motion, reserves) = arm26();
     let weight = 0.5;
     for (label, compliant, tolerance) in [("rigid", None, 1e-6), ("compliant", Some("--compliant-tendons"), 1e-5)] {
         let output = folder.path().join(label);
