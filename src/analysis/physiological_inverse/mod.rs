@@ -11,11 +11,12 @@
 //! variables" of De Groote et al.: the excitation is recovered from a and ȧ afterwards). Muscles
 //! pull with a·F₁, F₁ static optimisation's force at activation 1 with a rigid tendon, or with
 //! the Hill model's static equilibrium force beside their compliant tendons (`contraction.rs`),
-//! linearised at the last solution and solved again until the rows hold for the nonlinear
-//! forces. The criterion is the sum of squared controls over all frames, or (thesis ch. 7) the
-//! largest muscle activation over the motion, with non-muscle actuators at their squared
-//! controls and ties broken by 10⁻³ times the sum of squared activations. Each solve is one
-//! sparse QP (clarabel).
+//! linearised at the last solution and solved again until the linearisation holds at the
+//! solution. The rows hold exactly or, with a moment weight W, as the penalty W·Σ deviation²
+//! (thesis §3.2's bi-objective form). The criterion is the sum of squared controls over all
+//! frames, or (thesis ch. 7) the largest muscle activation over the motion, with non-muscle
+//! actuators at their squared controls and ties broken by 10⁻³ times the sum of squared
+//! activations. Each solve is one sparse QP (clarabel).
 
 mod contraction;
 mod layout;

@@ -11,6 +11,7 @@ use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
+use crate::tuning::functional::root_mean_square;
 use crate::setup::{AnalyzeSetup, StaticOptimizationSetup};
 
 /// What the command line asks for besides the model and the coordinates.
@@ -114,20 +115,25 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
     }
     println!("largest activation {:.4}, Σa² over the motion {:.4}, largest |generalized force − inverse dynamics| {:.2e}", result.max_activation, result.sum_of_squares, result.max_violation);
     if let Some(weight) = settings.moment_weight {
-        println!("skeleton dynamics as a penalty (W = {weight}): RMS generalized force − inverse dynamics per coordinate, where above 10⁻³");
-        for (j, label) in result.deviations.labels().iter().enumerate().skip(1) {
-            let column: Vec<f64> = result.deviations.rows().map(|row| row[j]).collect();
-            let rms = (column.iter().map(|d| d * d).sum::<f64>() / column.len() as f64).sqrt();
-            if rms > 1e-3 {
-                println!("  {label:<28} {rms:>10.4}");
-            }
-        }
+        print_deviations(weight, &result.deviations);
     }
     if settings.contraction == Contraction::CompliantTendon {
         println!("compliant tendons: the linearised Hill model settled after {} re-solves", result.iterations);
     }
     print_model_check(problem.generators, &result.activations, &result.forces);
     Ok(Outcome::Success)
+}
+
+/// The RMS over the motion of each coordinate's generalized force − inverse dynamics the penalty
+/// of weight `weight` left, where above 10⁻³ N·m or N.
+fn print_deviations(weight: f64, deviations: &StorageTable) {
+    println!("skeleton dynamics as a penalty (W = {weight}): RMS generalized force − inverse dynamics per coordinate, where above 10⁻³");
+    for (j, label) in deviations.labels().iter().enumerate().skip(1) {
+        let rms = root_mean_square(deviations.rows().map(|row| row[j]));
+        if rms > 1e-3 {
+            println!("  {label:<28} {rms:>10.4}");
+        }
+    }
 }
 
 /// Activation at or above which a muscle counts as at its limit.
@@ -159,7 +165,7 @@ fn print_model_check(generators: &[Generator], activations: &StorageTable, force
         println!("actuators: RMS and peak |force| (N·m or N)");
         for actuator in actuators {
             let force = column(forces, &actuator.name);
-            let rms = (force.iter().map(|f| f * f).sum::<f64>() / force.len().max(1) as f64).sqrt();
+            let rms = root_mean_square(force.iter().copied());
             println!("  {:<28} {rms:>10.3} {:>10.3}", actuator.name, force.iter().fold(0.0, |m: f64, f| m.max(f.abs())));
         }
     }
