@@ -73,13 +73,18 @@ fn assert_within_activation_dynamics(pia: &PhysiologicalInverseResult) {
 #[test]
 fn compliant_tendons_settle_on_the_hill_models_forces() {
     let walk = walk();
-    let pia = walk.physiological_inverse(&PhysiologicalInverseSettings { contraction: Contraction::CompliantTendon, ..Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0) }).unwrap();
+    let pia = walk.physiological_inverse(&PhysiologicalInverseSettings { contraction: Contraction::CompliantTendon { max_linearisations: MAX_LINEARISATIONS }, ..Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0) }).unwrap();
     assert!((1..MAX_LINEARISATIONS).contains(&pia.iterations), "{} re-solves", pia.iterations);
     assert!(pia.max_violation <= SETTLED_VIOLATION, "generalized forces off inverse dynamics by {:e}", pia.max_violation);
     assert_within_activation_dynamics(&pia);
     let rigid = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0)).unwrap();
     let changed = pia.forces.values().iter().zip(rigid.forces.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(changed > 1.0, "compliant and rigid forces differ by {changed:e} N at most");
+    // Fewer re-solves than it needs: reported as no solution, with how far it got.
+    let short = PhysiologicalInverseSettings { contraction: Contraction::CompliantTendon { max_linearisations: pia.iterations - 1 }, ..Subject01Walk::pia_settings(Criterion::SumOfSquares, 1.0) };
+    let message = walk.physiological_inverse(&short).unwrap_err().to_string();
+    let expected = format!("the physiological inverse problem has no solution (the linearised Hill model has not settled after {} re-solves", pia.iterations - 1);
+    assert!(message.contains(&expected), "{message}");
 }
 
 #[test]

@@ -10,7 +10,7 @@
 
 use std::path::PathBuf;
 
-use osim_tune::analysis::{Contraction, Criterion, PhysiologicalInverseSettings};
+use osim_tune::analysis::{Contraction, Criterion, PhysiologicalInverseSettings, MAX_LINEARISATIONS};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
@@ -193,7 +193,7 @@ fn walk_physiological_inverse(walk: &Subject01Walk) -> Vec<Row> {
         let so = walk.static_optimization(&activations, &golden).map_err(|e| e.to_string())?;
         let free = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::SumOfSquares, 1e-6)).map_err(|e| e.to_string())?;
         let bound = walk.physiological_inverse(&Subject01Walk::pia_settings(Criterion::MinMax, 1.0)).map_err(|e| e.to_string())?;
-        let compliant = PhysiologicalInverseSettings { contraction: Contraction::CompliantTendon, ..Subject01Walk::pia_settings(Criterion::MinMax, 1.0) };
+        let compliant = PhysiologicalInverseSettings { contraction: Contraction::CompliantTendon { max_linearisations: MAX_LINEARISATIONS }, ..Subject01Walk::pia_settings(Criterion::MinMax, 1.0) };
         let compliant = walk.physiological_inverse(&compliant).map_err(|e| e.to_string())?;
         let difference = free.activations.values().iter().zip(so.activations.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         Ok((difference, bound.max_violation, compliant))

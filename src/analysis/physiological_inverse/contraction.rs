@@ -25,8 +25,9 @@ pub enum Contraction {
     /// a·F₁, F₁ static optimisation's force at activation 1: a rigid tendon, the force–velocity
     /// factor at the path's speed, no passive force (OpenSim's `use_muscle_physiology`).
     RigidTendon,
-    /// F(a) of the Hill model in static equilibrium with its compliant tendon (module doc).
-    CompliantTendon,
+    /// F(a) of the Hill model in static equilibrium with its compliant tendon (module doc),
+    /// linearised and solved again at most `max_linearisations` times.
+    CompliantTendon { max_linearisations: usize },
 }
 
 /// Activation step of the central differences for F′(a).
@@ -54,7 +55,7 @@ impl Muscles<'_> {
                 let a = &x[k * n..(k + 1) * n];
                 match contraction {
                     Contraction::RigidTendon => Ok(a.iter().zip(&problem.unit_forces).map(|(c, f)| c * f).collect()),
-                    Contraction::CompliantTendon => (0..n).map(|j| self.force(k, j, a[j])).collect(),
+                    Contraction::CompliantTendon { .. } => (0..n).map(|j| self.force(k, j, a[j])).collect(),
                 }
             })
             .collect()

@@ -49,7 +49,7 @@ type Controls = Result<Vec<f64>, StaticOptimizationError>;
 
 /// Weight of the sum of squared activations that breaks the min–max criterion's ties.
 const TIE_BREAK: f64 = 1e-3;
-/// Re-solves of the linearised Hill model at most.
+/// Re-solves of the linearised Hill model at most, by default.
 pub const MAX_LINEARISATIONS: usize = 30;
 /// The compliant-tendon solution has settled when the Hill model's generalized forces differ from
 /// the linearised rows' by at most this (N·m or N; with exact rows: they meet inverse dynamics to
@@ -130,7 +130,7 @@ pub fn physiological_inverse(
     let muscles = Muscles { generators, problems: &problems, times: &times, bounds: (&lower, &upper), file };
     let iterations = match settings.contraction {
         Contraction::RigidTendon => 0,
-        Contraction::CompliantTendon => settle(&muscles, &solve, &mut x)?,
+        Contraction::CompliantTendon { max_linearisations } => settle(&muscles, &solve, &mut x, max_linearisations)?,
     };
     let forces = muscles.forces(settings.contraction, &x)?;
     layout.result(generators, &deviations(&problems, &forces), &times, &x, &forces, iterations)
@@ -138,22 +138,22 @@ pub fn physiological_inverse(
 
 /// Re-solves the problem on the Hill model linearised at the controls `x` until it settles
 /// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]); returns the re-solves, or a
-/// [`StaticOptimizationError::NoSolution`] after [`MAX_LINEARISATIONS`].
-fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows]) -> Controls, x: &mut Vec<f64>) -> Result<usize, StaticOptimizationError> {
+/// [`StaticOptimizationError::NoSolution`] after `max_linearisations`.
+fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows]) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<usize, StaticOptimizationError> {
     let (generators, frames) = (muscles.generators.len(), muscles.problems.len());
     let (mut mismatch, mut step) = (f64::INFINITY, f64::INFINITY);
-    for iteration in 1..=MAX_LINEARISATIONS {
+    for iteration in 1..=max_linearisations {
         let linear = muscles.linearised_rows(x)?;
         let next = solve(&linear)?;
         step = next[..generators * frames].iter().zip(x.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         *x = next;
-        let forces = muscles.forces(Contraction::CompliantTendon, x)?;
+        let forces = muscles.forces(Contraction::CompliantTendon { max_linearisations }, x)?;
         mismatch = linearisation_error(muscles.problems, &forces, &linear, x, generators);
         if mismatch <= SETTLED_VIOLATION && step <= SETTLED_STEP {
             return Ok(iteration);
         }
     }
-    let status = format!("the linearised Hill model has not settled after {MAX_LINEARISATIONS} re-solves (its generalized forces off the Hill model's by {mismatch:.3e}, last step {step:.3e})");
+    let status = format!("the linearised Hill model has not settled after {max_linearisations} re-solves (its generalized forces off the Hill model's by {mismatch:.3e}, last step {step:.3e})");
     Err(StaticOptimizationError::NoSolution { file: muscles.file.into(), problem: "physiological inverse problem", status })
 }
 

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::analyze_inputs::{lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
 use crate::analysis::{
-    physiological_inverse, static_optimization, Contraction, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
+    physiological_inverse, static_optimization, Contraction, MAX_LINEARISATIONS, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
     StaticOptimizationSettings,
 };
 use crate::cli::{create_output_folders, Failure, Outcome};
@@ -45,7 +45,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let problem = Problem { geometry: &read.geometry, generators: &read.generators, table: &table, coordinates, loads: read.external.as_ref(), inputs: &read.files };
     match request.pia {
         Some(criterion) => {
-            let contraction = if request.compliant_tendons { Contraction::CompliantTendon } else { Contraction::RigidTendon };
+            let contraction = if request.compliant_tendons { Contraction::CompliantTendon { max_linearisations: MAX_LINEARISATIONS } } else { Contraction::RigidTendon };
             let settings = PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale, contraction, moment_weight: request.moment_weight };
             physiological(&problem, request, &name, settings)
         }
@@ -117,7 +117,7 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
     if let Some(weight) = settings.moment_weight {
         print_deviations(weight, &result.deviations);
     }
-    if settings.contraction == Contraction::CompliantTendon {
+    if settings.contraction != Contraction::RigidTendon {
         println!("compliant tendons: the linearised Hill model settled after {} re-solves", result.iterations);
     }
     print_model_check(problem.generators, &result.activations, &result.forces);
