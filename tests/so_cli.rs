@@ -171,6 +171,20 @@ fn compliant_tendons_pull_with_their_equilibrium_forces() {
     assert!(stderr.contains("give --pia"), "{stderr}");
 }
 
+/// arm26 with DeGroote–Fregly muscles by min–max: the weak tie-break lets one activation swing
+/// between two values from one linearisation to the next (undamped: 0.78 ↔ 0.81 for 25 re-solves,
+/// never settling); the proximal damping settles it, meeting inverse dynamics.
+#[test]
+fn a_swinging_compliant_min_max_is_damped_until_it_settles() {
+    let folder = tempfile::tempdir().unwrap();
+    let (_, motion, reserves) = arm26();
+    let model = path("fixtures/models/arm26_degroote.osim");
+    let (code, stdout, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--pia", "min-max", "--compliant-tendons", "-o", s(folder.path())]);
+    assert_eq!(code, 0, "{stderr}");
+    let violation: f64 = stdout.split("inverse dynamics| ").nth(1).and_then(|t| t.split_whitespace().next()).unwrap().parse().unwrap();
+    assert!(stdout.contains("settled after") && violation <= 1e-6, "{stdout}");
+}
+
 /// --moment-weight W: skeleton dynamics as a penalty, min Σa² + W Σ d² with d = generalized force
 /// − inverse dynamics. arm26's reserves are unbounded coordinate actuators of optimal force 1, so
 /// at the optimum each one's control is a = −W·d on its coordinate (the gradient 2a + 2W·d = 0),

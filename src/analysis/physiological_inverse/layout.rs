@@ -46,8 +46,9 @@ impl Layout {
         self.generators * self.frames
     }
 
-    /// The QP over `rows` (one per frame at `times`, s), each control within [`lower`, `upper`].
-    pub fn problem(&self, generators: &[Generator], rows: &[FrameRows], times: &[f64], lower: &[f64], upper: &[f64]) -> SparseQp {
+    /// The QP over `rows` (one per frame at `times`, s), each control within [`lower`, `upper`];
+    /// with an `anchor` (controls, weight ρ) the proximal term ρ‖a − anchor‖² joins the criterion.
+    pub fn problem(&self, generators: &[Generator], rows: &[FrameRows], times: &[f64], [lower, upper]: [&[f64]; 2], anchor: Option<(&[f64], f64)>) -> SparseQp {
         let scale = self.scale;
         let controls = self.controls();
         let deviations = usize::from(self.moment_weight.is_some()) * rows.iter().map(|r| r.rhs.len()).sum::<usize>();
@@ -57,6 +58,12 @@ impl Layout {
         let mut deviation = first_deviation..n;
         if let Some(weight) = self.moment_weight {
             qp.hessian[first_deviation..].fill(2.0 * weight);
+        }
+        if let Some((anchor, weight)) = anchor {
+            for (i, &a) in anchor[..controls].iter().enumerate() {
+                qp.hessian[i] += 2.0 * weight;
+                qp.linear[i] -= 2.0 * weight * a;
+            }
         }
         for (k, frame) in rows.iter().enumerate() {
             for j in 0..self.generators {

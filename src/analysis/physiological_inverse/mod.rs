@@ -56,6 +56,15 @@ pub const MAX_LINEARISATIONS: usize = 30;
 /// this) and no control moved by more than [`SETTLED_STEP`] in the last re-solve.
 pub const SETTLED_VIOLATION: f64 = 1e-6;
 pub const SETTLED_STEP: f64 = 1e-5;
+/// Where the re-solves stop converging — a step larger than [`STALLED_STEP_RATIO`] times the last
+/// (seen: arm26 with DeGroote muscles by min–max, whose weak tie-break lets one activation swing
+/// between two values) — the proximal term ρ‖a − a₀‖² around the controls linearised at joins
+/// the criterion, ρ starting at [`PROXIMAL_WEIGHT`] and doubling at each such step. It damps
+/// the swing and vanishes as the controls settle. It is not used from the start: on the walk
+/// it led min–max to another, worse solution of the nonconvex problem (largest activation 1
+/// instead of 0.76).
+const PROXIMAL_WEIGHT: f64 = 0.01;
+const STALLED_STEP_RATIO: f64 = 0.9;
 
 /// How the analysis runs.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -117,8 +126,8 @@ pub fn physiological_inverse(
     let (lower, upper) = frames.bounds();
     let row_labels = frames.tracked().iter().map(|&c| inverse_dynamics::label(&geometry.multibody, c)).collect();
     let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion, scale: settings.time_constant_scale, moment_weight: settings.moment_weight, row_labels };
-    let solve = |frame_rows: &[FrameRows]| -> Controls {
-        let qp = layout.problem(generators, frame_rows, &times, &lower, &upper);
+    let solve = |frame_rows: &[FrameRows], anchor: Option<(&[f64], f64)>| -> Controls {
+        let qp = layout.problem(generators, frame_rows, &times, [&lower, &upper], anchor);
         let no_solution = |status: String| StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status };
         let solution = qp.solve(&QpSettings { tolerance: 1e-9, max_iterations: 400, ..QpSettings::default() }).map_err(|e| no_solution(e.to_string()))?;
         if !solution.status.is_solved() {
@@ -126,7 +135,7 @@ pub fn physiological_inverse(
         }
         Ok(solution.x)
     };
-    let mut x = solve(&problems.iter().map(FrameRows::rigid).collect::<Vec<_>>())?;
+    let mut x = solve(&problems.iter().map(FrameRows::rigid).collect::<Vec<_>>(), None)?;
     let muscles = Muscles { generators, problems: &problems, times: &times, bounds: (&lower, &upper), file };
     let iterations = match settings.contraction {
         Contraction::RigidTendon => 0,
@@ -137,15 +146,20 @@ pub fn physiological_inverse(
 }
 
 /// Re-solves the problem on the Hill model linearised at the controls `x` until it settles
-/// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]); returns the re-solves, or a
+/// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]), damped where it stalls ([`PROXIMAL_WEIGHT`]);
+/// returns the re-solves, or a
 /// [`StaticOptimizationError::NoSolution`] after `max_linearisations`.
-fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows]) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<usize, StaticOptimizationError> {
+fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows], Option<(&[f64], f64)>) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<usize, StaticOptimizationError> {
     let (generators, frames) = (muscles.generators.len(), muscles.problems.len());
-    let (mut mismatch, mut step) = (f64::INFINITY, f64::INFINITY);
+    let (mut mismatch, mut step, mut proximal) = (f64::INFINITY, f64::INFINITY, 0.0);
     for iteration in 1..=max_linearisations {
         let linear = muscles.linearised_rows(x)?;
-        let next = solve(&linear)?;
+        let next = solve(&linear, (proximal > 0.0).then_some((x.as_slice(), proximal)))?;
+        let last = step;
         step = next[..generators * frames].iter().zip(x.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        if step > STALLED_STEP_RATIO * last {
+            proximal = (2.0 * proximal).max(PROXIMAL_WEIGHT);
+        }
         *x = next;
         let forces = muscles.forces(Contraction::CompliantTendon { max_linearisations }, x)?;
         mismatch = linearisation_error(muscles.problems, &forces, &linear, x, generators);
