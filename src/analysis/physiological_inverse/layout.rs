@@ -22,6 +22,9 @@ impl FrameRows {
     }
 }
 
+/// The controls a proximal term ρ‖a − anchor‖² pulls towards, and ρ; `None`: no such term.
+pub(super) type Anchor<'a> = Option<(&'a [f64], f64)>;
+
 /// Where each control sits in the QP's variables: frame-major, then s for min–max, then (with
 /// a moment weight W) each frame's row deviations e = rhs − rows·a, frame-major; `scale`
 /// multiplies every muscle's time constants.
@@ -48,7 +51,7 @@ impl Layout {
 
     /// The QP over `rows` (one per frame at `times`, s), each control within [`lower`, `upper`];
     /// with an `anchor` (controls, weight ρ) the proximal term ρ‖a − anchor‖² joins the criterion.
-    pub fn problem(&self, generators: &[Generator], rows: &[FrameRows], times: &[f64], [lower, upper]: [&[f64]; 2], anchor: Option<(&[f64], f64)>) -> SparseQp {
+    pub fn problem(&self, generators: &[Generator], rows: &[FrameRows], times: &[f64], [lower, upper]: [&[f64]; 2], anchor: Anchor) -> SparseQp {
         let scale = self.scale;
         let controls = self.controls();
         let deviations = usize::from(self.moment_weight.is_some()) * rows.iter().map(|r| r.rhs.len()).sum::<usize>();

@@ -33,7 +33,7 @@ use crate::io::table::StorageTable;
 use crate::mechanics::{MotionState, MuscleGeometry};
 use crate::solvers::qp::QpSettings;
 use contraction::Muscles;
-use layout::{FrameRows, Layout};
+use layout::{Anchor, FrameRows, Layout};
 
 /// What the optimisation minimises over the motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -126,7 +126,7 @@ pub fn physiological_inverse(
     let (lower, upper) = frames.bounds();
     let row_labels = frames.tracked().iter().map(|&c| inverse_dynamics::label(&geometry.multibody, c)).collect();
     let layout = Layout { generators: generators.len(), frames: rows.len(), criterion: settings.criterion, scale: settings.time_constant_scale, moment_weight: settings.moment_weight, row_labels };
-    let solve = |frame_rows: &[FrameRows], anchor: Option<(&[f64], f64)>| -> Controls {
+    let solve = |frame_rows: &[FrameRows], anchor: Anchor| -> Controls {
         let qp = layout.problem(generators, frame_rows, &times, [&lower, &upper], anchor);
         let no_solution = |status: String| StaticOptimizationError::NoSolution { file: file.into(), problem: "physiological inverse problem", status };
         let solution = qp.solve(&QpSettings { tolerance: 1e-9, max_iterations: 400, ..QpSettings::default() }).map_err(|e| no_solution(e.to_string()))?;
@@ -149,7 +149,7 @@ pub fn physiological_inverse(
 /// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]), damped where it stalls ([`PROXIMAL_WEIGHT`]);
 /// returns the re-solves, or a
 /// [`StaticOptimizationError::NoSolution`] after `max_linearisations`.
-fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows], Option<(&[f64], f64)>) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<usize, StaticOptimizationError> {
+fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows], Anchor) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<usize, StaticOptimizationError> {
     let (generators, frames) = (muscles.generators.len(), muscles.problems.len());
     let (mut mismatch, mut step, mut proximal) = (f64::INFINITY, f64::INFINITY, 0.0);
     for iteration in 1..=max_linearisations {
