@@ -185,6 +185,36 @@ fn a_swinging_compliant_min_max_is_damped_until_it_settles() {
     assert!(stdout.contains("settled after") && violation <= 1e-6, "{stdout}");
 }
 
+/// The Thelen-muscle walk (0.6–0.9 s): with rigid tendons and force–velocity the muscles meet
+/// inverse dynamics; in static equilibrium beside compliant tendons (no fiber velocity) they
+/// cannot — exit 1, nothing written, and the hint to the penalty form — which then shows the
+/// left knee falling short.
+#[test]
+fn compliant_tendons_too_weak_for_the_motion_exit_1_and_the_penalty_shows_where() {
+    let folder = tempfile::tempdir().unwrap();
+    let model = path("fixtures/subject01/OutputReference/subject01_simbody.osim");
+    let output = folder.path().join("pia");
+    let common = [
+        "so", &model, &path(IK),
+        "--actuators", &path("fixtures/subject01/gait2392_SO_Residual_Actuators.xml"),
+        "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"),
+        "--time", "0.6", "0.9", "--lowpass", "6", "--pia", "sum-of-squares", "--name", "walk", "-o", s(&output),
+    ];
+    let (code, _, stderr) = osim_tune(&common);
+    assert_eq!(code, 0, "rigid tendons: {stderr}");
+    std::fs::remove_dir_all(&output).unwrap();
+    let (code, _, stderr) = osim_tune(&[&common[..], &["--compliant-tendons"]].concat());
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("no solution") && stderr.contains("hint: --moment-weight"), "{stderr}");
+    assert!(!output.exists());
+    let (code, _, stderr) = osim_tune(&[&common[..], &["--compliant-tendons", "--moment-weight", "1"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let deviations = StorageTable::read(&output.join("walk_PhysiologicalInverse_deviation.sto")).unwrap();
+    let j = deviations.column_index("knee_angle_l_moment").unwrap();
+    let largest = deviations.rows().map(|row| row[j].abs()).fold(0.0, f64::max);
+    assert!(largest > 5.0, "the left knee falls short by {largest} N·m at most");
+}
+
 /// --moment-weight W: skeleton dynamics as a penalty, min Σa² + W Σ d² with d = generalized force
 /// − inverse dynamics. arm26's reserves are unbounded coordinate actuators of optimal force 1, so
 /// at the optimum each one's control is a = −W·d on its coordinate (the gradient 2a + 2W·d = 0),
@@ -229,7 +259,7 @@ fn an_unsolvable_physiological_inverse_problem_exits_1_and_writes_nothing() {
     let arguments = ["so", &path(MODEL), &path(IK), "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"), "--time", "0.5", "0.7", "--pia", "sum-of-squares", "-o", s(&output)];
     let (code, _, stderr) = osim_tune(&arguments);
     assert_eq!(code, 1, "{stderr}");
-    assert!(stderr.contains("physiological inverse problem has no solution"), "{stderr}");
+    assert!(stderr.contains("physiological inverse problem has no solution") && stderr.contains("hint: --moment-weight"), "{stderr}");
     assert!(!output.exists());
     // As a penalty, skeleton dynamics is met where the muscles can meet it (the coordinates
     // filtered as OpenSim's setups do): the pelvis rows keep what no muscle can hold.

@@ -101,6 +101,9 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
         Ok(result) => result,
         Err(error @ StaticOptimizationError::NoSolution { .. }) => {
             eprintln!("error: {error}; no output written");
+            if settings.moment_weight.is_none() {
+                eprintln!("hint: --moment-weight W meets inverse dynamics as a penalty instead, and its _deviation.sto shows where the muscles fall short");
+            }
             return Ok(Outcome::NotConverged);
         }
         Err(error) => return Err(error.into()),
