@@ -88,5 +88,4 @@ impl SampledMotion {
         self.times = self.times[rows].to_vec();
         Ok(self)
     }
-
 }

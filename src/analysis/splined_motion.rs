@@ -52,7 +52,6 @@ impl SplinedMotion {
         &self.file
     }
 
-
     /// The frames within `range` (s) with the splines' states.
     pub fn sample(&self, multibody: &Multibody, range: [f64; 2]) -> Result<SampledMotion, SplinedMotionError> {
         let times = self.times[frames_in_range(&self.file, &self.times, range)?].to_vec();

@@ -149,6 +149,23 @@ fn opensim_seconds_per_pose(script: &str, pairs: bool) -> Option<f64> {
     stdout.lines().find_map(|line| line.strip_prefix("seconds_per_pose=")).and_then(|v| v.trim().parse().ok())
 }
 
+/// The median of `samples`.
+pub fn median(mut samples: Vec<f64>) -> f64 {
+    samples.sort_by(f64::total_cmp);
+    samples[samples.len() / 2]
+}
+
+/// The median wall time (s) of `repeats` runs of `run`, or its first error.
+pub fn median_seconds<E>(repeats: usize, mut run: impl FnMut() -> Result<(), E>) -> Result<f64, E> {
+    let mut seconds = Vec::with_capacity(repeats);
+    for _ in 0..repeats {
+        let start = std::time::Instant::now();
+        run()?;
+        seconds.push(start.elapsed().as_secs_f64());
+    }
+    Ok(median(seconds))
+}
+
 /// Prints VmHWM: over `what` when the mark was `reset` before it, else the process's.
 pub fn print_peak_resident(reset: bool, what: &str) {
     let over = if reset { what } else { "the process (the mark could not be reset)" };

@@ -1,7 +1,8 @@
 //! `cargo xtask bench`, functional scaling (issue 6) on train01 set5 (8 muscles, five angles per
-//! direction): one fit (Phase I, hot start, Phase II, rest-curve fit), the same with the report's analyses, and
-//! the thesis' 81-guess study (the guesses spread over the machine's cores); goals < 1 s and < 60 s. Memory: the peak resident set (VmHWM)
-//! over these runs, the mark reset before them (else the process's peak so far).
+//! direction): one fit (Phase I, hot start, Phase II, rest-curve fit), the same with the
+//! report's analyses, and the thesis' 81-guess study (the guesses spread over the machine's
+//! cores); goals < 1 s and < 60 s. Memory: the peak resident set (VmHWM) over these runs, the
+//! mark reset before them (else the process's peak so far).
 
 use std::time::Instant;
 
@@ -12,7 +13,7 @@ use osim_tune::model::ModelSpec;
 use osim_tune::tuning::functional::{estimate, fit, DynamometryData, FitSettings, KneeMomentModel, SetSelection, TrialOptions};
 use osim_tune::validation::functional::thesis_initial_guesses;
 
-use crate::bench::{print_peak_resident, reset_peak_resident};
+use crate::bench::{median_seconds, print_peak_resident, reset_peak_resident};
 use crate::root;
 
 const REPEATS: usize = 5;
@@ -25,8 +26,8 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     let settings = FitSettings::default();
     let (initial, measured) = (knee.nominal_parameters(), data.measured_moments());
     let reset = reset_peak_resident();
-    let one = median(|| estimate(&spec, &knee, &data, &initial, &measured, &settings, &mut |_| {}).map(|_| ()))?;
-    let reported = median(|| fit(&spec, &knee, &data, &settings, &mut |_| {}).map(|_| ()))?;
+    let one = median_seconds(REPEATS, || estimate(&spec, &knee, &data, &initial, &measured, &settings, &mut |_| {}).map(|_| ()))?;
+    let reported = median_seconds(REPEATS, || fit(&spec, &knee, &data, &settings, &mut |_| {}).map(|_| ()))?;
     let guesses = thesis_initial_guesses(&initial, &data, 6);
     let start = Instant::now();
     guesses.par_iter().try_for_each(|guess| estimate(&spec, &knee, &data, guess, &measured, &settings, &mut |_| {}).map(|_| ()))?;
@@ -37,17 +38,6 @@ pub fn run() -> Result<(), Box<dyn std::error::Error>> {
     println!("  {} initial guesses ({} threads)             {:>8.1} s   (goal < 60 s: {})", guesses.len(), rayon::current_num_threads(), study, verdict(study < 60.0));
     print_peak_resident(reset, "these runs");
     Ok(())
-}
-
-fn median(mut run: impl FnMut() -> Result<(), osim_tune::tuning::functional::FunctionalError>) -> Result<f64, Box<dyn std::error::Error>> {
-    let mut samples = Vec::with_capacity(REPEATS);
-    for _ in 0..REPEATS {
-        let start = Instant::now();
-        run()?;
-        samples.push(start.elapsed().as_secs_f64());
-    }
-    samples.sort_by(f64::total_cmp);
-    Ok(samples[REPEATS / 2])
 }
 
 fn verdict(met: bool) -> &'static str {

@@ -20,7 +20,7 @@ use osim_tune::solvers::kalman_smoother::mean_interval;
 use osim_tune::solvers::{IkFrame, IkSettings, IkSolution, InverseKinematics, KalmanIkSettings};
 use osim_tune::validation::ik::{read_setup_tasks, IkCase};
 
-use crate::bench::{print_peak_resident, reset_peak_resident};
+use crate::bench::{median, median_seconds, print_peak_resident, reset_peak_resident};
 use crate::root;
 
 /// OpenSim must take at least this many times as long as osim-tune.
@@ -50,13 +50,8 @@ pub fn kalman() -> Result<(), Box<dyn std::error::Error>> {
     let ik = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default())?;
     let solution = ik.solve(time_range)?;
     let settings = KalmanIkSettings::with_cutoff(6.0);
-    let mut seconds = Vec::new();
-    for _ in 0..5 {
-        let start = Instant::now();
-        std::hint::black_box(ik.smooth(&solution, &settings)?);
-        seconds.push(start.elapsed().as_secs_f64());
-    }
-    println!("  {} frames: osim-tune {:>10.3} s", solution.frames.len(), median(seconds));
+    let seconds = median_seconds(5, || ik.smooth(&solution, &settings).map(|smoothed| drop(std::hint::black_box(smoothed))))?;
+    println!("  {} frames: osim-tune {:>10.3} s", solution.frames.len(), seconds);
     let long = repeated(&solution, 10);
     let reset = reset_peak_resident();
     let start = Instant::now();
@@ -109,11 +104,6 @@ fn ours(case: &IkCase) -> Result<(f64, f64, usize), Box<dyn std::error::Error>> 
         per_frame.push(solve / frames as f64);
     }
     Ok((median(whole), median(per_frame), frames))
-}
-
-fn median(mut samples: Vec<f64>) -> f64 {
-    samples.sort_by(f64::total_cmp);
-    samples[samples.len() / 2]
 }
 
 /// (whole run s, solve s per frame) from `oracle/bench_ik.py`, if OpenSim can be imported.

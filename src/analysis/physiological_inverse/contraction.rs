@@ -61,10 +61,11 @@ impl Muscles<'_> {
             .collect()
     }
 
-    /// Each frame's rows with the muscle forces linearised at the controls `x` (frame-major): the
-    /// columns F′(a₀)·R, the right-hand side less R·(F(a₀) − F′(a₀)·a₀), R the generalized forces
-    /// per unit force. Actuators stay linear.
-    pub fn linearised_rows(&self, x: &[f64]) -> Result<Vec<FrameRows>, StaticOptimizationError> {
+    /// Each frame's rows with the muscle forces linearised at the controls `x` (frame-major),
+    /// whose forces `forces` holds ([`Muscles::forces`]): the columns F′(a₀)·R, the right-hand
+    /// side less R·(F(a₀) − F′(a₀)·a₀), R the generalized forces per unit force. Actuators stay
+    /// linear.
+    pub fn linearised_rows(&self, x: &[f64], forces: &[Vec<f64>]) -> Result<Vec<FrameRows>, StaticOptimizationError> {
         let n = self.generators.len();
         let mut all = Vec::with_capacity(self.problems.len());
         for (k, problem) in self.problems.iter().enumerate() {
@@ -76,7 +77,7 @@ impl Muscles<'_> {
                         let [lowest, highest] = self.range(j);
                         let (low, high) = ((a - ACTIVATION_STEP).max(lowest), (a + ACTIVATION_STEP).min(highest));
                         let slope = if high > low { (self.force(k, j, high)? - self.force(k, j, low)?) / (high - low) } else { 0.0 };
-                        (self.force(k, j, a)?, slope)
+                        (forces[k][j], slope)
                     }
                     None => (a * problem.unit_forces[j], problem.unit_forces[j]),
                 };

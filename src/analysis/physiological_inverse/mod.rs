@@ -137,23 +137,24 @@ pub fn physiological_inverse(
     };
     let mut x = solve(&problems.iter().map(FrameRows::rigid).collect::<Vec<_>>(), None)?;
     let muscles = Muscles { generators, problems: &problems, times: &times, bounds: (&lower, &upper), file };
-    let iterations = match settings.contraction {
-        Contraction::RigidTendon => 0,
+    let (iterations, forces) = match settings.contraction {
+        Contraction::RigidTendon => (0, muscles.forces(settings.contraction, &x)?),
         Contraction::CompliantTendon { max_linearisations } => settle(&muscles, &solve, &mut x, max_linearisations)?,
     };
-    let forces = muscles.forces(settings.contraction, &x)?;
     layout.result(generators, &deviations(&problems, &forces), &times, &x, &forces, iterations)
 }
 
 /// Re-solves the problem on the Hill model linearised at the controls `x` until it settles
 /// ([`SETTLED_VIOLATION`], [`SETTLED_STEP`]), damped where it stalls ([`PROXIMAL_WEIGHT`]);
-/// returns the re-solves, or a
+/// returns the re-solves and the forces at the settled controls, or a
 /// [`StaticOptimizationError::NoSolution`] after `max_linearisations`.
-fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows], Anchor) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<usize, StaticOptimizationError> {
+fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows], Anchor) -> Controls, x: &mut Vec<f64>, max_linearisations: usize) -> Result<(usize, Vec<Vec<f64>>), StaticOptimizationError> {
     let (generators, frames) = (muscles.generators.len(), muscles.problems.len());
+    let contraction = Contraction::CompliantTendon { max_linearisations };
+    let mut forces = muscles.forces(contraction, x)?;
     let (mut mismatch, mut step, mut proximal) = (f64::INFINITY, f64::INFINITY, 0.0);
     for iteration in 1..=max_linearisations {
-        let linear = muscles.linearised_rows(x)?;
+        let linear = muscles.linearised_rows(x, &forces)?;
         let next = solve(&linear, (proximal > 0.0).then_some((x.as_slice(), proximal)))?;
         let last = step;
         step = next[..generators * frames].iter().zip(x.iter()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -161,10 +162,10 @@ fn settle(muscles: &Muscles, solve: &dyn Fn(&[FrameRows], Anchor) -> Controls, x
             proximal = (2.0 * proximal).max(PROXIMAL_WEIGHT);
         }
         *x = next;
-        let forces = muscles.forces(Contraction::CompliantTendon { max_linearisations }, x)?;
+        forces = muscles.forces(contraction, x)?;
         mismatch = linearisation_error(muscles.problems, &forces, &linear, x, generators);
         if mismatch <= SETTLED_VIOLATION && step <= SETTLED_STEP {
-            return Ok(iteration);
+            return Ok((iteration, forces));
         }
     }
     let status = format!("the linearised Hill model has not settled after {max_linearisations} re-solves (its generalized forces off the Hill model's by {mismatch:.3e}, last step {step:.3e})");

@@ -36,8 +36,8 @@
 //! drift 10⁻⁷–10⁻⁶ N·m outside two ∞-norm rows, which a tolerance of 10⁻⁹ counted as
 //! infeasible to the iteration limit. Tried and not adopted: the exact Lagrangian Hessian
 //! (finite differences, 2×2 per muscle) is indefinite (eigenvalues −109 … 1.9·10⁶), so the shift
-//! that makes it positive definite turns the steps gradient-like; flipping or clipping each block's negative eigenvalues ends most
-//! crawls within 40–60 iterations but stops a noise-free fit at 0.2 N·m and makes two other
+//! that makes it positive definite turns the steps gradient-like; flipping or clipping each
+//! block's negative eigenvalues ends most crawls within 40–60 iterations but stops a noise-free fit at 0.2 N·m and makes two other
 //! runs fail; scaling the variables to their bounds fails more often. Convexifying the exact
 //! Hessian by the augmented Lagrangian instead (W + σ Σ aᵢaᵢᵀ over the rows the last QP held
 //! active) fails as well: 14 of 16 runs of a sweep ended at `MaxIterations` (BFGS: 2), and with
