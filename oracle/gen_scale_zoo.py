@@ -1,24 +1,26 @@
 """OpenSim 4.6's ScaleTool (manual scale factors; no MarkerPlacer element, since a
 MarkerPlacer with apply false makes ScaleTool.run() return false) on the example models
 leg6dof9musc, joint_zoo, Rajagopal2016 (42 muscles wrapping over WrapCylinders), arm26
-(TRIlong and BIClong also over WrapEllipsoids) and wrap_zoo (spheres, ellipsoids, tori): writes
-fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
+(TRIlong and BIClong also over WrapEllipsoids), wrap_zoo (spheres, ellipsoids, tori) and
+ellipsoid_joints (a ScapulothoracicJoint's thoracic radii and winging origin, an EllipsoidJoint's
+radii): writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
 
 Each body gets anisotropic factors in 0.90-1.12 that differ from body to body, drawn from a
 seeded generator; the subject mass is 1.15 x the model's, with the mass distribution preserved for
 leg6dof9musc, Rajagopal2016, arm26 and wrap_zoo and the masses scaled with the volumes for
 joint_zoo.
-Run from the repository root: python3 oracle/gen_scale_zoo.py
+Run from the repository root: python3 oracle/gen_scale_zoo.py [model ...] (only the named models)
 """
 import os
 import random
 import shutil
+import sys
 import tempfile
 from pathlib import Path
 
 import opensim as osim
 
-MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo"]
+MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints"]
 OUT = Path("fixtures/golden/scale_zoo")
 
 
@@ -73,7 +75,7 @@ def run_scale_tool(setup_text, inputs, outputs):
 
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
-    for name in MODELS:
+    for name in sys.argv[1:] or MODELS:
         source = Path("fixtures/models") / f"{name}.osim"
         model = osim.Model(str(source))
         model.initSystem()

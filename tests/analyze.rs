@@ -171,3 +171,34 @@ fn bad_activations_are_errors_and_write_nothing() {
     assert!(stderr.contains("subject01_walk1_ik.mot") && stderr.contains("no activation column for muscles glut_med1_r"), "{stderr}");
     assert!(!dir.exists(), "nothing may be written on error");
 }
+
+/// A rigid tendon may have `tendon_slack_length` 0 (OpenSim's ThoracoscapularShoulderModel has
+/// such muscles): the fiber then spans the whole path, fiber length × cos(pennation) = path
+/// length, with a finite force. A compliant tendon's L_ts 0 is refused, naming the property.
+#[test]
+fn a_rigid_tendon_may_have_no_slack_length() {
+    let out = tempfile::tempdir().unwrap();
+    let motion = out.path().join("default.mot");
+    std::fs::write(&motion, StorageTable::new("default", vec!["time".into()], vec![0.0, 1.0]).unwrap().to_text()).unwrap();
+    let edited = |muscle: &str| {
+        let model = out.path().join(format!("{muscle}.osim"));
+        let assignment = format!("/forceset/{muscle}/tendon_slack_length=0");
+        let (code, _, stderr) = common::osim_tune(&["set", &path("fixtures/models/Rajagopal2016.osim"), "-o", &model.to_string_lossy(), &assignment]);
+        assert_eq!(code, 0, "{stderr}");
+        model.to_string_lossy().into_owned()
+    };
+    let dir = out.path().join("rigid");
+    let (code, _, stderr) = common::osim_tune(&["analyze", &edited("addbrev_r"), "--motion", &motion.to_string_lossy(), "--activation", "0.5", "-o", &dir.to_string_lossy()]);
+    assert_eq!(code, 0, "{stderr}");
+    let value = |table: &str| {
+        let table = StorageTable::read(&dir.join(table)).unwrap();
+        table.value(0, table.column_index("addbrev_r").unwrap()).unwrap()
+    };
+    let (path_length, fiber, pennation) = (value("Length.sto"), value("FiberLength.sto"), value("PennationAngle.sto"));
+    assert!((fiber * pennation.cos() - path_length).abs() < 1e-15, "{fiber} m × cos {pennation} vs {path_length} m");
+    assert_eq!(value("TendonLength.sto"), 0.0);
+    assert!(value("TendonForce.sto").is_finite() && value("TendonForce.sto") > 0.0);
+    let (code, _, stderr) = common::osim_tune(&["analyze", &edited("bflh_r"), "--motion", &motion.to_string_lossy(), "-o", &out.path().join("compliant").to_string_lossy()]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("bflh_r") && stderr.contains("tendon_slack_length") && stderr.contains("compliant tendon"), "{stderr}");
+}

@@ -137,8 +137,8 @@ fn models_the_engine_cannot_compute_are_refused_naming_file_and_component() {
     let gait = "models/gait2354_simbody.osim";
     let message = compile_error(gait, &[("<axis>0 1 0</axis>", "<axis>0 0 2</axis>")]);
     assert!(message.contains("gait2354_simbody.osim") && message.contains("ground_pelvis") && message.contains("collinear"), "{message}");
-    let message = compile_error(gait, &[("<CustomJoint name=\"ground_pelvis\">", "<ScapulothoracicJoint name=\"ground_pelvis\">"), ("</CustomJoint>", "</ScapulothoracicJoint>")]);
-    assert!(message.contains("ground_pelvis") && message.contains("ScapulothoracicJoint is not supported"), "{message}");
+    let message = compile_error(gait, &[("<CustomJoint name=\"ground_pelvis\">", "<ConstantCurvatureJoint name=\"ground_pelvis\">"), ("</CustomJoint>", "</ConstantCurvatureJoint>")]);
+    assert!(message.contains("ground_pelvis") && message.contains("ConstantCurvatureJoint is not supported"), "{message}");
     let message = compile_error("fixtures/models/arm26.osim", &[("<method>hybrid</method>", "<method>spiral</method>")]);
     assert!(message.contains("arm26.osim") && message.contains("TRIlong") && message.contains("\"spiral\" is not one of OpenSim's"), "{message}");
     let legacy = "fixtures/legacy/pendulum_leg_v30000.osim";

@@ -227,3 +227,45 @@ fn markers_forces_and_constraints_among_the_components_are_read() {
         assert!((tip[axis] - expected.as_f64().unwrap()).abs() < 1e-15, "{tip:?}");
     }
 }
+
+/// A 3.x model computes as OpenSim 4.6 computes it after its conversion
+/// (`golden/legacy_conversion.json`, `oracle/gen_legacy_conversion.py`): the knee's offsets and
+/// the thigh's inertia at six significant digits (the mass center as written), the inertia
+/// element left out at 1, and `Rotational` read in any case; then the marker, the vasti's length
+/// and inverse dynamics at three poses.
+#[test]
+fn a_3x_model_computes_with_opensims_converted_values() {
+    let spec = read("fixtures/legacy/pendulum_leg_v30000_digits.osim");
+    let golden: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(common::fixture("golden/legacy_conversion.json")).unwrap()).unwrap();
+    let numbers = |value: &serde_json::Value| value.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();
+    let knee = spec.joints.iter().find(|j| j.name == "knee").unwrap();
+    for (chain, side) in [(&knee.parent, "parent"), (&knee.child, "child")] {
+        assert_eq!(chain.offsets[0].translation.to_vec(), numbers(&golden["knee_frames"][side]["translation"]), "{side}");
+        assert_eq!(chain.offsets[0].orientation.to_vec(), numbers(&golden["knee_frames"][side]["orientation"]), "{side}");
+    }
+    for body in &spec.bodies {
+        assert_eq!(body.inertia.to_vec(), numbers(&golden["inertia"][&body.name]), "{}", body.name);
+    }
+    assert_eq!(spec.bodies[1].mass_center, [0.0, -0.1801234567, 0.0]);
+    assert_eq!(knee.coordinates[0].motion_type, MotionType::Rotational);
+    let geometry = osim_tune::mechanics::MuscleGeometry::new(&spec).unwrap();
+    let multibody = &geometry.multibody;
+    let names: Vec<&str> = multibody.coordinates.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, golden["coordinates"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect::<Vec<_>>());
+    let (u, udot) = (numbers(&golden["speeds"]), numbers(&golden["accelerations"]));
+    for pose in golden["poses"].as_array().unwrap() {
+        let q = numbers(&pose["q"]);
+        let mut kinematics = multibody.kinematics();
+        multibody.realize(&q, &mut kinematics);
+        let marker = kinematics.marker_location(multibody, 0);
+        for (axis, expected) in numbers(&pose["marker_in_ground"]).into_iter().enumerate() {
+            assert!((marker[axis] - expected).abs() < 1e-15, "{q:?}: marker {marker:?}");
+        }
+        let length = geometry.paths[0].length(&kinematics, &q, &mut Default::default());
+        assert!((length - pose["vasti_length"].as_f64().unwrap()).abs() < 1e-15, "{q:?}: vasti {length}");
+        let forces = multibody.inverse_dynamics(&osim_tune::mechanics::MotionState { q: &q, u: &u, udot: &udot }, &[]);
+        for (ours, expected) in forces.iter().zip(numbers(&pose["generalized_forces"])) {
+            assert!((ours - expected).abs() < 1e-12, "{q:?}: {forces:?}");
+        }
+    }
+}

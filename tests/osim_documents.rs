@@ -8,7 +8,7 @@ use osim_tune::review::{diff, flatten, Change, FlatEntry};
 #[test]
 fn every_bundled_document_round_trips_byte_identically() {
     for path in common::opensim_documents() {
-        let original = std::fs::read_to_string(&path).unwrap();
+        let original = std::fs::read(&path).unwrap();
         let document = OsimDocument::read(&path).unwrap_or_else(|e| panic!("{e}"));
         assert!(!document.xml.is_modified());
         assert!(document.xml.serialize() == original, "{} changed on round trip", path.display());
@@ -31,7 +31,7 @@ fn one_edit_changes_exactly_one_line() {
     let original = std::fs::read_to_string(&path).unwrap();
     let mut document = OsimDocument::read(&path).unwrap();
     document.set_property("/forceset/vas_lat_r/tendon_slack_length", "0.17").unwrap();
-    let edited = document.xml.serialize();
+    let edited = String::from_utf8(document.xml.serialize()).unwrap();
     let changed: Vec<(&str, &str)> = original.lines().zip(edited.lines()).filter(|(a, b)| a != b).collect();
     assert_eq!(original.lines().count(), edited.lines().count());
     assert_eq!(changed.len(), 1, "{changed:?}");
@@ -113,7 +113,7 @@ fn diff_ignores_number_spelling_whitespace_and_comments() {
     let path = common::root().join("models/gait2392_millard2012muscle.osim");
     let original = OsimDocument::read(&path).unwrap();
     let mut respelled_text = String::new();
-    for line in original.xml.serialize().lines() {
+    for line in String::from_utf8(original.xml.serialize()).unwrap().lines() {
         if line.trim_start().starts_with("<!--") {
             continue; // drop comment lines
         }
@@ -140,7 +140,7 @@ fn diff_ignores_number_spelling_whitespace_and_comments() {
 #[test]
 fn diff_reports_added_and_removed_components_once() {
     let a = OsimDocument::read(&common::fixture("models/leg6dof9musc.osim")).unwrap();
-    let text = a.xml.serialize();
+    let text = String::from_utf8(a.xml.serialize()).unwrap();
     let start = text.find("<Marker name=\"R.Heel\">").unwrap();
     let end = start + text[start..].find("</Marker>").unwrap() + "</Marker>".len();
     let without = format!("{}{}", &text[..start], &text[end..]);
@@ -151,4 +151,31 @@ fn diff_reports_added_and_removed_components_once() {
     assert!(matches!(removed.differences[0].change, Change::Removed { .. }));
     let added = diff(&b, &a, 0.0);
     assert!(matches!(added.differences[..], [ref d] if matches!(d.change, Change::Added { .. })));
+}
+
+/// Bytes that are not UTF-8 — a Windows-1252 dash in a citation, as in OpenSim's own
+/// `subject1_abdbonepin.osim`, and a Latin-1 `é` — do not stop a model OpenSim reads: it reads,
+/// writes back byte-identical, and an edit changes only the edited value's bytes.
+#[test]
+fn stray_non_utf8_bytes_are_kept_byte_for_byte() {
+    let original = std::fs::read(common::fixture("models/leg6dof9musc.osim")).unwrap();
+    let at = |needle: &str| original.windows(needle.len()).position(|w| w == needle.as_bytes()).unwrap() + needle.len();
+    let publications = at("<publications>");
+    let mut bytes = original[..publications].to_vec();
+    bytes.extend_from_slice(b"Ann Biomed Eng 33:829\x96840, Universit\xe9 ");
+    bytes.extend_from_slice(&original[publications..]);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("latin1.osim");
+    std::fs::write(&file, &bytes).unwrap();
+    let mut document = OsimDocument::read(&file).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(document.xml.serialize(), bytes);
+    let text = document.xml.text(document.resolve("/publications").unwrap()).unwrap().into_owned();
+    assert!(text.starts_with("Ann Biomed Eng 33:829?840, Universit? "), "{text}");
+    osim_tune::model::ModelSpec::read(&document).unwrap();
+    document.set_property("/forceset/bifemsh_r/tendon_slack_length", "0.2").unwrap();
+    let find = |from: usize, needle: &[u8]| from + bytes[from..].windows(needle.len()).position(|w| w == needle).unwrap();
+    let value = find(find(0, b"name=\"bifemsh_r\""), b"<tendon_slack_length>") + "<tendon_slack_length>".len();
+    let value_end = find(value, b"<");
+    let expected = [&bytes[..value], b"0.2", &bytes[value_end..]].concat();
+    assert_eq!(document.xml.serialize(), expected);
 }

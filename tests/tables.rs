@@ -201,9 +201,9 @@ fn read_errors_name_the_file() {
     let message = StorageTable::read(&missing).unwrap_err().to_string();
     assert!(message.starts_with(&missing.display().to_string()), "{message}");
     let not_text = tempfile::NamedTempFile::new().unwrap();
-    std::fs::write(not_text.path(), b"name\nendheader\ntime\n\xff\xfe\n").unwrap();
+    std::fs::write(not_text.path(), b"name\nendheader\ntime\n\x00\xfe\n").unwrap();
     let message = StorageTable::read(not_text.path()).unwrap_err().to_string();
-    assert_eq!(message, format!("{}:4: invalid UTF-8; expected a text table", not_text.path().display()));
+    assert_eq!(message, format!("{}:4: binary data (a NUL byte); expected a text table", not_text.path().display()));
     let message = MarkerTable::read(not_text.path()).unwrap_err().to_string();
     assert!(message.starts_with(&format!("{}:4:", not_text.path().display())), "{message}");
 }

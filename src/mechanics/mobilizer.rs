@@ -14,9 +14,11 @@
 //! `FreeJoint`, whose u is the angular velocity of M in F expressed in F (Simbody's
 //! `RBNodeBall`/`RBNodeFree`: H_FM rows (1,0,0), (0,1,0), (0,0,1)). So a moment arm about a
 //! Ball or Free rotational coordinate is the torque about F's X, Y or Z axis per unit tension,
-//! not −∂L/∂q (the Gimbal, same angles, has u = q̇ and gives −∂L/∂q).
+//! not −∂L/∂q (the Gimbal, same angles, has u = q̇ and gives −∂L/∂q). `EllipsoidJoint` and
+//! `ScapulothoracicJoint` (`mobilizer_surface`) turn as the Ball does and glide on an ellipsoid.
 
 use super::function::Function;
+use super::mobilizer_surface::{Ellipsoid, Scapulothoracic};
 use super::spatial::{body_fixed_xyz, rotation_about, Mat3, Transform, Vec3};
 
 /// Motion of M in F per unit generalized speed of one coordinate, both expressed in F: angular
@@ -72,6 +74,10 @@ pub enum Mobilizer {
     Planar,
     /// `CustomJoint`: three rotation axes, then three translation axes.
     Custom(Box<[TransformAxis; 6]>),
+    /// `EllipsoidJoint`: the Ball's angles and speeds, gliding on an ellipsoid.
+    Ellipsoid(Ellipsoid),
+    /// `ScapulothoracicJoint`: an ellipsoid glide (Ball-like speeds), then winging.
+    Scapulothoracic(Box<Scapulothoracic>),
 }
 
 impl Mobilizer {
@@ -81,16 +87,28 @@ impl Mobilizer {
             Mobilizer::Weld => 0,
             Mobilizer::Pin | Mobilizer::Slider => 1,
             Mobilizer::Universal => 2,
-            Mobilizer::Ball | Mobilizer::Gimbal | Mobilizer::Planar => 3,
+            Mobilizer::Ball | Mobilizer::Gimbal | Mobilizer::Planar | Mobilizer::Ellipsoid(_) => 3,
+            Mobilizer::Scapulothoracic(_) => 4,
             Mobilizer::Free => 6,
             Mobilizer::Custom(_) => return None,
         })
+    }
+
+    /// How many of the joint's first coordinates have M's angular velocity components as their
+    /// speeds rather than their rates (Ball, Free and the ellipsoid glides: 3; others 0).
+    pub fn angular_velocity_speeds(&self) -> usize {
+        match self {
+            Mobilizer::Ball | Mobilizer::Free | Mobilizer::Ellipsoid(_) | Mobilizer::Scapulothoracic(_) => 3,
+            _ => 0,
+        }
     }
 
     /// X_FM for the joint's coordinate values `q`.
     pub fn transform(&self, q: &[f64]) -> Transform {
         let (rotation, translation) = match self {
             Mobilizer::Weld => return Transform::IDENTITY,
+            Mobilizer::Ellipsoid(ellipsoid) => return ellipsoid.transform(q),
+            Mobilizer::Scapulothoracic(joint) => return joint.transform(q),
             Mobilizer::Pin => (rotation_about(&Vec3::z(), q[0]), Vec3::zeros()),
             Mobilizer::Slider => (Mat3::identity(), Vec3::new(q[0], 0.0, 0.0)),
             Mobilizer::Universal => (body_fixed_xyz([q[0], q[1], 0.0]), Vec3::zeros()),
@@ -128,6 +146,8 @@ impl Mobilizer {
                 partials[2].linear = Vec3::y();
             }
             Mobilizer::Custom(axes) => custom_rates(axes, q, partials),
+            Mobilizer::Ellipsoid(ellipsoid) => ellipsoid.partial_velocities(q, partials),
+            Mobilizer::Scapulothoracic(joint) => joint.partial_velocities(q, partials),
         }
     }
 }

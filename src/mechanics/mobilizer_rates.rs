@@ -28,6 +28,8 @@ impl Mobilizer {
                 TransformRates::new(turn(&Vec3::z(), [q[0], u[0], udot[0]]), translation)
             }
             Mobilizer::Custom(axes) => custom_rates(axes, q, u, udot),
+            Mobilizer::Ellipsoid(ellipsoid) => ellipsoid.transform_rates(q, u, udot),
+            Mobilizer::Scapulothoracic(joint) => joint.transform_rates(q, u, udot),
         }
     }
 }

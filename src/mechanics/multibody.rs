@@ -9,8 +9,9 @@ use super::coupling::Coupler;
 use super::error::MechanicsError;
 use super::function::Function;
 use super::mobilizer::{Mobilizer, TransformAxis};
+use super::mobilizer_surface::{Ellipsoid, Scapulothoracic};
 use super::spatial::{Mat3, Transform, Vec3};
-use crate::model::{BodySpec, CoordinateSpec, FrameChain, JointSpec, ModelSpec, GROUND};
+use crate::model::{BodySpec, CoordinateSpec, FrameChain, JointSpec, JointSurface, ModelSpec, GROUND};
 
 /// Index of ground in [`Multibody::bodies`].
 pub const GROUND_INDEX: usize = 0;
@@ -274,6 +275,13 @@ impl JointCompiler<'_> {
             "FreeJoint" => Mobilizer::Free,
             "PlanarJoint" => Mobilizer::Planar,
             "CustomJoint" => Mobilizer::Custom(Box::new(self.spatial_transform()?)),
+            "EllipsoidJoint" | "ScapulothoracicJoint" => match &self.joint.surface {
+                Some(JointSurface::Ellipsoid { radii }) => Mobilizer::Ellipsoid(Ellipsoid { radii: Vec3::from(*radii) }),
+                Some(JointSurface::Scapulothoracic { radii, winging_origin, winging_direction }) => {
+                    Mobilizer::Scapulothoracic(Box::new(Scapulothoracic::new(*radii, *winging_origin, *winging_direction)))
+                }
+                None => return Err(self.invalid("has no ellipsoid radii".into())),
+            },
             other => {
                 return Err(MechanicsError::Unsupported { file: self.file.into(), component: self.joint.name.clone(), what: format!("joint class {other}") })
             }

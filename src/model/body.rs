@@ -4,7 +4,8 @@ use serde::Serialize;
 
 use super::error::ModelError;
 use super::reader::ComponentReader;
-use crate::io::osim::Dialect;
+use super::conversion::six_significant_digits;
+use crate::io::osim::DocumentVersion;
 
 /// A rigid body as written in the model.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -18,15 +19,21 @@ pub struct BodySpec {
     pub inertia: [f64; 6],
 }
 
+/// The first document version that writes a body's inertia as one `<inertia>` property.
+const INERTIA_PROPERTY_VERSION: u32 = 30500;
+
 impl BodySpec {
-    pub fn read(reader: ComponentReader, dialect: Dialect) -> Result<BodySpec, ModelError> {
-        let inertia = if dialect == Dialect::V4 {
+    /// Reads a body; before document 30500 its `inertia_xx`…`inertia_yz`, which OpenSim 4's
+    /// conversion re-writes to six significant digits.
+    pub fn read(reader: ComponentReader, version: DocumentVersion) -> Result<BodySpec, ModelError> {
+        let inertia = if version.number >= INERTIA_PROPERTY_VERSION {
             let i = reader.numbers_or("inertia", &[0.0; 6])?;
             [i[0], i[1], i[2], i[3], i[4], i[5]]
         } else {
-            let mut i = [0.0; 6];
+            // OpenSim's conversion starts from 1 1 1 0 0 0 for the elements a body leaves out.
+            let mut i = [1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
             for (value, property) in i.iter_mut().zip(["inertia_xx", "inertia_yy", "inertia_zz", "inertia_xy", "inertia_xz", "inertia_yz"]) {
-                *value = reader.number(property)?;
+                *value = six_significant_digits(reader.number_or(property, *value)?);
             }
             i
         };

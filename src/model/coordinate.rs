@@ -78,13 +78,13 @@ impl CoordinateSpec {
     }
 }
 
-/// The motion type 3.x files state in `<motion_type>`.
-pub fn written_motion_type(reader: ComponentReader) -> Result<Option<MotionType>, ModelError> {
-    Ok(match reader.optional_text("motion_type").as_deref() {
-        None => None,
-        Some("rotational") => Some(MotionType::Rotational),
-        Some("translational") => Some(MotionType::Translational),
-        Some("coupled") => Some(MotionType::Coupled),
-        Some(other) => return Err(reader.bad("motion_type", "rotational, translational or coupled", other)),
-    })
+/// The motion type 3.x files state in `<motion_type>`, read as OpenSim 4 reads it: in any case
+/// (`Coupled`), and a word other than the three leaves the type to the joint (`None`).
+pub fn written_motion_type(reader: ComponentReader) -> Option<MotionType> {
+    match reader.optional_text("motion_type")?.trim().to_ascii_lowercase().as_str() {
+        "rotational" => Some(MotionType::Rotational),
+        "translational" => Some(MotionType::Translational),
+        "coupled" => Some(MotionType::Coupled),
+        _ => None,
+    }
 }

@@ -69,8 +69,14 @@ impl ForceSpec {
     /// Whether the class is a muscle (`Thelen2003Muscle`, `Millard2012EquilibriumMuscle`,
     /// `DeGrooteFregly2016Muscle`, `RigidTendonMuscle`, the deprecated Schutte/Delp muscles, …).
     pub fn is_muscle(&self) -> bool {
-        self.class.contains("Muscle")
+        is_muscle_class(&self.class)
     }
+}
+
+/// Whether an element class is a muscle: its name ends in `Muscle` (or `Muscle_Deprecated`), so
+/// `Bhargava2004SmoothedMuscleMetabolics` or `MuscleActivationDynamics` are not.
+pub fn is_muscle_class(class: &str) -> bool {
+    class.trim_end_matches("_Deprecated").ends_with("Muscle")
 }
 
 /// A `PathWrap`'s `range` (OpenSim's default `-1 -1`: the whole path).
@@ -83,5 +89,22 @@ fn read_range(wrap: ComponentReader) -> Result<[i32; 2], ModelError> {
     match values[..] {
         [first, last] if text.split_whitespace().count() == 2 => Ok([first, last]),
         _ => Err(wrap.bad("range", "2 integers", &text)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_muscle_class;
+
+    /// Moco's `Bhargava2004SmoothedMuscleMetabolics` sits among a model's components beside its
+    /// muscles; it is no muscle (it has no path) and must not be read as one.
+    #[test]
+    fn muscles_are_the_classes_named_muscle() {
+        for class in ["Millard2012EquilibriumMuscle", "Thelen2003Muscle", "RigidTendonMuscle", "Schutte1993Muscle_Deprecated"] {
+            assert!(is_muscle_class(class), "{class}");
+        }
+        for class in ["Bhargava2004SmoothedMuscleMetabolics", "MuscleActivationDynamics", "McKibbenActuator", "PathSpring"] {
+            assert!(!is_muscle_class(class), "{class}");
+        }
     }
 }

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::conversion::six_significant_digits_each;
 use super::coordinate::{written_motion_type, CoordinateSpec, CoordinateUnit, MotionType};
 use super::error::ModelError;
 use super::frame::{FrameChain, FrameIndex, Offset};
@@ -32,6 +33,8 @@ pub struct JointSpec {
     pub coordinates: Vec<CoordinateSpec>,
     /// Six axes for `CustomJoint`, empty for the other classes.
     pub spatial_transform: Vec<TransformAxisSpec>,
+    /// The surface an `EllipsoidJoint` or `ScapulothoracicJoint` glides on; `None` for the others.
+    pub surface: Option<JointSurface>,
 }
 
 impl JointSpec {
@@ -43,19 +46,20 @@ impl JointSpec {
         Self::assemble(reader, parent, child, coordinate_elements)
     }
 
-    /// Reads a 3.x joint nested in `<Body name=child_body><Joint>`.
+    /// Reads a 3.x joint nested in `<Body name=child_body><Joint>`; its offsets as OpenSim 4's
+    /// conversion to offset frames re-writes them, to six significant digits.
     pub fn read_v3(reader: ComponentReader, child_body: &str) -> Result<JointSpec, ModelError> {
         let parent_body = reader.text("parent_body")?;
         // OpenSim's 3.x conversion always adds offset frames named `<body>_offset`.
         let parent = FrameChain {
             name: format!("{parent_body}_offset"),
             body: parent_body,
-            offsets: vec![Offset { translation: reader.vec3("location_in_parent")?, orientation: reader.vec3("orientation_in_parent")? }],
+            offsets: vec![converted_offset(reader, "location_in_parent", "orientation_in_parent")?],
         };
         let child = FrameChain {
             name: format!("{child_body}_offset"),
             body: child_body.to_string(),
-            offsets: vec![Offset { translation: reader.vec3("location")?, orientation: reader.vec3("orientation")? }],
+            offsets: vec![converted_offset(reader, "location", "orientation")?],
         };
         let coordinate_elements = reader.child("CoordinateSet").map(|c| reader.listed_objects(c)).unwrap_or_default();
         Self::assemble(reader, parent, child, coordinate_elements)
@@ -73,7 +77,7 @@ impl JointSpec {
         let mut coordinates = Vec::new();
         for (index, &element) in coordinate_elements.iter().enumerate() {
             let coordinate = reader.at(element);
-            let motion_type = match (written_motion_type(coordinate)?, &fixed_types) {
+            let motion_type = match (written_motion_type(coordinate), &fixed_types) {
                 (Some(written), _) => written,
                 (None, Some(types)) => *types.get(index).ok_or_else(|| coordinate.bad("coordinates", &format!("at most {} coordinates for {}", types.len(), reader.class()), &coordinate_elements.len().to_string()))?,
                 (None, None) => transform_motion_type(&coordinate.name(), &spatial_transform),
@@ -81,8 +85,49 @@ impl JointSpec {
             let unit = coordinate_unit(&coordinate.name(), motion_type, &spatial_transform);
             coordinates.push(CoordinateSpec::read(coordinate, &name, motion_type, unit)?);
         }
-        Ok(JointSpec { name, class: reader.class().to_string(), parent, child, coordinates, spatial_transform })
+        let surface = JointSurface::read(reader)?;
+        Ok(JointSpec { name, class: reader.class().to_string(), parent, child, coordinates, spatial_transform, surface })
     }
+}
+
+/// The shape properties of the joint classes that glide on an ellipsoid.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum JointSurface {
+    /// `EllipsoidJoint`: `radii_x_y_z` (m) along the parent frame's axes.
+    Ellipsoid { radii: [f64; 3] },
+    /// `ScapulothoracicJoint`: `thoracic_ellipsoid_radii_x_y_z` (m, along the parent frame's axes),
+    /// `scapula_winging_axis_origin` (m, x and y in the scapula's frame on the ellipsoid) and
+    /// `scapula_winging_axis_direction` (rad from that frame's y axis, counterclockwise).
+    Scapulothoracic { radii: [f64; 3], winging_origin: [f64; 2], winging_direction: f64 },
+}
+
+impl JointSurface {
+    /// The surface of a joint of the reader's class (OpenSim's radii default to NaN: required).
+    fn read(reader: ComponentReader) -> Result<Option<JointSurface>, ModelError> {
+        Ok(match reader.class() {
+            "EllipsoidJoint" => Some(JointSurface::Ellipsoid { radii: positive_radii(reader, "radii_x_y_z")? }),
+            "ScapulothoracicJoint" => {
+                let origin = reader.numbers_or("scapula_winging_axis_origin", &[0.0, 0.0])?;
+                Some(JointSurface::Scapulothoracic {
+                    radii: positive_radii(reader, "thoracic_ellipsoid_radii_x_y_z")?,
+                    winging_origin: [origin[0], origin[1]],
+                    winging_direction: reader.number_or("scapula_winging_axis_direction", 0.0)?,
+                })
+            }
+            _ => None,
+        })
+    }
+}
+
+/// Three positive radii (m).
+fn positive_radii(reader: ComponentReader, property: &str) -> Result<[f64; 3], ModelError> {
+    let radii = reader.vec3(property)?;
+    if radii.iter().all(|r| *r > 0.0 && r.is_finite()) { Ok(radii) } else { Err(reader.bad(property, "three positive radii (m)", &format!("{radii:?}"))) }
+}
+
+/// A 3.x joint's offset as OpenSim 4 converts it to a `PhysicalOffsetFrame`.
+fn converted_offset(reader: ComponentReader, translation: &str, orientation: &str) -> Result<Offset, ModelError> {
+    Ok(Offset { translation: six_significant_digits_each(reader.vec3(translation)?), orientation: six_significant_digits_each(reader.vec3(orientation)?) })
 }
 
 fn read_spatial_transform(reader: ComponentReader) -> Result<Vec<TransformAxisSpec>, ModelError> {
@@ -113,6 +158,7 @@ fn class_motion_types(class: &str) -> Option<Vec<MotionType>> {
         "UniversalJoint" => vec![R, R],
         "BallJoint" | "GimbalJoint" | "EllipsoidJoint" => vec![R, R, R],
         "FreeJoint" => vec![R, R, R, T, T, T],
+        "ScapulothoracicJoint" => vec![R, R, R, R],
         "PlanarJoint" => vec![R, T, T],
         "WeldJoint" => vec![],
         _ => return None,

@@ -28,9 +28,11 @@ impl MarkerSpec {
     }
 }
 
-/// The frame a point-like component hangs on: 4.x `socket_parent_frame`, 3.x `body`.
+/// The frame a point-like component hangs on: 4.x `socket_parent_frame`, 3.x `body` (or, as
+/// OpenSim 4 reads a 4.x component pasted into a 3.x file, its `socket_parent_frame`).
 pub fn attachment_frame(reader: ComponentReader, dialect: Dialect, frames: &FrameIndex) -> Result<FrameChain, ModelError> {
-    if dialect == Dialect::V4 {
+    let pasted = reader.child("body").is_none() && reader.child("socket_parent_frame").is_some();
+    if dialect == Dialect::V4 || pasted {
         frames.resolve(reader, &reader.text("socket_parent_frame")?, "socket_parent_frame")
     } else {
         let body = reader.text("body")?;

@@ -6,6 +6,7 @@
 mod actuator;
 mod body;
 mod constraint;
+mod conversion;
 mod coordinate;
 mod error;
 mod force;
@@ -27,7 +28,7 @@ pub use error::{BadProperty, ModelError};
 pub use force::{ForceSpec, PathWrapSpec};
 pub use frame::{opensim_path, FrameChain, FrameIndex, Offset};
 pub use function::FunctionSpec;
-pub use joint::{JointSpec, TransformAxisSpec};
+pub use joint::{JointSpec, JointSurface, TransformAxisSpec};
 pub use marker::MarkerSpec;
 pub use muscle::{
     ActiveForceLengthCurveSpec, DeGrooteSpec, FiberForceLengthCurveSpec, ForceVelocityCurveSpec, MillardSpec,

@@ -188,13 +188,20 @@ impl MuscleSpec {
         let positive = [
             ("max_isometric_force", self.max_isometric_force),
             ("optimal_fiber_length", self.optimal_fiber_length),
-            ("tendon_slack_length", self.tendon_slack_length),
             ("max_contraction_velocity", self.max_contraction_velocity),
         ];
         for (property, value) in positive {
             if !(value > 0.0 && value.is_finite()) {
                 return Err(reader.bad(property, "a positive number", &value.to_string()));
             }
+        }
+        // A rigid tendon only takes up L_ts of the path, so OpenSim's models may leave it out
+        // (ThoracoscapularShoulderModel's serratus anterior); a compliant one's strain needs it.
+        let l_ts = self.tendon_slack_length;
+        let rigid = self.ignore_tendon_compliance && !matches!(self.model, MuscleModelSpec::Thelen2003(_));
+        if !(l_ts.is_finite() && (l_ts > 0.0 || (rigid && l_ts == 0.0))) {
+            let expected = if rigid { "a length ≥ 0 m" } else { "a positive number (a compliant tendon's strain needs it)" };
+            return Err(reader.bad("tendon_slack_length", expected, &l_ts.to_string()));
         }
         let alpha = self.pennation_angle_at_optimal;
         if !(0.0..std::f64::consts::FRAC_PI_2).contains(&alpha) {

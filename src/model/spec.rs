@@ -9,7 +9,7 @@ use super::body::BodySpec;
 use super::constraint::ConstraintSpec;
 use super::coordinate::CoordinateSpec;
 use super::error::ModelError;
-use super::force::ForceSpec;
+use super::force::{is_muscle_class, ForceSpec};
 use super::frame::FrameIndex;
 use super::joint::JointSpec;
 use super::marker::MarkerSpec;
@@ -75,7 +75,7 @@ impl ModelSpec {
             if name == GROUND {
                 continue;
             }
-            spec.bodies.push(BodySpec::read(body, dialect)?);
+            spec.bodies.push(BodySpec::read(body, document.version)?);
             if dialect != Dialect::V4 {
                 if let Some(joint) = body.child("Joint").and_then(|j| document.xml.children(j).first().copied()) {
                     spec.joints.push(JointSpec::read_v3(body.at(joint), name)?);
@@ -133,7 +133,7 @@ fn body_elements(model: ComponentReader, dialect: Dialect) -> Vec<(String, Eleme
 /// Whether a component of this class is a force: muscles, actuators, `…Force` (e.g.
 /// `CoordinateLimitForce`, `ExpressionBasedCoordinateForce`), ligaments and springs.
 fn is_force_class(class: &str) -> bool {
-    class.contains("Muscle") || ["Actuator", "Force", "Ligament", "Spring"].iter().any(|suffix| class.ends_with(suffix))
+    is_muscle_class(class) || ["Actuator", "Force", "Ligament", "Spring"].iter().any(|suffix| class.ends_with(suffix))
 }
 
 /// The model's `<components>` of a class `class` accepts (empty without the list).

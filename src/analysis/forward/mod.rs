@@ -29,7 +29,7 @@ use ode_solvers::{DVector, Dopri5};
 
 use super::Activations;
 use crate::mechanics::muscle::{ActivationDynamics, DeGrooteFregly2016Muscle, HillMuscle, MuscleError};
-use crate::mechanics::{Mobilizer, MuscleGeometry, PathEvaluation};
+use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::ModelSpec;
 use system::MuscleDynamics;
 
@@ -99,18 +99,19 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
         let activation = Some(dynamics).filter(|_| !(activations_given || properties.ignore_activation_dynamics));
         let path = geometry.path_index(&force.name).ok_or_else(|| refuse(&force.name, "no geometry path"))?;
         if muscle.has_rigid_tendon() && geometry.paths[path].loaded.iter().any(|&c| angular_velocity_speeds(geometry, c)) {
-            return Err(refuse(&force.name, "a rigid tendon across a BallJoint or FreeJoint: its path speed would need the joint's angular velocity, which the motion does not give"));
+            return Err(refuse(&force.name, "a rigid tendon across a BallJoint, FreeJoint or ellipsoid joint: its path speed would need the joint's angular velocity, which the motion does not give"));
         }
         driven.push(DrivenMuscle { name: force.name.clone(), muscle, activation, path });
     }
     Ok(driven)
 }
 
-/// Whether coordinate `c` belongs to a joint whose speeds are an angular velocity, not the
-/// coordinates' rates (`BallJoint`, `FreeJoint`).
+/// Whether coordinate `c`'s speed is a component of its joint's angular velocity, not its rate
+/// (`BallJoint`, `FreeJoint`, the ellipsoid glides).
 fn angular_velocity_speeds(geometry: &MuscleGeometry, c: usize) -> bool {
     let multibody = &geometry.multibody;
-    matches!(multibody.joints[multibody.coordinate_joint(c)].mobilizer, Mobilizer::Ball | Mobilizer::Free)
+    let joint = &multibody.joints[multibody.coordinate_joint(c)];
+    joint.coordinates.iter().position(|&k| k == c).is_some_and(|k| k < joint.mobilizer.angular_velocity_speeds())
 }
 
 /// Where the states start.

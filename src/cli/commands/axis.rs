@@ -127,7 +127,7 @@ fn swap_and_write(document: &OsimDocument, femur_body: &str, fit: &AxisFit, swap
     let axis = JointAxis { point: fit.femur.point, direction: fit.femur.direction };
     let swapped = swap_knee(document, &swap.joint, &axis, swap.reference_angle)?;
     create_output_folders([swap.output.as_path()])?;
-    write_atomically(&swap.output, swapped.document.xml.serialize().as_bytes(), inputs)?;
+    write_atomically(&swap.output, &swapped.document.xml.serialize(), inputs)?;
     Ok(swapped)
 }
 

@@ -61,9 +61,9 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
         (None, _) => None,
     };
     create_output_folders(outputs.files().map(PathBuf::as_path))?;
-    write_atomically(&outputs.model, outcome.document.xml.serialize().as_bytes(), &input_refs)?;
+    write_atomically(&outputs.model, &outcome.document.xml.serialize(), &input_refs)?;
     if let (Some(file), Some(text)) = (&outputs.scaled_only, scaled_only) {
-        write_atomically(file, text.as_bytes(), &input_refs)?;
+        write_atomically(file, &text, &input_refs)?;
     }
     if let Some(file) = &outputs.scale_set {
         write_atomically(file, outcome.scale_set.to_document_text().as_bytes(), &input_refs)?;

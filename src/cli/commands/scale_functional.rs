@@ -116,7 +116,7 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
         return Ok(Outcome::NotConverged);
     }
     let changed = result.apply(&mut document)?;
-    write_atomically(output, document.xml.serialize().as_bytes(), &input_refs)?;
+    write_atomically(output, &document.xml.serialize(), &input_refs)?;
     eprintln!("scale: {changed} values changed; wrote {}", output.display());
     Ok(if result.converged { Outcome::Success } else { Outcome::NotConverged })
 }
@@ -133,7 +133,7 @@ fn write_cause_model(fit: &FunctionalFit, model: &Path, file: &Path, inputs: &[&
     let mut document = OsimDocument::read(model)?;
     match apply_cause(best, &fit.initial, &mut document)? {
         CauseEdit::Changed(changed) => {
-            write_atomically(file, document.xml.serialize().as_bytes(), inputs)?;
+            write_atomically(file, &document.xml.serialize(), inputs)?;
             eprintln!("scale: the model extended by {} ({changed} values changed); wrote {}", best.cause.describe(), file.display());
         }
         CauseEdit::NotInModel(reason) => eprintln!("scale: the named cause, {}, {reason}; no cause model written", best.cause.describe()),

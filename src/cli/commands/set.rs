@@ -15,6 +15,6 @@ pub fn run(input: &Path, output: &Path, assignments: &[String]) -> Result<Outcom
             .ok_or_else(|| format!("assignment {assignment:?} is not PATH=VALUE"))?;
         document.set_property(path.trim(), value)?;
     }
-    write_atomically(output, document.xml.serialize().as_bytes(), &[input])?;
+    write_atomically(output, &document.xml.serialize(), &[input])?;
     Ok(Outcome::Success)
 }

@@ -28,6 +28,11 @@ impl OsimDocument {
         Self::from_xml(Document::parse(source, file)?)
     }
 
+    /// Parses a file's bytes (see [`Document::from_bytes`]); `file` names it in messages.
+    pub fn from_bytes(bytes: Vec<u8>, file: &Path) -> Result<Self, OsimError> {
+        Self::from_xml(Document::from_bytes(bytes, file)?)
+    }
+
     fn from_xml(xml: Document) -> Result<Self, OsimError> {
         let root = xml.root();
         let file = xml.file().to_path_buf();

@@ -11,9 +11,9 @@ pub enum TableError {
     /// The file could not be read at all.
     #[error("{}: cannot read: {source}", file.display())]
     Io { file: PathBuf, source: std::io::Error },
-    /// The file is not UTF-8 text.
-    #[error("{}:{line}: invalid UTF-8; expected a text table", file.display())]
-    NotUtf8 { file: PathBuf, line: usize },
+    /// The file holds binary data (a NUL byte).
+    #[error("{}:{line}: binary data (a NUL byte); expected a text table", file.display())]
+    Binary { file: PathBuf, line: usize },
     /// The file holds nothing but whitespace.
     #[error("{}:1: empty file; expected a table header", file.display())]
     Empty { file: PathBuf },

@@ -1,27 +1,29 @@
 //! Text helpers shared by the table formats: reading, decoding, numbered lines, fields and
 //! numbers written so that they read back bit-exactly.
 
+use std::borrow::Cow;
 use std::path::Path;
 
 use super::TableError;
 
-/// Reads `file` as UTF-8 text without a byte-order mark.
+/// Reads `file` as text without a byte-order mark (see [`decode`]).
 pub(super) fn read_text(file: &Path) -> Result<String, TableError> {
     let bytes = std::fs::read(file).map_err(|source| TableError::Io { file: file.to_path_buf(), source })?;
-    decode(&bytes, file).map(str::to_owned)
+    decode(&bytes, file).map(Cow::into_owned)
 }
 
-/// Decodes `bytes` as UTF-8, dropping a leading byte-order mark; an invalid byte is reported
-/// with its 1-based line number.
-pub(super) fn decode<'a>(bytes: &'a [u8], file: &Path) -> Result<&'a str, TableError> {
-    match std::str::from_utf8(bytes) {
-        Ok(text) => Ok(strip_bom(text)),
-        Err(error) => {
-            let valid = &bytes[..error.valid_up_to()];
-            let line = 1 + valid.iter().filter(|&&byte| byte == b'\n').count();
-            Err(TableError::NotUtf8 { file: file.to_path_buf(), line })
-        }
+/// Decodes `bytes` as UTF-8, dropping a leading byte-order mark. Bytes that are no UTF-8 — a
+/// Windows-1252 `é` in a `.trc`'s path line, which OpenSim reads — become U+FFFD; a NUL byte
+/// (a binary file, say a `.c3d`) is an error naming its 1-based line.
+pub(super) fn decode<'a>(bytes: &'a [u8], file: &Path) -> Result<Cow<'a, str>, TableError> {
+    if let Some(nul) = bytes.iter().position(|&byte| byte == 0) {
+        let line = 1 + bytes[..nul].iter().filter(|&&byte| byte == b'\n').count();
+        return Err(TableError::Binary { file: file.to_path_buf(), line });
     }
+    Ok(match String::from_utf8_lossy(bytes) {
+        Cow::Borrowed(text) => Cow::Borrowed(strip_bom(text)),
+        Cow::Owned(text) => Cow::Owned(strip_bom(&text).to_owned()),
+    })
 }
 
 /// `text` without a leading byte-order mark.
@@ -127,9 +129,10 @@ mod tests {
     }
 
     #[test]
-    fn invalid_utf8_names_its_line() {
-        let error = decode(b"ok\nok\n\xff\n", Path::new("bad.sto")).unwrap_err();
-        assert_eq!(error.to_string(), "bad.sto:3: invalid UTF-8; expected a text table");
+    fn binary_data_names_its_line_and_stray_bytes_are_replaced() {
+        let error = decode(b"ok\nok\n\x00\n", Path::new("bad.sto")).unwrap_err();
+        assert_eq!(error.to_string(), "bad.sto:3: binary data (a NUL byte); expected a text table");
+        assert_eq!(decode(b"Jos\xe9\t1", Path::new("latin1.trc")).unwrap(), "Jos\u{fffd}\t1");
     }
 
     #[test]

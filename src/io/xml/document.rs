@@ -38,6 +38,9 @@ pub struct Element {
 pub struct Document {
     pub(super) file: PathBuf,
     pub(super) source: String,
+    /// The file's bytes when they are not all UTF-8: `source` reads each stray byte as `?` at the
+    /// same offset, and output writes these bytes back as they were.
+    original: Option<Vec<u8>>,
     pub(super) elements: Vec<Element>,
     pub(super) line_starts: Vec<usize>,
     /// Replacements keyed by the start of the replaced byte range: (end, new text).
@@ -49,7 +52,7 @@ pub struct Document {
 impl Document {
     pub(super) fn from_parts(file: PathBuf, source: String, elements: Vec<Element>) -> Self {
         let line_starts = text::line_starts(&source);
-        Document { file, source, elements, line_starts, edits: BTreeMap::new(), edited_values: BTreeMap::new() }
+        Document { file, source, original: None, elements, line_starts, edits: BTreeMap::new(), edited_values: BTreeMap::new() }
     }
 
     /// Reads and parses `path`.
@@ -60,13 +63,22 @@ impl Document {
             column: 0,
             message: format!("cannot read file: {error}"),
         })?;
-        let source = String::from_utf8(bytes).map_err(|error| {
-            let offset = error.utf8_error().valid_up_to();
-            let prefix = String::from_utf8_lossy(&error.as_bytes()[..offset]).into_owned();
-            let (line, column) = text::line_and_column(&text::line_starts(&prefix), offset);
-            XmlError { file: path.to_path_buf(), line, column, message: "the file is not UTF-8 text".into() }
-        })?;
-        Self::parse(source, path)
+        Self::from_bytes(bytes, path)
+    }
+
+    /// Parses a file's bytes; `file` names it in messages. Bytes that are not UTF-8 — say a
+    /// Windows-1252 dash in a model's publication note, which OpenSim reads — read as `?` and are
+    /// written back unchanged.
+    pub fn from_bytes(bytes: Vec<u8>, file: &Path) -> Result<Self, XmlError> {
+        match String::from_utf8(bytes) {
+            Ok(source) => Self::parse(source, file),
+            Err(error) => {
+                let bytes = error.into_bytes();
+                let mut document = Self::parse(text::with_ascii_stand_ins(&bytes), file)?;
+                document.original = Some(bytes);
+                Ok(document)
+            }
+        }
     }
 
     /// The file this document was read from (used in messages).
@@ -252,16 +264,17 @@ impl Document {
         !self.edits.is_empty()
     }
 
-    /// The document text with all edits applied; the original text when there are none.
-    pub fn serialize(&self) -> String {
-        let mut output = String::with_capacity(self.source.len());
+    /// The document's bytes with all edits applied; the original bytes when there are none.
+    pub fn serialize(&self) -> Vec<u8> {
+        let source = self.original.as_deref().unwrap_or(self.source.as_bytes());
+        let mut output = Vec::with_capacity(source.len());
         let mut position = 0;
         for (&start, (end, replacement)) in &self.edits {
-            output.push_str(&self.source[position..start]);
-            output.push_str(replacement);
+            output.extend_from_slice(&source[position..start]);
+            output.extend_from_slice(replacement.as_bytes());
             position = *end;
         }
-        output.push_str(&self.source[position..]);
+        output.extend_from_slice(&source[position..]);
         output
     }
 }
@@ -306,7 +319,7 @@ mod tests {
         assert_eq!(document.indentation(f), "\t");
         document.replace_element(f, "<m>x</m>").unwrap();
         document.replace_element(g, "").unwrap();
-        assert_eq!(document.serialize(), "<r>\n\t<m>x</m>\n</r>");
+        assert_eq!(document.serialize(), "<r>\n\t<m>x</m>\n</r>".as_bytes());
     }
 
     #[test]
@@ -318,10 +331,10 @@ mod tests {
         document.rename_element(f, "Pin").unwrap();
         document.remove_element(g).unwrap();
         document.rename_element(h, "k").unwrap();
-        assert_eq!(document.serialize(), "<r>\n\t<Pin name=\"a\">\n\t\t<v>1</v>\n\t</Pin>\n\t<k/>\n</r>");
+        assert_eq!(document.serialize(), "<r>\n\t<Pin name=\"a\">\n\t\t<v>1</v>\n\t</Pin>\n\t<k/>\n</r>".as_bytes());
         let mut document = Document::parse(text.to_string(), Path::new("t.xml")).unwrap();
         document.remove_element(h).unwrap();
-        assert_eq!(document.serialize(), "<r>\n\t<f name=\"a\">\n\t\t<v>1</v>\n\t</f>\n\t<!--Doc of g.-->\n\t<g>\n\t</g>\n</r>");
+        assert_eq!(document.serialize(), "<r>\n\t<f name=\"a\">\n\t\t<v>1</v>\n\t</f>\n\t<!--Doc of g.-->\n\t<g>\n\t</g>\n</r>".as_bytes());
     }
 
     #[test]

@@ -24,6 +24,17 @@ pub fn line_and_column(line_starts: &[usize], offset: usize) -> (usize, usize) {
     (line_index + 1, offset - line_starts[line_index] + 1)
 }
 
+/// `bytes` as text with each byte that is not part of a UTF-8 character replaced by `?`, so
+/// every offset stays where it was.
+pub fn with_ascii_stand_ins(bytes: &[u8]) -> String {
+    let mut text = String::with_capacity(bytes.len());
+    for chunk in bytes.utf8_chunks() {
+        text.push_str(chunk.valid());
+        text.extend(std::iter::repeat_n('?', chunk.invalid().len()));
+    }
+    text
+}
+
 /// Offsets where each line of `source` starts (always begins with 0).
 pub fn line_starts(source: &str) -> Vec<usize> {
     std::iter::once(0)

@@ -156,21 +156,28 @@ impl FrameObjective<'_, '_> {
     }
 }
 
-/// The motion axes per unit q̇ of every coordinate: [`Kinematics::axes`], except that the
-/// rotations of `BallJoint`/`FreeJoint` (whose speeds are angular velocities) are turned into
-/// rates of their body-fixed X-Y-Z angles, the q's Simbody's assembler varies.
+/// The motion axes per unit q̇ of every coordinate: [`Kinematics::axes`], except that a joint's
+/// speeds that are M's angular velocity (`BallJoint`, `FreeJoint`, the ellipsoid glides) are
+/// turned into rates of its body-fixed X-Y-Z angles, the q's Simbody's assembler varies:
+/// u = G(q)·q̇ with G the angles' rate partials, so the axis of q̇ⱼ is Σₖ (axis of uₖ)·Gₖⱼ.
 fn angle_rate_axes(multibody: &Multibody, kinematics: &Kinematics, q: &[f64], axes: &mut [CoordinateAxis]) {
     axes.copy_from_slice(&kinematics.axes);
     for joint in &multibody.joints {
-        if !matches!(joint.mobilizer, Mobilizer::Ball | Mobilizer::Free) {
+        if joint.mobilizer.angular_velocity_speeds() == 0 {
             continue;
         }
         let angles: Vec<f64> = joint.coordinates[..3].iter().map(|&c| q[c]).collect();
         let mut partials = [crate::mechanics::PartialVelocity { angular: Vec3::zeros(), linear: Vec3::zeros() }; 3];
         Mobilizer::Gimbal.partial_velocities(&angles, &mut partials);
-        let parent_rotation = kinematics.bodies[joint.parent].rotation * joint.parent_frame.rotation;
-        for (partial, &c) in partials.iter().zip(&joint.coordinates[..3]) {
-            axes[c].angular = parent_rotation * partial.angular;
+        for (j, partial) in partials.iter().enumerate() {
+            let axis = &mut axes[joint.coordinates[j]];
+            axis.angular = Vec3::zeros();
+            axis.linear = Vec3::zeros();
+            for k in 0..3 {
+                let speed_axis = &kinematics.axes[joint.coordinates[k]];
+                axis.angular += speed_axis.angular * partial.angular[k];
+                axis.linear += speed_axis.linear * partial.angular[k];
+            }
         }
     }
 }

@@ -74,7 +74,7 @@ pub fn swap_knee(document: &OsimDocument, joint: &str, axis: &JointAxis, referen
     let mut swapped = document.clone();
     let (parent_offset, child_offset) = (offset_of(&parent_frame), offset_of(&child_frame));
     rewrite_joint(&mut swapped, element, &parent_offset, &child_offset)?;
-    let swapped = OsimDocument::parse(swapped.xml.serialize(), document.xml.file())?;
+    let swapped = OsimDocument::from_bytes(swapped.xml.serialize(), document.xml.file())?;
     let new_spec = ModelSpec::read(&swapped)?;
     let new_multibody = Multibody::new(&new_spec)?;
     let reference_pose_error = pose_distance(&child_in_parent, &self::child_in_parent(&new_multibody, joint_spec, &coordinate.name, reference_angle)?);

@@ -3,7 +3,7 @@
 //! constraints), planned as document edits. Masses, inertias and muscle lengths follow in
 //! `inertia.rs` and `path_lengths.rs`.
 
-use super::edits::{scaled_function_edit, scaled_number_edit, scaled_vec3_edit, Edit};
+use super::edits::{numbers_edit, scaled_function_edit, scaled_number_edit, scaled_vec3_edit, Edit};
 use super::error::ScaleError;
 use super::scale_set::ScaleSet;
 use crate::io::osim::OsimDocument;
@@ -12,7 +12,7 @@ use crate::mechanics::{body_fixed_xyz, Vec3};
 use crate::model::{opensim_path, ComponentReader, FrameIndex, ModelSpec, GROUND};
 
 /// Joint classes whose own `scale()` changes properties osim-tune does not scale yet.
-const UNSUPPORTED_JOINTS: [&str; 3] = ["EllipsoidJoint", "ConstantCurvatureJoint", "ScapulothoracicJoint"];
+const UNSUPPORTED_JOINTS: [&str; 1] = ["ConstantCurvatureJoint"];
 
 /// Plans the geometric scaling edits of a 4.x model `document` for `scale_set`.
 pub fn geometry_edits(document: &OsimDocument, scale_set: &ScaleSet) -> Result<Vec<Edit>, ScaleError> {
@@ -51,6 +51,7 @@ impl GeometryScaler<'_> {
             }
             "MovingPathPoint" => self.moving_path_point(c, edits)?,
             "CustomJoint" => self.spatial_transform(c, edits)?,
+            "EllipsoidJoint" | "ScapulothoracicJoint" => self.ellipsoid_joint(c, edits)?,
             "WrapCylinder" | "WrapSphere" | "WrapEllipsoid" | "WrapTorus" => self.wrap_object(c, edits)?,
             "CoordinateCouplerConstraint" => self.coupler(c, edits)?,
             "attached_geometry" => self.attached_geometry(c, edits)?,
@@ -113,6 +114,24 @@ impl GeometryScaler<'_> {
             let direction = axis.vec3("axis")?;
             let factor = direction.iter().zip(factors).map(|(d, f)| d.abs() * f).sum();
             edits.extend(scaled_function_edit(self.document, function, factor)?);
+        }
+        Ok(())
+    }
+
+    /// `EllipsoidJoint::extendScale`: the radii times the parent frame's factors;
+    /// `ScapulothoracicJoint::extendScale`: the thoracic radii too and then, when the child frame
+    /// scales, the winging axis origin times its x and y factors.
+    fn ellipsoid_joint(&self, joint: ComponentReader, edits: &mut Vec<Edit>) -> Result<(), ScaleError> {
+        let Some(parent) = self.socket_factors(joint, "socket_parent_frame")? else { return Ok(()) };
+        if joint.class() == "EllipsoidJoint" {
+            edits.extend(scaled_vec3_edit(joint, "radii_x_y_z", parent)?);
+            return Ok(());
+        }
+        edits.extend(scaled_vec3_edit(joint, "thoracic_ellipsoid_radii_x_y_z", parent)?);
+        let Some(child) = self.socket_factors(joint, "socket_child_frame")? else { return Ok(()) };
+        if joint.child("scapula_winging_axis_origin").is_some() {
+            let origin = joint.numbers("scapula_winging_axis_origin", Some(2))?;
+            edits.extend(numbers_edit(joint, "scapula_winging_axis_origin", &[origin[0] * child[0], origin[1] * child[1]])?);
         }
         Ok(())
     }

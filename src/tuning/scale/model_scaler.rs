@@ -48,7 +48,7 @@ pub fn scale_model(document: &OsimDocument, scale_set: &ScaleSet, preserve_mass_
 
 /// The edited text as a new document (element ids of the edited one stay valid only for it).
 pub fn reparse(document: &OsimDocument) -> Result<OsimDocument, ScaleError> {
-    Ok(OsimDocument::parse(document.xml.serialize(), document.xml.file())?)
+    Ok(OsimDocument::from_bytes(document.xml.serialize(), document.xml.file())?)
 }
 
 /// Mass and inertia edits of every body, with the total mass before the subject-mass factor and

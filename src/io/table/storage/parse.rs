@@ -40,7 +40,7 @@ struct Header {
 impl StorageTable {
     /// Parses `.sto`/`.mot` bytes, reporting non-UTF-8 input as an error naming `file`.
     pub fn from_bytes(bytes: &[u8], file: &Path) -> Result<Self, TableError> {
-        Self::parse(decode(bytes, file)?, file)
+        Self::parse(&decode(bytes, file)?, file)
     }
 
     /// Parses `.sto`/`.mot` text; `file` is only used in error messages.
@@ -392,11 +392,14 @@ mod tests {
     }
 
     #[test]
-    fn non_utf8_bytes_are_an_error() {
+    fn stray_bytes_read_as_replacement_characters_and_nul_is_binary() {
         let mut bytes = OPENSIM4.as_bytes().to_vec();
         bytes.extend_from_slice(b"\xc3\x28 1 2\n");
         let message = StorageTable::from_bytes(&bytes, Path::new("trial.sto")).unwrap_err().to_string();
-        assert_eq!(message, "trial.sto:13: invalid UTF-8; expected a text table");
+        assert_eq!(message, "trial.sto:13: `\u{fffd}(` is not a number");
+        let bytes = OPENSIM4.replace("nRows=2", "nRows=\u{0}").into_bytes();
+        let message = StorageTable::from_bytes(&bytes, Path::new("trial.sto")).unwrap_err().to_string();
+        assert_eq!(message, "trial.sto:3: binary data (a NUL byte); expected a text table");
     }
 
     #[test]

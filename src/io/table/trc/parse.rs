@@ -38,7 +38,7 @@ struct FieldLines<'a> {
 impl MarkerTable {
     /// Parses `.trc` bytes, reporting non-UTF-8 input as an error naming `file`.
     pub fn from_bytes(bytes: &[u8], file: &Path) -> Result<Self, TableError> {
-        Self::parse(decode(bytes, file)?, file)
+        Self::parse(&decode(bytes, file)?, file)
     }
 
     /// Parses `.trc` text; `file` is only used in error messages.
@@ -448,10 +448,13 @@ mod tests {
     }
 
     #[test]
-    fn non_utf8_bytes_are_an_error() {
+    fn stray_bytes_read_as_replacement_characters_and_nul_is_binary() {
         let bytes = TRC.replace("R.ASIS", "R.AS\u{1}IS").into_bytes();
-        let bytes: Vec<u8> = bytes.into_iter().map(|byte| if byte == 1 { 0xff } else { byte }).collect();
-        let message = MarkerTable::from_bytes(&bytes, Path::new("walk.trc")).unwrap_err().to_string();
-        assert_eq!(message, "walk.trc:4: invalid UTF-8; expected a text table");
+        let stray: Vec<u8> = bytes.iter().map(|&byte| if byte == 1 { 0xff } else { byte }).collect();
+        let table = MarkerTable::from_bytes(&stray, Path::new("walk.trc")).unwrap();
+        assert_eq!(table.marker_names[0], "R.AS\u{fffd}IS");
+        let nul: Vec<u8> = bytes.iter().map(|&byte| if byte == 1 { 0 } else { byte }).collect();
+        let message = MarkerTable::from_bytes(&nul, Path::new("walk.trc")).unwrap_err().to_string();
+        assert_eq!(message, "walk.trc:4: binary data (a NUL byte); expected a text table");
     }
 }

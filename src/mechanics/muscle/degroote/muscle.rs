@@ -176,7 +176,6 @@ fn check_parameters(
     let positive = [
         ("max_isometric_force", spec.max_isometric_force),
         ("optimal_fiber_length", spec.optimal_fiber_length),
-        ("tendon_slack_length", spec.tendon_slack_length),
         ("max_contraction_velocity", spec.max_contraction_velocity),
         (
             "passive_fiber_strain_at_one_norm_force",
@@ -191,6 +190,10 @@ fn check_parameters(
         ("deactivation_time_constant", class.deactivation_time_constant),
     ];
     MuscleError::require_positive(name, &positive, "a positive number")?;
+    if !spec.ignore_tendon_compliance {
+        // A rigid tendon's L_ts may be 0, as the model reader allows.
+        MuscleError::require_positive(name, &[("tendon_slack_length", spec.tendon_slack_length)], "a positive number")?;
+    }
     let ranges = [
         (
             "active_force_width_scale",
