@@ -3,7 +3,7 @@ MarkerPlacer with apply false makes ScaleTool.run() return false) on the example
 leg6dof9musc, joint_zoo, Rajagopal2016 (42 muscles wrapping over WrapCylinders), arm26
 (TRIlong and BIClong also over WrapEllipsoids), wrap_zoo (spheres, ellipsoids, tori) and
 ellipsoid_joints (a ScapulothoracicJoint's thoracic radii and winging origin, an EllipsoidJoint's
-radii): writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
+radii) and station_frames (the stations of StationDefinedFrames): writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
 
 Each body gets anisotropic factors in 0.90-1.12 that differ from body to body, drawn from a
 seeded generator; the subject mass is 1.15 x the model's, with the mass distribution preserved for
@@ -20,7 +20,7 @@ from pathlib import Path
 
 import opensim as osim
 
-MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints"]
+MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"]
 OUT = Path("fixtures/golden/scale_zoo")
 
 

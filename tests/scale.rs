@@ -94,12 +94,12 @@ fn subject01_scale_factors_equal_opensims() {
 /// wrapped path lengths, and the cylinders themselves scaled), arm26 (TRIlong and BIClong also
 /// over `WrapEllipsoid`s, scaled along their own axes) and the wrap zoo (spheres, ellipsoids by
 /// every method, tori; wrap objects written without their default rotation and translation)
-/// and the ellipsoid joints (a `ScapulothoracicJoint`'s radii and winging origin, an
-/// `EllipsoidJoint`'s radii), each body scaled by its own anisotropic manual factors: every property as OpenSim 4.6 wrote
+/// the ellipsoid joints (a `ScapulothoracicJoint`'s radii and winging origin, an
+/// `EllipsoidJoint`'s radii) and the station frames (`StationDefinedFrame`s' stations), each body scaled by its own anisotropic manual factors: every property as OpenSim 4.6 wrote
 /// it.
 #[test]
 fn other_models_scaled_by_manual_factors_equal_opensims() {
-    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints"] {
+    for model in ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"] {
         let (_, outcome) = scale_by(&format!("golden/scale_zoo/{model}_setup.xml"), &format!("models/{model}.osim"));
         assert_scaled_model_is_opensims(&outcome, &format!("scale_zoo/{model}_scaled.osim"));
     }

@@ -1,7 +1,10 @@
 //! Frames: where a joint, marker or path point is attached, as a body plus the chain of
-//! `PhysicalOffsetFrame` offsets leading from that body to the frame.
+//! `PhysicalOffsetFrame` offsets (and `StationDefinedFrame`s, as offsets computed from their
+//! stations) leading from that body to the frame.
 
 use std::collections::HashMap;
+
+use nalgebra::Vector3;
 
 use serde::Serialize;
 
@@ -9,7 +12,9 @@ use crate::io::osim::OsimDocument;
 use crate::io::xml::ElementId;
 
 use super::error::ModelError;
+use super::orientation::body_fixed_xyz;
 use super::reader::ComponentReader;
+use super::station_frame::station_defined_offset;
 
 /// A fixed transform of a frame in its parent: translation (m) and body-fixed X-Y-Z Euler
 /// angles (rad), OpenSim's `translation`/`orientation`.
@@ -27,6 +32,16 @@ pub struct FrameChain {
     pub name: String,
     pub body: String,
     pub offsets: Vec<Offset>,
+}
+
+impl FrameChain {
+    /// A point at `location` (m) in this frame, expressed in its body (m).
+    pub fn point_in_body(&self, location: [f64; 3]) -> [f64; 3] {
+        let point = self.offsets.iter().rev().fold(Vector3::from(location), |point, offset| {
+            body_fixed_xyz(offset.orientation) * point + Vector3::from(offset.translation)
+        });
+        point.into()
+    }
 }
 
 /// Every body and offset frame of a model keyed by OpenSim component path (`/bodyset/femur_r`,
@@ -53,7 +68,39 @@ impl FrameIndex {
             let parent_socket = reader.text("socket_parent")?;
             entries.insert(opensim_path(document, id), FrameEntry::Offset { element: id, parent_socket, offset });
         }
-        Ok(FrameIndex { entries })
+        let mut index = FrameIndex { entries };
+        index.add_station_defined_frames(document, bodies)?;
+        Ok(index)
+    }
+
+    /// Every `StationDefinedFrame`, as an offset of its stations' body. Its stations may hang
+    /// on another such frame, so they are placed in passes until none is left.
+    fn add_station_defined_frames(&mut self, document: &OsimDocument, bodies: &[(String, ElementId)]) -> Result<(), ModelError> {
+        let xml = &document.xml;
+        let stations: HashMap<String, ElementId> = xml.ids().filter(|&id| xml.tag(id) == "Station").map(|id| (opensim_path(document, id), id)).collect();
+        let body_paths: HashMap<&str, String> = bodies.iter().map(|(name, element)| (name.as_str(), opensim_path(document, *element))).collect();
+        let mut pending: Vec<ElementId> = xml.ids().filter(|&id| xml.tag(id) == "StationDefinedFrame").collect();
+        while !pending.is_empty() {
+            let mut unplaced = Vec::new();
+            let mut last_error = None;
+            for &id in &pending {
+                match station_defined_offset(ComponentReader::new(document, id), self, &stations) {
+                    Ok((body, offset)) => {
+                        let parent_socket = body_paths.get(body.as_str()).cloned().unwrap_or_default();
+                        self.entries.insert(opensim_path(document, id), FrameEntry::Offset { element: id, parent_socket, offset });
+                    }
+                    Err(error) => {
+                        unplaced.push(id);
+                        last_error = Some(error);
+                    }
+                }
+            }
+            if unplaced.len() == pending.len() {
+                return Err(last_error.expect("an unplaced frame has its error"));
+            }
+            pending = unplaced;
+        }
+        Ok(())
     }
 
     /// Resolves the socket path `socket` written on `owner` (relative to the owner, or absolute).

@@ -15,9 +15,11 @@ mod function;
 mod joint;
 mod marker;
 mod muscle;
+mod orientation;
 mod path_point;
 mod reader;
 mod spec;
+mod station_frame;
 mod wrap_object;
 
 pub use actuator::{read_force_set, ActuatorKind, ActuatorSpec};
@@ -30,6 +32,7 @@ pub use frame::{opensim_path, FrameChain, FrameIndex, Offset};
 pub use function::FunctionSpec;
 pub use joint::{JointSpec, JointSurface, TransformAxisSpec};
 pub use marker::MarkerSpec;
+pub use orientation::{body_fixed_xyz, body_fixed_xyz_angles};
 pub use muscle::{
     ActiveForceLengthCurveSpec, DeGrooteSpec, FiberForceLengthCurveSpec, ForceVelocityCurveSpec, MillardSpec,
     MuscleModelSpec, MuscleSpec, TendonForceLengthCurveSpec, ThelenSpec, MUSCLE_CLASSES,

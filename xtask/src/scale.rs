@@ -1,6 +1,6 @@
 //! Scale-step rows of the validation table: OpenSim 4.6's ScaleTool run on subject01
 //! (`fixtures/golden/scale`, from `../shared/reference/pipelines/gait2392_subject01`) and by
-//! manual factors on leg6dof9musc, joint_zoo, Rajagopal2016, arm26, the wrap zoo and the ellipsoid joints (`fixtures/golden/scale_zoo`), and by
+//! manual factors on leg6dof9musc, joint_zoo, Rajagopal2016, arm26, the wrap zoo, the ellipsoid joints and the station frames (`fixtures/golden/scale_zoo`), and by
 //! measurements with marker placement on leg6dof9musc and a synthetic static trial
 //! (`fixtures/golden/scale_measured`).
 
@@ -28,7 +28,7 @@ pub fn rows() -> Vec<Row> {
     rows.push(scaled_model_row("scaled model, every property (1e-7 rel. or 1e-9)".into(), REFERENCE, &outcome, &golden("subject01_scaledOnly.osim")));
     rows.extend(placement_rows(&outcome, &setup, Placement { reference: REFERENCE, pose: "scale/subject01_static_output.mot", placed: "scale/subject01_simbody.osim" }));
     rows.extend(opensim_loads(&outcome));
-    rows.extend(["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints"].map(manual_scale_row));
+    rows.extend(["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"].map(manual_scale_row));
     rows.extend(measured_leg_rows());
     rows
 }

@@ -44,7 +44,7 @@ impl GeometryScaler<'_> {
                     push(scaled_vec3_edit(c, "translation", factors)?);
                 }
             }
-            "Marker" | "PathPoint" | "ConditionalPathPoint" => {
+            "Marker" | "PathPoint" | "ConditionalPathPoint" | "Station" => {
                 if let Some(factors) = self.socket_factors(c, "socket_parent_frame")? {
                     push(scaled_vec3_edit(c, "location", factors)?);
                 }
