@@ -58,6 +58,15 @@ pub(crate) fn check_time_and_cutoff(time: Option<[f64; 2]>, lowpass: Option<f64>
     Ok(())
 }
 
+/// A `.trc` marker trial, with a note when its `NumFrames` disagrees with the frames it holds.
+pub(crate) fn read_marker_trial(file: &Path) -> Result<crate::io::table::MarkerTable, Failure> {
+    let trial = crate::io::table::MarkerTable::read(file)?;
+    if let Some(declared) = trial.header().declared_frames {
+        eprintln!("note: {}: NumFrames says {declared}, the file holds {} frames; those are used, as OpenSim does", file.display(), trial.n_frames());
+    }
+    Ok(trial)
+}
+
 /// An `ExternalLoads` file and its datafile on `multibody`; both files join `inputs`.
 pub(crate) fn read_external_loads(file: &Path, multibody: &crate::mechanics::Multibody, inputs: &mut Vec<std::path::PathBuf>) -> Result<crate::analysis::ExternalLoads, Failure> {
     let (loads, data_file) = crate::analysis::ExternalLoads::read(file, multibody)?;

@@ -64,6 +64,13 @@ pub struct Marker {
     pub location: Vec3,
 }
 
+/// An enforced `PointConstraint`: its two points (each a point fixed in a body) coincide.
+#[derive(Debug, Clone)]
+pub struct PointLink {
+    pub name: String,
+    pub points: [Marker; 2],
+}
+
 /// The compiled tree.
 #[derive(Debug, Clone)]
 pub struct Multibody {
@@ -75,8 +82,11 @@ pub struct Multibody {
     pub markers: Vec<Marker>,
     /// Enforced `CoordinateCouplerConstraint`s.
     pub couplers: Vec<Coupler>,
-    /// The other enforced constraints, `name (class)`: not applied (dynamics refuses them).
+    /// The other enforced constraints, `name (class)`: not applied by dynamics, which refuses
+    /// them (inverse kinematics applies the point links).
     pub other_constraints: Vec<String>,
+    /// Enforced `PointConstraint`s.
+    pub point_links: Vec<PointLink>,
     /// The model's gravity, m/s² in ground.
     pub gravity: Vec3,
     /// `moved_by[body][joint]`: whether the joint's coordinates move the body.
@@ -117,11 +127,20 @@ impl Multibody {
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
         let other_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none()).map(|c| format!("{} ({})", c.name, c.class)).collect();
         let mut multibody =
-            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, other_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
+            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, other_constraints, point_links: Vec::new(), gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
         multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;
             multibody.markers.push(Marker { name: marker.name.clone(), body, location: frame.apply(&Vec3::from(marker.location)) });
+        }
+        for constraint in spec.constraints.iter().filter(|c| c.enforced) {
+            let Some(link) = &constraint.point else { continue };
+            let point = |k: usize| -> Result<Marker, MechanicsError> {
+                let (body, frame) = multibody.attach(&link.frames[k], &constraint.name)?;
+                Ok(Marker { name: format!("{}/body_{}", constraint.name, k + 1), body, location: frame.apply(&Vec3::from(link.locations[k])) })
+            };
+            let points = [point(0)?, point(1)?];
+            multibody.point_links.push(PointLink { name: constraint.name.clone(), points });
         }
         Ok(multibody)
     }

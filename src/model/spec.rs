@@ -93,7 +93,7 @@ impl ModelSpec {
             spec.actuators.extend(ActuatorSpec::read(model.at(force))?);
         }
         for constraint in set_members(model, "ConstraintSet").into_iter().chain(component_members(model, |class| class.ends_with("Constraint"))) {
-            spec.constraints.push(ConstraintSpec::read(model.at(constraint))?);
+            spec.constraints.push(ConstraintSpec::read(model.at(constraint), dialect, &frames)?);
         }
         Ok(spec)
     }

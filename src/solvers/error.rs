@@ -39,6 +39,9 @@ pub enum IkError {
     /// A start pose of the wrong length.
     #[error("a pose needs {expected} coordinate values, got {found}")]
     PoseLength { expected: usize, found: usize },
+    /// A `PointConstraint` the solver could not close (after its augmented-Lagrangian rounds).
+    #[error("{}: frame {frame} (t = {time} s): PointConstraint {constraint}'s points are still {error:e} m apart after {rounds} rounds", trial.display())]
+    LinkNotMet { trial: PathBuf, frame: usize, time: f64, constraint: String, error: f64, rounds: usize },
     /// The Kalman smoother cannot run.
     #[error("Kalman smoothing: {problem}")]
     Smoother { problem: String },

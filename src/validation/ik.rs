@@ -42,6 +42,9 @@ pub struct IkCase {
     /// Largest coordinate difference allowed: rotations (degrees) and translations (m).
     pub rotation_tolerance_degrees: f64,
     pub translation_tolerance_meters: f64,
+    /// How much our objective may exceed that of OpenSim's pose, relative ([`OBJECTIVE_SLACK`]
+    /// unless the case says why not).
+    pub objective_slack: f64,
 }
 
 impl IkCase {
@@ -55,6 +58,7 @@ impl IkCase {
             errors: root.join("fixtures/golden/ik/subject01_walk1_ik_marker_errors.sto"),
             rotation_tolerance_degrees: ROTATION_TOLERANCE_DEGREES,
             translation_tolerance_meters: TRANSLATION_TOLERANCE_METERS,
+            objective_slack: OBJECTIVE_SLACK,
         }
     }
 
@@ -68,6 +72,27 @@ impl IkCase {
             rotation_tolerance_degrees: 0.05,
             translation_tolerance_meters: 1e-4,
             ..IkCase::subject01_walk1(root)
+        }
+    }
+
+    /// OpenSim's own constrained case (opensim-core's IK test resources): the 3.x shoulder model
+    /// subject1_abdbonepin — a `ScapulothoracicJoint` and the acromioclavicular
+    /// `PointConstraint` — on its trial's first second, against OpenSim 4.6 at `accuracy` 1e-10
+    /// (`oracle/gen_ik_point_constraint.py`), held to 1e-4° and 1e-6 m. The objective (the
+    /// markers') may exceed that of OpenSim's pose by 1e-8: OpenSim closes the constraint only
+    /// to its assembly tolerance (~1e-10 m), and a pose that far off it can fit the markers
+    /// that much better (6e-9 here).
+    pub fn shoulder_point_constraint(root: &Path) -> IkCase {
+        let (fixture, golden) = (root.join("fixtures/ik_point_constraint"), root.join("fixtures/golden/ik/point_constraint"));
+        IkCase {
+            model: fixture.join("subject1_abdbonepin.osim"),
+            trial: fixture.join("abdbonepin_1s.trc"),
+            setup: fixture.join("setup_ik.xml"),
+            motion: golden.join("ik.mot"),
+            errors: golden.join("ik_marker_errors.sto"),
+            rotation_tolerance_degrees: 1e-4,
+            translation_tolerance_meters: 1e-6,
+            objective_slack: 1e-8,
         }
     }
 }
@@ -112,6 +137,8 @@ pub struct IkComparison {
     pub objective_excess: f64,
     /// max over frames of (OpenSim's objective − ours) / OpenSim's.
     pub objective_improvement: f64,
+    /// The case's bound on `objective_excess`.
+    pub objective_slack: f64,
     pub unconverged: usize,
     pub max_iterations: usize,
     pub mean_iterations: f64,
@@ -127,7 +154,7 @@ impl IkComparison {
     pub fn passes(&self) -> bool {
         self.unconverged == 0
             && self.rms_excess <= RMS_SLACK_METERS
-            && self.objective_excess <= OBJECTIVE_SLACK
+            && self.objective_excess <= self.objective_slack
             && self.coordinates.iter().all(|c| c.worst <= c.tolerance)
     }
 }
@@ -173,6 +200,7 @@ pub fn compare_ik(case: &IkCase, frames: IkFrames) -> Result<IkComparison, IkVal
         rms_improvement: 0.0,
         objective_excess: f64::NEG_INFINITY,
         objective_improvement: 0.0,
+        objective_slack: case.objective_slack,
         unconverged: 0,
         max_iterations: 0,
         mean_iterations: 0.0,

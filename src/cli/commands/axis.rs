@@ -48,7 +48,7 @@ pub fn run(trial_file: &Path, request: &Request) -> Result<Outcome, Failure> {
         ensure_not_an_input(&swap.output, &inputs)?;
     }
     let epicondyles = epicondyle_pair(request.epicondyles.as_deref())?;
-    let trial = MarkerTable::read(trial_file)?;
+    let trial = crate::cli::read_marker_trial(trial_file)?;
     let model = request.model.as_deref().map(OsimDocument::read).transpose()?;
     let clusters = match &model {
         Some(document) => model_clusters(document, &trial, &request.femur, &request.tibia)?,

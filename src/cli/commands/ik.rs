@@ -50,7 +50,7 @@ pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs
     }
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let multibody = Multibody::new(&spec)?;
-    let trial = MarkerTable::read(trial_file)?;
+    let trial = crate::cli::read_marker_trial(trial_file)?;
     let (mut tasks, time) = match setup.map(IkSetup::read).transpose()? {
         Some(setup) => (IkTasks::from_task_set(&setup.tasks, &setup.file)?, time.or(Some([setup.time_range.start, setup.time_range.end]))),
         None => (every_marker(&multibody, &trial), time),

@@ -30,6 +30,9 @@ pub struct TrcHeader {
     /// Other header fields in file order, written back after the standard ones. Names and
     /// values must be single words.
     pub extra: Vec<(String, String)>,
+    /// `NumFrames` as read when it differs from the frames the file holds: OpenSim reads the
+    /// frames that are there, and so does osim-tune (writing writes the true count).
+    pub declared_frames: Option<usize>,
 }
 
 impl TrcHeader {
@@ -45,6 +48,7 @@ impl TrcHeader {
             orig_data_start_frame: None,
             orig_num_frames: None,
             extra: Vec::new(),
+            declared_frames: None,
         }
     }
 }

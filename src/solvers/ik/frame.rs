@@ -5,7 +5,9 @@
 //! over the markers i with data in the frame (Simbody's `Markers` goal divides by the total
 //! weight of those markers), the coordinate tasks j and, with a finite constraint weight w_c,
 //! the constraint errors e_k. Residuals: √(w_i/W)·(x_i − x̂_i) (three each, zero for a marker
-//! without data), √w_j·(q_j − q̂_j), √w_c·e_k, so F = ½‖r‖².
+//! without data), √w_j·(q_j − q̂_j), √w_c·e_k, so F = ½‖r‖². A `PointConstraint`'s three
+//! errors (its second point from its first, in ground) enter as √w_ℓ·(e + s) with the
+//! [`LinkTerms`]' weight and shift: an augmented Lagrangian when the solver holds them exactly.
 
 use nalgebra::DMatrix;
 
@@ -22,12 +24,33 @@ pub(super) struct FrameModel<'m> {
     pub coordinates: Vec<TrackedCoordinate>,
     /// Per tracked marker: the coordinates that move it and are not held.
     pub marker_coordinates: Vec<Vec<usize>>,
+    /// Per point link, per point: the coordinates that move it and are not held.
+    pub link_coordinates: Vec<[Vec<usize>; 2]>,
 }
 
 impl FrameModel<'_> {
     pub fn residual_count(&self, map: &CoordinateMap) -> usize {
-        3 * self.markers.len() + self.coordinates.len() + map.soft_couplers.len() + map.soft_locks.len()
+        3 * self.markers.len() + self.coordinates.len() + map.soft_couplers.len() + map.soft_locks.len() + 3 * self.link_coordinates.len()
     }
+}
+
+/// How the point links enter a frame's residuals: √weight·(e + shift) per link, e the link's
+/// error (m, ground); weight 0 leaves them out.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct LinkTerms<'a> {
+    pub root_weight: f64,
+    /// Per link (empty: none).
+    pub shifts: &'a [Vec3],
+}
+
+impl LinkTerms<'_> {
+    pub const NONE: LinkTerms<'static> = LinkTerms { root_weight: 0.0, shifts: &[] };
+}
+
+/// Each point link's error at the realized pose: its second point from its first (m, ground).
+pub(super) fn link_errors(multibody: &Multibody, kinematics: &Kinematics) -> Vec<Vec3> {
+    let at = |marker: &crate::mechanics::Marker| kinematics.bodies[marker.body].apply(&marker.location);
+    multibody.point_links.iter().map(|link| at(&link.points[1]) - at(&link.points[0])).collect()
 }
 
 /// Buffers reused from frame to frame.
@@ -57,6 +80,7 @@ pub(super) struct FrameObjective<'a, 'm> {
     pub observed: &'a [Option<Vec3>],
     /// Per tracked marker: √(w_i / W), 0 without data.
     pub scales: &'a [f64],
+    pub links: LinkTerms<'a>,
 }
 
 impl LeastSquaresProblem for FrameObjective<'_, '_> {
@@ -97,6 +121,11 @@ impl LeastSquaresProblem for FrameObjective<'_, '_> {
             residuals[row] = root_weight * (scratch.q[c] - multibody.coordinates[c].default_value);
             row += 1;
         }
+        for (k, error) in link_errors(multibody, &scratch.kinematics).into_iter().enumerate() {
+            let shift = self.links.shifts.get(k).copied().unwrap_or_else(Vec3::zeros);
+            residuals[row..row + 3].copy_from_slice((self.links.root_weight * (error + shift)).as_slice());
+            row += 3;
+        }
         if let Some(jacobian) = jacobian {
             self.fill_jacobian(jacobian);
         }
@@ -119,15 +148,7 @@ impl FrameObjective<'_, '_> {
                 continue;
             }
             let location = scratch.kinematics.bodies[marker.body].apply(&marker.location);
-            for &c in &self.model.marker_coordinates[i] {
-                let axis = &scratch.axes[c];
-                let partial = scale * (axis.angular.cross(&(location - axis.origin)) + axis.linear);
-                for &(k, coefficient) in derivatives.of(c) {
-                    for a in 0..3 {
-                        jacobian[(3 * i + a, k)] += coefficient * partial[a];
-                    }
-                }
-            }
+            add_point_partials(jacobian, 3 * i, &location, scale, &self.model.marker_coordinates[i], &scratch.axes, derivatives);
         }
         let mut row = 3 * self.model.markers.len();
         for task in &self.model.coordinates {
@@ -152,6 +173,28 @@ impl FrameObjective<'_, '_> {
                 jacobian[(row, x)] += map.root_weight * coefficient;
             }
             row += 1;
+        }
+        for (link, coordinates) in multibody.point_links.iter().zip(&self.model.link_coordinates) {
+            for (k, sign) in [(0, -1.0), (1, 1.0)] {
+                let point = &link.points[k];
+                let location = scratch.kinematics.bodies[point.body].apply(&point.location);
+                add_point_partials(jacobian, row, &location, sign * self.links.root_weight, &coordinates[k], &scratch.axes, derivatives);
+            }
+            row += 3;
+        }
+    }
+}
+
+/// Adds factor·∂x/∂(free values) of a point at `location` (ground), moved by `coordinates`, to
+/// the three rows from `row`.
+fn add_point_partials(jacobian: &mut DMatrix<f64>, row: usize, location: &Vec3, factor: f64, coordinates: &[usize], axes: &[CoordinateAxis], derivatives: &PoseDerivatives) {
+    for &c in coordinates {
+        let axis = &axes[c];
+        let partial = factor * (axis.angular.cross(&(location - axis.origin)) + axis.linear);
+        for &(k, coefficient) in derivatives.of(c) {
+            for a in 0..3 {
+                jacobian[(row + a, k)] += coefficient * partial[a];
+            }
         }
     }
 }

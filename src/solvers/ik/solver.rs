@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::{DMatrix, DVector};
 
 use super::coordinates::{ConstraintWeight, CoordinateMap};
-use super::frame::{FrameModel, FrameObjective, FrameScratch};
+use super::frame::{link_errors, FrameModel, FrameObjective, FrameScratch, LinkTerms};
 use super::report::{IkFrame, IkSolution, MarkerErrors};
 use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
 use crate::io::table::MarkerTable;
@@ -35,7 +35,7 @@ impl Default for IkSettings {
 /// Inverse kinematics of one trial: what is tracked, compiled; solve frame by frame.
 #[derive(Debug, Clone)]
 pub struct InverseKinematics<'m> {
-    model: FrameModel<'m>,
+    pub(super) model: FrameModel<'m>,
     map: CoordinateMap,
     settings: IkSettings,
     trial_file: PathBuf,
@@ -70,7 +70,19 @@ pub struct IkWorkspace {
     least_squares: LeastSquares,
     x: Vec<f64>,
     scales: Vec<f64>,
+    /// The point links' augmented-Lagrangian shifts (multiplier / weight, m), kept from frame to
+    /// frame as a warm start.
+    link_shifts: Vec<Vec3>,
 }
+
+/// √weight (per m) of the point links' augmented-Lagrangian residuals: large against the
+/// markers' √(w/W) so that a few rounds close them.
+const LINK_ROOT_WEIGHT: f64 = 1e3;
+/// The largest link error (m) a solution may keep: Simbody assembles to far less than OpenSim's
+/// IK accuracy.
+const LINK_TOLERANCE: f64 = 1e-10;
+/// Augmented-Lagrangian rounds per frame before the link is reported open.
+const MAX_LINK_ROUNDS: usize = 30;
 
 impl<'m> InverseKinematics<'m> {
     /// Matches `tasks` with `multibody`'s markers and coordinates and the markers of `trial`
@@ -93,10 +105,9 @@ impl<'m> InverseKinematics<'m> {
         let map = CoordinateMap::new(multibody, settings.constraint_weight, &tasked)?;
         let (coordinates, locked): (Vec<_>, Vec<_>) = all_coordinates.into_iter().partition(|t| !multibody.coordinates[t.coordinate].locked);
         let locked_coordinate_tasks = locked.iter().map(|t| multibody.coordinates[t.coordinate].name.clone()).collect();
-        let marker_coordinates = markers
-            .iter()
-            .map(|m| (0..multibody.coordinates.len()).filter(|&c| !map.is_held(c) && multibody.is_moved_by(m.body, multibody.coordinate_joint(c))).collect())
-            .collect();
+        let moving = |body: usize| -> Vec<usize> { (0..multibody.coordinates.len()).filter(|&c| !map.is_held(c) && multibody.is_moved_by(body, multibody.coordinate_joint(c))).collect() };
+        let marker_coordinates = markers.iter().map(|m| moving(m.body)).collect();
+        let link_coordinates = multibody.point_links.iter().map(|link| link.points.each_ref().map(|p| moving(p.body))).collect();
         let mut observed = Vec::with_capacity(trial.n_frames() * markers.len());
         for frame in 0..trial.n_frames() {
             for marker in &markers {
@@ -105,7 +116,7 @@ impl<'m> InverseKinematics<'m> {
             }
         }
         Ok(InverseKinematics {
-            model: FrameModel { multibody, markers, coordinates, marker_coordinates },
+            model: FrameModel { multibody, markers, coordinates, marker_coordinates, link_coordinates },
             map,
             settings,
             trial_file: trial_file.into(),
@@ -158,6 +169,7 @@ impl<'m> InverseKinematics<'m> {
             least_squares: LeastSquares::new(n, self.model.residual_count(&self.map)),
             x: vec![0.0; n],
             scales: vec![0.0; self.model.markers.len()],
+            link_shifts: vec![Vec3::zeros(); self.model.multibody.point_links.len()],
         }
     }
 
@@ -174,13 +186,51 @@ impl<'m> InverseKinematics<'m> {
 
     /// Solves frame `frame` starting from `q` (rad or m per coordinate); `q` becomes the
     /// solution (held coordinates at their values, dependents following their couplers).
+    ///
+    /// Point links are held exactly (OpenSim's default) by an augmented Lagrangian: the frame
+    /// is solved with each link's residual shifted by its multiplier estimate, which moves by
+    /// the link's error, until every link closes to LINK_TOLERANCE; with a finite constraint
+    /// weight they are goals, √w·e.
     pub fn solve_frame(&self, frame: usize, q: &mut [f64], workspace: &mut IkWorkspace) -> Result<IkFrame, IkError> {
         let multibody = self.model.multibody;
         let observed = self.prepare(frame, q, workspace)?;
-        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
-        let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
-        self.map.pose(multibody, &workspace.x, q);
-        Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (report.cost, report.iterations, report.status)))
+        let exact = self.exact_links();
+        let root_weight = if exact { LINK_ROOT_WEIGHT } else { self.map.root_weight };
+        let (mut iterations, mut round) = (0, 0);
+        loop {
+            round += 1;
+            let links = LinkTerms { root_weight, shifts: &workspace.link_shifts };
+            let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links };
+            let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
+            iterations += report.iterations;
+            self.map.pose(multibody, &workspace.x, q);
+            if exact {
+                multibody.realize(q, &mut workspace.frame.kinematics);
+                let errors = link_errors(multibody, &workspace.frame.kinematics);
+                let (worst, link) = errors.iter().enumerate().map(|(k, e)| (e.amax(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+                if worst > LINK_TOLERANCE {
+                    if round == MAX_LINK_ROUNDS {
+                        let constraint = multibody.point_links[link].name.clone();
+                        return Err(IkError::LinkNotMet { trial: self.trial_file.clone(), frame, time: self.times[frame], constraint, error: worst, rounds: round });
+                    }
+                    workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
+                    continue;
+                }
+            }
+            let cost = if exact { self.objective(frame, q, workspace)? } else { report.cost };
+            return Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (cost, iterations, report.status)));
+        }
+    }
+
+    /// Whether point links are held exactly (there are some, and the weight is infinite).
+    fn exact_links(&self) -> bool {
+        !self.model.multibody.point_links.is_empty() && self.settings.constraint_weight == ConstraintWeight::Infinite
+    }
+
+    /// The point links' terms of a reported objective: none when they are held exactly (they are
+    /// then constraints, not goals), else √w·e.
+    fn reported_links(&self) -> LinkTerms<'static> {
+        if self.exact_links() { LinkTerms::NONE } else { LinkTerms { root_weight: self.map.root_weight, shifts: &[] } }
     }
 
     /// The frame's report at the pose `q` (realized into `scratch`) with the objective there and
@@ -198,7 +248,7 @@ impl<'m> InverseKinematics<'m> {
     pub(super) fn linearise(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<Linearisation, IkError> {
         let observed = self.prepare(frame, q, workspace)?;
         let total_weight = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
-        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links: self.reported_links() };
         let mut residuals = vec![0.0; objective.residual_count()];
         let mut jacobian = DMatrix::zeros(objective.residual_count(), objective.variable_count());
         objective.evaluate(&workspace.x, &mut residuals, Some(&mut jacobian));
@@ -240,7 +290,7 @@ impl<'m> InverseKinematics<'m> {
     /// reports, for comparing another solution (e.g. OpenSim's) with ours.
     pub fn objective(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<f64, IkError> {
         let observed = self.prepare(frame, q, workspace)?;
-        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales };
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links: self.reported_links() };
         let mut residuals = vec![0.0; objective.residual_count()];
         objective.evaluate(&workspace.x, &mut residuals, None);
         Ok(0.5 * residuals.iter().map(|r| r * r).sum::<f64>())

@@ -24,8 +24,6 @@ struct Fields {
     header: TrcHeader,
     num_frames: usize,
     num_markers: usize,
-    /// Line of the values (where NumFrames and NumMarkers are declared).
-    line: usize,
 }
 
 /// The field-name line (`names_line`) and the value line paired up, with the value line's number.
@@ -79,15 +77,7 @@ impl MarkerTable {
             table.read_row(number, line, file)?;
         }
         if table.n_frames() != fields.num_frames {
-            let (declared, found) = (fields.num_frames, table.n_frames());
-            let key = "NumFrames".to_owned();
-            return Err(TableError::RowCountMismatch {
-                file: file.to_path_buf(),
-                line: fields.line,
-                key,
-                declared,
-                found,
-            });
+            table.header.declared_frames = Some(fields.num_frames);
         }
         Ok(table)
     }
@@ -146,10 +136,11 @@ fn parse_xyz(xyz: [&str; 3]) -> Result<[f64; 3], &str> {
     Ok(position)
 }
 
-/// Checks the `PathFileType` line and returns its file name field (empty if absent).
+/// Checks the `PathFileType` line and returns its file name field (empty if absent). Its first
+/// word is what counts: OpenSim reads files whose `PathFileType  4` is spaced, not tabbed.
 fn read_path_line((number, line): (usize, &str), file: &Path) -> Result<String, TableError> {
     let fields = header_fields(line);
-    if fields.first() != Some(&"PathFileType") {
+    if line.split_whitespace().next() != Some("PathFileType") {
         let expected = "`PathFileType` first (PathFileType, 4, (X/Y/Z), file name)";
         return Err(TableError::MissingHeaderLine { file: file.to_path_buf(), line: number, expected });
     }
@@ -223,8 +214,9 @@ fn read_fields(lines: FieldLines<'_>, file: &Path) -> Result<Fields, TableError>
         orig_data_start_frame: optional(6).map(|value| count(6, value)).transpose()?,
         orig_num_frames: optional(7).map(|value| count(7, value)).transpose()?,
         extra,
+        declared_frames: None,
     };
-    Ok(Fields { header, num_frames, num_markers, line })
+    Ok(Fields { header, num_frames, num_markers })
 }
 
 /// Reads the marker names from the `Frame#`/`Time` line and checks them against NumMarkers.
@@ -397,12 +389,17 @@ mod tests {
     }
 
     #[test]
-    fn num_frames_disagrees_with_rows() {
+    fn a_spaced_path_line_is_read() {
+        let text = TRC.replace("PathFileType\t4\t", "PathFileType  4\t");
+        assert_eq!(MarkerTable::parse(&text, Path::new("walk.trc")).unwrap().n_frames(), 2);
+    }
+
+    #[test]
+    fn num_frames_that_disagree_with_the_rows_are_kept_aside() {
         let text = TRC.replace("       2\t2", "       3\t2");
-        assert_eq!(
-            error(&text),
-            "walk.trc:3: NumFrames is 3 but the file has 2 data rows; expected them to agree"
-        );
+        let table = MarkerTable::parse(&text, Path::new("walk.trc")).unwrap();
+        assert_eq!((table.n_frames(), table.header.declared_frames), (2, Some(3)));
+        assert_eq!(MarkerTable::parse(TRC, Path::new("walk.trc")).unwrap().header.declared_frames, None);
     }
 
     #[test]
