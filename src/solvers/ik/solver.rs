@@ -204,22 +204,27 @@ impl<'m> InverseKinematics<'m> {
             let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
             iterations += report.iterations;
             self.map.pose(multibody, &workspace.x, q);
-            if exact {
-                multibody.realize(q, &mut workspace.frame.kinematics);
-                let errors = link_errors(multibody, &workspace.frame.kinematics);
-                let (worst, link) = errors.iter().enumerate().map(|(k, e)| (e.amax(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-                if worst > LINK_TOLERANCE {
-                    if round == MAX_LINK_ROUNDS {
-                        let constraint = multibody.point_links[link].name.clone();
-                        return Err(IkError::LinkNotMet { trial: self.trial_file.clone(), frame, time: self.times[frame], constraint, error: worst, rounds: round });
-                    }
-                    workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
-                    continue;
+            if let Some((worst, link, errors)) = exact.then(|| self.widest_link(q, &mut workspace.frame)).filter(|(worst, ..)| *worst > LINK_TOLERANCE) {
+                if round == MAX_LINK_ROUNDS {
+                    let constraint = multibody.point_links[link].name.clone();
+                    return Err(IkError::LinkNotMet { trial: self.trial_file.clone(), frame, time: self.times[frame], constraint, error: worst, rounds: round });
                 }
+                workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
+                continue;
             }
             let cost = if exact { self.objective(frame, q, workspace)? } else { report.cost };
             return Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (cost, iterations, report.status)));
         }
+    }
+
+    /// At pose `q`: the largest error component of any point link (m), that link, and every
+    /// link's error.
+    fn widest_link(&self, q: &[f64], scratch: &mut FrameScratch) -> (f64, usize, Vec<Vec3>) {
+        let multibody = self.model.multibody;
+        multibody.realize(q, &mut scratch.kinematics);
+        let errors = link_errors(multibody, &scratch.kinematics);
+        let (worst, link) = errors.iter().enumerate().map(|(k, e)| (e.amax(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+        (worst, link, errors)
     }
 
     /// Whether point links are held exactly (there are some, and the weight is infinite).
