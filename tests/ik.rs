@@ -80,6 +80,21 @@ fn a_point_constraint_is_a_goal_under_a_finite_weight_and_refused_by_the_smoothe
     assert!(matches!(&error, IkError::Smoother { problem } if problem.contains("PointConstraint AC")), "{error}");
 }
 
+/// A constraint inverse kinematics does not hold (here the same link as a `WeldConstraint`) is
+/// refused, named, rather than ignored.
+#[test]
+fn a_constraint_ik_does_not_hold_is_refused() {
+    let case = IkCase::shoulder_point_constraint(&common::root());
+    let text = std::fs::read(&case.model).unwrap();
+    let text = String::from_utf8_lossy(&text).replace("PointConstraint", "WeldConstraint");
+    let spec = ModelSpec::read(&OsimDocument::parse(text, &case.model).unwrap()).unwrap();
+    let multibody = Multibody::new(&spec).unwrap();
+    let trial = MarkerTable::read(&case.trial).unwrap();
+    let (tasks, _) = read_setup_tasks(&case.setup).unwrap();
+    let error = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default()).unwrap_err();
+    assert!(error.to_string().contains("AC (WeldConstraint)") && error.to_string().contains("isEnforced"), "{error}");
+}
+
 #[test]
 fn single_frames_started_from_opensims_previous_frame_match_too() {
     let comparison = compare_ik(&IkCase::subject01_walk1(&common::root()), IkFrames::EveryNth(5)).unwrap();

@@ -87,6 +87,9 @@ pub struct Multibody {
     pub other_constraints: Vec<String>,
     /// Enforced `PointConstraint`s.
     pub point_links: Vec<PointLink>,
+    /// The enforced constraints that are neither couplers nor point links, `name (class)`:
+    /// nothing here holds them (inverse kinematics refuses them too).
+    pub unheld_constraints: Vec<String>,
     /// The model's gravity, m/s² in ground.
     pub gravity: Vec3,
     /// `moved_by[body][joint]`: whether the joint's coordinates move the body.
@@ -125,9 +128,11 @@ impl Multibody {
             }
         }
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
-        let other_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none()).map(|c| format!("{} ({})", c.name, c.class)).collect();
+        let named = |c: &crate::model::ConstraintSpec| format!("{} ({})", c.name, c.class);
+        let other_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none()).map(named).collect();
+        let unheld_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none() && c.point.is_none()).map(named).collect();
         let mut multibody =
-            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, other_constraints, point_links: Vec::new(), gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
+            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, other_constraints, point_links: Vec::new(), unheld_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
         multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;

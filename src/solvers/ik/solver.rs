@@ -102,6 +102,10 @@ impl<'m> InverseKinematics<'m> {
         for task in &all_coordinates {
             tasked[task.coordinate] = true;
         }
+        if let Some(constraint) = multibody.unheld_constraints.first() {
+            let what = "an enforced constraint other than a CoordinateCouplerConstraint or PointConstraint (OpenSim would hold it; disable it with isEnforced false to solve without it)".into();
+            return Err(IkError::Unsupported { model: multibody.file.clone(), component: constraint.clone(), what });
+        }
         let map = CoordinateMap::new(multibody, settings.constraint_weight, &tasked)?;
         let (coordinates, locked): (Vec<_>, Vec<_>) = all_coordinates.into_iter().partition(|t| !multibody.coordinates[t.coordinate].locked);
         let locked_coordinate_tasks = locked.iter().map(|t| multibody.coordinates[t.coordinate].name.clone()).collect();
