@@ -248,24 +248,7 @@ fn a_3x_model_computes_with_opensims_converted_values() {
     }
     assert_eq!(spec.bodies[1].mass_center, [0.0, -0.1801234567, 0.0]);
     assert_eq!(knee.coordinates[0].motion_type, MotionType::Rotational);
-    let geometry = osim_tune::mechanics::MuscleGeometry::new(&spec).unwrap();
-    let multibody = &geometry.multibody;
-    let names: Vec<&str> = multibody.coordinates.iter().map(|c| c.name.as_str()).collect();
-    assert_eq!(names, golden["coordinates"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect::<Vec<_>>());
-    let (u, udot) = (numbers(&golden["speeds"]), numbers(&golden["accelerations"]));
-    for pose in golden["poses"].as_array().unwrap() {
-        let q = numbers(&pose["q"]);
-        let mut kinematics = multibody.kinematics();
-        multibody.realize(&q, &mut kinematics);
-        let marker = kinematics.marker_location(multibody, 0);
-        for (axis, expected) in numbers(&pose["marker_in_ground"]).into_iter().enumerate() {
-            assert!((marker[axis] - expected).abs() < 1e-15, "{q:?}: marker {marker:?}");
-        }
-        let length = geometry.paths[0].length(&kinematics, &q, &mut Default::default());
-        assert!((length - pose["vasti_length"].as_f64().unwrap()).abs() < 1e-15, "{q:?}: vasti {length}");
-        let forces = multibody.inverse_dynamics(&osim_tune::mechanics::MotionState { q: &q, u: &u, udot: &udot }, &[]);
-        for (ours, expected) in forces.iter().zip(numbers(&pose["generalized_forces"])) {
-            assert!((ours - expected).abs() < 1e-12, "{q:?}: {forces:?}");
-        }
-    }
+    let c = osim_tune::validation::compare_model_golden(&common::root(), "legacy/pendulum_leg_v30000_digits.osim", "golden/legacy_conversion.json").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((c.markers.count, c.lengths.count, c.generalized_forces.count), (3 * 3, 3, 3 * 2));
+    assert!(c.markers.error < 1e-15 && c.lengths.error < 1e-15 && c.generalized_forces.error < 1e-12, "{c:?}");
 }

@@ -5,46 +5,18 @@
 mod common;
 
 use osim_tune::io::osim::OsimDocument;
-use osim_tune::mechanics::{body_fixed_xyz, MuscleGeometry, PathEvaluation};
 use osim_tune::model::ModelSpec;
-use serde_json::Value;
-
-fn numbers(value: &Value) -> Vec<f64> {
-    value.as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect()
-}
+use osim_tune::validation::compare_model_golden;
 
 #[test]
 fn station_defined_frames_are_placed_as_opensim_places_them() {
-    let document = OsimDocument::read(&common::fixture("models/station_frames.osim")).unwrap();
-    let spec = ModelSpec::read(&document).unwrap_or_else(|e| panic!("{e}"));
-    let golden: Value = serde_json::from_str(&std::fs::read_to_string(common::fixture("golden/station_frames.json")).unwrap()).unwrap();
-    let knee = spec.joints.iter().find(|j| j.name == "knee").unwrap();
+    let c = compare_model_golden(&common::root(), "models/station_frames.osim", "golden/station_frames.json").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((c.frames.count, c.markers.count, c.lengths.count), (2 * 12, 3 * 3 * 3, 3));
+    assert!(c.frames.error < 1e-15 && c.markers.error < 1e-15 && c.lengths.error < 1e-15, "{c:?}");
     // OpenSim's PinJoint constructor put an offset frame of its own on knee_frame.
+    let document = OsimDocument::read(&common::fixture("models/station_frames.osim")).unwrap();
+    let knee = ModelSpec::read(&document).unwrap().joints.into_iter().find(|j| j.name == "knee").unwrap();
     assert_eq!((knee.parent.name.as_str(), knee.parent.body.as_str(), knee.parent.offsets.len()), ("knee_frame_offset", "thigh", 2));
-    let frame = &golden["frames_in_body"]["knee_frame"];
-    let rotation = body_fixed_xyz(knee.parent.offsets[0].orientation);
-    for (i, row) in frame["rotation"].as_array().unwrap().iter().enumerate() {
-        for (j, expected) in numbers(row).into_iter().enumerate() {
-            assert!((rotation[(i, j)] - expected).abs() < 1e-15, "knee_frame R[{i}][{j}] = {}", rotation[(i, j)]);
-        }
-    }
-    for (ours, expected) in knee.parent.offsets[0].translation.iter().zip(numbers(&frame["origin"])) {
-        assert!((ours - expected).abs() < 1e-16);
-    }
-    let geometry = MuscleGeometry::new(&spec).unwrap();
-    let multibody = &geometry.multibody;
-    let mut evaluation = PathEvaluation::new(&geometry, &[0]);
-    for pose in golden["poses"].as_array().unwrap() {
-        let q = numbers(&pose["q"]);
-        evaluation.evaluate(&geometry, &q);
-        for (m, marker) in multibody.markers.iter().enumerate() {
-            let ours = evaluation.kinematics().marker_location(multibody, m);
-            for (axis, expected) in numbers(&pose["markers_in_ground"][&marker.name]).into_iter().enumerate() {
-                assert!((ours[axis] - expected).abs() < 1e-15, "{q:?}: {} {ours:?}", marker.name);
-            }
-        }
-        assert!((evaluation.length(0) - pose["length"].as_f64().unwrap()).abs() < 1e-15, "{q:?}: {}", evaluation.length(0));
-    }
 }
 
 /// Stations on two bodies cannot define a frame (OpenSim asserts the same): the error names the

@@ -13,6 +13,7 @@ pub mod kalman_ik;
 pub mod knee_axis;
 mod muscle;
 mod muscle_degroote;
+mod model_goldens;
 mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
@@ -22,6 +23,7 @@ pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};
 pub use inverse_dynamics::compare_inverse_dynamics;
+pub use model_goldens::{compare_model_golden, ModelGoldenError, PoseComparison};
 pub use joint_reaction::{JointReactionCase, JointReactionComparison, JOINT_REACTION_CASES};
 pub use muscle::{
     compare_equilibrium, compare_millard_curves, default_force_velocity_inverse, CurveComparison, EquilibriumComparison,

@@ -1,13 +1,14 @@
 //! Geometry rows of the validation table: body poses, markers, path lengths and moment arms
 //! against OpenSim 4.6, over the full golden sweep when `../shared/reference` (or
-//! `$OSIM_TUNE_REFERENCE`) is present, else over the slice in `fixtures/golden/`.
+//! `$OSIM_TUNE_REFERENCE`) is present, else over the slice in `fixtures/golden/`; and the JSON
+//! goldens of ellipsoid joints, station frames and a converted 3.x model.
 
 use std::path::{Path, PathBuf};
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::MuscleGeometry;
 use osim_tune::model::ModelSpec;
-use osim_tune::validation::{compare_geometry, Worst};
+use osim_tune::validation::{compare_geometry, compare_model_golden, Worst};
 
 use crate::root;
 use crate::validate::Row;
@@ -72,5 +73,37 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
         tolerance: 0.0,
         at: comparison.span_mismatches.first().cloned().unwrap_or_default(),
     });
+    rows
+}
+
+/// Models whose features OpenSim computes in its own way (`fixtures/golden/*.json`): joints that
+/// glide on ellipsoids, station-defined frames, a 3.x model as OpenSim 4 converts it.
+pub fn model_golden_rows() -> Vec<Row> {
+    let cases = [
+        ("ellipsoid joints", "models/ellipsoid_joints.osim", "golden/ellipsoid_joints.json"),
+        ("station frames", "models/station_frames.osim", "golden/station_frames.json"),
+        ("3.x conversion", "legacy/pendulum_leg_v30000_digits.osim", "golden/legacy_conversion.json"),
+    ];
+    let mut rows = Vec::new();
+    for (label, model, golden) in cases {
+        let reference = format!("OpenSim 4.6, {golden}");
+        let comparison = match compare_model_golden(&root(), model, golden) {
+            Ok(comparison) => comparison,
+            Err(error) => {
+                rows.push(Row { what: format!("{label}: model"), reference, worst: f64::INFINITY, tolerance: 0.0, at: error.to_string() });
+                continue;
+            }
+        };
+        let quantities = [
+            ("frames in their bodies", &comparison.frames, 1e-15),
+            ("marker positions (m)", &comparison.markers, 1e-14),
+            ("path lengths (m)", &comparison.lengths, 1e-14),
+            ("moment arms (m)", &comparison.moment_arms, 1e-12),
+            ("inverse dynamics (N·m)", &comparison.generalized_forces, 1e-11),
+        ];
+        for (what, worst, tolerance) in quantities.into_iter().filter(|(_, worst, _)| worst.count > 0) {
+            rows.push(Row { what: format!("{label}: {what} ({} values)", worst.count), reference: reference.clone(), worst: worst.error, tolerance, at: worst.at.clone() });
+        }
+    }
     rows
 }
