@@ -70,8 +70,10 @@ def main():
         forces = solver.solve(state, udot)
         poses.append({
             "q": list(q),
-            "marker_in_ground": vec(model.getMarkerSet().get("knee_lateral").getLocationInGround(state)),
-            "vasti_length": model.getMuscles().get("vasti").getLength(state),
+            "u": list(SPEEDS),
+            "udot": list(ACCELERATIONS),
+            "markers_in_ground": {"knee_lateral": vec(model.getMarkerSet().get("knee_lateral").getLocationInGround(state))},
+            "length": model.getMuscles().get("vasti").getLength(state),
             "generalized_forces": [forces.get(i) for i in range(forces.size())],
         })
     golden = {
@@ -79,8 +81,6 @@ def main():
         "coordinates": [coordinates.get(i).getName() for i in range(coordinates.getSize())],
         "knee_frames": frames,
         "inertia": inertias,
-        "speeds": list(SPEEDS),
-        "accelerations": list(ACCELERATIONS),
         "poses": poses,
     }
     GOLDEN.write_text(json.dumps(golden, indent=1) + "\n")

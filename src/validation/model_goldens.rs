@@ -52,7 +52,7 @@ pub fn compare_model_golden(root: &Path, model: &str, golden: &str) -> Result<Po
     compare_frames(&document, &golden_json, &mut comparison).map_err(|e| failed(&model, e.to_string()))?;
     let poses = golden_json["poses"].as_array().ok_or_else(|| failed(&golden, "no \"poses\"".into()))?;
     for pose in poses {
-        compare_pose(&geometry, pose, &golden_json, &mut comparison);
+        compare_pose(&geometry, pose, &mut comparison);
     }
     Ok(comparison)
 }
@@ -61,22 +61,21 @@ fn numbers(value: &Value) -> Vec<f64> {
     value.as_array().map(|a| a.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect()).unwrap_or_default()
 }
 
-/// Markers, the muscle's length and, where the golden has them, moment arms and generalized
-/// forces at one pose.
-fn compare_pose(geometry: &MuscleGeometry, pose: &Value, golden: &Value, comparison: &mut PoseComparison) {
+/// Markers (`markers_in_ground`), the muscle's `length` and, where the golden has them,
+/// `moment_arms` and `generalized_forces` (for speeds `u` and accelerations `udot`) at one pose.
+fn compare_pose(geometry: &MuscleGeometry, pose: &Value, comparison: &mut PoseComparison) {
     let multibody = &geometry.multibody;
     let q = numbers(&pose["q"]);
     let mut evaluation = PathEvaluation::loading(geometry, &[0]);
     evaluation.evaluate(geometry, &q);
-    let markers = if pose["markers_in_ground"].is_object() { &pose["markers_in_ground"] } else { &pose["marker_in_ground"] };
     for (m, marker) in multibody.markers.iter().enumerate() {
-        let expected = if markers.is_object() { numbers(&markers[&marker.name]) } else { numbers(markers) };
+        let expected = numbers(&pose["markers_in_ground"][&marker.name]);
         let ours = evaluation.kinematics().marker_location(multibody, m);
         for (axis, value) in expected.iter().enumerate() {
             comparison.markers.update((ours[axis] - value).abs(), || format!("{q:?} / {}", marker.name));
         }
     }
-    let length = pose["length"].as_f64().or_else(|| pose["vasti_length"].as_f64()).unwrap_or(f64::NAN);
+    let length = pose["length"].as_f64().unwrap_or(f64::NAN);
     comparison.lengths.update((evaluation.length(0) - length).abs(), || format!("{q:?}"));
     if pose["moment_arms"].is_object() {
         let mut arms = vec![0.0; multibody.coordinates.len()];
@@ -89,7 +88,7 @@ fn compare_pose(geometry: &MuscleGeometry, pose: &Value, golden: &Value, compari
         }
     }
     if pose["generalized_forces"].is_array() {
-        let (u, udot) = if pose["u"].is_array() { (numbers(&pose["u"]), numbers(&pose["udot"])) } else { (numbers(&golden["speeds"]), numbers(&golden["accelerations"])) };
+        let (u, udot) = (numbers(&pose["u"]), numbers(&pose["udot"]));
         let forces = multibody.inverse_dynamics(&MotionState { q: &q, u: &u, udot: &udot }, &[]);
         for ((ours, expected), coordinate) in forces.iter().zip(numbers(&pose["generalized_forces"])).zip(&multibody.coordinates) {
             comparison.generalized_forces.update((ours - expected).abs(), || format!("{q:?} / {}", coordinate.name));
