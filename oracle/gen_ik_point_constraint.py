@@ -12,7 +12,6 @@ its notes — with abdbonepin.trc and setup_ik_abdbonepin.xml):
 
     python3 oracle/gen_ik_point_constraint.py OPENSIM_CORE_CHECKOUT
 """
-import os
 import re
 import shutil
 import sys
@@ -20,6 +19,7 @@ import tempfile
 from pathlib import Path
 
 import opensim as osim
+from tool_run import run_in
 
 REPO = Path(__file__).resolve().parent.parent
 FIXTURE = REPO / "fixtures" / "ik_point_constraint"
@@ -56,14 +56,7 @@ def main():
         work = Path(work)
         for name in ("subject1_abdbonepin.osim", "abdbonepin_1s.trc", "setup_ik.xml"):
             shutil.copy(FIXTURE / name, work / name)
-        cwd = os.getcwd()
-        os.chdir(work)
-        try:
-            ok = osim.InverseKinematicsTool("setup_ik.xml").run()
-        finally:
-            os.chdir(cwd)
-        if not ok:
-            raise SystemExit("InverseKinematicsTool failed")
+        run_in(work, osim.InverseKinematicsTool, "setup_ik.xml")
         shutil.copy(work / "ik.mot", GOLDEN / "ik.mot")
         errors = next(work.glob("*marker_errors.sto"))
         shutil.copy(errors, GOLDEN / "ik_marker_errors.sto")

@@ -11,7 +11,6 @@ leg6dof9musc, Rajagopal2016, arm26 and wrap_zoo and the masses scaled with the v
 joint_zoo.
 Run from the repository root: python3 oracle/gen_scale_zoo.py [model ...] (only the named models)
 """
-import os
 import random
 import shutil
 import sys
@@ -19,6 +18,7 @@ import tempfile
 from pathlib import Path
 
 import opensim as osim
+from tool_run import run_in
 
 MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"]
 OUT = Path("fixtures/golden/scale_zoo")
@@ -61,14 +61,7 @@ def run_scale_tool(setup_text, inputs, outputs):
         for path in inputs:
             shutil.copy(path, work / Path(path).name)
         (work / "setup.xml").write_text(setup_text)
-        cwd = os.getcwd()
-        os.chdir(work)
-        try:
-            ok = osim.ScaleTool("setup.xml").run()
-        finally:
-            os.chdir(cwd)
-        if not ok:
-            raise SystemExit("ScaleTool failed")
+        run_in(work, osim.ScaleTool, "setup.xml")
         for name, destination in outputs.items():
             shutil.copy(work / name, destination)
 

@@ -55,8 +55,9 @@ impl Multibody {
         if let Some(c) = self.coordinates.iter().find(|c| c.prescribed && !c.locked) {
             return Err(ForwardDynamicsError::Prescribed(c.name.clone()));
         }
-        if !self.other_constraints.is_empty() {
-            return Err(ForwardDynamicsError::Constraints(self.other_constraints.clone()));
+        let refused = self.constraints_dynamics_refuses();
+        if !refused.is_empty() {
+            return Err(ForwardDynamicsError::Constraints(refused));
         }
         let bias = DVector::from_vec(self.inverse_dynamics_at(kinematics, &MotionState { q, u, udot: &vec![0.0; n] }, loads));
         let (projection, offset) = self.constraint_projection(q, u);

@@ -57,8 +57,11 @@ pub struct Scapulothoracic {
     ellipsoid: Ellipsoid,
     /// Z: a quarter turn about F's z.
     quarter_turn: Transform,
-    /// W: the winging axis' frame in the scapula's frame on the ellipsoid, z along the axis.
-    winging: Transform,
+    /// Z⁻¹·W: from the ellipsoid's moving frame, turned back, to the winging axis' frame W (in
+    /// the scapula's frame on the ellipsoid, z along the axis).
+    to_winging: Transform,
+    /// W⁻¹.
+    from_winging: Transform,
 }
 
 impl Scapulothoracic {
@@ -67,17 +70,20 @@ impl Scapulothoracic {
     pub fn new(radii: [f64; 3], winging_origin: [f64; 2], winging_direction: f64) -> Scapulothoracic {
         let (sin, cos) = winging_direction.sin_cos();
         let rotation = Mat3::from_columns(&[Vec3::z(), Vec3::new(cos, sin, 0.0), Vec3::new(-sin, cos, 0.0)]);
+        let winging = Transform { rotation, translation: Vec3::new(winging_origin[0], winging_origin[1], 0.0) };
+        let quarter_turn = Transform { rotation: rotation_about(&Vec3::z(), std::f64::consts::FRAC_PI_2), translation: Vec3::zeros() };
         Scapulothoracic {
             ellipsoid: Ellipsoid { radii: Vec3::new(radii[1], radii[0], radii[2]) },
-            quarter_turn: Transform { rotation: rotation_about(&Vec3::z(), std::f64::consts::FRAC_PI_2), translation: Vec3::zeros() },
-            winging: Transform { rotation, translation: Vec3::new(winging_origin[0], winging_origin[1], 0.0) },
+            quarter_turn,
+            to_winging: quarter_turn.inverse().compose(&winging),
+            from_winging: winging.inverse(),
         }
     }
 
     /// X_FM for `q` = [abduction, elevation, upward rotation, winging] (rad).
     pub fn transform(&self, q: &[f64]) -> Transform {
         let pin = Transform { rotation: rotation_about(&Vec3::z(), q[3]), translation: Vec3::zeros() };
-        self.quarter_turn.compose(&self.ellipsoid.transform(q)).compose(&self.back_to_winging()).compose(&pin).compose(&self.winging.inverse())
+        self.quarter_turn.compose(&self.ellipsoid.transform(q)).compose(&self.to_winging).compose(&pin).compose(&self.from_winging)
     }
 
     /// The chain's rates: Z·E·(Z⁻¹·W)·R_z(q₃)·W⁻¹ by the product rule (winging speed = q̇₃).
@@ -85,9 +91,9 @@ impl Scapulothoracic {
         let pin = TransformRates::new(rotation_rates(rotation_about(&Vec3::z(), q[3]), &Vec3::z(), u[3], udot[3]), [Vec3::zeros(); 3]);
         TransformRates::fixed(self.quarter_turn)
             .compose(&self.ellipsoid.transform_rates(q, u, udot))
-            .then_fixed(&self.back_to_winging())
+            .then_fixed(&self.to_winging)
             .compose(&pin)
-            .then_fixed(&self.winging.inverse())
+            .then_fixed(&self.from_winging)
     }
 
     /// The motion of M per unit speed k: the chain's rates at u = e_k.
@@ -99,10 +105,5 @@ impl Scapulothoracic {
             let rates = self.transform_rates(q, &u, &still);
             *partial = PartialVelocity { angular: rates.angular_velocity(), linear: rates.translation_rate };
         }
-    }
-
-    /// Z⁻¹·W: from the ellipsoid's moving frame, turned back, to the winging axis' frame.
-    fn back_to_winging(&self) -> Transform {
-        self.quarter_turn.inverse().compose(&self.winging)
     }
 }

@@ -82,13 +82,10 @@ pub struct Multibody {
     pub markers: Vec<Marker>,
     /// Enforced `CoordinateCouplerConstraint`s.
     pub couplers: Vec<Coupler>,
-    /// The other enforced constraints, `name (class)`: not applied by dynamics, which refuses
-    /// them (inverse kinematics applies the point links).
-    pub other_constraints: Vec<String>,
-    /// Enforced `PointConstraint`s.
+    /// Enforced `PointConstraint`s (held by inverse kinematics; dynamics refuses them).
     pub point_links: Vec<PointLink>,
     /// The enforced constraints that are neither couplers nor point links, `name (class)`:
-    /// nothing here holds them (inverse kinematics refuses them too).
+    /// nothing here holds them (inverse kinematics and dynamics refuse them).
     pub unheld_constraints: Vec<String>,
     /// The model's gravity, m/s² in ground.
     pub gravity: Vec3,
@@ -128,11 +125,9 @@ impl Multibody {
             }
         }
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
-        let named = |c: &crate::model::ConstraintSpec| format!("{} ({})", c.name, c.class);
-        let other_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none()).map(named).collect();
-        let unheld_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none() && c.point.is_none()).map(named).collect();
+        let unheld_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none() && c.point.is_none()).map(|c| format!("{} ({})", c.name, c.class)).collect();
         let mut multibody =
-            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, other_constraints, point_links: Vec::new(), unheld_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
+            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, point_links: Vec::new(), unheld_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
         multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;
@@ -148,6 +143,12 @@ impl Multibody {
             multibody.point_links.push(PointLink { name: constraint.name.clone(), points });
         }
         Ok(multibody)
+    }
+
+    /// The enforced constraints dynamics does not apply (every one but the couplers),
+    /// `name (class)`: the point links, then the unheld ones.
+    pub fn constraints_dynamics_refuses(&self) -> Vec<String> {
+        self.point_links.iter().map(|link| format!("{} (PointConstraint)", link.name)).chain(self.unheld_constraints.iter().cloned()).collect()
     }
 
     /// The body a frame chain hangs on and X_B,frame.
@@ -214,6 +215,16 @@ impl Multibody {
 /// X_B,frame for a chain of offsets starting at the body.
 fn chain_transform(frame: &FrameChain) -> Transform {
     frame.offsets.iter().fold(Transform::IDENTITY, |x, offset| x.compose(&Transform::from_offset(offset)))
+}
+
+/// The mobilizer of a joint that glides on `surface` (`EllipsoidJoint`, `ScapulothoracicJoint`).
+fn surface_mobilizer(surface: &JointSurface) -> Mobilizer {
+    match *surface {
+        JointSurface::Ellipsoid { radii } => Mobilizer::Ellipsoid(Ellipsoid { radii: Vec3::from(radii) }),
+        JointSurface::Scapulothoracic { radii, winging_origin, winging_direction } => {
+            Mobilizer::Scapulothoracic(Box::new(Scapulothoracic::new(radii, winging_origin, winging_direction)))
+        }
+    }
 }
 
 /// Joint indices of `spec.joints` ordered so each joint's parent body is already placed.
@@ -289,6 +300,9 @@ impl JointCompiler<'_> {
     }
 
     fn mobilizer(&self) -> Result<Mobilizer, MechanicsError> {
+        if let Some(surface) = &self.joint.surface {
+            return Ok(surface_mobilizer(surface));
+        }
         Ok(match self.joint.class.as_str() {
             "WeldJoint" => Mobilizer::Weld,
             "PinJoint" => Mobilizer::Pin,
@@ -299,13 +313,6 @@ impl JointCompiler<'_> {
             "FreeJoint" => Mobilizer::Free,
             "PlanarJoint" => Mobilizer::Planar,
             "CustomJoint" => Mobilizer::Custom(Box::new(self.spatial_transform()?)),
-            "EllipsoidJoint" | "ScapulothoracicJoint" => match &self.joint.surface {
-                Some(JointSurface::Ellipsoid { radii }) => Mobilizer::Ellipsoid(Ellipsoid { radii: Vec3::from(*radii) }),
-                Some(JointSurface::Scapulothoracic { radii, winging_origin, winging_direction }) => {
-                    Mobilizer::Scapulothoracic(Box::new(Scapulothoracic::new(*radii, *winging_origin, *winging_direction)))
-                }
-                None => return Err(self.invalid("has no ellipsoid radii".into())),
-            },
             other => {
                 return Err(MechanicsError::Unsupported { file: self.file.into(), component: self.joint.name.clone(), what: format!("joint class {other}") })
             }

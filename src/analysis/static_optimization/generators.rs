@@ -30,7 +30,7 @@ enum Kind {
 /// The generators of `spec` (unless `replace`, which keeps only `added`) and of `added`; forces
 /// that apply no force are left out, and any other force is refused (we cannot apply it).
 pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
-    let constraints = &geometry.multibody.other_constraints;
+    let constraints = geometry.multibody.constraints_dynamics_refuses();
     if !constraints.is_empty() {
         return Err(StaticOptimizationError::Model(format!(
             "{}: the constraints {} are enforced; osim-tune's dynamics applies only CoordinateCouplerConstraints (disable the others, or remove them)",
