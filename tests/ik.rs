@@ -69,7 +69,7 @@ fn a_point_constraint_is_a_goal_under_a_finite_weight_and_refused_by_the_smoothe
         let frame = ik.solve(Some([0.5, 0.5])).unwrap().frames.remove(0);
         let mut kinematics = multibody.kinematics();
         multibody.realize(&frame.q, &mut kinematics);
-        let [a, b] = &multibody.point_links[0].points;
+        let [a, b] = &multibody.links[0].ends;
         ((kinematics.bodies[a.body].apply(&a.location) - kinematics.bodies[b.body].apply(&b.location)).norm(), frame.errors.rms)
     };
     let (exact_gap, exact_rms) = gap(ConstraintWeight::Infinite);
@@ -80,19 +80,19 @@ fn a_point_constraint_is_a_goal_under_a_finite_weight_and_refused_by_the_smoothe
     assert!(matches!(&error, IkError::Smoother { problem } if problem.contains("PointConstraint AC")), "{error}");
 }
 
-/// A constraint inverse kinematics does not hold (here the same link as a `WeldConstraint`) is
-/// refused, named, rather than ignored.
+/// A constraint inverse kinematics does not hold (here the same link as a
+/// `RollingOnSurfaceConstraint`) is refused, named, rather than ignored.
 #[test]
 fn a_constraint_ik_does_not_hold_is_refused() {
     let case = IkCase::shoulder_point_constraint(&common::root());
     let text = std::fs::read(&case.model).unwrap();
-    let text = String::from_utf8_lossy(&text).replace("PointConstraint", "WeldConstraint");
+    let text = String::from_utf8_lossy(&text).replace("PointConstraint", "RollingOnSurfaceConstraint");
     let spec = ModelSpec::read(&OsimDocument::parse(text, &case.model).unwrap()).unwrap();
     let multibody = Multibody::new(&spec).unwrap();
     let trial = MarkerTable::read(&case.trial).unwrap();
     let (tasks, _) = read_setup_tasks(&case.setup).unwrap();
     let error = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default()).unwrap_err();
-    assert!(error.to_string().contains("AC (WeldConstraint)") && error.to_string().contains("isEnforced"), "{error}");
+    assert!(error.to_string().contains("AC (RollingOnSurfaceConstraint)") && error.to_string().contains("isEnforced"), "{error}");
 }
 
 #[test]

@@ -168,6 +168,16 @@ fn subject01_marker_placement_is_opensims_at_a_better_static_pose() {
     assert_eq!(moved, 39);
 }
 
+/// Measurements on a model whose default values break its constraints
+/// (`oracle/gen_constraint_assembly.py`): OpenSim measures the model's marker pairs at its
+/// default state, which `initSystem` assembles — across a point-constrained elbow, a
+/// constant-distance rod and a weld — and so do we: every property as OpenSim wrote it.
+#[test]
+fn a_model_with_constraints_is_measured_at_its_assembled_default_pose() {
+    let (_, outcome) = scale_by("golden/scale_linked/setup.xml", "models/linked_mechanisms.osim");
+    assert_scaled_model_is_opensims(&outcome, "scale_linked/scaled.osim");
+}
+
 /// leg6dof9musc and a synthetic static trial (`oracle/gen_scale_measured.py`: the model scaled
 /// anisotropically, 1.5 mm marker noise): five measurements of within- and across-body marker
 /// pairs (one on two axes only), the patella and toes scaled with their neighbours, then marker

@@ -54,9 +54,7 @@ impl AnalyzeStates {
         let udot = derivatives(&u).map_err(signal)?;
         let mut q_rows = rows(&q);
         for row in &mut q_rows {
-            for coupler in &multibody.couplers {
-                row[coupler.dependent] = coupler.dependent_value(row);
-            }
+            multibody.follow_couplers(row, &[]);
         }
         Ok(AnalyzeStates {
             q: q_rows,

@@ -108,9 +108,7 @@ mod tests {
         for (c, value) in q.iter_mut().enumerate() {
             *value += 0.1 * ((c as f64) * 0.7).sin();
         }
-        for coupler in &multibody.couplers {
-            q[coupler.dependent] = coupler.dependent_value(&q);
-        }
+        multibody.follow_couplers(&mut q, &[]);
         let u = (0..n).map(|c| 0.5 * ((c as f64) * 1.3).cos()).collect();
         (q, u)
     }

@@ -1,6 +1,7 @@
 //! Mechanics compiled from the model view: functions, kinematics, muscle paths.
 
 mod actuator;
+mod body_link;
 mod coupling;
 mod equivalent_body_force;
 mod error;
@@ -39,6 +40,7 @@ pub use mobilizer::{Mobilizer, PartialVelocity, TransformAxis};
 pub use mobilizer_surface::{Ellipsoid, Scapulothoracic};
 pub use motion::{Motion, MotionError};
 pub use motion_rates::TransformRates;
-pub use multibody::{Body, Joint, Marker, Multibody, PointLink, GROUND_INDEX};
+pub use body_link::{BodyLink, RateTerm};
+pub use multibody::{Body, Joint, Marker, Multibody, GROUND_INDEX};
 pub use path::{GeometryPath, PathScratch};
 pub use spatial::{body_fixed_xyz, body_fixed_xyz_angles, rotation_about, Mat3, Transform, Vec3};

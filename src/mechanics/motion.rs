@@ -67,6 +67,7 @@ impl Motion {
         }
         let width = multibody.coordinates.len();
         let defaults = multibody.default_pose();
+        let given: Vec<usize> = (0..width).filter(|&c| sources[c].is_some()).collect();
         let mut poses = Vec::with_capacity(width * table.n_rows());
         for row in table.rows() {
             let start = poses.len();
@@ -75,9 +76,7 @@ impl Motion {
                 let rotational = multibody.coordinates[c].motion_type == MotionType::Rotational;
                 poses.push(if in_degrees && rotational && source.is_some() { value.to_radians() } else { value });
             }
-            for coupler in multibody.couplers.iter().filter(|k| sources[k.dependent].is_none()) {
-                poses[start + coupler.dependent] = coupler.dependent_value(&poses[start..]);
-            }
+            multibody.follow_couplers(&mut poses[start..], &given);
         }
         let defaulted = sources.iter().zip(&multibody.coordinates).filter(|(s, _)| s.is_none()).map(|(_, c)| c.name.clone()).collect();
         Ok(Motion { times: table.times(), poses, width, ignored_columns, defaulted, in_degrees })

@@ -5,6 +5,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+use super::body_link::BodyLink;
 use super::coupling::Coupler;
 use super::error::MechanicsError;
 use super::function::Function;
@@ -64,13 +65,6 @@ pub struct Marker {
     pub location: Vec3,
 }
 
-/// An enforced `PointConstraint`: its two points (each a point fixed in a body) coincide.
-#[derive(Debug, Clone)]
-pub struct PointLink {
-    pub name: String,
-    pub points: [Marker; 2],
-}
-
 /// The compiled tree.
 #[derive(Debug, Clone)]
 pub struct Multibody {
@@ -82,10 +76,11 @@ pub struct Multibody {
     pub markers: Vec<Marker>,
     /// Enforced `CoordinateCouplerConstraint`s.
     pub couplers: Vec<Coupler>,
-    /// Enforced `PointConstraint`s (held by inverse kinematics; dynamics refuses them).
-    pub point_links: Vec<PointLink>,
-    /// The enforced constraints that are neither couplers nor point links, `name (class)`:
-    /// nothing here holds them (inverse kinematics and dynamics refuse them).
+    /// The other enforced constraints between bodies (point, distance, point-on-line, weld): held
+    /// by inverse kinematics and assembly; dynamics refuses them.
+    pub links: Vec<BodyLink>,
+    /// The enforced constraints of classes not read (neither couplers nor links), `name
+    /// (class)`: nothing here holds them (inverse kinematics and dynamics refuse them).
     pub unheld_constraints: Vec<String>,
     /// The model's gravity, m/s² in ground.
     pub gravity: Vec3,
@@ -125,30 +120,27 @@ impl Multibody {
             }
         }
         let couplers = Coupler::compile_all(spec, &coordinates, &file)?;
-        let unheld_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none() && c.point.is_none()).map(|c| format!("{} ({})", c.name, c.class)).collect();
+        let unheld_constraints = spec.constraints.iter().filter(|c| c.enforced && c.coupler.is_none() && c.link.is_none()).map(|c| format!("{} ({})", c.name, c.class)).collect();
         let mut multibody =
-            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, point_links: Vec::new(), unheld_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
+            Multibody { file, bodies, joints, coordinates, markers: Vec::new(), couplers, links: Vec::new(), unheld_constraints, gravity: Vec3::from(spec.gravity), moved_by: Vec::new(), coordinate_joints };
         multibody.moved_by = (0..multibody.bodies.len()).map(|b| multibody.ancestor_joints(b)).collect();
         for marker in &spec.markers {
             let (body, frame) = multibody.attach(&marker.frame, &marker.name)?;
             multibody.markers.push(Marker { name: marker.name.clone(), body, location: frame.apply(&Vec3::from(marker.location)) });
         }
         for constraint in spec.constraints.iter().filter(|c| c.enforced) {
-            let Some(link) = &constraint.point else { continue };
-            let point = |k: usize| -> Result<Marker, MechanicsError> {
-                let (body, frame) = multibody.attach(&link.frames[k], &constraint.name)?;
-                Ok(Marker { name: format!("{}/body_{}", constraint.name, k + 1), body, location: frame.apply(&Vec3::from(link.locations[k])) })
-            };
-            let points = [point(0)?, point(1)?];
-            multibody.point_links.push(PointLink { name: constraint.name.clone(), points });
+            if let Some(link) = &constraint.link {
+                let link = BodyLink::new(&multibody, constraint, link)?;
+                multibody.links.push(link);
+            }
         }
         Ok(multibody)
     }
 
     /// The enforced constraints dynamics does not apply (every one but the couplers),
-    /// `name (class)`: the point links, then the unheld ones.
+    /// `name (class)`: the links, then the unheld ones.
     pub fn constraints_dynamics_refuses(&self) -> Vec<String> {
-        self.point_links.iter().map(|link| format!("{} (PointConstraint)", link.name)).chain(self.unheld_constraints.iter().cloned()).collect()
+        self.links.iter().map(|link| format!("{} ({})", link.name, link.class)).chain(self.unheld_constraints.iter().cloned()).collect()
     }
 
     /// The body a frame chain hangs on and X_B,frame.
@@ -169,9 +161,33 @@ impl Multibody {
         self.coordinates.iter().position(|c| c.name == name)
     }
 
-    /// Default values of all coordinates (rad or m).
+    /// The default pose (rad or m per coordinate): default values, each coupler's dependent
+    /// coordinate following its independent one, as OpenSim's `initSystem` assembles a model
+    /// whose only constraints are couplers (its assembler holds them exactly and keeps every
+    /// other coordinate at its default). A dependent's own `default_value` is not used: OpenSim
+    /// overrides it too (BothLegs22's `tp_r3` by 0.31 m, leg6dof9musc's patella by 2e-8 rad).
+    /// Other constraints need a solve: `solvers::ik::assemble`.
     pub fn default_pose(&self) -> Vec<f64> {
-        self.coordinates.iter().map(|c| c.default_value).collect()
+        let mut q: Vec<f64> = self.coordinates.iter().map(|c| c.default_value).collect();
+        self.follow_couplers(&mut q, &[]);
+        q
+    }
+
+    /// Sets the dependent coordinate of every coupler from its independent one, unless the
+    /// dependent is one of `given`. A dependent that is another coupler's independent one is
+    /// set first (passes until nothing moves, at most one per coupler).
+    pub fn follow_couplers(&self, q: &mut [f64], given: &[usize]) {
+        for _ in 0..self.couplers.len() {
+            let mut moved = false;
+            for coupler in self.couplers.iter().filter(|c| !given.contains(&c.dependent)) {
+                let value = coupler.dependent_value(q);
+                moved |= value != q[coupler.dependent];
+                q[coupler.dependent] = value;
+            }
+            if !moved {
+                break;
+            }
+        }
     }
 
     /// Whether a coupler makes `coordinate` its dependent one.

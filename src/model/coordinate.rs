@@ -50,6 +50,9 @@ pub struct CoordinateSpec {
     pub clamped: bool,
     pub locked: bool,
     pub prescribed: bool,
+    /// `is_free_to_satisfy_constraints`: assembly gives the coordinate no goal (it moves as the
+    /// constraints need).
+    pub free_to_satisfy_constraints: bool,
 }
 
 impl CoordinateSpec {
@@ -74,6 +77,7 @@ impl CoordinateSpec {
             clamped: reader.boolean_or("clamped", false)?,
             locked: reader.boolean_or("locked", false)?,
             prescribed: reader.boolean_or("prescribed", false)?,
+            free_to_satisfy_constraints: reader.boolean_or("is_free_to_satisfy_constraints", false)?,
         })
     }
 }

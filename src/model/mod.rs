@@ -24,7 +24,7 @@ mod wrap_object;
 
 pub use actuator::{read_force_set, ActuatorKind, ActuatorSpec};
 pub use body::BodySpec;
-pub use constraint::{ConstraintSpec, CouplerSpec, PointLinkSpec};
+pub use constraint::{ConstraintSpec, CouplerSpec, LinkSpec};
 pub use coordinate::{CoordinateSpec, CoordinateUnit, MotionType};
 pub use error::{BadProperty, ModelError};
 pub use force::{ForceSpec, PathWrapSpec};

@@ -39,9 +39,13 @@ pub enum IkError {
     /// A start pose of the wrong length.
     #[error("a pose needs {expected} coordinate values, got {found}")]
     PoseLength { expected: usize, found: usize },
-    /// A `PointConstraint` the solver could not close (after its augmented-Lagrangian rounds).
-    #[error("{}: frame {frame} (t = {time} s): PointConstraint {constraint}'s points are still {error:e} m apart after {rounds} rounds", trial.display())]
+    /// A constraint between bodies the solver could not close (after its augmented-Lagrangian
+    /// rounds); `constraint` is `name (class)`.
+    #[error("{}: frame {frame} (t = {time} s): constraint {constraint} still has an error of {error:e} (m, or rad for a weld's orientation) after {rounds} rounds", trial.display())]
     LinkNotMet { trial: PathBuf, frame: usize, time: f64, constraint: String, error: f64, rounds: usize },
+    /// Assembly could not close a constraint between bodies; `constraint` is `name (class)`.
+    #[error("{}: the model does not assemble: constraint {constraint} keeps an error of {error:e} (m, or rad for a weld's orientation) after {rounds} rounds", model.display())]
+    NotAssembled { model: PathBuf, constraint: String, error: f64, rounds: usize },
     /// The Kalman smoother cannot run.
     #[error("Kalman smoothing: {problem}")]
     Smoother { problem: String },

@@ -1,6 +1,7 @@
 //! Agreement with OpenSim: comparisons of our mechanics against golden tables that OpenSim 4.6
 //! produced, used by the conformance tests and `cargo xtask validate`.
 
+mod assembly;
 mod dynamometer;
 pub mod functional;
 mod forward;
@@ -18,6 +19,7 @@ mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
 
+pub use assembly::{compare_assembly, AssemblyComparison};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};
 pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES};
 pub use geometry::{compare_geometry, GeometryComparison, Worst};

@@ -57,7 +57,8 @@ pub fn compare_model_golden(root: &Path, model: &str, golden: &str) -> Result<Po
     Ok(comparison)
 }
 
-fn numbers(value: &Value) -> Vec<f64> {
+/// The numbers of a JSON array (NaN for an entry that is not one; none for a non-array).
+pub(super) fn numbers(value: &Value) -> Vec<f64> {
     value.as_array().map(|a| a.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect()).unwrap_or_default()
 }
 

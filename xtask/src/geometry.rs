@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::MuscleGeometry;
 use osim_tune::model::ModelSpec;
-use osim_tune::validation::{compare_geometry, compare_model_golden, Worst};
+use osim_tune::validation::{compare_assembly, compare_geometry, compare_model_golden, Worst};
 
 use crate::root;
 use crate::validate::Row;
@@ -73,6 +73,24 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
         tolerance: 0.0,
         at: comparison.span_mismatches.first().cloned().unwrap_or_default(),
     });
+    rows
+}
+
+/// The default pose `initSystem` assembles: the linked mechanisms (constraints between bodies
+/// broken by the default values) and leg6dof9musc (a coupler's dependent off its default).
+pub fn assembly_rows() -> Vec<Row> {
+    let mut rows = Vec::new();
+    for model in ["linked_mechanisms.osim", "leg6dof9musc.osim"] {
+        let reference = "OpenSim 4.6 initSystem, golden/constraint_assembly.json".to_string();
+        match compare_assembly(&root(), model) {
+            Ok(c) => {
+                for (what, worst) in [("coordinates (rad or m)", &c.coordinates), ("markers (m)", &c.markers)] {
+                    rows.push(Row { what: format!("{model} assembled default pose: {what}"), reference: reference.clone(), worst: worst.error, tolerance: 1e-9, at: worst.at.clone() });
+                }
+            }
+            Err(error) => rows.push(Row { what: format!("{model} assembled default pose"), reference, worst: f64::INFINITY, tolerance: 0.0, at: error.to_string() }),
+        }
+    }
     rows
 }
 

@@ -30,6 +30,9 @@ pub fn rows() -> Vec<Row> {
     rows.extend(opensim_loads(&outcome));
     rows.extend(["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"].map(manual_scale_row));
     rows.extend(measured_leg_rows());
+    let (_, linked) = scale_by(&root().join("fixtures/golden/scale_linked/setup.xml"), &root().join("fixtures/models/linked_mechanisms.osim"));
+    let golden = root().join("fixtures/golden/scale_linked/scaled.osim");
+    rows.push(scaled_model_row("linked mechanisms by measurements at the assembled default pose, every property".into(), "OpenSim 4.6 ScaleTool, linked_mechanisms", &linked, &golden));
     rows
 }
 

@@ -5,15 +5,16 @@
 //! over the markers i with data in the frame (Simbody's `Markers` goal divides by the total
 //! weight of those markers), the coordinate tasks j and, with a finite constraint weight w_c,
 //! the constraint errors e_k. Residuals: √(w_i/W)·(x_i − x̂_i) (three each, zero for a marker
-//! without data), √w_j·(q_j − q̂_j), √w_c·e_k, so F = ½‖r‖². A `PointConstraint`'s three
-//! errors (its second point from its first, in ground) enter as √w_ℓ·(e + s) with the
-//! [`LinkTerms`]' weight and shift: an augmented Lagrangian when the solver holds them exactly.
+//! without data), √w_j·(q_j − q̂_j), √w_c·e_k, so F = ½‖r‖². The errors of the links between
+//! bodies ([`BodyLink`]: point, distance, point-on-line and weld constraints) enter as
+//! √w_ℓ·(e + s) with the [`LinkTerms`]' weight and shifts: an augmented Lagrangian when the
+//! solver holds them exactly.
 
 use nalgebra::DMatrix;
 
 use super::coordinates::{CoordinateMap, PoseDerivatives};
 use super::tasks::{TrackedCoordinate, TrackedMarker};
-use crate::mechanics::{CoordinateAxis, Kinematics, Mobilizer, Multibody, Vec3};
+use crate::mechanics::{BodyLink, CoordinateAxis, Kinematics, Mobilizer, Multibody, RateTerm, Vec3};
 use crate::solvers::least_squares::LeastSquaresProblem;
 
 /// What the residuals of every frame share: the compiled model and tasks.
@@ -24,33 +25,46 @@ pub(super) struct FrameModel<'m> {
     pub coordinates: Vec<TrackedCoordinate>,
     /// Per tracked marker: the coordinates that move it and are not held.
     pub marker_coordinates: Vec<Vec<usize>>,
-    /// Per point link, per point: the coordinates that move it and are not held.
+    /// Per link, per end: the coordinates that move its body and are not held.
     pub link_coordinates: Vec<[Vec<usize>; 2]>,
 }
 
 impl FrameModel<'_> {
     pub fn residual_count(&self, map: &CoordinateMap) -> usize {
-        3 * self.markers.len() + self.coordinates.len() + map.soft_couplers.len() + map.soft_locks.len() + 3 * self.link_coordinates.len()
+        3 * self.markers.len() + self.coordinates.len() + map.soft_couplers.len() + map.soft_locks.len() + link_rows(self.multibody)
     }
 }
 
-/// How the point links enter a frame's residuals: √weight·(e + shift) per link, e the link's
-/// error (m, ground); weight 0 leaves them out.
+/// How the links enter a frame's residuals: √weight·(e + shift) per link error e (m, or the
+/// weld's dimensionless orientation errors); weight 0 leaves them out.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct LinkTerms<'a> {
     pub root_weight: f64,
-    /// Per link (empty: none).
-    pub shifts: &'a [Vec3],
+    /// Per link error, in [`link_errors`] order (empty: none).
+    pub shifts: &'a [f64],
 }
 
 impl LinkTerms<'_> {
     pub const NONE: LinkTerms<'static> = LinkTerms { root_weight: 0.0, shifts: &[] };
 }
 
-/// Each point link's error at the realized pose: its second point from its first (m, ground).
-pub(super) fn link_errors(multibody: &Multibody, kinematics: &Kinematics) -> Vec<Vec3> {
-    let at = |marker: &crate::mechanics::Marker| kinematics.bodies[marker.body].apply(&marker.location);
-    multibody.point_links.iter().map(|link| at(&link.points[1]) - at(&link.points[0])).collect()
+/// The coordinates that move `body` and are not held.
+pub(super) fn moving_coordinates(multibody: &Multibody, map: &CoordinateMap, body: usize) -> Vec<usize> {
+    (0..multibody.coordinates.len()).filter(|&c| !map.is_held(c) && multibody.is_moved_by(body, multibody.coordinate_joint(c))).collect()
+}
+
+/// The errors of every link at the realized pose, link after link ([`BodyLink::errors`]).
+pub(super) fn link_errors(multibody: &Multibody, kinematics: &Kinematics) -> Vec<f64> {
+    let mut errors = Vec::with_capacity(link_rows(multibody));
+    for link in &multibody.links {
+        link.errors(kinematics, &mut errors);
+    }
+    errors
+}
+
+/// How many errors the links have.
+pub(super) fn link_rows(multibody: &Multibody) -> usize {
+    multibody.links.iter().map(BodyLink::rows).sum()
 }
 
 /// Buffers reused from frame to frame.
@@ -122,9 +136,9 @@ impl LeastSquaresProblem for FrameObjective<'_, '_> {
             row += 1;
         }
         for (k, error) in link_errors(multibody, &scratch.kinematics).into_iter().enumerate() {
-            let shift = self.links.shifts.get(k).copied().unwrap_or_else(Vec3::zeros);
-            residuals[row..row + 3].copy_from_slice((self.links.root_weight * (error + shift)).as_slice());
-            row += 3;
+            let shift = self.links.shifts.get(k).copied().unwrap_or(0.0);
+            residuals[row] = self.links.root_weight * (error + shift);
+            row += 1;
         }
         if let Some(jacobian) = jacobian {
             self.fill_jacobian(jacobian);
@@ -174,13 +188,13 @@ impl FrameObjective<'_, '_> {
             }
             row += 1;
         }
-        for (link, coordinates) in multibody.point_links.iter().zip(&self.model.link_coordinates) {
-            for (k, sign) in [(0, -1.0), (1, 1.0)] {
-                let point = &link.points[k];
-                let location = scratch.kinematics.bodies[point.body].apply(&point.location);
-                add_point_partials(jacobian, row, &location, sign * self.links.root_weight, &coordinates[k], &scratch.axes, derivatives);
+        for (link, coordinates) in multibody.links.iter().zip(&self.model.link_coordinates) {
+            for link_row in 0..link.rows() {
+                for (term, moving) in link.rate_terms(&scratch.kinematics, link_row).iter().zip(coordinates) {
+                    add_rate_partials(jacobian, row, term, self.links.root_weight, moving, &scratch.axes, derivatives);
+                }
+                row += 1;
             }
-            row += 3;
         }
     }
 }
@@ -195,6 +209,19 @@ fn add_point_partials(jacobian: &mut DMatrix<f64>, row: usize, location: &Vec3, 
             for a in 0..3 {
                 jacobian[(row + a, k)] += coefficient * partial[a];
             }
+        }
+    }
+}
+
+/// Adds factor·∂e/∂(free values) of a link error's share `term`, its body moved by
+/// `coordinates`, to row `row`.
+fn add_rate_partials(jacobian: &mut DMatrix<f64>, row: usize, term: &RateTerm, factor: f64, coordinates: &[usize], axes: &[CoordinateAxis], derivatives: &PoseDerivatives) {
+    for &c in coordinates {
+        let axis = &axes[c];
+        let velocity = axis.angular.cross(&(term.point - axis.origin)) + axis.linear;
+        let partial = factor * (term.linear.dot(&velocity) + term.angular.dot(&axis.angular));
+        for &(k, coefficient) in derivatives.of(c) {
+            jacobian[(row, k)] += coefficient * partial;
         }
     }
 }

@@ -60,8 +60,8 @@ impl InverseKinematics<'_> {
         if !(settings.cutoff.is_finite() && settings.cutoff > 0.0) || settings.iterations == 0 {
             return Err(IkError::Smoother { problem: format!("cutoff {} Hz and {} passes; expected a cutoff > 0 and at least one pass", settings.cutoff, settings.iterations) });
         }
-        if let Some(link) = self.model.multibody.point_links.first() {
-            let problem = format!("PointConstraint {} would not hold: the smoother's state moves freely (solve without --kalman)", link.name);
+        if let Some(link) = self.model.multibody.links.first() {
+            let problem = format!("{} {} would not hold: the smoother's state moves freely (solve without --kalman)", link.class, link.name);
             return Err(IkError::Smoother { problem });
         }
         let frames: Vec<usize> = solution.frames.iter().map(|f| f.frame).collect();

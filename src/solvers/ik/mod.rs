@@ -17,6 +17,9 @@
 //! - **Couplers** (`CoordinateCouplerConstraint`) hold exactly: OpenSim 4.6's tool always
 //!   passes an infinite constraint weight (see [`ConstraintWeight`]); a finite weight is
 //!   available for other uses and makes couplers and locks weighted goals, as Simbody does.
+//! - **Links** (`PointConstraint`, `ConstantDistanceConstraint`, `PointOnLineConstraint`,
+//!   `WeldConstraint`) hold exactly too, by an augmented Lagrangian (`solver.rs`), or are
+//!   weighted goals under a finite weight; other constraint classes are refused.
 //! - **Start**: the first frame from the default pose (OpenSim's `assemble`), each later one
 //!   from the previous solution (`track`). **Time range**: clipped to the trial, ends to the
 //!   nearest frames.
@@ -36,8 +39,11 @@
 //! - `frame.rs`: one frame's residuals and Jacobian;
 //! - `solver.rs`: [`InverseKinematics`], the frame loop and time range;
 //! - `report.rs`: per-frame errors and OpenSim's output tables;
+//! - `assembly.rs`: [`assemble`], OpenSim's `Model::assemble` (the default pose of a model
+//!   with constraints between bodies);
 //! - `kalman.rs`: Kalman-smoothed kinematics over a whole trial (the thesis' IK, not OpenSim's).
 
+mod assembly;
 mod coordinates;
 mod kalman;
 mod frame;
@@ -45,6 +51,7 @@ mod report;
 mod solver;
 mod tasks;
 
+pub use assembly::{assemble, assembled_default_pose};
 pub use coordinates::ConstraintWeight;
 pub use kalman::{KalmanIkSettings, SmoothedKinematics};
 pub use report::{IkFrame, IkSolution, MarkerErrors};

@@ -6,8 +6,9 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{DMatrix, DVector};
 
+use super::assembly::assemble;
 use super::coordinates::{ConstraintWeight, CoordinateMap};
-use super::frame::{link_errors, FrameModel, FrameObjective, FrameScratch, LinkTerms};
+use super::frame::{link_errors, link_rows, moving_coordinates, FrameModel, FrameObjective, FrameScratch, LinkTerms};
 use super::report::{IkFrame, IkSolution, MarkerErrors};
 use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
 use crate::io::table::MarkerTable;
@@ -70,15 +71,33 @@ pub struct IkWorkspace {
     least_squares: LeastSquares,
     x: Vec<f64>,
     scales: Vec<f64>,
-    /// The point links' augmented-Lagrangian shifts (multiplier / weight, m), kept from frame to
-    /// frame as a warm start.
-    link_shifts: Vec<Vec3>,
+    /// The links' augmented-Lagrangian shifts (multiplier / weight) per link error, kept from
+    /// frame to frame as a warm start.
+    link_shifts: Vec<f64>,
 }
 
-/// √weight (per m) of the point links' augmented-Lagrangian residuals: large against the
+impl IkWorkspace {
+    pub(super) fn new(model: &FrameModel, map: &CoordinateMap) -> IkWorkspace {
+        let n = map.variable_count();
+        IkWorkspace {
+            frame: FrameScratch::new(model.multibody),
+            least_squares: LeastSquares::new(n, model.residual_count(map)),
+            x: vec![0.0; n],
+            scales: vec![0.0; model.markers.len()],
+            link_shifts: vec![0.0; link_rows(model.multibody)],
+        }
+    }
+
+    /// Starts the next minimisation from pose `q`.
+    pub(super) fn start_from(&mut self, map: &CoordinateMap, q: &[f64]) {
+        map.free_values(q, &mut self.x);
+    }
+}
+
+/// √weight (per m) of the links' augmented-Lagrangian residuals: large against the
 /// markers' √(w/W) so that a few rounds close them.
 const LINK_ROOT_WEIGHT: f64 = 1e3;
-/// The largest link error (m) a solution may keep: Simbody assembles to far less than OpenSim's
+/// The largest link error (m; rad for a weld's orientation) a solution may keep: Simbody assembles to far less than OpenSim's
 /// IK accuracy.
 const LINK_TOLERANCE: f64 = 1e-10;
 /// Augmented-Lagrangian rounds per frame before the link is reported open.
@@ -103,15 +122,15 @@ impl<'m> InverseKinematics<'m> {
             tasked[task.coordinate] = true;
         }
         if let Some(constraint) = multibody.unheld_constraints.first() {
-            let what = "an enforced constraint other than a CoordinateCouplerConstraint or PointConstraint (OpenSim would hold it; disable it with isEnforced false to solve without it)".into();
+            let what = "an enforced constraint of a class osim-tune does not hold (OpenSim would hold it; disable it with isEnforced false to solve without it)".into();
             return Err(IkError::Unsupported { model: multibody.file.clone(), component: constraint.clone(), what });
         }
         let map = CoordinateMap::new(multibody, settings.constraint_weight, &tasked)?;
         let (coordinates, locked): (Vec<_>, Vec<_>) = all_coordinates.into_iter().partition(|t| !multibody.coordinates[t.coordinate].locked);
         let locked_coordinate_tasks = locked.iter().map(|t| multibody.coordinates[t.coordinate].name.clone()).collect();
-        let moving = |body: usize| -> Vec<usize> { (0..multibody.coordinates.len()).filter(|&c| !map.is_held(c) && multibody.is_moved_by(body, multibody.coordinate_joint(c))).collect() };
+        let moving = |body: usize| moving_coordinates(multibody, &map, body);
         let marker_coordinates = markers.iter().map(|m| moving(m.body)).collect();
-        let link_coordinates = multibody.point_links.iter().map(|link| link.points.each_ref().map(|p| moving(p.body))).collect();
+        let link_coordinates = multibody.links.iter().map(|link| link.ends.each_ref().map(|end| moving(end.body))).collect();
         let mut observed = Vec::with_capacity(trial.n_frames() * markers.len());
         for frame in 0..trial.n_frames() {
             for marker in &markers {
@@ -167,23 +186,18 @@ impl<'m> InverseKinematics<'m> {
 
     /// Buffers for [`InverseKinematics::solve_frame`].
     pub fn workspace(&self) -> IkWorkspace {
-        let n = self.map.variable_count();
-        IkWorkspace {
-            frame: FrameScratch::new(self.model.multibody),
-            least_squares: LeastSquares::new(n, self.model.residual_count(&self.map)),
-            x: vec![0.0; n],
-            scales: vec![0.0; self.model.markers.len()],
-            link_shifts: vec![Vec3::zeros(); self.model.multibody.point_links.len()],
-        }
+        IkWorkspace::new(&self.model, &self.map)
     }
 
     /// The pose the first frame starts from, as OpenSim's `assemble` starts from the model's
-    /// default state: default values, dependents following their couplers.
+    /// default state: default values, dependents following their couplers, the links held
+    /// ([`assemble`]; a model that does not assemble starts from its default values).
     pub fn initial_pose(&self) -> Vec<f64> {
         let multibody = self.model.multibody;
+        let defaults = multibody.default_pose();
+        let mut q = assemble(multibody, &defaults).unwrap_or(defaults);
         let mut x = vec![0.0; self.map.variable_count()];
-        self.map.free_values(&multibody.default_pose(), &mut x);
-        let mut q = multibody.default_pose();
+        self.map.free_values(&q, &mut x);
         self.map.pose(multibody, &x, &mut q);
         q
     }
@@ -191,52 +205,28 @@ impl<'m> InverseKinematics<'m> {
     /// Solves frame `frame` starting from `q` (rad or m per coordinate); `q` becomes the
     /// solution (held coordinates at their values, dependents following their couplers).
     ///
-    /// Point links are held exactly (OpenSim's default) by an augmented Lagrangian: the frame
-    /// is solved with each link's residual shifted by its multiplier estimate, which moves by
-    /// the link's error, until every link closes to LINK_TOLERANCE; with a finite constraint
-    /// weight they are goals, √w·e.
+    /// Links (point, distance, point-on-line and weld constraints) are held exactly (OpenSim's
+    /// default) by an augmented Lagrangian: the frame is solved with each link error's residual
+    /// shifted by its multiplier estimate, which moves by the error, until every error is
+    /// within LINK_TOLERANCE; with a finite constraint weight they are goals, √w·e.
     pub fn solve_frame(&self, frame: usize, q: &mut [f64], workspace: &mut IkWorkspace) -> Result<IkFrame, IkError> {
-        let multibody = self.model.multibody;
         let observed = self.prepare(frame, q, workspace)?;
         let exact = self.exact_links();
-        let root_weight = if exact { LINK_ROOT_WEIGHT } else { self.map.root_weight };
-        let (mut iterations, mut round) = (0, 0);
-        loop {
-            round += 1;
-            let links = LinkTerms { root_weight, shifts: &workspace.link_shifts };
-            let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links };
-            let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &self.map.bounds, &self.settings.convergence);
-            iterations += report.iterations;
-            self.map.pose(multibody, &workspace.x, q);
-            if let Some((worst, link, errors)) = exact.then(|| self.widest_link(q, &mut workspace.frame)).filter(|(worst, ..)| *worst > LINK_TOLERANCE) {
-                if round == MAX_LINK_ROUNDS {
-                    let constraint = multibody.point_links[link].name.clone();
-                    return Err(IkError::LinkNotMet { trial: self.trial_file.clone(), frame, time: self.times[frame], constraint, error: worst, rounds: round });
-                }
-                workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
-                continue;
-            }
-            let cost = if exact { self.objective(frame, q, workspace)? } else { report.cost };
-            return Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (cost, iterations, report.status)));
-        }
+        let found = minimize_holding_links(&self.model, &self.map, observed, workspace, &self.settings.convergence, exact, q).map_err(|open| {
+            let link = &self.model.multibody.links[open.link];
+            let constraint = format!("{} ({})", link.name, link.class);
+            IkError::LinkNotMet { trial: self.trial_file.clone(), frame, time: self.times[frame], constraint, error: open.error, rounds: open.rounds }
+        })?;
+        let cost = if exact { self.objective(frame, q, workspace)? } else { found.cost };
+        Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (cost, found.iterations, found.status)))
     }
 
-    /// At pose `q`: the largest error component of any point link (m), that link, and every
-    /// link's error.
-    fn widest_link(&self, q: &[f64], scratch: &mut FrameScratch) -> (f64, usize, Vec<Vec3>) {
-        let multibody = self.model.multibody;
-        multibody.realize(q, &mut scratch.kinematics);
-        let errors = link_errors(multibody, &scratch.kinematics);
-        let (worst, link) = errors.iter().enumerate().map(|(k, e)| (e.amax(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-        (worst, link, errors)
-    }
-
-    /// Whether point links are held exactly (there are some, and the weight is infinite).
+    /// Whether links are held exactly (there are some, and the weight is infinite).
     fn exact_links(&self) -> bool {
-        !self.model.multibody.point_links.is_empty() && self.settings.constraint_weight == ConstraintWeight::Infinite
+        !self.model.multibody.links.is_empty() && self.settings.constraint_weight == ConstraintWeight::Infinite
     }
 
-    /// The point links' terms of a reported objective: none when they are held exactly (they are
+    /// The links' terms of a reported objective: none when they are held exactly (they are
     /// then constraints, not goals), else √w·e.
     fn reported_links(&self) -> LinkTerms<'static> {
         if self.exact_links() { LinkTerms::NONE } else { LinkTerms { root_weight: self.map.root_weight, shifts: &[] } }
@@ -347,6 +337,63 @@ impl<'m> InverseKinematics<'m> {
             coordinates: multibody.coordinates.iter().map(|c| c.name.clone()).collect(),
             frames: solved,
         })
+    }
+}
+
+/// A minimum found: the least-squares iterations over all rounds, the last round's status and
+/// its cost.
+pub(super) struct HeldMinimum {
+    pub iterations: usize,
+    pub status: LeastSquaresStatus,
+    pub cost: f64,
+}
+
+/// A link the augmented Lagrangian left open: its index in [`Multibody::links`], its largest
+/// error and the rounds run.
+pub(super) struct OpenLink {
+    pub link: usize,
+    pub error: f64,
+    pub rounds: usize,
+}
+
+/// Minimises `model`'s objective from the free values in `workspace.x` (markers `observed`,
+/// scaled by `workspace.scales`) and sets `q` to the minimum. With `exact`, the links are held
+/// by an augmented Lagrangian: each round solves with each link error's residual shifted by its
+/// multiplier estimate, which then moves by the error, until every error is within
+/// LINK_TOLERANCE (MAX_LINK_ROUNDS at most); otherwise they are goals √w·e.
+pub(super) fn minimize_holding_links(
+    model: &FrameModel,
+    map: &CoordinateMap,
+    observed: &[Option<Vec3>],
+    workspace: &mut IkWorkspace,
+    convergence: &LeastSquaresOptions,
+    exact: bool,
+    q: &mut [f64],
+) -> Result<HeldMinimum, OpenLink> {
+    let multibody = model.multibody;
+    let root_weight = if exact { LINK_ROOT_WEIGHT } else { map.root_weight };
+    let (mut iterations, mut round) = (0, 0);
+    loop {
+        round += 1;
+        let links = LinkTerms { root_weight, shifts: &workspace.link_shifts };
+        let mut objective = FrameObjective { model, map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links };
+        let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &map.bounds, convergence);
+        iterations += report.iterations;
+        map.pose(multibody, &workspace.x, q);
+        if !exact {
+            return Ok(HeldMinimum { iterations, status: report.status, cost: report.cost });
+        }
+        multibody.realize(q, &mut workspace.frame.kinematics);
+        let errors = link_errors(multibody, &workspace.frame.kinematics);
+        let owners = multibody.links.iter().enumerate().flat_map(|(k, link)| std::iter::repeat_n(k, link.rows()));
+        let (error, link) = errors.iter().zip(owners).map(|(e, k)| (e.abs(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
+        if error <= LINK_TOLERANCE {
+            return Ok(HeldMinimum { iterations, status: report.status, cost: report.cost });
+        }
+        if round == MAX_LINK_ROUNDS {
+            return Err(OpenLink { link, error, rounds: round });
+        }
+        workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
     }
 }
 

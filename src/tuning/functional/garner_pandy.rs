@@ -42,7 +42,7 @@ use super::error::FunctionalError;
 use super::knee_moment::{EstimatedMuscles, KneeMomentModel};
 use super::parameters::MuscleParameters;
 use super::trials::{root_mean_square, DynamometryData};
-use crate::mechanics::{Multibody, MuscleGeometry, PathEvaluation};
+use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::ModelSpec;
 use crate::solvers::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 
@@ -143,7 +143,7 @@ impl JointRange {
                 pose[knee] = knee_angle;
                 pose[hip] = posture[0];
                 pose[ankle] = posture[1];
-                follow_couplers(multibody, &mut pose, &[knee, hip, ankle]);
+                multibody.follow_couplers(&mut pose, &[knee, hip, ankle]);
                 evaluation.evaluate(&geometry, &pose);
                 for (k, (shortest, longest)) in extremes.iter_mut().enumerate() {
                     let here = RangeExtreme { mt_length: evaluation.length(k), knee_angle, hip_flexion: posture[0], ankle_angle: posture[1] };
@@ -490,13 +490,6 @@ impl LeastSquaresProblem for GarnerPandyProblem<'_> {
     }
 }
 
-/// Sets the dependent coordinate of every coupler from its independent one, unless the
-/// dependent coordinate is one of `given` (as [`KneeMomentModel`] poses the trials).
-fn follow_couplers(multibody: &Multibody, pose: &mut [f64], given: &[usize]) {
-    for coupler in multibody.couplers.iter().filter(|c| !given.contains(&c.dependent)) {
-        pose[coupler.dependent] = coupler.dependent_value(pose);
-    }
-}
 
 #[cfg(test)]
 mod tests {

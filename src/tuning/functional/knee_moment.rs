@@ -25,7 +25,7 @@ use super::error::FunctionalError;
 use super::parameters::MuscleParameters;
 use super::trials::{DynamometryData, IsometricTrial};
 use crate::mechanics::muscle::{FiberEquilibrium, HillMuscle, MuscleError};
-use crate::mechanics::{MuscleGeometry, Multibody, PathEvaluation};
+use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::{ModelSpec, MuscleModelSpec, MuscleSpec};
 
 /// A muscle crossing the knee coordinate, with its geometry in every trial.
@@ -352,7 +352,7 @@ fn add_geometry(geometry: &MuscleGeometry, paths: &[usize], trial_coordinates: [
         for (&c, value) in trial_coordinates.iter().zip([trial.knee_angle, trial.hip_flexion, trial.ankle_angle]) {
             pose[c] = value;
         }
-        follow_couplers(multibody, &mut pose, &trial_coordinates);
+        multibody.follow_couplers(&mut pose, &trial_coordinates);
         evaluation.evaluate(geometry, &pose);
         for (k, muscle) in muscles.iter_mut().enumerate() {
             muscle.mt_lengths.push(evaluation.length(k));
@@ -361,7 +361,7 @@ fn add_geometry(geometry: &MuscleGeometry, paths: &[usize], trial_coordinates: [
         }
     }
     pose.fill(0.0);
-    follow_couplers(multibody, &mut pose, &[]);
+    multibody.follow_couplers(&mut pose, &[]);
     evaluation.evaluate(geometry, &pose);
     for (k, muscle) in muscles.iter_mut().enumerate() {
         muscle.rest_mt_length = evaluation.length(k);
@@ -431,13 +431,6 @@ fn minimum_activation(spec: &MuscleSpec) -> f64 {
     }
 }
 
-/// Sets the dependent coordinate of every coupler from its independent one, unless the
-/// dependent coordinate is one of `given`.
-fn follow_couplers(multibody: &Multibody, pose: &mut [f64], given: &[usize]) {
-    for coupler in multibody.couplers.iter().filter(|c| !given.contains(&c.dependent)) {
-        pose[coupler.dependent] = coupler.dependent_value(pose);
-    }
-}
 
 fn model_error(model: &ModelSpec, what: &'static str, name: &str, problem: String) -> FunctionalError {
     FunctionalError::Model { model: model.file.clone(), what, name: name.to_string(), problem }

@@ -9,6 +9,7 @@ use super::error::ScaleError;
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Kinematics, Multibody};
 use crate::setup::{Measurement, TimeRange};
+use crate::solvers::{assembled_default_pose, IkError};
 
 /// The two lengths of one marker pair (m).
 #[derive(Debug, Clone, PartialEq)]
@@ -37,10 +38,11 @@ pub struct DefaultPoseMarkers<'a> {
 }
 
 impl<'a> DefaultPoseMarkers<'a> {
-    pub fn new(multibody: &'a Multibody) -> Self {
+    /// At OpenSim's default state (the default values assembled, as `initSystem` leaves them).
+    pub fn new(multibody: &'a Multibody) -> Result<Self, IkError> {
         let mut kinematics = multibody.kinematics();
-        multibody.realize(&multibody.default_pose(), &mut kinematics);
-        DefaultPoseMarkers { multibody, kinematics }
+        multibody.realize(&assembled_default_pose(multibody)?, &mut kinematics);
+        Ok(DefaultPoseMarkers { multibody, kinematics })
     }
 
     /// Distance (m) between two model markers; `None` when either is not in the model.

@@ -7,6 +7,7 @@ use super::error::ScaleError;
 use crate::io::osim::OsimDocument;
 use crate::mechanics::{GeometryPath, Multibody, PathScratch};
 use crate::model::{ComponentReader, ForceSpec, ModelSpec};
+use crate::solvers::assembled_default_pose;
 
 /// Classes derived from OpenSim's `ActivationFiberLengthMuscle` (and DeGroote–Fregly), whose
 /// `extendPostScale` rescales both lengths.
@@ -37,11 +38,12 @@ impl PathRescale {
     }
 }
 
-/// Default-pose path lengths of the forces OpenSim rescales, by name, in ForceSet order.
+/// Path lengths at the default state (assembled) of the forces OpenSim rescales, by name, in
+/// ForceSet order.
 pub fn default_pose_lengths(model: &ModelSpec) -> Result<Vec<(String, f64)>, ScaleError> {
     let multibody = Multibody::new(model)?;
     let mut kinematics = multibody.kinematics();
-    let q = multibody.default_pose();
+    let q = assembled_default_pose(&multibody)?;
     multibody.realize(&q, &mut kinematics);
     let mut scratch = PathScratch::default();
     let mut lengths = Vec::new();

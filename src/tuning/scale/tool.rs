@@ -75,7 +75,7 @@ fn scale_set(model: &OsimDocument, scaler: &ModelScaler, setup: &ScaleSetup, out
                 let file = scaler.marker_file.as_ref().ok_or_else(|| missing(setup, "ModelScaler", "marker_file"))?;
                 let trial = MarkerTable::read(&file.resolved)?.in_meters();
                 let multibody = Multibody::new(&spec)?;
-                let markers = DefaultPoseMarkers::new(&multibody);
+                let markers = DefaultPoseMarkers::new(&multibody)?;
                 for measurement in scaler.measurements.iter().filter(|m| m.apply) {
                     let measured = measure(&markers, &trial, &file.resolved, scaler.time_range, measurement)?;
                     check_factor(&file.resolved, &measured.measurement, measured.factor)?;

@@ -1,0 +1,168 @@
+//! Constraints between bodies other than couplers — OpenSim's `PointConstraint`,
+//! `ConstantDistanceConstraint`, `PointOnLineConstraint` and `WeldConstraint` (Simbody's Ball,
+//! Rod, PointOnLine and Weld) — as position errors that vanish when the constraint holds, and
+//! each error's rate as a sum over the two linked bodies of `linear·v + angular·ω` (v the
+//! velocity of a point of the body, ω its angular velocity, both in ground).
+//!
+//! Errors: Point, the second point from the first (m, ground, three rows); Distance, their
+//! distance minus the constant (m); PointOnLine, the follower point from the line point along
+//! two unit normals of the line fixed in the line body (m); Weld, the second frame's origin
+//! from the first's (m) then Simbody's ConstantOrientation errors x₁·y₂, y₁·z₂, z₁·x₂.
+
+use super::error::MechanicsError;
+use super::kinematics::Kinematics;
+use super::multibody::{Marker, Multibody};
+use super::spatial::{Mat3, Transform, Vec3};
+use crate::model::{ConstraintSpec, LinkSpec};
+
+/// An enforced constraint between two bodies.
+#[derive(Debug, Clone)]
+pub struct BodyLink {
+    pub name: String,
+    /// The OpenSim class (`PointConstraint`, …).
+    pub class: String,
+    /// The linked points: the two points, the line point then the follower point, or the weld
+    /// frames' origins.
+    pub ends: [Marker; 2],
+    kind: LinkKind,
+}
+
+#[derive(Debug, Clone)]
+enum LinkKind {
+    Point,
+    /// The constant distance (m).
+    Distance(f64),
+    /// Two unit normals of the line, in the line body.
+    PointOnLine([Vec3; 2]),
+    /// Each weld frame's orientation in its body.
+    Weld([Mat3; 2]),
+}
+
+/// One body's share of an error's rate: `linear·v(point) + angular·ω(body)`.
+#[derive(Debug, Clone, Copy)]
+pub struct RateTerm {
+    pub body: usize,
+    /// The point whose velocity counts (m, ground).
+    pub point: Vec3,
+    pub linear: Vec3,
+    pub angular: Vec3,
+}
+
+/// Simbody's ConstantOrientation pairs: (axis of frame 1, axis of frame 2) per error.
+const ORIENTATION_PAIRS: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
+
+impl BodyLink {
+    /// The link of an enforced constraint `spec` with a [`LinkSpec`], on `multibody`'s bodies.
+    pub fn new(multibody: &Multibody, spec: &ConstraintSpec, link: &LinkSpec) -> Result<BodyLink, MechanicsError> {
+        let end = |frame, location: [f64; 3], role: &str| -> Result<(Marker, Transform), MechanicsError> {
+            let (body, x_body_frame) = multibody.attach(frame, &spec.name)?;
+            let location = x_body_frame.apply(&Vec3::from(location));
+            Ok((Marker { name: format!("{}/{role}", spec.name), body, location }, x_body_frame))
+        };
+        let (ends, kind) = match link {
+            LinkSpec::Point { frames, locations } => ([end(&frames[0], locations[0], "body_1")?.0, end(&frames[1], locations[1], "body_2")?.0], LinkKind::Point),
+            LinkSpec::Distance { frames, locations, distance } => {
+                ([end(&frames[0], locations[0], "body_1")?.0, end(&frames[1], locations[1], "body_2")?.0], LinkKind::Distance(*distance))
+            }
+            LinkSpec::PointOnLine { line, direction, point_on_line, follower, point_on_follower } => {
+                let (line_point, x_line) = end(line, *point_on_line, "line")?;
+                let follower_point = end(follower, *point_on_follower, "follower")?.0;
+                let direction = x_line.rotation * Vec3::from(*direction);
+                ([line_point, follower_point], LinkKind::PointOnLine(normals(&direction)))
+            }
+            LinkSpec::Weld { frames } => {
+                let (first, x1) = end(&frames[0], [0.0; 3], "frame1")?;
+                let (second, x2) = end(&frames[1], [0.0; 3], "frame2")?;
+                ([first, second], LinkKind::Weld([x1.rotation, x2.rotation]))
+            }
+        };
+        Ok(BodyLink { name: spec.name.clone(), class: spec.class.clone(), ends, kind })
+    }
+
+    /// How many errors the link has (its constraint equations).
+    pub fn rows(&self) -> usize {
+        match self.kind {
+            LinkKind::Point => 3,
+            LinkKind::Distance(_) => 1,
+            LinkKind::PointOnLine(_) => 2,
+            LinkKind::Weld(_) => 6,
+        }
+    }
+
+    /// The ends' points in ground at the realized pose.
+    fn points(&self, kinematics: &Kinematics) -> [Vec3; 2] {
+        self.ends.each_ref().map(|end| kinematics.bodies[end.body].apply(&end.location))
+    }
+
+    /// The weld frames' axes in ground (columns), at the realized pose.
+    fn weld_axes(&self, kinematics: &Kinematics, rotations: &[Mat3; 2]) -> [Mat3; 2] {
+        [0, 1].map(|k| kinematics.bodies[self.ends[k].body].rotation * rotations[k])
+    }
+
+    /// Appends the link's errors at the realized pose (see the module doc).
+    pub fn errors(&self, kinematics: &Kinematics, errors: &mut Vec<f64>) {
+        let [p1, p2] = self.points(kinematics);
+        let gap = p2 - p1;
+        match &self.kind {
+            LinkKind::Point => errors.extend(gap.iter()),
+            LinkKind::Distance(distance) => errors.push(gap.norm() - distance),
+            LinkKind::PointOnLine(normals) => {
+                let rotation = kinematics.bodies[self.ends[0].body].rotation;
+                errors.extend(normals.iter().map(|n| (rotation * n).dot(&gap)));
+            }
+            LinkKind::Weld(rotations) => {
+                errors.extend(gap.iter());
+                let [a, b] = self.weld_axes(kinematics, rotations);
+                errors.extend(ORIENTATION_PAIRS.iter().map(|&(i, j)| a.column(i).dot(&b.column(j))));
+            }
+        }
+    }
+
+    /// The two bodies' shares of error `row`'s rate at the realized pose.
+    pub fn rate_terms(&self, kinematics: &Kinematics, row: usize) -> [RateTerm; 2] {
+        let [p1, p2] = self.points(kinematics);
+        let [b1, b2] = [self.ends[0].body, self.ends[1].body];
+        let zero = Vec3::zeros();
+        let translation = |direction: Vec3, angular: Vec3| [RateTerm { body: b1, point: p1, linear: -direction, angular }, RateTerm { body: b2, point: p2, linear: direction, angular: zero }];
+        match &self.kind {
+            LinkKind::Point => translation(Vec3::ith(row, 1.0), zero),
+            LinkKind::Distance(_) => translation((p2 - p1).try_normalize(0.0).unwrap_or(zero), zero),
+            LinkKind::PointOnLine(normals) => {
+                let normal = kinematics.bodies[b1].rotation * normals[row];
+                translation(normal, normal.cross(&(p2 - p1)))
+            }
+            LinkKind::Weld(_) if row < 3 => translation(Vec3::ith(row, 1.0), zero),
+            LinkKind::Weld(rotations) => {
+                let [a, b] = self.weld_axes(kinematics, rotations);
+                let (i, j) = ORIENTATION_PAIRS[row - 3];
+                let axis = a.column(i).cross(&b.column(j));
+                [RateTerm { body: b1, point: p1, linear: zero, angular: axis }, RateTerm { body: b2, point: p2, linear: zero, angular: -axis }]
+            }
+        }
+    }
+}
+
+/// Two unit vectors perpendicular to `direction` and to each other.
+fn normals(direction: &Vec3) -> [Vec3; 2] {
+    let unit = direction.normalize();
+    let least = (0..3).min_by(|&a, &b| unit[a].abs().total_cmp(&unit[b].abs())).unwrap_or(0);
+    let first = unit.cross(&Vec3::ith(least, 1.0)).normalize();
+    [first, unit.cross(&first)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::normals;
+    use crate::mechanics::Vec3;
+
+    #[test]
+    fn line_normals_are_orthonormal_to_the_line() {
+        for direction in [Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.3, -2.0, 0.7), Vec3::new(1.0, 0.0, 0.0)] {
+            let [a, b] = normals(&direction);
+            let unit = direction.normalize();
+            for (x, y, expected) in [(a, a, 1.0), (b, b, 1.0), (a, b, 0.0), (a, unit, 0.0), (b, unit, 0.0)] {
+                assert!((x.dot(&y) - expected).abs() < 1e-15, "{direction:?}");
+            }
+        }
+    }
+}
