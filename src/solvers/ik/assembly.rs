@@ -11,7 +11,8 @@
 
 use super::coordinates::{ConstraintWeight, CoordinateMap};
 use super::frame::{moving_coordinates, FrameModel};
-use super::solver::{minimize_holding_links, IkWorkspace};
+use super::held::minimize_holding_links;
+use super::solver::IkWorkspace;
 use super::tasks::TrackedCoordinate;
 use crate::mechanics::Multibody;
 use crate::solvers::least_squares::LeastSquaresOptions;

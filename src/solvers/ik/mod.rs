@@ -18,7 +18,7 @@
 //!   passes an infinite constraint weight (see [`ConstraintWeight`]); a finite weight is
 //!   available for other uses and makes couplers and locks weighted goals, as Simbody does.
 //! - **Links** (`PointConstraint`, `ConstantDistanceConstraint`, `PointOnLineConstraint`,
-//!   `WeldConstraint`) hold exactly too, by an augmented Lagrangian (`solver.rs`), or are
+//!   `WeldConstraint`) hold exactly too, by an augmented Lagrangian (`held.rs`), or are
 //!   weighted goals under a finite weight; other constraint classes are refused.
 //! - **Start**: the first frame from the default pose (OpenSim's `assemble`), each later one
 //!   from the previous solution (`track`). **Time range**: clipped to the trial, ends to the
@@ -38,6 +38,7 @@
 //! - `coordinates.rs`: free, held and coupled coordinates, bounds, constraint weight;
 //! - `frame.rs`: one frame's residuals and Jacobian;
 //! - `solver.rs`: [`InverseKinematics`], the frame loop and time range;
+//! - `held.rs`: links held exactly by an augmented Lagrangian;
 //! - `report.rs`: per-frame errors and OpenSim's output tables;
 //! - `assembly.rs`: [`assemble`], OpenSim's `Model::assemble` (the default pose of a model
 //!   with constraints between bodies);
@@ -47,6 +48,7 @@ mod assembly;
 mod coordinates;
 mod kalman;
 mod frame;
+mod held;
 mod report;
 mod solver;
 mod tasks;

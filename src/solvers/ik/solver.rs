@@ -8,7 +8,8 @@ use nalgebra::{DMatrix, DVector};
 
 use super::assembly::assemble;
 use super::coordinates::{ConstraintWeight, CoordinateMap};
-use super::frame::{link_errors, link_rows, moving_coordinates, FrameModel, FrameObjective, FrameScratch, LinkTerms};
+use super::frame::{link_rows, moving_coordinates, FrameModel, FrameObjective, FrameScratch, LinkTerms};
+use super::held::minimize_holding_links;
 use super::report::{IkFrame, IkSolution, MarkerErrors};
 use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
 use crate::io::table::MarkerTable;
@@ -67,13 +68,13 @@ impl Linearisation {
 /// [`InverseKinematics::workspace`] of the solver that uses it.
 #[derive(Debug, Clone)]
 pub struct IkWorkspace {
-    frame: FrameScratch,
-    least_squares: LeastSquares,
-    x: Vec<f64>,
-    scales: Vec<f64>,
-    /// The links' augmented-Lagrangian shifts (multiplier / weight) per link error, kept from
+    pub(super) frame: FrameScratch,
+    pub(super) least_squares: LeastSquares,
+    pub(super) x: Vec<f64>,
+    pub(super) scales: Vec<f64>,
+    /// The links' augmented-Lagrangian shifts (multiplier / weight²) per link error, kept from
     /// frame to frame as a warm start.
-    link_shifts: Vec<f64>,
+    pub(super) link_shifts: Vec<f64>,
 }
 
 impl IkWorkspace {
@@ -93,15 +94,6 @@ impl IkWorkspace {
         map.free_values(q, &mut self.x);
     }
 }
-
-/// √weight (per m) of the links' augmented-Lagrangian residuals: large against the
-/// markers' √(w/W) so that a few rounds close them.
-const LINK_ROOT_WEIGHT: f64 = 1e3;
-/// The largest link error (m; rad for a weld's orientation) a solution may keep: Simbody assembles to far less than OpenSim's
-/// IK accuracy.
-const LINK_TOLERANCE: f64 = 1e-10;
-/// Augmented-Lagrangian rounds per frame before the link is reported open.
-const MAX_LINK_ROUNDS: usize = 30;
 
 impl<'m> InverseKinematics<'m> {
     /// Matches `tasks` with `multibody`'s markers and coordinates and the markers of `trial`
@@ -337,63 +329,6 @@ impl<'m> InverseKinematics<'m> {
             coordinates: multibody.coordinates.iter().map(|c| c.name.clone()).collect(),
             frames: solved,
         })
-    }
-}
-
-/// A minimum found: the least-squares iterations over all rounds, the last round's status and
-/// its cost.
-pub(super) struct HeldMinimum {
-    pub iterations: usize,
-    pub status: LeastSquaresStatus,
-    pub cost: f64,
-}
-
-/// A link the augmented Lagrangian left open: its index in [`Multibody::links`], its largest
-/// error and the rounds run.
-pub(super) struct OpenLink {
-    pub link: usize,
-    pub error: f64,
-    pub rounds: usize,
-}
-
-/// Minimises `model`'s objective from the free values in `workspace.x` (markers `observed`,
-/// scaled by `workspace.scales`) and sets `q` to the minimum. With `exact`, the links are held
-/// by an augmented Lagrangian: each round solves with each link error's residual shifted by its
-/// multiplier estimate, which then moves by the error, until every error is within
-/// LINK_TOLERANCE (MAX_LINK_ROUNDS at most); otherwise they are goals √w·e.
-pub(super) fn minimize_holding_links(
-    model: &FrameModel,
-    map: &CoordinateMap,
-    observed: &[Option<Vec3>],
-    workspace: &mut IkWorkspace,
-    convergence: &LeastSquaresOptions,
-    exact: bool,
-    q: &mut [f64],
-) -> Result<HeldMinimum, OpenLink> {
-    let multibody = model.multibody;
-    let root_weight = if exact { LINK_ROOT_WEIGHT } else { map.root_weight };
-    let (mut iterations, mut round) = (0, 0);
-    loop {
-        round += 1;
-        let links = LinkTerms { root_weight, shifts: &workspace.link_shifts };
-        let mut objective = FrameObjective { model, map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links };
-        let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &map.bounds, convergence);
-        iterations += report.iterations;
-        map.pose(multibody, &workspace.x, q);
-        if !exact {
-            return Ok(HeldMinimum { iterations, status: report.status, cost: report.cost });
-        }
-        multibody.realize(q, &mut workspace.frame.kinematics);
-        let errors = link_errors(multibody, &workspace.frame.kinematics);
-        let owners = multibody.links.iter().enumerate().flat_map(|(k, link)| std::iter::repeat_n(k, link.rows()));
-        let (error, link) = errors.iter().zip(owners).map(|(e, k)| (e.abs(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-        if error <= LINK_TOLERANCE {
-            return Ok(HeldMinimum { iterations, status: report.status, cost: report.cost });
-        }
-        if round == MAX_LINK_ROUNDS {
-            return Err(OpenLink { link, error, rounds: round });
-        }
-        workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
     }
 }
 
