@@ -95,6 +95,22 @@ fn a_constraint_ik_does_not_hold_is_refused() {
     assert!(error.to_string().contains("AC (RollingOnSurfaceConstraint)") && error.to_string().contains("isEnforced"), "{error}");
 }
 
+/// `from_file` coordinate tasks follow the setup's `coordinate_file` through OpenSim's quintic
+/// splines: OpenSim's solution to its convergence, the pulled coordinates moved off the
+/// markers-only pose by degrees.
+#[test]
+fn coordinate_tasks_from_a_file_match_opensim() {
+    let case = IkCase::subject01_coordinate_file(&common::root());
+    let comparison = compare_ik(&case, IkFrames::Trial).unwrap();
+    assert_eq!(comparison.frames, 25);
+    assert!(comparison.passes(), "{comparison:?}");
+    let pulled = StorageTable::read(&case.motion).unwrap();
+    let free = StorageTable::read(&IkCase::subject01_walk1_converged(&common::root()).motion).unwrap();
+    let at = |table: &StorageTable, time: f64| table.times().iter().position(|t| (t - time).abs() < 1e-6).unwrap();
+    let knee = |table: &StorageTable, time: f64| table.column("knee_angle_r").unwrap()[at(table, time)];
+    assert!((knee(&pulled, 0.8) - knee(&free, 0.8)).abs() > 1.0, "the knee task pulls by degrees");
+}
+
 #[test]
 fn single_frames_started_from_opensims_previous_frame_match_too() {
     let comparison = compare_ik(&IkCase::subject01_walk1(&common::root()), IkFrames::EveryNth(5)).unwrap();
@@ -274,7 +290,7 @@ fn a_locked_coordinate_keeps_its_default_value() {
     assert!((target[hip] + 0.05).abs() > 0.1);
     let trial = synthetic_trial(&multibody, &[target.clone(), target]);
     // A coordinate task on a locked coordinate is dropped (OpenSim locks the q instead).
-    let tasks = IkTasks { markers: Vec::new(), coordinates: vec![CoordinateTask { name: "hip_ry".into(), weight: 5.0, target: CoordinateTarget::Value(0.3) }] };
+    let tasks = IkTasks { markers: Vec::new(), coordinates: vec![CoordinateTask { name: "hip_ry".into(), weight: 5.0, target: CoordinateTarget::Value(0.3) }], coordinate_values: None };
     let ik = InverseKinematics::new(&multibody, &trial, "synthetic.trc".as_ref(), &tasks, IkSettings::default()).unwrap();
     assert_eq!(ik.locked_coordinate_tasks(), ["hip_ry"]);
     let mut start = multibody.default_pose();
@@ -326,7 +342,7 @@ fn the_rms_counts_missing_markers_as_zero_errors_like_opensim() {
     // stays exact and the displaced marker is 1 cm off.
     let mut tasks: Vec<MarkerTask> = exact.marker_names().iter().map(|name| MarkerTask { name: name.clone(), weight: 1.0 }).collect();
     tasks[1].weight = 0.0;
-    let ik = InverseKinematics::new(&multibody, &trial, "t.trc".as_ref(), &IkTasks { markers: tasks, coordinates: Vec::new() }, IkSettings::default()).unwrap();
+    let ik = InverseKinematics::new(&multibody, &trial, "t.trc".as_ref(), &IkTasks { markers: tasks, coordinates: Vec::new(), coordinate_values: None }, IkSettings::default()).unwrap();
     let frame = ik.solve(None).unwrap().frames.remove(0);
     let n = exact.n_markers() as f64;
     assert!((frame.errors.max - 0.01).abs() < 1e-9);
@@ -366,7 +382,7 @@ fn coordinate_tasks_pull_with_their_weight() {
     let toe = multibody.coordinate_index("toe_flex").unwrap();
     let solve = |weight: f64| {
         let task = CoordinateTask { name: "toe_flex".into(), weight, target: CoordinateTarget::Value(target[toe] + 0.5) };
-        let tasks = IkTasks { markers: Vec::new(), coordinates: vec![task] };
+        let tasks = IkTasks { markers: Vec::new(), coordinates: vec![task], coordinate_values: None };
         let ik = InverseKinematics::new(&multibody, &trial, "t.trc".as_ref(), &tasks, IkSettings::default()).unwrap();
         ik.solve(None).unwrap().frames.remove(0).q[toe] - target[toe]
     };
@@ -389,21 +405,22 @@ fn tasks_are_matched_as_opensim_matches_them() {
             MarkerTask { name: "V.Sacral".into(), weight: 1.0 },
         ],
         coordinates: Vec::new(),
+        coordinate_values: None,
     };
     let ik = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default()).unwrap();
     assert_eq!(ik.marker_names(), ["R.ASIS", "L.ASIS", "V.Sacral"]);
     let missing: Vec<(&str, MissingFrom)> = ik.ignored_marker_tasks().iter().map(|i| (i.name.as_str(), i.missing_from)).collect();
     assert_eq!(missing, [("R.Bicep", MissingFrom::Model), ("R.Knee.Lat", MissingFrom::Trial), ("Nowhere", MissingFrom::ModelAndTrial)]);
 
-    let unknown = IkTasks { markers: Vec::new(), coordinates: vec![CoordinateTask { name: "no_such".into(), weight: 1.0, target: CoordinateTarget::DefaultValue }] };
+    let unknown = IkTasks { markers: Vec::new(), coordinates: vec![CoordinateTask { name: "no_such".into(), weight: 1.0, target: CoordinateTarget::DefaultValue }], coordinate_values: None };
     let error = InverseKinematics::new(&multibody, &trial, &case.trial, &unknown, IkSettings::default()).unwrap_err();
     assert!(matches!(error, IkError::UnknownCoordinate { .. }) && error.to_string().contains("no_such"), "{error}");
 
-    let none = IkTasks { markers: vec![MarkerTask { name: "R.Bicep".into(), weight: 1.0 }], coordinates: Vec::new() };
+    let none = IkTasks { markers: vec![MarkerTask { name: "R.Bicep".into(), weight: 1.0 }], coordinates: Vec::new(), coordinate_values: None };
     let error = InverseKinematics::new(&multibody, &trial, &case.trial, &none, IkSettings::default()).unwrap_err();
     assert!(matches!(error, IkError::NoMarkers { .. }), "{error}");
 
-    let negative = IkTasks { markers: vec![MarkerTask { name: "R.ASIS".into(), weight: -1.0 }], coordinates: Vec::new() };
+    let negative = IkTasks { markers: vec![MarkerTask { name: "R.ASIS".into(), weight: -1.0 }], coordinates: Vec::new(), coordinate_values: None };
     assert!(matches!(InverseKinematics::new(&multibody, &trial, &case.trial, &negative, IkSettings::default()), Err(IkError::InvalidWeight { .. })));
 }
 
@@ -636,4 +653,24 @@ fn kalman_ik_study_slice() {
         assert!(kalman < ik, "{name}: q {kalman} vs IK {ik}");
         assert!(kalman_acceleration < filtered, "{name}: q̈ {kalman_acceleration} vs IK + 6 Hz {filtered}");
     }
+}
+
+/// `from_file` tasks need the setup's `coordinate_file`, and a column in it for their
+/// coordinate: errors name the task or the file and the coordinate.
+#[test]
+fn from_file_tasks_without_their_values_are_refused() {
+    let case = IkCase::subject01_coordinate_file(&common::root());
+    let text = std::fs::read_to_string(&case.setup).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let setup = dir.path().join("setup_ik.xml");
+    std::fs::write(&setup, text.replace("<coordinate_file>coordinates.mot</coordinate_file>", "<coordinate_file></coordinate_file>")).unwrap();
+    let error = read_setup_tasks(&setup).unwrap_err().to_string();
+    assert!(error.contains("IKCoordinateTask hip_flexion_r has value_type from_file, but the setup names no coordinate_file"), "{error}");
+    let values = std::fs::read_to_string(case.setup.with_file_name("coordinates.mot")).unwrap().replace("\tknee_angle_r\t", "\tknee_elsewhere\t");
+    std::fs::write(dir.path().join("coordinates.mot"), values).unwrap();
+    std::fs::write(&setup, &text).unwrap();
+    let (multibody, trial) = load(&case.model, &case.trial);
+    let (tasks, _) = read_setup_tasks(&setup).unwrap();
+    let error = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default()).unwrap_err().to_string();
+    assert!(error.contains("coordinates.mot") && error.contains("no column for coordinate knee_angle_r"), "{error}");
 }

@@ -190,3 +190,22 @@ fn leg6dof9musc_scaled_by_measurements_and_placed_as_opensim() {
     let moved = assert_placement_is_opensims_at_a_better_pose(&outcome, &setup, "scale_measured/static_pose.mot", "scale_measured/placed.osim");
     assert_eq!(moved, 12);
 }
+
+/// A `from_file` coordinate task in marker placement is refused, named, before anything is
+/// written (OpenSim would evaluate it at the setup's start time, which we do not follow).
+#[test]
+fn a_from_file_task_in_marker_placement_is_refused() {
+    let path = fixture("golden/scale_measured/setup.xml");
+    let text = std::fs::read_to_string(&path).unwrap().replacen(
+        "<IKTaskSet><objects>",
+        "<IKTaskSet><objects><IKCoordinateTask name=\"knee_angle_r\"><apply>true</apply><weight>1</weight><value_type>from_file</value_type></IKCoordinateTask>",
+        1,
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("setup.xml");
+    std::fs::write(&copy, text.replace("../../models/", &format!("{}/", fixture("models").display())).replace("static.trc", &fixture("golden/scale_measured/static.trc").display().to_string())).unwrap();
+    let setup = ScaleSetup::read(&copy).unwrap();
+    let generic = OsimDocument::read(&fixture("models/leg6dof9musc.osim")).unwrap();
+    let error = run_scale_tool(&generic, &setup, &mut |_| {}).unwrap_err().to_string();
+    assert!(error.contains("IKCoordinateTask knee_angle_r") && error.contains("from_file is not supported in marker placement"), "{error}");
+}

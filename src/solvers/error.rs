@@ -46,6 +46,9 @@ pub enum IkError {
     /// Assembly could not close a constraint between bodies; `constraint` is `name (class)`.
     #[error("{}: the model does not assemble: constraint {constraint} keeps an error of {error:e} (m, or rad for a weld's orientation) after {rounds} rounds", model.display())]
     NotAssembled { model: PathBuf, constraint: String, error: f64, rounds: usize },
+    /// A setup or its coordinate file that inverse kinematics cannot use.
+    #[error("{}: {problem}", file.display())]
+    Setup { file: PathBuf, problem: String },
     /// The Kalman smoother cannot run.
     #[error("Kalman smoothing: {problem}")]
     Smoother { problem: String },

@@ -26,7 +26,7 @@ pub use box_qp::BoxQpError;
 pub use error::IkError;
 pub use false_position::false_position;
 pub use ik::{
-    assemble, assembled_default_pose, ConstraintWeight, CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkFrame, IkSettings, IkSolution, IkTasks, IkWorkspace,
+    assemble, assembled_default_pose, ConstraintWeight, CoordinateTarget, CoordinateTask, CoordinateValues, IgnoredMarkerTask, IkFrame, IkSettings, IkSolution, IkTasks, IkWorkspace,
     InverseKinematics, KalmanIkSettings, MarkerErrors, MarkerTask, MissingFrom, SmoothedKinematics,
 };
 pub use power_sum::{minimise_power_sum, PowerSumSolution};

@@ -10,7 +10,7 @@ use crate::io::table::{MarkerTable, StorageTable};
 use crate::mechanics::{Motion, Multibody};
 use crate::model::{ModelSpec, MotionType};
 use crate::setup::IkSetup;
-use crate::solvers::{IkSettings, IkTasks, InverseKinematics, LeastSquaresStatus};
+use crate::solvers::{CoordinateValues, IkSettings, IkTasks, InverseKinematics, LeastSquaresStatus};
 
 /// Largest coordinate difference allowed against OpenSim run at `accuracy` 1e-5, rotations
 /// (degrees). OpenSim's L-BFGS stops once its gradient test passes, not at the minimum: OpenSim
@@ -69,6 +69,22 @@ impl IkCase {
         IkCase {
             motion: golden.join("subject01_ik.mot"),
             errors: golden.join("subject01_ik_marker_errors.sto"),
+            rotation_tolerance_degrees: 0.05,
+            translation_tolerance_meters: 1e-4,
+            ..IkCase::subject01_walk1(root)
+        }
+    }
+
+    /// The same trial with three `from_file` coordinate tasks following a `coordinate_file`
+    /// (OpenSim's solution at every fourth frame, three coordinates offset by 5–8°; between its
+    /// rows, quintic GCV splines), against OpenSim 4.6 at `accuracy` 1e-10 over 0.6–1.0 s
+    /// (`oracle/gen_ik_coordinate_file.py`), held to 0.05° and 0.1 mm as the converged walk.
+    pub fn subject01_coordinate_file(root: &Path) -> IkCase {
+        let golden = root.join("fixtures/golden/ik/coordinate_file");
+        IkCase {
+            setup: golden.join("setup_ik.xml"),
+            motion: golden.join("ik.mot"),
+            errors: golden.join("ik_marker_errors.sto"),
             rotation_tolerance_degrees: 0.05,
             translation_tolerance_meters: 1e-4,
             ..IkCase::subject01_walk1(root)
@@ -189,7 +205,7 @@ pub type IkValidationError = Box<dyn std::error::Error>;
 /// The tasks and time range (s) of an `InverseKinematicsTool` setup.
 pub fn read_setup_tasks(setup: &Path) -> Result<(IkTasks, Option<[f64; 2]>), IkValidationError> {
     let setup = IkSetup::read(setup)?;
-    Ok((IkTasks::from_task_set(&setup.tasks, &setup.file)?, Some([setup.time_range.start, setup.time_range.end])))
+    Ok((IkTasks::from_task_set(&setup.tasks, &setup.file, CoordinateValues::read_setup_file(setup.coordinate_file.as_ref())?)?, Some([setup.time_range.start, setup.time_range.end])))
 }
 
 /// Solves `case` and compares with OpenSim's output.

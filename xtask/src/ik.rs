@@ -1,5 +1,6 @@
 //! Inverse-kinematics rows of the validation table: subject01 walk1 against OpenSim 4.6 at the
-//! setup's accuracy (1e-5) and run to convergence (1e-10), OpenSim's constrained shoulder case
+//! setup's accuracy (1e-5) and run to convergence (1e-10), with `from_file` coordinate tasks,
+//! OpenSim's constrained shoulder case
 //! (a PointConstraint) and the linked mechanisms (every constraint class between bodies) at
 //! 1e-10.
 
@@ -12,6 +13,7 @@ pub fn rows() -> Vec<Row> {
     let cases = [
         ("walk1", "accuracy 1e-5", IkCase::subject01_walk1(&root())),
         ("walk1", "accuracy 1e-10", IkCase::subject01_walk1_converged(&root())),
+        ("walk1 with from_file coordinate tasks", "accuracy 1e-10", IkCase::subject01_coordinate_file(&root())),
         ("shoulder (PointConstraint)", "accuracy 1e-10", IkCase::shoulder_point_constraint(&root())),
         ("linked mechanisms (point, distance, point-on-line, weld)", "accuracy 1e-10", IkCase::linked_mechanisms(&root())),
     ];

@@ -9,7 +9,7 @@ use crate::io::table::{MarkerTable, StorageTable};
 use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
 use crate::setup::IkSetup;
-use crate::solvers::{IkSettings, IkSolution, IkTasks, InverseKinematics, KalmanIkSettings, MarkerTask, MissingFrom, SmoothedKinematics};
+use crate::solvers::{CoordinateValues, IkSettings, IkSolution, IkTasks, InverseKinematics, KalmanIkSettings, MarkerTask, MissingFrom, SmoothedKinematics};
 
 /// Where the results go.
 pub struct Outputs {
@@ -52,7 +52,7 @@ pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs
     let multibody = Multibody::new(&spec)?;
     let trial = crate::cli::read_marker_trial(trial_file)?;
     let (mut tasks, time) = match setup.map(IkSetup::read).transpose()? {
-        Some(setup) => (IkTasks::from_task_set(&setup.tasks, &setup.file)?, time.or(Some([setup.time_range.start, setup.time_range.end]))),
+        Some(setup) => (IkTasks::from_task_set(&setup.tasks, &setup.file, CoordinateValues::read_setup_file(setup.coordinate_file.as_ref())?)?, time.or(Some([setup.time_range.start, setup.time_range.end]))),
         None => (every_marker(&multibody, &trial), time),
     };
     apply_weights(&mut tasks, &multibody, &trial, model, trial_file, weights)?;
@@ -102,7 +102,7 @@ fn every_marker(multibody: &Multibody, trial: &MarkerTable) -> IkTasks {
         .filter(|name| multibody.markers.iter().any(|m| &m.name == *name))
         .map(|name| MarkerTask { name: name.clone(), weight: 1.0 })
         .collect();
-    IkTasks { markers, coordinates: Vec::new() }
+    IkTasks { markers, coordinates: Vec::new(), coordinate_values: None }
 }
 
 /// The `NAME=W` weights applied to the marker tasks; a name that is not a marker of both the

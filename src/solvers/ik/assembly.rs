@@ -35,7 +35,7 @@ pub fn assemble(multibody: &Multibody, values: &[f64]) -> Result<Vec<f64>, IkErr
         let coordinate = &multibody.coordinates[c];
         !(multibody.is_dependent(c) || coordinate.locked || coordinate.free_to_satisfy_constraints)
     });
-    let coordinates = goals.map(|c| TrackedCoordinate { coordinate: c, weight: 1.0, target: values[c] }).collect();
+    let coordinates = goals.map(|c| TrackedCoordinate { coordinate: c, weight: 1.0, target: values[c], trajectory: None }).collect();
     let link_coordinates = multibody.links.iter().map(|link| link.ends.each_ref().map(|end| moving_coordinates(multibody, &map, end.body))).collect();
     let model = FrameModel { multibody, markers: Vec::new(), coordinates, marker_coordinates: Vec::new(), link_coordinates };
     let mut workspace = IkWorkspace::new(&model, &map);

@@ -94,6 +94,8 @@ pub(super) struct FrameObjective<'a, 'm> {
     pub observed: &'a [Option<Vec3>],
     /// Per tracked marker: √(w_i / W), 0 without data.
     pub scales: &'a [f64],
+    /// Per coordinate task: its target in this frame (rad or m).
+    pub targets: &'a [f64],
     pub links: LinkTerms<'a>,
 }
 
@@ -121,8 +123,8 @@ impl LeastSquaresProblem for FrameObjective<'_, '_> {
             residuals[row..row + 3].copy_from_slice(error.as_slice());
             row += 3;
         }
-        for task in &self.model.coordinates {
-            residuals[row] = task.weight.sqrt() * (scratch.q[task.coordinate] - task.target);
+        for (task, target) in self.model.coordinates.iter().zip(self.targets) {
+            residuals[row] = task.weight.sqrt() * (scratch.q[task.coordinate] - target);
             row += 1;
         }
         let root_weight = self.map.root_weight;

@@ -62,7 +62,7 @@ pub(super) fn minimize_holding_links(
     loop {
         round += 1;
         let links = LinkTerms { root_weight, shifts: &workspace.link_shifts };
-        let mut objective = FrameObjective { model, map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links };
+        let mut objective = FrameObjective { model, map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, targets: &workspace.targets, links };
         let report = workspace.least_squares.minimize(&mut objective, &mut workspace.x, &map.bounds, convergence);
         iterations += report.iterations;
         map.pose(multibody, &workspace.x, q);

@@ -30,9 +30,12 @@
 //!   marker (OpenSim's `_ik_marker_errors.sto` and log line), the missing markers and the
 //!   iterations; the `.mot` in OpenSim's layout (degrees for rotational coordinates).
 //!
+//! - **Coordinate tasks** pull toward the default value, a manual value, or (`from_file`) the
+//!   setup's `coordinate_file` at each frame's time through OpenSim's interpolating quintic GCV
+//!   spline of each column (rotational columns converted from degrees).
+//!
 //! Not handled: prescribed coordinates, a clamped or locked dependent of a coupler, couplers
-//! of several independent coordinates (errors say so), `from_file` coordinate tasks,
-//! orientation sensors.
+//! of several independent coordinates (errors say so), orientation sensors.
 //!
 //! - `tasks.rs`: marker and coordinate tasks and how they match a model and a trial;
 //! - `coordinates.rs`: free, held and coupled coordinates, bounds, constraint weight;
@@ -58,4 +61,4 @@ pub use coordinates::ConstraintWeight;
 pub use kalman::{KalmanIkSettings, SmoothedKinematics};
 pub use report::{IkFrame, IkSolution, MarkerErrors};
 pub use solver::{IkSettings, IkWorkspace, InverseKinematics};
-pub use tasks::{CoordinateTarget, CoordinateTask, IgnoredMarkerTask, IkTasks, MarkerTask, MissingFrom};
+pub use tasks::{CoordinateTarget, CoordinateTask, CoordinateValues, IgnoredMarkerTask, IkTasks, MarkerTask, MissingFrom};

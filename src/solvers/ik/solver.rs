@@ -72,6 +72,8 @@ pub struct IkWorkspace {
     pub(super) least_squares: LeastSquares,
     pub(super) x: Vec<f64>,
     pub(super) scales: Vec<f64>,
+    /// Per coordinate task: its target in the frame being solved (rad or m).
+    pub(super) targets: Vec<f64>,
     /// The links' augmented-Lagrangian shifts (multiplier / weight²) per link error, kept from
     /// frame to frame as a warm start.
     pub(super) link_shifts: Vec<f64>,
@@ -85,6 +87,7 @@ impl IkWorkspace {
             least_squares: LeastSquares::new(n, model.residual_count(map)),
             x: vec![0.0; n],
             scales: vec![0.0; model.markers.len()],
+            targets: model.coordinates.iter().map(|task| task.target).collect(),
             link_shifts: vec![0.0; link_rows(model.multibody)],
         }
     }
@@ -108,7 +111,7 @@ impl<'m> InverseKinematics<'m> {
             return Err(IkError::EmptyTrial { trial: trial_file.into() });
         }
         let (markers, ignored_marker_tasks) = resolve_markers(multibody, &trial, trial_file, &tasks.markers)?;
-        let all_coordinates = resolve_coordinates(multibody, &tasks.coordinates)?;
+        let all_coordinates = resolve_coordinates(multibody, tasks)?;
         let mut tasked = vec![false; multibody.coordinates.len()];
         for task in &all_coordinates {
             tasked[task.coordinate] = true;
@@ -239,7 +242,7 @@ impl<'m> InverseKinematics<'m> {
     pub(super) fn linearise(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<Linearisation, IkError> {
         let observed = self.prepare(frame, q, workspace)?;
         let total_weight = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
-        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links: self.reported_links() };
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, targets: &workspace.targets, links: self.reported_links() };
         let mut residuals = vec![0.0; objective.residual_count()];
         let mut jacobian = DMatrix::zeros(objective.residual_count(), objective.variable_count());
         objective.evaluate(&workspace.x, &mut residuals, Some(&mut jacobian));
@@ -281,7 +284,7 @@ impl<'m> InverseKinematics<'m> {
     /// reports, for comparing another solution (e.g. OpenSim's) with ours.
     pub fn objective(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<f64, IkError> {
         let observed = self.prepare(frame, q, workspace)?;
-        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, links: self.reported_links() };
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, targets: &workspace.targets, links: self.reported_links() };
         let mut residuals = vec![0.0; objective.residual_count()];
         objective.evaluate(&workspace.x, &mut residuals, None);
         Ok(0.5 * residuals.iter().map(|r| r * r).sum::<f64>())
@@ -298,7 +301,7 @@ impl<'m> InverseKinematics<'m> {
             return Err(IkError::NoFrame { trial: self.trial_file.clone(), frame, frames: self.times.len() });
         }
         let n_markers = self.model.markers.len();
-        if workspace.frame.q.len() != q.len() || workspace.scales.len() != n_markers || workspace.x.len() != self.map.variable_count() {
+        if workspace.frame.q.len() != q.len() || workspace.scales.len() != n_markers || workspace.targets.len() != self.model.coordinates.len() || workspace.x.len() != self.map.variable_count() {
             *workspace = self.workspace();
         }
         let observed = &self.observed[frame * n_markers..(frame + 1) * n_markers];
@@ -308,6 +311,9 @@ impl<'m> InverseKinematics<'m> {
         }
         for ((scale, marker), observation) in workspace.scales.iter_mut().zip(&self.model.markers).zip(observed) {
             *scale = if observation.is_some() { (marker.weight / total_weight).sqrt() } else { 0.0 };
+        }
+        for (target, task) in workspace.targets.iter_mut().zip(&self.model.coordinates) {
+            *target = task.target_at(self.times[frame]);
         }
         self.map.free_values(q, &mut workspace.x);
         Ok(observed)

@@ -2,10 +2,11 @@
 //! weight and a target per coordinate), and how they are matched with a model and a trial the
 //! way OpenSim 4.6's `InverseKinematicsTool` matches them.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use crate::io::table::MarkerTable;
-use crate::mechanics::{Multibody, Vec3};
+use crate::io::table::{MarkerTable, StorageTable};
+use crate::mechanics::{Function, Motion, Multibody, Vec3};
+use crate::model::FunctionSpec;
 use crate::setup::{CoordinateTarget as SetupTarget, IkTaskSet};
 use crate::solvers::IkError;
 
@@ -17,14 +18,37 @@ pub struct MarkerTask {
     pub weight: f64,
 }
 
-/// The value a coordinate task pulls its coordinate towards (OpenSim's `value_type`; the
-/// `from_file` type is not supported).
+/// The value a coordinate task pulls its coordinate towards (OpenSim's `value_type`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CoordinateTarget {
     /// The coordinate's `default_value` in the model (`default_value`).
     DefaultValue,
     /// This value, rad or m (`manual_value`).
     Value(f64),
+    /// The coordinate's column of the [`CoordinateValues`] at each frame's time (`from_file`).
+    FromFile,
+}
+
+/// A tool's `coordinate_file`: coordinate values over time, which OpenSim fits column by column
+/// with an interpolating quintic `GCVSpline` (`GCVSplineSet(5, …)`) after converting rotational
+/// columns from degrees.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CoordinateValues {
+    pub file: PathBuf,
+    pub table: StorageTable,
+}
+
+impl CoordinateValues {
+    /// The table at `file` (`.mot`/`.sto`).
+    pub fn read(file: &Path) -> Result<CoordinateValues, IkError> {
+        let table = StorageTable::read(file).map_err(|e| IkError::Setup { file: file.into(), problem: e.to_string() })?;
+        Ok(CoordinateValues { file: file.into(), table })
+    }
+
+    /// The table a setup's `coordinate_file` names, if it names one.
+    pub fn read_setup_file(file: Option<&crate::setup::SetupPath>) -> Result<Option<CoordinateValues>, IkError> {
+        file.map(|path| CoordinateValues::read(&path.resolved)).transpose()
+    }
 }
 
 /// OpenSim's `IKCoordinateTask` with `apply = true`.
@@ -44,6 +68,8 @@ pub struct IkTasks {
     /// weight.
     pub markers: Vec<MarkerTask>,
     pub coordinates: Vec<CoordinateTask>,
+    /// The values `from_file` tasks follow.
+    pub coordinate_values: Option<CoordinateValues>,
 }
 
 impl IkTasks {
@@ -52,23 +78,25 @@ impl IkTasks {
         IkTasks::default()
     }
 
-    /// The applied tasks of a setup's `IKTaskSet` (read from `setup_file`); `from_file`
-    /// coordinate targets are not supported.
-    pub fn from_task_set(tasks: &IkTaskSet, setup_file: &Path) -> Result<IkTasks, IkError> {
+    /// The applied tasks of a setup's `IKTaskSet` (read from `setup_file`), `from_file` tasks
+    /// following `coordinate_values` (the setup's `coordinate_file`, an error when it names
+    /// none, as OpenSim's).
+    pub fn from_task_set(tasks: &IkTaskSet, setup_file: &Path, coordinate_values: Option<CoordinateValues>) -> Result<IkTasks, IkError> {
         let markers = tasks.marker_tasks.iter().filter(|t| t.apply).map(|t| MarkerTask { name: t.name.clone(), weight: t.weight }).collect();
         let mut coordinates = Vec::new();
         for task in tasks.coordinate_tasks.iter().filter(|t| t.apply) {
             let target = match task.target {
                 SetupTarget::DefaultValue => CoordinateTarget::DefaultValue,
                 SetupTarget::ManualValue(value) => CoordinateTarget::Value(value),
+                SetupTarget::FromFile if coordinate_values.is_some() => CoordinateTarget::FromFile,
                 SetupTarget::FromFile => {
-                    let component = format!("IKCoordinateTask {}", task.name);
-                    return Err(IkError::Unsupported { model: setup_file.into(), component, what: "value_type from_file".into() });
+                    let problem = format!("IKCoordinateTask {} has value_type from_file, but the setup names no coordinate_file", task.name);
+                    return Err(IkError::Setup { file: setup_file.into(), problem });
                 }
             };
             coordinates.push(CoordinateTask { name: task.name.clone(), weight: task.weight, target });
         }
-        Ok(IkTasks { markers, coordinates })
+        Ok(IkTasks { markers, coordinates, coordinate_values })
     }
 }
 
@@ -106,6 +134,15 @@ pub(super) struct TrackedCoordinate {
     pub weight: f64,
     /// rad or m.
     pub target: f64,
+    /// For a `from_file` task: the target over time (s), overriding `target`.
+    pub trajectory: Option<Function>,
+}
+
+impl TrackedCoordinate {
+    /// The target at time `time` (s), rad or m.
+    pub fn target_at(&self, time: f64) -> f64 {
+        self.trajectory.as_ref().map_or(self.target, |f| f.value(time))
+    }
 }
 
 /// The markers in use in trial column order (OpenSim's `MarkersReference` order: the order of
@@ -155,22 +192,57 @@ pub(super) fn resolve_markers(
 /// Coordinate tasks by coordinate index; tasks of weight 0 are dropped (a weight-0 goal does
 /// nothing in Simbody's assembler). Tasks on locked coordinates are kept here; the caller
 /// decides (OpenSim locks such a coordinate in the assembler and drops the task).
-pub(super) fn resolve_coordinates(multibody: &Multibody, tasks: &[CoordinateTask]) -> Result<Vec<TrackedCoordinate>, IkError> {
+pub(super) fn resolve_coordinates(multibody: &Multibody, tasks: &IkTasks) -> Result<Vec<TrackedCoordinate>, IkError> {
     let mut tracked = Vec::new();
-    for task in tasks {
+    let mut trajectories = None;
+    for task in &tasks.coordinates {
         check_weight(&task.name, task.weight)?;
         let coordinate = multibody
             .coordinate_index(&task.name)
             .ok_or_else(|| IkError::UnknownCoordinate { model: multibody.file.clone(), name: task.name.clone() })?;
-        let target = match task.target {
-            CoordinateTarget::DefaultValue => multibody.coordinates[coordinate].default_value,
-            CoordinateTarget::Value(value) => value,
+        let (target, trajectory) = match task.target {
+            CoordinateTarget::DefaultValue => (multibody.coordinates[coordinate].default_value, None),
+            CoordinateTarget::Value(value) => (value, None),
+            CoordinateTarget::FromFile => {
+                let values = tasks.coordinate_values.as_ref().ok_or_else(|| IkError::Setup {
+                    file: multibody.file.clone(),
+                    problem: format!("coordinate task {} is from_file, but no coordinate file was given", task.name),
+                })?;
+                let motion = match &trajectories {
+                    Some(motion) => motion,
+                    None => trajectories.insert(coordinate_motion(multibody, values)?),
+                };
+                (f64::NAN, Some(coordinate_trajectory(motion, values, multibody, coordinate)?))
+            }
         };
         if task.weight > 0.0 {
-            tracked.push(TrackedCoordinate { coordinate, weight: task.weight, target });
+            tracked.push(TrackedCoordinate { coordinate, weight: task.weight, target, trajectory });
         }
     }
     Ok(tracked)
+}
+
+/// The coordinate file's columns on `multibody`'s coordinates, rotations in rad.
+fn coordinate_motion(multibody: &Multibody, values: &CoordinateValues) -> Result<Motion, IkError> {
+    Motion::from_table(&values.table, &values.file, multibody, true).map_err(|e| IkError::Setup { file: values.file.clone(), problem: e.to_string() })
+}
+
+/// OpenSim's `GCVSplineSet(5, …)` column of `coordinate`: an interpolating quintic spline of
+/// its values over the file's times.
+fn coordinate_trajectory(motion: &Motion, values: &CoordinateValues, multibody: &Multibody, coordinate: usize) -> Result<Function, IkError> {
+    let name = &multibody.coordinates[coordinate].name;
+    let problem = |problem: String| IkError::Setup { file: values.file.clone(), problem };
+    if motion.defaulted.contains(name) {
+        return Err(problem(format!("no column for coordinate {name}, which a from_file coordinate task follows")));
+    }
+    if motion.len() < 6 {
+        return Err(problem(format!("{} rows; a quintic spline through coordinate {name} needs at least 6", motion.len())));
+    }
+    if let Some(k) = motion.times.windows(2).position(|t| !(t[1] > t[0])) {
+        return Err(problem(format!("times must increase; row {} ({} s) follows {} s", k + 2, motion.times[k + 1], motion.times[k])));
+    }
+    let y = (0..motion.len()).map(|i| motion.pose(i)[coordinate]).collect();
+    Ok(Function::new(&FunctionSpec::GCVSpline { degree: 5, error_variance: 0.0, x: motion.times.clone(), y }))
 }
 
 fn check_weight(name: &str, weight: f64) -> Result<(), IkError> {
