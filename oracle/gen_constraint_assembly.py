@@ -5,20 +5,25 @@ assembles the model) and in inverse kinematics.
 fixtures/models/linked_mechanisms.osim, built here with OpenSim's API: five small mechanisms,
 each with default values that break its constraint so that assembly has to move them:
 - a PointConstraint closing a loop (a BallJoint arm and a PinJoint forearm whose tip is
-  pinned to a ground point);
+  pinned to a sled on a SliderJoint);
 - a ConstantDistanceConstraint between a crank and a rocker on tilted pins, the rocker
   carrying a locked pin;
 - a PointOnLineConstraint holding a point of a FreeJoint block on a slanted ground line, the
   block's x translation `is_free_to_satisfy_constraints`;
 - a WeldConstraint welding a FreeJoint cap, through offset frames, to a PinJoint lever;
 - a CoordinateCouplerConstraint whose dependent's default value (0) is not the coupler's value
-  (OpenSim overrides it).
+  (OpenSim overrides it);
+and five Millard muscles across them, whose moment arms OpenSim computes through the
+constraints (MomentArmSolver: the coordinate's speed lit, the others projected onto the
+velocity constraints).
 `assembly_accuracy` is 1e-12 so that the goldens are near exact.
 
 fixtures/golden/constraint_assembly.json: per model — linked_mechanisms.osim and
 leg6dof9musc.osim, whose only constraint is a coupler with a default value 2e-8 rad off — the
 coordinates, their default values and OpenSim's assembled default pose with every marker in
-ground there.
+ground there; for linked_mechanisms also `poses` (the assembled default pose and three of the
+trial's assembled poses) with each muscle's length and `computeMomentArm` about every
+coordinate.
 
 fixtures/ik_linked_mechanisms/: a 20-frame trial (poses scattered about the defaults, each
 assembled by OpenSim, markers with seeded 1 mm noise, in mm at 60 Hz) and an IK setup (every
@@ -40,7 +45,7 @@ from pathlib import Path
 
 import opensim as osim
 
-from gen_scale_measured import write_trc
+from gen_scale_measured import measured_scale_setup, measurement_xml, write_trc
 from gen_scale_zoo import run_scale_tool
 from tool_run import run_in
 
@@ -53,6 +58,12 @@ SCALE_GOLDEN = REPO / "fixtures" / "golden" / "scale_linked"
 MEASUREMENTS = [("elbow_span", "arm_m1", "forearm_m2", ["arm", "forearm"]), ("rod_span", "crank_m1", "rocker_m1", ["crank", "rocker", "rocker_tip"]),
                 ("weld_span", "lever_m2", "cap_m1", ["lever", "cap"])]
 V = osim.Vec3
+MUSCLES = [("loop_muscle", [("ground", (0.3, 1.2, 0.05)), ("arm", (0.05, -0.1, 0.02)), ("forearm", (0.03, -0.2, 0.01))]),
+           ("rod_muscle", [("crank", (0.05, 0.02, 0.0)), ("rocker_tip", (0.04, 0.01, 0.0))]),
+           ("rail_muscle", [("ground", (3.2, 0.9, 0.1)), ("block", (0.02, 0.04, 0.0))]),
+           ("cap_muscle", [("ground", (4.2, 1.3, 0.0)), ("cap", (0.02, 0.03, 0.01))]),
+           ("follower_muscle", [("lever", (0.1, 0.05, 0.0)), ("follower", (0.05, 0.02, 0.0))])]
+TRIAL_POSES_WITH_MOMENT_ARMS = [3, 9, 16]
 
 
 def add_body(model, name, markers):
@@ -84,7 +95,11 @@ def build():
     set_defaults(elbow, [0.5], ["elbow_flexion"])
     model.addJoint(shoulder)
     model.addJoint(elbow)
-    model.addConstraint(osim.PointConstraint(forearm, V(0, -0.3, 0), ground, V(0.25, 0.45, 0.1)))
+    sled = add_body(model, "sled", [(0.03, 0.02, 0.0)])
+    rail_joint = osim.SliderJoint("sled_slider", ground, V(0.25, 0.45, 0.1), V(0, 0, 0.2), sled, V(0, 0, 0), V(0, 0, 0))
+    set_defaults(rail_joint, [0.05], ["sled_x"])
+    model.addJoint(rail_joint)
+    model.addConstraint(osim.PointConstraint(forearm, V(0, -0.3, 0), sled, V(0, 0, 0)))
     # A crank and a rocker a constant distance apart; a locked pin on the rocker.
     crank = add_body(model, "crank", [(0.08, 0.02, 0.01)])
     rocker = add_body(model, "rocker", [(0.2, 0.03, 0.02), (0.1, -0.02, 0.05)])
@@ -132,6 +147,12 @@ def build():
     coupler.setDependentCoordinateName("follower_angle")
     coupler.setFunction(osim.LinearFunction(2.0, 0.1))
     model.addConstraint(coupler)
+    for name, points in MUSCLES:
+        muscle = osim.Millard2012EquilibriumMuscle(name, 100.0, 0.1, 0.2, 0.0)
+        for k, (frame, location) in enumerate(points):
+            body = ground if frame == "ground" else model.getBodySet().get(frame)
+            muscle.addNewPathPoint(f"{name}_point{k + 1}", body, V(*location))
+        model.addForce(muscle)
     model.finalizeConnections()
     model.printToXML(str(MODEL))
 
@@ -156,19 +177,48 @@ def default_golden(model):
     }
 
 
-def trial_frames(model):
-    state = model.initSystem()
-    rng = random.Random(20261127)
+def trial_poses(model, state):
+    """The trial's 20 poses, each scattered about the assembled defaults and assembled, set in
+    `state` in turn."""
     defaults = [c.getValue(state) for c in coordinates(model)]
-    frames = []
     for k in range(20):
         for coordinate, value in zip(coordinates(model), defaults):
             if not coordinate.getDefaultLocked():
                 coordinate.setValue(state, value + 0.3 * math.sin(0.4 * k + 1.7 * len(coordinate.getName())), False)
         model.assemble(state)
         model.realizePosition(state)
+        yield k
+
+
+def trial_frames(model):
+    state = model.initSystem()
+    rng = random.Random(20261127)
+    frames = []
+    for _ in trial_poses(model, state):
         frames.append([[1000.0 * (p + rng.gauss(0.0, 0.001)) for p in position] for position in markers_in_ground(model, state).values()])
     return frames
+
+
+def finite_or_none(value):
+    """JSON has no NaN: OpenSim's 0/0 moment arm about a coordinate the constraints fix is null."""
+    return value if math.isfinite(value) else None
+
+
+def moment_arm_pose(model, state):
+    muscles = [model.getMuscles().get(i) for i in range(model.getMuscles().getSize())]
+    return {
+        "q": [c.getValue(state) for c in coordinates(model)],
+        "lengths": {m.getName(): m.getLength(state) for m in muscles},
+        "moment_arms": {m.getName(): {c.getName(): finite_or_none(m.computeMomentArm(state, c)) for c in coordinates(model)} for m in muscles},
+    }
+
+
+def moment_arm_poses(model):
+    state = model.initSystem()
+    model.realizePosition(state)
+    poses = [moment_arm_pose(model, state)]
+    poses += [moment_arm_pose(model, state) for k in trial_poses(model, state) if k in TRIAL_POSES_WITH_MOMENT_ARMS]
+    return poses
 
 
 SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
@@ -205,28 +255,8 @@ def ik_golden(model):
 
 
 def scale_setup(model_file, trial_file):
-    def measurement(name, a, b, bodies):
-        scales = "".join(f'<BodyScale name="{body}"><axes> X Y Z</axes></BodyScale>' for body in bodies)
-        return (f'<Measurement name="{name}"><apply>true</apply><MarkerPairSet><objects><MarkerPair><markers> {a} {b}</markers>'
-                f'</MarkerPair></objects></MarkerPairSet><BodyScaleSet><objects>{scales}</objects></BodyScaleSet></Measurement>\n')
-    return f"""<?xml version="1.0" encoding="UTF-8" ?>
-<OpenSimDocument Version="40000">
-<ScaleTool name="linked_subject">
-<mass>10.5</mass>
-<GenericModelMaker><model_file>{model_file}</model_file></GenericModelMaker>
-<ModelScaler>
-<apply>true</apply>
-<scaling_order> measurements</scaling_order>
-<MeasurementSet><objects>
-{"".join(measurement(*m) for m in MEASUREMENTS)}</objects></MeasurementSet>
-<marker_file>{trial_file}</marker_file>
-<time_range> 0 0.07</time_range>
-<preserve_mass_distribution>true</preserve_mass_distribution>
-<output_model_file>scaled.osim</output_model_file>
-</ModelScaler>
-</ScaleTool>
-</OpenSimDocument>
-"""
+    measurements = "".join(measurement_xml(name, [(a, b)], bodies, "X Y Z") for name, a, b, bodies in MEASUREMENTS)
+    return measured_scale_setup("linked_subject", 10.5, model_file, measurements, trial_file, "0 0.07", "scaled.osim")
 
 
 def scale_golden():
@@ -238,6 +268,7 @@ def scale_golden():
 def main():
     build()
     goldens = {path.name: default_golden(osim.Model(str(path))) for path in (MODEL, MODEL.parent / "leg6dof9musc.osim")}
+    goldens[MODEL.name]["poses"] = moment_arm_poses(osim.Model(str(MODEL)))
     GOLDEN.write_text(json.dumps(goldens, indent=1) + "\n")
     ik_golden(osim.Model(str(MODEL)))
     scale_golden()

@@ -69,32 +69,43 @@ def write_trc(path, names, frames):
     path.write_text("\n".join(lines) + "\n")
 
 
-def setup_xml(model_file, names):
-    def measurement(name, pairs, bodies, axes):
-        pair_xml = "".join(f"<MarkerPair><markers> {a} {b}</markers></MarkerPair>" for a, b in pairs)
-        body_xml = "".join(f"<BodyScale name=\"{b}\"><axes> {axes}</axes></BodyScale>" for b in bodies)
-        return (f"<Measurement name=\"{name}\"><apply>true</apply><MarkerPairSet><objects>{pair_xml}</objects></MarkerPairSet>"
-                f"<BodyScaleSet><objects>{body_xml}</objects></BodyScaleSet></Measurement>\n")
-    def task(name):
-        weight = 10.0 if name == "R.Toe.Tip" else 1.0
-        apply = "false" if name == "R.Midfoot.Lat" else "true"
-        return f"<IKMarkerTask name=\"{name}\"><apply>{apply}</apply><weight>{weight}</weight></IKMarkerTask>\n"
+def measurement_xml(name, pairs, bodies, axes):
+    """A `<Measurement>` of marker `pairs` scaling `bodies` along `axes` (e.g. "X Y Z")."""
+    pair_xml = "".join(f"<MarkerPair><markers> {a} {b}</markers></MarkerPair>" for a, b in pairs)
+    body_xml = "".join(f"<BodyScale name=\"{b}\"><axes> {axes}</axes></BodyScale>" for b in bodies)
+    return (f"<Measurement name=\"{name}\"><apply>true</apply><MarkerPairSet><objects>{pair_xml}</objects></MarkerPairSet>"
+            f"<BodyScaleSet><objects>{body_xml}</objects></BodyScaleSet></Measurement>\n")
+
+
+def measured_scale_setup(tool, mass, model_file, measurements, trial_file, time_range, output, placer=""):
+    """A ScaleTool setup scaling by `measurements` (XML) with mass distribution preserved, then
+    `placer` (a `<MarkerPlacer>` element, or none)."""
     return f"""<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40000">
-<ScaleTool name="leg6dof9musc_subject">
-<mass>28.5</mass>
+<ScaleTool name="{tool}">
+<mass>{mass}</mass>
 <GenericModelMaker><model_file>{model_file}</model_file></GenericModelMaker>
 <ModelScaler>
 <apply>true</apply>
 <scaling_order> measurements</scaling_order>
 <MeasurementSet><objects>
-{"".join(measurement(*m) for m in MEASUREMENTS)}</objects></MeasurementSet>
-<marker_file>static.trc</marker_file>
-<time_range> 0 0.1</time_range>
+{measurements}</objects></MeasurementSet>
+<marker_file>{trial_file}</marker_file>
+<time_range> {time_range}</time_range>
 <preserve_mass_distribution>true</preserve_mass_distribution>
-<output_model_file>scaledOnly.osim</output_model_file>
+<output_model_file>{output}</output_model_file>
 </ModelScaler>
-<MarkerPlacer>
+{placer}</ScaleTool>
+</OpenSimDocument>
+"""
+
+
+def setup_xml(model_file, names):
+    def task(name):
+        weight = 10.0 if name == "R.Toe.Tip" else 1.0
+        apply = "false" if name == "R.Midfoot.Lat" else "true"
+        return f"<IKMarkerTask name=\"{name}\"><apply>{apply}</apply><weight>{weight}</weight></IKMarkerTask>\n"
+    placer = f"""<MarkerPlacer>
 <apply>true</apply>
 <IKTaskSet><objects>
 {"".join(task(n) for n in names)}</objects></IKTaskSet>
@@ -104,9 +115,9 @@ def setup_xml(model_file, names):
 <output_model_file>placed.osim</output_model_file>
 <max_marker_movement>-1</max_marker_movement>
 </MarkerPlacer>
-</ScaleTool>
-</OpenSimDocument>
 """
+    measurements = "".join(measurement_xml(*m) for m in MEASUREMENTS)
+    return measured_scale_setup("leg6dof9musc_subject", 28.5, model_file, measurements, "static.trc", "0 0.1", "scaledOnly.osim", placer)
 
 
 def main():

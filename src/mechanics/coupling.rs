@@ -1,10 +1,17 @@
 //! `CoordinateCouplerConstraint`s: q_dependent = scale · f(q_independent), and the coupling
-//! vectors OpenSim's `MomentArmSolver` uses to sum generalized forces over coupled coordinates.
+//! vectors OpenSim's `MomentArmSolver` uses to sum generalized forces over coupled coordinates:
+//! along the couplers, or, in a model with links, by projecting the lit speed onto every
+//! velocity constraint.
 
 use std::path::Path;
 
+use nalgebra::{DMatrix, DVector};
+
 use super::error::MechanicsError;
 use super::function::Function;
+use super::kinematics::Kinematics;
+use super::multibody::Multibody;
+use super::spatial::Vec3;
 use crate::model::{CoordinateSpec, ModelSpec};
 
 /// One enforced coupler, by coordinate index.
@@ -80,4 +87,107 @@ pub fn partners(couplers: &[Coupler], coordinate: usize) -> Vec<usize> {
     let mut group: Vec<usize> = std::iter::once(root).chain(couplers.iter().filter(|k| k.independent == root).map(|k| k.dependent)).collect();
     group.retain(|&c| c != coordinate);
     group
+}
+
+/// `coordinates` with every coordinate a constraint ties to them: couplers' partners and, for
+/// each link one of them moves an end body of, every coordinate that moves either end body —
+/// repeated until nothing is added. Sorted, without repeats.
+pub fn tied_coordinates(multibody: &Multibody, coordinates: &[usize]) -> Vec<usize> {
+    let movers: Vec<Vec<usize>> = multibody
+        .links
+        .iter()
+        .map(|link| (0..multibody.coordinates.len()).filter(|&c| link.ends.iter().any(|end| multibody.is_moved_by(end.body, multibody.coordinate_joint(c)))).collect())
+        .collect();
+    let mut tied = coordinates.to_vec();
+    loop {
+        let before = tied.len();
+        let partners: Vec<usize> = tied.iter().flat_map(|&c| partners(&multibody.couplers, c)).collect();
+        tied.extend(partners);
+        let reached: Vec<usize> = movers.iter().filter(|group| group.iter().any(|c| tied.contains(c))).flatten().copied().collect();
+        tied.extend(reached);
+        tied.sort_unstable();
+        tied.dedup();
+        if tied.len() == before {
+            return tied;
+        }
+    }
+}
+
+/// A coupling vector found by projection ([`projected_coupling`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProjectedCoupling {
+    /// (coordinate, weight) for the nonzero entries; empty when the coordinate cannot move on
+    /// its own.
+    pub weights: Vec<(usize, f64)>,
+    /// The lit coordinate's speed after the projection (of the unit speed it was given): near 0
+    /// when the constraints nearly fix it, where its moment arms are ill-defined.
+    pub lit_speed: f64,
+}
+
+/// Below this projected speed (of a unit lit speed) a coordinate counts as fixed by the
+/// constraints.
+const FIXED_SPEED: f64 = 1e-9;
+/// Singular values of the velocity-constraint matrix below this fraction of the largest are
+/// taken as zero (redundant constraints).
+const RANK_TOLERANCE: f64 = 1e-10;
+
+/// OpenSim's `MomentArmSolver::computeCouplingVector` with constraints between bodies: the
+/// coordinate's speed is lit (unit), every other speed 0, and Simbody's `projectU` takes the
+/// nearest speeds (unit weights) that satisfy all velocity constraints — couplers,
+/// [`BodyLink`](super::BodyLink)s, locked coordinates other than this one — at the realized pose;
+/// the result divided by the lit coordinate's remaining speed.
+pub fn projected_coupling(multibody: &Multibody, kinematics: &Kinematics, q: &[f64], coordinate: usize) -> ProjectedCoupling {
+    let g = velocity_constraints(multibody, kinematics, q, coordinate);
+    let mut u = DVector::zeros(multibody.coordinates.len());
+    u[coordinate] = 1.0;
+    if g.nrows() > 0 {
+        let svd = g.svd(false, true);
+        let largest = svd.singular_values.max();
+        if let Some(v_t) = svd.v_t.as_ref() {
+            for (k, &sigma) in svd.singular_values.iter().enumerate() {
+                if sigma > RANK_TOLERANCE * largest {
+                    let row = v_t.row(k);
+                    u -= row.transpose() * row[coordinate];
+                }
+            }
+        }
+    }
+    let lit_speed = u[coordinate];
+    let weights = if lit_speed.abs() < FIXED_SPEED {
+        Vec::new()
+    } else {
+        u.iter().enumerate().filter(|(_, w)| **w != 0.0).map(|(c, w)| (c, w / lit_speed)).collect()
+    };
+    ProjectedCoupling { weights, lit_speed }
+}
+
+/// The velocity constraints G·u = 0 at the realized pose: one row per coupler (u_dependent −
+/// f′·u_independent), per locked coordinate other than `lit`, per link error.
+fn velocity_constraints(multibody: &Multibody, kinematics: &Kinematics, q: &[f64], lit: usize) -> DMatrix<f64> {
+    let n = multibody.coordinates.len();
+    let locked: Vec<usize> = (0..n).filter(|&c| c != lit && multibody.coordinates[c].locked).collect();
+    let link_rows: usize = multibody.links.iter().map(|link| link.rows()).sum();
+    let mut g = DMatrix::zeros(multibody.couplers.len() + locked.len() + link_rows, n);
+    for (row, coupler) in multibody.couplers.iter().enumerate() {
+        g[(row, coupler.dependent)] += 1.0;
+        g[(row, coupler.independent)] -= coupler.slope(q);
+    }
+    let mut row = multibody.couplers.len();
+    for c in locked {
+        g[(row, c)] = 1.0;
+        row += 1;
+    }
+    for link in &multibody.links {
+        for link_row in 0..link.rows() {
+            for term in link.rate_terms(kinematics, link_row) {
+                for c in 0..n {
+                    let velocity = kinematics.point_partial(multibody, term.body, &term.point, c);
+                    let angular = if multibody.is_moved_by(term.body, multibody.coordinate_joint(c)) { kinematics.axes[c].angular } else { Vec3::zeros() };
+                    g[(row, c)] += term.linear.dot(&velocity) + term.angular.dot(&angular);
+                }
+            }
+            row += 1;
+        }
+    }
+    g
 }

@@ -260,12 +260,8 @@ impl GeometryPath {
             wraps.push(PathWrap { object: index, body, frame, active: object.active, surface, range });
         }
         let coordinates = |joints: Vec<usize>| {
-            let mut coordinates: Vec<usize> = joints.into_iter().flat_map(|j| multibody.joints[j].coordinates.iter().copied()).chain(switches.iter().copied()).collect();
-            let coupled: Vec<usize> = coordinates.iter().flat_map(|&c| coupling::partners(&multibody.couplers, c)).collect();
-            coordinates.extend(coupled);
-            coordinates.sort_unstable();
-            coordinates.dedup();
-            coordinates
+            let moving: Vec<usize> = joints.into_iter().flat_map(|j| multibody.joints[j].coordinates.iter().copied()).chain(switches.iter().copied()).collect();
+            coupling::tied_coordinates(multibody, &moving)
         };
         let spanned = coordinates(multibody.joints_spanned(&bodies));
         let loaded = if wraps.is_empty() { spanned.clone() } else { coordinates(multibody.joints_moving(&bodies)) };
@@ -298,7 +294,9 @@ impl GeometryPath {
     /// another body, along the segment, and its generalized force is the moment arm; a
     /// `MovingPathPoint` adds the work of its motion in its frame to the coordinate of its x
     /// location. Generalized forces on coordinates tied by couplers are summed along the
-    /// constraint (`q` must satisfy the couplers).
+    /// constraint (`q` must satisfy the couplers); with links, along OpenSim's projected
+    /// coupling vector ([`coupling::projected_coupling`]; `q` must satisfy the links), 0 about a
+    /// coordinate the constraints fix.
     pub fn moment_arms(
         &self,
         multibody: &Multibody,
@@ -311,9 +309,12 @@ impl GeometryPath {
         let length = self.place_with_directions(kinematics, q, scratch);
         for (&coordinate, moment_arm) in coordinates.iter().zip(moment_arms.iter_mut()) {
             *moment_arm = 0.0;
-            coupling::for_each_coupling(&multibody.couplers, q, coordinate, |c, weight| {
-                *moment_arm += weight * self.generalized_force(multibody, kinematics, q, scratch, c);
-            });
+            let mut add = |c: usize, weight: f64| *moment_arm += weight * self.generalized_force(multibody, kinematics, q, scratch, c);
+            if multibody.links.is_empty() {
+                coupling::for_each_coupling(&multibody.couplers, q, coordinate, add);
+            } else {
+                coupling::projected_coupling(multibody, kinematics, q, coordinate).weights.into_iter().for_each(|(c, weight)| add(c, weight));
+            }
         }
         length
     }

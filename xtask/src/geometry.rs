@@ -77,7 +77,8 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
 }
 
 /// The default pose `initSystem` assembles: the linked mechanisms (constraints between bodies
-/// broken by the default values) and leg6dof9musc (a coupler's dependent off its default).
+/// broken by the default values; with their muscles' lengths and moment arms through the
+/// constraints at four poses) and leg6dof9musc (a coupler's dependent off its default).
 pub fn assembly_rows() -> Vec<Row> {
     let mut rows = Vec::new();
     for model in ["linked_mechanisms.osim", "leg6dof9musc.osim"] {
@@ -86,6 +87,12 @@ pub fn assembly_rows() -> Vec<Row> {
             Ok(c) => {
                 for (what, worst) in [("coordinates (rad or m)", &c.coordinates), ("markers (m)", &c.markers)] {
                     rows.push(Row { what: format!("{model} assembled default pose: {what}"), reference: reference.clone(), worst: worst.error, tolerance: 1e-9, at: worst.at.clone() });
+                }
+                for (what, worst, tolerance) in [("muscle lengths (m)", &c.lengths, 1e-12), ("moment arms through the constraints (m)", &c.moment_arms, 1e-9)] {
+                    if worst.count > 0 {
+                        let at = format!("{} ({} ill-defined not compared)", worst.at, c.ill_defined);
+                        rows.push(Row { what: format!("{model}: {what}, {} values", worst.count), reference: reference.clone(), worst: worst.error, tolerance, at });
+                    }
                 }
             }
             Err(error) => rows.push(Row { what: format!("{model} assembled default pose"), reference, worst: f64::INFINITY, tolerance: 0.0, at: error.to_string() }),
