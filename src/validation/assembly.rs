@@ -1,5 +1,5 @@
 //! The default pose OpenSim's `initSystem` assembles, against the goldens of
-//! `oracle/gen_constraint_assembly.py` (`fixtures/golden/constraint_assembly.json`): per model,
+//! `oracle/gen_constraint_assembly.py` and `oracle/gen_shoulder_moment_arms.py`: per model,
 //! the assembled coordinates and every marker in ground there; where the golden has `poses`,
 //! each muscle's length and its moment arms about every coordinate through the constraints.
 
@@ -35,9 +35,10 @@ pub struct AssemblyComparison {
 /// constraints is (nearly) fixed by them: moment arms about it divide by that remainder.
 pub const ILL_DEFINED_SPEED: f64 = 1e-3;
 
-/// `fixtures/models/<model>` assembled from its default values, against its entry in the golden.
-pub fn compare_assembly(root: &Path, model: &str) -> Result<AssemblyComparison, ModelGoldenError> {
-    let (path, golden_path) = (root.join("fixtures/models").join(model), root.join("fixtures/golden/constraint_assembly.json"));
+/// `fixtures/models/<model>` assembled from its default values, against its entry in
+/// `fixtures/golden/<golden>` (`constraint_assembly.json`, `shoulder_moment_arms.json`).
+pub fn compare_assembly(root: &Path, model: &str, golden: &str) -> Result<AssemblyComparison, ModelGoldenError> {
+    let (path, golden_path) = (root.join("fixtures/models").join(model), root.join("fixtures/golden").join(golden));
     let failed = |file: &Path, problem: String| ModelGoldenError { file: file.into(), problem };
     let text = std::fs::read_to_string(&golden_path).map_err(|e| failed(&golden_path, e.to_string()))?;
     let goldens: Value = serde_json::from_str(&text).map_err(|e| failed(&golden_path, e.to_string()))?;

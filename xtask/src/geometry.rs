@@ -78,12 +78,13 @@ pub fn rows(stem: &str, model: &Path) -> Vec<Row> {
 
 /// The default pose `initSystem` assembles: the linked mechanisms (constraints between bodies
 /// broken by the default values; with their muscles' lengths and moment arms through the
-/// constraints at four poses) and leg6dof9musc (a coupler's dependent off its default).
+/// constraints at four poses), leg6dof9musc (a coupler's dependent off its default) and
+/// opensim-core's ThoracoscapularShoulderModel (moment arms through its PointConstraint).
 pub fn assembly_rows() -> Vec<Row> {
     let mut rows = Vec::new();
-    for model in ["linked_mechanisms.osim", "leg6dof9musc.osim"] {
-        let reference = "OpenSim 4.6 initSystem, golden/constraint_assembly.json".to_string();
-        match compare_assembly(&root(), model) {
+    for (model, golden) in [("linked_mechanisms.osim", "constraint_assembly.json"), ("leg6dof9musc.osim", "constraint_assembly.json"), ("ThoracoscapularShoulderModel.osim", "shoulder_moment_arms.json")] {
+        let reference = format!("OpenSim 4.6 initSystem, golden/{golden}");
+        match compare_assembly(&root(), model, golden) {
             Ok(c) => {
                 for (what, worst) in [("coordinates (rad or m)", &c.coordinates), ("markers (m)", &c.markers)] {
                     rows.push(Row { what: format!("{model} assembled default pose: {what}"), reference: reference.clone(), worst: worst.error, tolerance: 1e-9, at: worst.at.clone() });
