@@ -1,5 +1,7 @@
 """OpenSim 4.6's ScaleTool by measurements, with MarkerPlacer, on leg6dof9musc and a synthetic
-static trial: writes fixtures/golden/scale_measured/ (setup, trial, OpenSim's outputs).
+static trial: writes fixtures/golden/scale_measured/ (setup, trial, OpenSim's outputs), and
+again with a `from_file` coordinate task in the MarkerPlacer following `coordinates.mot`
+(setup_from_file.xml, OpenSim's placed_from_file.osim and static_pose_from_file.mot).
 
 The trial: leg6dof9musc scaled by anisotropic factors per body (the 'subject'), held near one
 pose for 6 frames at 60 Hz (each coordinate wobbling by <= 0.01 rad or m), its 12 markers read
@@ -100,24 +102,40 @@ def measured_scale_setup(tool, mass, model_file, measurements, trial_file, time_
 """
 
 
-def setup_xml(model_file, names):
+def setup_xml(model_file, names, from_file=False):
+    """The setup; `from_file`: its MarkerPlacer also pulls knee_angle_r toward
+    FROM_FILE_COORDINATES (weight 5) over 0.05–0.1 s, with its outputs named `*_from_file`."""
     def task(name):
         weight = 10.0 if name == "R.Toe.Tip" else 1.0
         apply = "false" if name == "R.Midfoot.Lat" else "true"
         return f"<IKMarkerTask name=\"{name}\"><apply>{apply}</apply><weight>{weight}</weight></IKMarkerTask>\n"
+    knee = "<IKCoordinateTask name=\"knee_angle_r\"><apply>true</apply><weight>5</weight><value_type>from_file</value_type></IKCoordinateTask>\n"
+    suffix = "_from_file" if from_file else ""
     placer = f"""<MarkerPlacer>
 <apply>true</apply>
 <IKTaskSet><objects>
-{"".join(task(n) for n in names)}</objects></IKTaskSet>
+{"".join(task(n) for n in names)}{knee if from_file else ""}</objects></IKTaskSet>
 <marker_file>static.trc</marker_file>
-<time_range> 0 0.1</time_range>
-<output_motion_file>static_pose.mot</output_motion_file>
-<output_model_file>placed.osim</output_model_file>
+{"<coordinate_file>" + FROM_FILE_COORDINATES + "</coordinate_file>" + chr(10) if from_file else ""}<time_range> {"0.05" if from_file else "0"} 0.1</time_range>
+<output_motion_file>static_pose{suffix}.mot</output_motion_file>
+<output_model_file>placed{suffix}.osim</output_model_file>
 <max_marker_movement>-1</max_marker_movement>
 </MarkerPlacer>
 """
     measurements = "".join(measurement_xml(*m) for m in MEASUREMENTS)
     return measured_scale_setup("leg6dof9musc_subject", 28.5, model_file, measurements, "static.trc", "0 0.1", "scaledOnly.osim", placer)
+
+
+FROM_FILE_COORDINATES = "coordinates.mot"
+
+
+def write_coordinates(path):
+    """knee_angle_r over 0–0.2 s, −40° + 150°/s·t, in degrees: the placer evaluates it at its
+    time range's start."""
+    rows = [f"{0.02 * k:.2f}\t{-40.0 + 150.0 * 0.02 * k:.6f}\t{10.0:.6f}" for k in range(11)]
+    header = ["Coordinates", "version=1", f"nRows={len(rows)}", "nColumns=3", "inDegrees=yes", "endheader",
+              "time\tknee_angle_r\thip_flexion_r"]
+    path.write_text("\n".join(header + rows) + "\n")
 
 
 def main():
@@ -127,6 +145,10 @@ def main():
     run_scale_tool(setup_xml(MODEL.name, names), [MODEL, OUT / "static.trc"],
                    {name: OUT / name for name in ["scaledOnly.osim", "placed.osim", "static_pose.mot"]})
     (OUT / "setup.xml").write_text(setup_xml("../../models/leg6dof9musc.osim", names))
+    write_coordinates(OUT / FROM_FILE_COORDINATES)
+    run_scale_tool(setup_xml(MODEL.name, names, from_file=True), [MODEL, OUT / "static.trc", OUT / FROM_FILE_COORDINATES],
+                   {name: OUT / name for name in ["placed_from_file.osim", "static_pose_from_file.mot"]})
+    (OUT / "setup_from_file.xml").write_text(setup_xml("../../models/leg6dof9musc.osim", names, from_file=True))
     print("written", sorted(p.name for p in OUT.iterdir()))
 
 

@@ -39,8 +39,9 @@ pub fn place_markers(model: &OsimDocument, trial: &MarkerTable, trial_file: &Pat
     let times = trial.times();
     check_range(times, range).map_err(|problem| ScaleError::Input { file: trial_file.into(), problem: format!("marker placement: {problem}") })?;
     let (first, last) = (times[0], times[times.len() - 1]);
-    let range = TimeRange { start: range.start.max(first), end: range.end.min(last) };
+    // At the setup's own start time, as OpenSim's state (`from_file` targets, the pose's time).
     let static_pose = averaged_frame(&trial, range)?;
+    let range = TimeRange { start: range.start.max(first), end: range.end.min(last) };
     let (model, deleted) = delete_unused_markers(model, trial.marker_names())?;
     let spec = ModelSpec::read(&model)?;
     let multibody = Multibody::new(&spec)?;

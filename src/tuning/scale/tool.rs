@@ -13,8 +13,8 @@ use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
 use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
-use crate::setup::{CoordinateTarget, ModelScaler, ScaleSetup, ScalingStep};
-use crate::solvers::IkTasks;
+use crate::setup::{ModelScaler, ScaleSetup, ScalingStep};
+use crate::solvers::{CoordinateValues, IkTasks};
 
 /// Scale factors outside [1/3, 3] are refused: such a factor comes from a unit mix-up or a
 /// mislabelled marker, not from a subject.
@@ -57,11 +57,7 @@ pub fn run_scale_tool(generic: &OsimDocument, setup: &ScaleSetup, progress: &mut
         let file = placer.marker_file.as_ref().ok_or_else(|| missing(setup, "MarkerPlacer", "marker_file"))?;
         progress(&format!("placing markers on {}", file.written));
         let trial = MarkerTable::read(&file.resolved)?;
-        if let Some(task) = placer.ik_tasks.coordinate_tasks.iter().find(|t| t.apply && t.target == CoordinateTarget::FromFile) {
-            let problem = format!("IKCoordinateTask {}: value_type from_file is not supported in marker placement (OpenSim evaluates it at the setup's start time, which may precede the trial)", task.name);
-            return Err(ScaleError::Input { file: setup.file.clone(), problem });
-        }
-        let tasks = IkTasks::from_task_set(&placer.ik_tasks, &setup.file, None)?;
+        let tasks = IkTasks::from_task_set(&placer.ik_tasks, &setup.file, CoordinateValues::read_setup_file(placer.coordinate_file.as_ref())?)?;
         let placement = place_markers(&outcome.document, &trial, &file.resolved, &tasks, placer.time_range)?;
         outcome.document = placement.document.clone();
         outcome.placement = Some(placement);
