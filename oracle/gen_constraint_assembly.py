@@ -30,6 +30,10 @@ assembled by OpenSim, markers with seeded 1 mm noise, in mm at 60 Hz) and an IK 
 marker weight 1, `accuracy` 1e-10); fixtures/golden/ik/linked_mechanisms/: OpenSim's `ik.mot`
 and `ik_marker_errors.sto`.
 
+fixtures/golden/analyze_linked/: OpenSim's AnalyzeTool with a MuscleAnalysis on the same model
+along OpenSim's IK solution with elbow_flexion moved 3° (perturbed.mot: the point loop no
+longer closes, and AnalyzeTool assembles every row) — its Length.sto.
+
 fixtures/golden/scale_linked/: ScaleTool by measurements on the same model and the trial's
 first five frames — marker pairs across the elbow, the rod and the weld, whose distances at the
 default state depend on how the model assembles — setup.xml and OpenSim's scaled.osim.
@@ -55,6 +59,7 @@ GOLDEN = REPO / "fixtures" / "golden" / "constraint_assembly.json"
 IK_FIXTURE = REPO / "fixtures" / "ik_linked_mechanisms"
 IK_GOLDEN = REPO / "fixtures" / "golden" / "ik" / "linked_mechanisms"
 SCALE_GOLDEN = REPO / "fixtures" / "golden" / "scale_linked"
+ANALYZE_GOLDEN = REPO / "fixtures" / "golden" / "analyze_linked"
 MEASUREMENTS = [("elbow_span", "arm_m1", "forearm_m2", ["arm", "forearm"]), ("rod_span", "crank_m1", "rocker_m1", ["crank", "rocker", "rocker_tip"]),
                 ("weld_span", "lever_m2", "cap_m1", ["lever", "cap"])]
 V = osim.Vec3
@@ -265,14 +270,52 @@ def scale_golden():
     (SCALE_GOLDEN / "setup.xml").write_text(scale_setup("../../models/linked_mechanisms.osim", "../../ik_linked_mechanisms/trial.trc"))
 
 
+ANALYZE_SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40000">
+<AnalyzeTool name="linked">
+<model_file>linked_mechanisms.osim</model_file>
+<results_directory>.</results_directory>
+<initial_time>0</initial_time>
+<final_time>1</final_time>
+<AnalysisSet name="Analyses"><objects>
+<MuscleAnalysis name="MuscleAnalysis"><on>true</on><start_time>0</start_time><end_time>1</end_time><step_interval>1</step_interval>
+<in_degrees>true</in_degrees><muscle_list> all</muscle_list><moment_arm_coordinate_list> all</moment_arm_coordinate_list>
+<compute_moments>false</compute_moments></MuscleAnalysis>
+</objects></AnalysisSet>
+<coordinates_file>perturbed.mot</coordinates_file>
+</AnalyzeTool>
+</OpenSimDocument>
+"""
+
+
+def analyze_golden():
+    """OpenSim's IK solution with elbow_flexion moved 3°, and AnalyzeTool's muscle lengths."""
+    ANALYZE_GOLDEN.mkdir(parents=True, exist_ok=True)
+    lines = (IK_GOLDEN / "ik.mot").read_text().splitlines()
+    end = lines.index("endheader")
+    elbow = lines[end + 1].split("\t").index("elbow_flexion")
+    rows = [line.split() for line in lines[end + 2:] if line.strip()]
+    for row in rows:
+        row[elbow] = f"{float(row[elbow]) + 3.0:.8f}"
+    (ANALYZE_GOLDEN / "perturbed.mot").write_text("\n".join(lines[:end + 2] + ["\t".join(row) for row in rows]) + "\n")
+    with tempfile.TemporaryDirectory() as work:
+        work = Path(work)
+        shutil.copy(MODEL, work / MODEL.name)
+        shutil.copy(ANALYZE_GOLDEN / "perturbed.mot", work / "perturbed.mot")
+        (work / "setup.xml").write_text(ANALYZE_SETUP)
+        run_in(work, osim.AnalyzeTool, "setup.xml")
+        shutil.copy(work / "linked_MuscleAnalysis_Length.sto", ANALYZE_GOLDEN / "Length.sto")
+
+
 def main():
     build()
     goldens = {path.name: default_golden(osim.Model(str(path))) for path in (MODEL, MODEL.parent / "leg6dof9musc.osim")}
     goldens[MODEL.name]["poses"] = moment_arm_poses(osim.Model(str(MODEL)))
     GOLDEN.write_text(json.dumps(goldens, indent=1) + "\n")
     ik_golden(osim.Model(str(MODEL)))
+    analyze_golden()
     scale_golden()
-    print("written", *(p.relative_to(REPO) for p in (MODEL, GOLDEN, IK_GOLDEN, SCALE_GOLDEN)))
+    print("written", *(p.relative_to(REPO) for p in (MODEL, GOLDEN, IK_GOLDEN, ANALYZE_GOLDEN, SCALE_GOLDEN)))
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@
 mod common;
 
 use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::StorageTable;
 use osim_tune::mechanics::Multibody;
 use osim_tune::model::ModelSpec;
 use osim_tune::solvers::assemble;
@@ -100,4 +101,31 @@ fn a_published_shoulder_models_moment_arms_are_opensims() {
     assert!(comparison.coordinates.error < 1e-9 && comparison.markers.error < 1e-9, "{comparison:?}");
     assert!(comparison.lengths.count == 3 * 33 && comparison.lengths.error < 1e-12, "{:?}", comparison.lengths);
     assert!(comparison.moment_arms.count > 3 * 33 * 15 && comparison.moment_arms.error < 1e-9, "{:?}", comparison.moment_arms);
+}
+
+/// `analyze` assembles every row as OpenSim's AnalyzeTool does: along OpenSim's IK solution
+/// with elbow_flexion moved 3°, which opens the point loop, the muscle lengths are
+/// AnalyzeTool's (printed to 8 decimals; unassembled, the loop muscle would be 1 mm off).
+#[test]
+fn analyze_assembles_each_row_as_opensims_analyze_tool() {
+    let golden = common::fixture("golden/analyze_linked");
+    let out = tempfile::tempdir().unwrap();
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_osim-tune"))
+        .args(["analyze", common::fixture("models/linked_mechanisms.osim").to_str().unwrap(), "--motion"])
+        .arg(golden.join("perturbed.mot"))
+        .arg("-o")
+        .arg(out.path())
+        .output()
+        .unwrap();
+    assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
+    let ours = StorageTable::read(&out.path().join("Length.sto")).unwrap();
+    let opensim = StorageTable::read(&golden.join("Length.sto")).unwrap();
+    assert_eq!(ours.n_rows(), opensim.n_rows());
+    let mut worst = 0.0_f64;
+    for label in opensim.labels().iter().skip(1) {
+        for (a, b) in ours.column(label).unwrap().iter().zip(opensim.column(label).unwrap()) {
+            worst = worst.max((a - b).abs());
+        }
+    }
+    assert!(worst < 6e-9, "{worst:e} m");
 }

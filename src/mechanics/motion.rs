@@ -82,6 +82,16 @@ impl Motion {
         Ok(Motion { times: table.times(), poses, width, ignored_columns, defaulted, in_degrees })
     }
 
+    /// Replaces each pose by `assemble(pose)` (OpenSim's `AnalyzeTool` assembles every state:
+    /// couplers' dependents follow, other constraints close).
+    pub fn assemble_poses<E>(&mut self, mut assemble: impl FnMut(&[f64]) -> Result<Vec<f64>, E>) -> Result<(), E> {
+        for pose in self.poses.chunks_mut(self.width) {
+            let assembled = assemble(pose)?;
+            pose.copy_from_slice(&assembled);
+        }
+        Ok(())
+    }
+
     pub fn len(&self) -> usize {
         self.times.len()
     }

@@ -1,4 +1,5 @@
-//! `osim-tune analyze MODEL --motion MOTION -o DIR [--activation A | --activations FILE]`
+//! `osim-tune analyze MODEL --motion MOTION -o DIR [--activation A | --activations FILE]`: each
+//! row assembled as OpenSim's `AnalyzeTool` assembles it, then the muscle (and fiber) analyses.
 
 use std::path::{Path, PathBuf};
 
@@ -9,6 +10,7 @@ use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::{Motion, MotionError, MuscleGeometry};
 use crate::model::ModelSpec;
+use crate::solvers::assemble;
 
 /// Where fiber-equilibrium activations come from.
 pub enum FiberInput {
@@ -26,7 +28,7 @@ pub fn run(
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let motion_table = StorageTable::read(motion)?;
-    let trajectory = Motion::from_table(
+    let mut trajectory = Motion::from_table(
         &motion_table,
         motion,
         &geometry.multibody,
@@ -39,6 +41,7 @@ pub fn run(
         }
         other => Failure::from(other),
     })?;
+    trajectory.assemble_poses(|q| assemble(&geometry.multibody, q))?;
     let analysis = MuscleAnalysis::run(&geometry, &trajectory)?;
     let mut files = vec![
         ("Length.sto".to_string(), &analysis.lengths),
