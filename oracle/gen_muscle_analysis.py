@@ -1,5 +1,7 @@
 """Golden for `osim-tune analyze`: OpenSim 4.6 muscle-tendon lengths, moment arms and marker
-locations along a motion, computed the way MuscleAnalysis sees each row: the motion is read as
+locations along a motion, computed the way MuscleAnalysis sees each row of a motion whose
+dependents already follow their couplers (AnalyzeTool also assembles each row, which then
+changes nothing; these models have no other constraints): the motion is read as
 an OpenSim Storage, converted to radians by the model's SimbodyEngine, every coordinate column
 set with Coordinate::setValue (no clamping enforcement beyond OpenSim's own), positions realized.
 

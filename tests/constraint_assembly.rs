@@ -5,7 +5,7 @@ mod common;
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
-use osim_tune::mechanics::Multibody;
+use osim_tune::mechanics::{tied_coordinates, Multibody};
 use osim_tune::model::ModelSpec;
 use osim_tune::solvers::assemble;
 use osim_tune::validation::compare_assembly;
@@ -128,4 +128,36 @@ fn analyze_assembles_each_row_as_opensims_analyze_tool() {
         }
     }
     assert!(worst < 6e-9, "{worst:e} m");
+}
+
+/// The coordinates a path's moment arms are taken about grow through the links to every
+/// coordinate a chain of constraints ties to them, whatever repeats the start holds (a path's
+/// conditional points repeat their coordinate): three pendulums, the first tied to the second,
+/// the second to the third; from the first (twice), all three.
+#[test]
+fn links_tie_coordinates_together_whatever_the_start_repeats() {
+    let pendulum = |k: usize| {
+        format!(
+            "<PinJoint name=\"pin{k}\"><socket_parent_frame>ground_offset{k}</socket_parent_frame><socket_child_frame>/bodyset/b{k}</socket_child_frame>\
+             <coordinates><Coordinate name=\"q{k}\"/></coordinates><frames><PhysicalOffsetFrame name=\"ground_offset{k}\"><socket_parent>/ground</socket_parent>\
+             <translation>{k} 0 0</translation><orientation>0 0 0</orientation></PhysicalOffsetFrame></frames></PinJoint>"
+        )
+    };
+    let body = |k: usize| format!("<Body name=\"b{k}\"><mass>1</mass><mass_center>0 0 0</mass_center><inertia>0.1 0.1 0.1 0 0 0</inertia></Body>");
+    let tie = |a: usize, b: usize| {
+        format!("<PointConstraint name=\"tie{a}{b}\"><socket_body_1>/bodyset/b{a}</socket_body_1><socket_body_2>/bodyset/b{b}</socket_body_2><location_body_1>0.5 -1 0</location_body_1><location_body_2>-0.5 -1 0</location_body_2></PointConstraint>")
+    };
+    let text = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\" ?><OpenSimDocument Version=\"40000\"><Model name=\"chain\"><Ground name=\"ground\"/>\
+         <BodySet name=\"bodyset\"><objects>{}</objects></BodySet><JointSet name=\"jointset\"><objects>{}</objects></JointSet>\
+         <ConstraintSet name=\"constraintset\"><objects>{}{}</objects></ConstraintSet></Model></OpenSimDocument>",
+        (1..=3).map(body).collect::<String>(),
+        (1..=3).map(pendulum).collect::<String>(),
+        tie(1, 2),
+        tie(2, 3)
+    );
+    let multibody = Multibody::new(&ModelSpec::read(&OsimDocument::parse(text, std::path::Path::new("chain.osim")).unwrap()).unwrap()).unwrap();
+    for start in [vec![0], vec![0, 0], vec![2, 2, 2]] {
+        assert_eq!(tied_coordinates(&multibody, &start), vec![0, 1, 2], "{start:?}");
+    }
 }

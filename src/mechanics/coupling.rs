@@ -99,6 +99,8 @@ pub fn tied_coordinates(multibody: &Multibody, coordinates: &[usize]) -> Vec<usi
         .map(|link| (0..multibody.coordinates.len()).filter(|&c| link.ends.iter().any(|end| multibody.is_moved_by(end.body, multibody.coordinate_joint(c)))).collect())
         .collect();
     let mut tied = coordinates.to_vec();
+    tied.sort_unstable();
+    tied.dedup();
     loop {
         let before = tied.len();
         let partners: Vec<usize> = tied.iter().flat_map(|&c| partners(&multibody.couplers, c)).collect();
@@ -136,6 +138,12 @@ const RANK_TOLERANCE: f64 = 1e-10;
 /// nearest speeds (unit weights) that satisfy all velocity constraints — couplers,
 /// [`BodyLink`](super::BodyLink)s, locked coordinates other than this one — at the realized pose;
 /// the result divided by the lit coordinate's remaining speed.
+///
+/// OpenSim unlocks the lit coordinate in its path's solver's own copy of the state and never
+/// locks it again, so its later moment arms about other coordinates treat that coordinate as
+/// free: its values depend on which coordinates were asked about before. We answer as a fresh
+/// solver does (every other lock held): e.g. PushUpToesOnGroundWithMuscles' EDCR about
+/// wrist_flexion_l is 0.00684 m fresh, −0.0128 m once wrist_flexion_r has been asked about.
 pub fn projected_coupling(multibody: &Multibody, kinematics: &Kinematics, q: &[f64], coordinate: usize) -> ProjectedCoupling {
     let g = velocity_constraints(multibody, kinematics, q, coordinate);
     let mut u = DVector::zeros(multibody.coordinates.len());

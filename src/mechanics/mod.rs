@@ -28,7 +28,7 @@ mod wrap_surface;
 mod wrap_torus;
 
 pub use actuator::Actuator;
-pub use coupling::{for_each_coupling, projected_coupling, Coupler, ProjectedCoupling};
+pub use coupling::{for_each_coupling, projected_coupling, tied_coordinates, Coupler, ProjectedCoupling};
 pub use error::MechanicsError;
 pub use forward_dynamics::ForwardDynamicsError;
 pub use function::Function;
