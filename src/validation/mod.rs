@@ -19,7 +19,7 @@ mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
 
-pub use assembly::{compare_assembly, AssemblyComparison};
+pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};
 pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES};
 pub use geometry::{compare_geometry, GeometryComparison, Worst};

@@ -238,7 +238,7 @@ fn coordinate_trajectory(motion: &Motion, values: &CoordinateValues, multibody: 
     if motion.len() < 6 {
         return Err(problem(format!("{} rows; a quintic spline through coordinate {name} needs at least 6", motion.len())));
     }
-    if let Some(k) = motion.times.windows(2).position(|t| !(t[1] > t[0])) {
+    if let Some(k) = motion.times.windows(2).position(|t| t[1].partial_cmp(&t[0]) != Some(std::cmp::Ordering::Greater)) {
         return Err(problem(format!("times must increase; row {} ({} s) follows {} s", k + 2, motion.times[k + 1], motion.times[k])));
     }
     let y = (0..motion.len()).map(|i| motion.pose(i)[coordinate]).collect();
