@@ -51,8 +51,27 @@ fn info_json_counts_the_model() {
     let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(summary["muscles"].as_array().unwrap().len(), 9);
     assert_eq!(summary["markers"].as_array().unwrap().len(), 12);
-    assert_eq!(summary["constraints"][0], "pat_angle_r");
+    assert_eq!(summary["constraints"][0]["name"], "pat_angle_r");
+    assert_eq!(summary["constraints"][0]["class"], "CoordinateCouplerConstraint");
     assert_eq!(summary["joint_classes"]["WeldJoint"], 2);
+}
+
+/// `info` shows the default pose OpenSim's `initSystem` assembles: on the linked mechanisms the
+/// coordinates it moves, with OpenSim 4.6's values (`golden/constraint_assembly.json`, to the
+/// 8 printed decimals).
+#[test]
+fn info_shows_the_assembled_default_pose() {
+    let (code, stdout, stderr) = osim_tune(&["info", s(&common::fixture("models/linked_mechanisms.osim"))]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("rod                      ConstantDistanceConstraint") && stdout.contains("free to satisfy constraints"), "{stdout}");
+    let golden: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(common::fixture("golden/constraint_assembly.json")).unwrap()).unwrap();
+    let golden = &golden["linked_mechanisms.osim"];
+    let names: Vec<&str> = golden["coordinates"].as_array().unwrap().iter().map(|n| n.as_str().unwrap()).collect();
+    let rocker = names.iter().position(|n| *n == "rocker_angle").unwrap();
+    let expected = format!("rocker_angle              -0.20000000 → {:>12.8}", golden["assembled"][rocker].as_f64().unwrap());
+    assert!(stdout.contains("default pose, assembled as OpenSim's initSystem does") && stdout.contains(&expected), "{expected:?} not in {stdout}");
+    let (_, plain, _) = osim_tune(&["info", s(&common::fixture("models/arm26.osim"))]);
+    assert!(plain.contains("default pose: the default values"), "{plain}");
 }
 
 /// Writes `text` to a file, runs `set` on it and checks the failure.

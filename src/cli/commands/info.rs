@@ -1,4 +1,5 @@
-//! `osim-tune info MODEL [--json]`
+//! `osim-tune info MODEL [--json]`: what the model holds, and the default pose OpenSim's
+//! `initSystem` assembles where that differs from the default values.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -7,7 +8,9 @@ use serde::Serialize;
 
 use crate::cli::{Failure, Outcome};
 use crate::io::osim::OsimDocument;
+use crate::mechanics::Multibody;
 use crate::model::{CoordinateSpec, ModelSpec};
+use crate::solvers::assembled_default_pose;
 
 /// What `info` reports.
 #[derive(Serialize)]
@@ -23,9 +26,35 @@ struct Summary<'a> {
     muscle_classes: BTreeMap<&'a str, usize>,
     other_forces: Vec<&'a str>,
     markers: Vec<&'a str>,
-    constraints: Vec<&'a str>,
+    constraints: Vec<ConstraintLine<'a>>,
     wrap_objects: Vec<&'a str>,
+    assembly: Assembly,
 }
+
+#[derive(Serialize)]
+struct ConstraintLine<'a> {
+    name: &'a str,
+    class: &'a str,
+    enforced: bool,
+}
+
+/// The default pose as `initSystem` assembles it: the coordinates it moves off their default
+/// values (couplers' dependents, constraints between bodies), or why it cannot be assembled.
+#[derive(Serialize, Default)]
+struct Assembly {
+    moved: Vec<MovedCoordinate>,
+    error: Option<String>,
+}
+
+#[derive(Serialize)]
+struct MovedCoordinate {
+    coordinate: String,
+    default_value: f64,
+    assembled: f64,
+}
+
+/// A coordinate counts as moved by assembly beyond this (rad or m).
+const MOVED: f64 = 1e-12;
 
 #[derive(Serialize)]
 struct JointLine<'a> {
@@ -61,8 +90,26 @@ fn summarise<'a>(spec: &'a ModelSpec, file: &Path) -> Summary<'a> {
         muscle_classes: count(spec.muscles().map(|m| m.class.as_str()).collect()),
         other_forces: spec.forces.iter().filter(|f| !f.is_muscle()).map(|f| f.name.as_str()).collect(),
         markers: spec.markers.iter().map(|m| m.name.as_str()).collect(),
-        constraints: spec.constraints.iter().map(|c| c.name.as_str()).collect(),
+        constraints: spec.constraints.iter().map(|c| ConstraintLine { name: &c.name, class: &c.class, enforced: c.enforced }).collect(),
         wrap_objects: spec.wrap_objects.iter().map(|w| w.name.as_str()).collect(),
+        assembly: assembly(spec),
+    }
+}
+
+fn assembly(spec: &ModelSpec) -> Assembly {
+    let assembled = Multibody::new(spec).map_err(|e| e.to_string()).and_then(|multibody| assembled_default_pose(&multibody).map(|q| (multibody, q)).map_err(|e| e.to_string()));
+    match assembled {
+        Ok((multibody, q)) => Assembly {
+            moved: multibody
+                .coordinates
+                .iter()
+                .zip(q)
+                .filter(|(c, q)| (q - c.default_value).abs() > MOVED)
+                .map(|(c, q)| MovedCoordinate { coordinate: c.name.clone(), default_value: c.default_value, assembled: q })
+                .collect(),
+            error: None,
+        },
+        Err(error) => Assembly { moved: Vec::new(), error: Some(error) },
     }
 }
 
@@ -78,7 +125,7 @@ fn render(summary: &Summary) -> String {
     text += &format!("coordinates ({}):\n", summary.coordinates.len());
     text += &format!("  {:<24} {:<14} {:>10} {:>10} {:>10} {:<5} flags\n", "name", "motion", "default", "min", "max", "unit");
     for c in &summary.coordinates {
-        let flags = [("locked", c.locked), ("clamped", c.clamped), ("prescribed", c.prescribed)]
+        let flags = [("locked", c.locked), ("clamped", c.clamped), ("prescribed", c.prescribed), ("free to satisfy constraints", c.free_to_satisfy_constraints)]
             .iter()
             .filter(|(_, on)| *on)
             .map(|(flag, _)| *flag)
@@ -93,7 +140,25 @@ fn render(summary: &Summary) -> String {
     text += &format!("muscles ({}): {}\n", summary.muscles.len(), classes(&summary.muscle_classes));
     text += &format!("other forces ({}): {}\n", summary.other_forces.len(), list(&summary.other_forces));
     text += &format!("markers ({}): {}\n", summary.markers.len(), list(&summary.markers));
-    text += &format!("constraints ({}): {}\n", summary.constraints.len(), list(&summary.constraints));
+    text += &format!("constraints ({}):{}\n", summary.constraints.len(), if summary.constraints.is_empty() { " -" } else { "" });
+    for c in &summary.constraints {
+        text += &format!("  {:<24} {}{}\n", c.name, c.class, if c.enforced { "" } else { " (not enforced)" });
+    }
     text += &format!("wrap objects ({}): {}\n", summary.wrap_objects.len(), list(&summary.wrap_objects));
+    text += &render_assembly(&summary.assembly);
+    text
+}
+
+fn render_assembly(assembly: &Assembly) -> String {
+    if let Some(error) = &assembly.error {
+        return format!("default pose: not assembled: {error}\n");
+    }
+    if assembly.moved.is_empty() {
+        return "default pose: the default values (the constraints hold there)\n".to_string();
+    }
+    let mut text = format!("default pose, assembled as OpenSim's initSystem does (coordinates moved: {}):\n", assembly.moved.len());
+    for m in &assembly.moved {
+        text += &format!("  {:<24} {:>12.8} → {:>12.8}\n", m.coordinate, m.default_value, m.assembled);
+    }
     text
 }
