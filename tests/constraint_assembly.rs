@@ -55,25 +55,53 @@ fn inverse_kinematics_holds_every_link_class_as_opensim() {
 /// (angle −π/2) and the distance's slope vanishes there. Holding it needs multipliers far
 /// beyond the augmented Lagrangian's first weight (OpenSim's PushUpToesOnGround test models
 /// have such links); assembly still closes it, at the angle first principles give.
-#[test]
-fn a_link_that_moves_only_at_second_order_is_closed() {
-    let text = r#"<?xml version="1.0" encoding="UTF-8" ?>
+/// A reed on a pin about z at the origin, its tip 0.5 m down, held `distance` m from the ground
+/// point `point` (a `ConstantDistanceConstraint`), its angle's default `angle`.
+fn reed(point: [f64; 3], distance: f64, angle: f64) -> Multibody {
+    let text = format!(
+        r#"<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40000"><Model name="reed"><Ground name="ground"/>
 <BodySet name="bodyset"><objects><Body name="reed"><mass>1</mass><mass_center>0 0 0</mass_center><inertia>0.1 0.1 0.1 0 0 0</inertia></Body></objects></BodySet>
 <JointSet name="jointset"><objects><PinJoint name="pin"><socket_parent_frame>/ground</socket_parent_frame><socket_child_frame>/bodyset/reed</socket_child_frame>
-<coordinates><Coordinate name="angle"><default_value>0.3</default_value></Coordinate></coordinates></PinJoint></objects></JointSet>
+<coordinates><Coordinate name="angle"><default_value>{angle}</default_value></Coordinate></coordinates></PinJoint></objects></JointSet>
 <ConstraintSet name="constraintset"><objects><ConstantDistanceConstraint name="taut"><socket_body_1>/ground</socket_body_1><socket_body_2>/bodyset/reed</socket_body_2>
-<location_body_1>1 0 0</location_body_1><location_body_2>0 -0.5 0</location_body_2><constant_distance>1.5</constant_distance></ConstantDistanceConstraint></objects></ConstraintSet>
-</Model></OpenSimDocument>"#;
-    let path = std::path::Path::new("reed.osim");
-    let multibody = Multibody::new(&ModelSpec::read(&OsimDocument::parse(text.to_string(), path).unwrap()).unwrap()).unwrap();
-    let q = assemble(&multibody, &[0.3]).unwrap();
+<location_body_1>{} {} {}</location_body_1><location_body_2>0 -0.5 0</location_body_2><constant_distance>{distance}</constant_distance></ConstantDistanceConstraint></objects></ConstraintSet>
+</Model></OpenSimDocument>"#,
+        point[0], point[1], point[2]
+    );
+    Multibody::new(&ModelSpec::read(&OsimDocument::parse(text, std::path::Path::new("reed.osim")).unwrap()).unwrap()).unwrap()
+}
+
+/// The distance of the reed's link at pose `q` (m).
+fn reed_distance(multibody: &Multibody, q: &[f64]) -> f64 {
     let mut kinematics = multibody.kinematics();
-    multibody.realize(&q, &mut kinematics);
+    multibody.realize(q, &mut kinematics);
     let [ground, tip] = &multibody.links[0].ends;
-    let distance = (kinematics.bodies[tip.body].apply(&tip.location) - kinematics.bodies[ground.body].apply(&ground.location)).norm();
-    assert!((distance - 1.5).abs() <= 1e-10, "{distance}");
+    (kinematics.bodies[tip.body].apply(&tip.location) - kinematics.bodies[ground.body].apply(&ground.location)).norm()
+}
+
+/// A link whose error moves only at second order: the reed's tip must be 1.5 m from a ground
+/// point 1 m from the pin — its farthest reach, so the tip must point straight away (angle
+/// −π/2) and the distance's slope vanishes there. Holding it needs multipliers far beyond the
+/// augmented Lagrangian's first weight (OpenSim's PushUpToesOnGround test models have such
+/// links); assembly still closes it, at the angle first principles give.
+#[test]
+fn a_link_that_moves_only_at_second_order_is_closed() {
+    let multibody = reed([1.0, 0.0, 0.0], 1.5, 0.3);
+    let q = assemble(&multibody, &[0.3]).unwrap();
+    assert!((reed_distance(&multibody, &q) - 1.5).abs() <= 1e-10, "{q:?}");
     assert!((q[0] + std::f64::consts::FRAC_PI_2).abs() < 1e-4, "{q:?}");
+}
+
+/// A distance link whose points coincide at the start (its slope undefined there) still
+/// assembles: the tip starts on the ground point and must end 0.3 m from it, the nearest such
+/// angle being 2·asin(0.3) either way.
+#[test]
+fn a_distance_link_starting_at_zero_length_is_closed() {
+    let multibody = reed([0.0, -0.5, 0.0], 0.3, 0.0);
+    let q = assemble(&multibody, &[0.0]).unwrap();
+    assert!((reed_distance(&multibody, &q) - 0.3).abs() <= 1e-10, "{q:?}");
+    assert!((q[0].abs() - 2.0 * 0.3_f64.asin()).abs() < 1e-8, "{q:?}");
 }
 
 /// Moment arms through the constraints, as OpenSim's `MomentArmSolver` computes them (the

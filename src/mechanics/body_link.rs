@@ -126,7 +126,8 @@ impl BodyLink {
         let translation = |direction: Vec3, angular: Vec3| [RateTerm { body: b1, point: p1, linear: -direction, angular }, RateTerm { body: b2, point: p2, linear: direction, angular: zero }];
         match &self.kind {
             LinkKind::Point => translation(Vec3::ith(row, 1.0), zero),
-            LinkKind::Distance(_) => translation((p2 - p1).try_normalize(0.0).unwrap_or(zero), zero),
+            // Coincident points: the distance's slope is any unit vector; x lets a solve part them.
+            LinkKind::Distance(_) => translation((p2 - p1).try_normalize(1e-12).unwrap_or_else(Vec3::x), zero),
             LinkKind::PointOnLine(normals) => {
                 let normal = kinematics.bodies[b1].rotation * normals[row];
                 translation(normal, normal.cross(&(p2 - p1)))
