@@ -73,12 +73,11 @@ pub(super) fn minimize_holding_links(
         let errors = link_errors(multibody, &workspace.frame.kinematics);
         let owners = multibody.links.iter().enumerate().flat_map(|(k, link)| std::iter::repeat_n(k, link.rows()));
         let (error, link) = errors.iter().zip(owners).map(|(e, k)| (e.abs(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
-
         let closed = error <= LINK_TOLERANCE;
         if !closed && round < MAX_LINK_ROUNDS {
             workspace.link_shifts.iter_mut().zip(errors).for_each(|(shift, error)| *shift += error);
         }
-        // The multipliers λ = w·shift stay; only the shifts' scale follows the weight.
+        // The multipliers λ = w²·shift stay; only the shifts' scale follows the weight w.
         let stiffen = |shifts: &mut [f64], factor: f64| shifts.iter_mut().for_each(|shift| *shift /= factor * factor);
         if closed || round == MAX_LINK_ROUNDS {
             stiffen(&mut workspace.link_shifts, LINK_ROOT_WEIGHT / root_weight);
