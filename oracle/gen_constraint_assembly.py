@@ -51,6 +51,7 @@ import opensim as osim
 
 from gen_scale_measured import measured_scale_setup, measurement_xml, write_trc
 from gen_scale_zoo import run_scale_tool
+from model_parts import add_millard_muscle, write_model
 from tool_run import run_in
 
 REPO = Path(__file__).resolve().parent.parent
@@ -153,13 +154,9 @@ def build():
     coupler.setFunction(osim.LinearFunction(2.0, 0.1))
     model.addConstraint(coupler)
     for name, points in MUSCLES:
-        muscle = osim.Millard2012EquilibriumMuscle(name, 100.0, 0.1, 0.2, 0.0)
-        for k, (frame, location) in enumerate(points):
-            body = ground if frame == "ground" else model.getBodySet().get(frame)
-            muscle.addNewPathPoint(f"{name}_point{k + 1}", body, V(*location))
-        model.addForce(muscle)
-    model.finalizeConnections()
-    model.printToXML(str(MODEL))
+        path = [(f"{name}_point{k + 1}", ground if frame == "ground" else model.getBodySet().get(frame), V(*location)) for k, (frame, location) in enumerate(points)]
+        add_millard_muscle(model, name, 100.0, 0.1, 0.2, 0.0, path)
+    write_model(model, MODEL)
 
 
 def coordinates(model):

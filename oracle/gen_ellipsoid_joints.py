@@ -20,6 +20,8 @@ from pathlib import Path
 
 import opensim as osim
 
+from model_parts import add_millard_muscle, write_model
+
 REPO = Path(__file__).resolve().parent.parent
 MODEL = REPO / "fixtures" / "models" / "ellipsoid_joints.osim"
 GOLDEN = REPO / "fixtures" / "golden" / "ellipsoid_joints.json"
@@ -58,13 +60,9 @@ def build():
     model.addJoint(shoulder)
     model.addMarker(osim.Marker("scapula_tip", scapula, vec3(-0.08, 0.02, -0.03)))
     model.addMarker(osim.Marker("elbow", arm, vec3(0.01, -0.3, 0.02)))
-    muscle = osim.Millard2012EquilibriumMuscle("deltoid", 800.0, 0.1, 0.05, 0.2)
-    muscle.addNewPathPoint("origin", thorax, vec3(0.04, 0.05, 0.08))
-    muscle.addNewPathPoint("via", scapula, vec3(-0.02, 0.01, 0.03))
-    muscle.addNewPathPoint("insertion", arm, vec3(0.02, -0.12, 0.01))
-    model.addForce(muscle)
-    model.finalizeConnections()
-    model.printToXML(str(MODEL))
+    points = [("origin", thorax, vec3(0.04, 0.05, 0.08)), ("via", scapula, vec3(-0.02, 0.01, 0.03)), ("insertion", arm, vec3(0.02, -0.12, 0.01))]
+    add_millard_muscle(model, "deltoid", 800.0, 0.1, 0.05, 0.2, points)
+    write_model(model, MODEL)
 
 
 def main():

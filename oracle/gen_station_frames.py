@@ -18,6 +18,8 @@ from pathlib import Path
 
 import opensim as osim
 
+from model_parts import add_millard_muscle, write_model
+
 REPO = Path(__file__).resolve().parent.parent
 MODEL = REPO / "fixtures" / "models" / "station_frames.osim"
 GOLDEN = REPO / "fixtures" / "golden" / "station_frames.json"
@@ -75,13 +77,9 @@ def build():
     model.addMarker(osim.Marker("knee_marker", knee_frame, v(0.03, 0.02, 0.01)))
     model.addMarker(osim.Marker("ankle_marker", ankle_offset, v(0.0, 0.01, 0.04)))
     model.addMarker(osim.Marker("shank_marker", shank, v(0.04, -0.2, 0.0)))
-    muscle = osim.Millard2012EquilibriumMuscle("vasti", 3000.0, 0.09, 0.2, 0.05)
-    muscle.addNewPathPoint("origin", thigh, v(0.03, -0.2, 0.02))
-    muscle.addNewPathPoint("patella", knee_frame, v(0.01, 0.05, 0.05))
-    muscle.addNewPathPoint("insertion", shank, v(0.04, -0.08, 0.0))
-    model.addForce(muscle)
-    model.finalizeConnections()
-    model.printToXML(str(MODEL))
+    points = [("origin", thigh, v(0.03, -0.2, 0.02)), ("patella", knee_frame, v(0.01, 0.05, 0.05)), ("insertion", shank, v(0.04, -0.08, 0.0))]
+    add_millard_muscle(model, "vasti", 3000.0, 0.09, 0.2, 0.05, points)
+    write_model(model, MODEL)
 
 
 def main():

@@ -655,8 +655,8 @@ fn kalman_ik_study_slice() {
     }
 }
 
-/// `from_file` tasks need the setup's `coordinate_file`, and a column in it for their
-/// coordinate: errors name the task or the file and the coordinate.
+/// `from_file` tasks need the setup's `coordinate_file`, a column in it for their coordinate and
+/// finite values in it: errors name the task or the file, the coordinate and the row.
 #[test]
 fn from_file_tasks_without_their_values_are_refused() {
     let case = IkCase::subject01_coordinate_file(&common::root());
@@ -666,6 +666,9 @@ fn from_file_tasks_without_their_values_are_refused() {
     std::fs::write(&setup, text.replace("<coordinate_file>coordinates.mot</coordinate_file>", "<coordinate_file></coordinate_file>")).unwrap();
     let error = read_setup_tasks(&setup).unwrap_err().to_string();
     assert!(error.contains("IKCoordinateTask hip_flexion_r has value_type from_file, but the setup names no coordinate_file"), "{error}");
+    std::fs::write(&setup, text.replace("<coordinate_file>coordinates.mot</coordinate_file>", "<coordinate_file>missing.mot</coordinate_file>")).unwrap();
+    let error = read_setup_tasks(&setup).unwrap_err().to_string();
+    assert!(error.matches("missing.mot").count() == 1 && error.contains("cannot read"), "{error}");
     let values = std::fs::read_to_string(case.setup.with_file_name("coordinates.mot")).unwrap().replace("\tknee_angle_r\t", "\tknee_elsewhere\t");
     std::fs::write(dir.path().join("coordinates.mot"), values).unwrap();
     std::fs::write(&setup, &text).unwrap();
@@ -673,4 +676,16 @@ fn from_file_tasks_without_their_values_are_refused() {
     let (tasks, _) = read_setup_tasks(&setup).unwrap();
     let error = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default()).unwrap_err().to_string();
     assert!(error.contains("coordinates.mot") && error.contains("no column for coordinate knee_angle_r"), "{error}");
+    let values = std::fs::read_to_string(case.setup.with_file_name("coordinates.mot")).unwrap();
+    let lines: Vec<&str> = values.lines().collect();
+    let header = lines.iter().position(|l| *l == "endheader").unwrap() + 1;
+    let hip = lines[header].split('\t').position(|l| l == "hip_flexion_r").unwrap();
+    let mut row: Vec<&str> = lines[header + 2].split('\t').collect();
+    row[hip] = "NaN";
+    let broken = row.join("\t");
+    let text: Vec<&str> = lines.iter().enumerate().map(|(k, l)| if k == header + 2 { broken.as_str() } else { *l }).collect();
+    std::fs::write(dir.path().join("coordinates.mot"), text.join("\n") + "\n").unwrap();
+    let (tasks, _) = read_setup_tasks(&setup).unwrap();
+    let error = InverseKinematics::new(&multibody, &trial, &case.trial, &tasks, IkSettings::default()).unwrap_err().to_string();
+    assert!(error.contains("coordinate hip_flexion_r is NaN at row 2"), "{error}");
 }

@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use crate::io::table::TableError;
 use crate::mechanics::MechanicsError;
 
 /// Why inverse kinematics could not be set up or run. Non-convergence of a frame is not an
@@ -11,6 +12,9 @@ pub enum IkError {
     /// The model could not be compiled for kinematics.
     #[error(transparent)]
     Mechanics(#[from] MechanicsError),
+    /// A coordinate file that cannot be read (the error names it).
+    #[error(transparent)]
+    Table(#[from] TableError),
     /// A coordinate task names no coordinate of the model (OpenSim throws too).
     #[error("{}: coordinate task {name:?}: the model has no coordinate of that name", model.display())]
     UnknownCoordinate { model: PathBuf, name: String },

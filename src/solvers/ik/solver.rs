@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{DMatrix, DVector};
 
-use super::assembly::assemble;
+use super::assembly::assembled_default_pose;
 use super::coordinates::{ConstraintWeight, CoordinateMap};
 use super::frame::{link_rows, moving_coordinates, FrameModel, FrameObjective, FrameScratch, LinkTerms};
 use super::held::minimize_holding_links;
@@ -186,11 +186,11 @@ impl<'m> InverseKinematics<'m> {
 
     /// The pose the first frame starts from, as OpenSim's `assemble` starts from the model's
     /// default state: default values, dependents following their couplers, the links held
-    /// ([`assemble`]; a model that does not assemble starts from its default values).
+    /// ([`assembled_default_pose`]; a model that does not assemble starts from its default
+    /// values).
     pub fn initial_pose(&self) -> Vec<f64> {
         let multibody = self.model.multibody;
-        let defaults = multibody.default_pose();
-        let mut q = assemble(multibody, &defaults).unwrap_or(defaults);
+        let mut q = assembled_default_pose(multibody).unwrap_or_else(|_| multibody.default_pose());
         let mut x = vec![0.0; self.map.variable_count()];
         self.map.free_values(&q, &mut x);
         self.map.pose(multibody, &x, &mut q);

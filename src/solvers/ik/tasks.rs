@@ -41,7 +41,7 @@ pub struct CoordinateValues {
 impl CoordinateValues {
     /// The table at `file` (`.mot`/`.sto`).
     pub fn read(file: &Path) -> Result<CoordinateValues, IkError> {
-        let table = StorageTable::read(file).map_err(|e| IkError::Setup { file: file.into(), problem: e.to_string() })?;
+        let table = StorageTable::read(file)?;
         Ok(CoordinateValues { file: file.into(), table })
     }
 
@@ -241,7 +241,10 @@ fn coordinate_trajectory(motion: &Motion, values: &CoordinateValues, multibody: 
     if let Some(k) = motion.times.windows(2).position(|t| t[1].partial_cmp(&t[0]) != Some(std::cmp::Ordering::Greater)) {
         return Err(problem(format!("times must increase; row {} ({} s) follows {} s", k + 2, motion.times[k + 1], motion.times[k])));
     }
-    let y = (0..motion.len()).map(|i| motion.pose(i)[coordinate]).collect();
+    let y: Vec<f64> = (0..motion.len()).map(|i| motion.pose(i)[coordinate]).collect();
+    if let Some(k) = y.iter().position(|v| !v.is_finite()) {
+        return Err(problem(format!("coordinate {name} is {} at row {} ({} s); a from_file task needs finite values", y[k], k + 1, motion.times[k])));
+    }
     Ok(Function::new(&FunctionSpec::GCVSpline { degree: 5, error_variance: 0.0, x: motion.times.clone(), y }))
 }
 
