@@ -219,6 +219,19 @@ pub enum Command {
         #[arg(long)]
         errors: Option<PathBuf>,
     },
+    /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
+    /// InverseKinematicsTool, InverseDynamicsTool or AnalyzeTool (StaticOptimization,
+    /// JointReaction) setup's model, input and output files (relative names from the setup's
+    /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
+    /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as
+    /// that command: 0 success, 1 a frame did not converge, 2 error.
+    Run {
+        /// The setup (.xml), OpenSim 2.x–4.x.
+        setup: PathBuf,
+        /// Only print the commands.
+        #[arg(long)]
+        dry_run: bool,
+    },
     /// Inverse dynamics like OpenSim 4.6's InverseDynamicsTool: the coordinates (degrees per the
     /// header) are padded and low-pass filtered when a cutoff is given (OpenSim's 3rd-order
     /// Butterworth run forward and backward, resampled at the smallest step first), q, q̇ and q̈

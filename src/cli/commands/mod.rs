@@ -12,6 +12,7 @@ mod id;
 mod ik;
 mod info;
 mod reaction;
+mod run;
 mod scale;
 mod scale_functional;
 mod set;
@@ -31,6 +32,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             analyze::run(&model, &motion, &output, skip_unknown_columns, fibers)
         }
         Command::Info { model, json } => info::run(&model, json),
+        Command::Run { setup, dry_run } => run::run(&setup, dry_run),
         Command::Axis { trial, femur, tibia, method, poses, epicondyles, model, swap, reference_angle, output, json } => {
             let swap = swap.zip(output).map(|(joint, output)| axis::Swap { joint, output, reference_angle: reference_angle.map(f64::to_radians) });
             let request = axis::Request { femur, tibia, method, poses, epicondyles, model, swap, json };

@@ -1,0 +1,209 @@
+//! `osim-tune run SETUP.xml`: OpenSim tool setups run as `opensim-cmd run-tool` runs them — the
+//! files they name, outputs under OpenSim's names — checked against OpenSim 4.6's outputs, and
+//! the setups it refuses.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{fixture, osim_tune};
+use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::table::StorageTable;
+use osim_tune::validation::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// Copies `files` (relative to `fixtures/`) into `folder` under the names given.
+fn copy_into(folder: &Path, files: &[(&str, &str)]) {
+    for (from, to) in files {
+        std::fs::copy(fixture(from), folder.join(to)).unwrap_or_else(|e| panic!("{from}: {e}"));
+    }
+}
+
+/// Writes `file` in `folder` from the fixture `from` with `edits` (old → new text) applied.
+fn edited_copy(folder: &Path, from: &str, file: &str, edits: &[(&str, &str)]) -> PathBuf {
+    let mut text = std::fs::read_to_string(fixture(from)).unwrap();
+    for (old, new) in edits {
+        assert!(text.contains(old), "{from}: no {old:?}");
+        text = text.replace(old, new);
+    }
+    let path = folder.join(file);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The largest difference of `ours` from `opensim`'s row at the same time, over `columns`.
+fn largest_difference(ours: &StorageTable, opensim: &StorageTable, columns: &[&str]) -> f64 {
+    let mut largest = 0.0_f64;
+    for (time, row) in ours.times().into_iter().zip(ours.rows()) {
+        let k = opensim.times().iter().position(|t| (t - time).abs() < 1e-6).unwrap_or_else(|| panic!("OpenSim has no row at {time}"));
+        for column in columns {
+            let (i, j) = (ours.column_index(column).unwrap(), opensim.column_index(column).unwrap());
+            largest = largest.max((row[i] - opensim.row(k).unwrap()[j]).abs());
+        }
+    }
+    largest
+}
+
+/// OpenSim's subject01 example as a lab has it — the Scale setup and its files in one folder, the
+/// generic model under the setup's name — then the IK and ID setups on the model scaling wrote:
+/// every output lands under the name OpenSim gives it, the scaled-only model is OpenSim's, the
+/// IK errors file is `<name>_ik_marker_errors.sto` in the results directory, ID writes into its
+/// results directory.
+#[test]
+fn the_subject01_setups_run_in_their_folder_as_opensim_names_the_outputs() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[
+        ("subject01/subject01_Setup_Scale.xml", "subject01_Setup_Scale.xml"),
+        ("subject01/gait2392_Scale_MarkerSet.xml", "gait2392_Scale_MarkerSet.xml"),
+        ("subject01/subject01_static.trc", "subject01_static.trc"),
+        ("../models/gait2392_millard2012muscle.osim", "gait2392_simbody.osim"),
+        ("subject01/subject01_walk1.trc", "subject01_walk1.trc"),
+        ("subject01/subject01_Setup_InverseDynamics.xml", "subject01_Setup_InverseDynamics.xml"),
+        ("subject01/subject01_walk1_grf.xml", "subject01_walk1_grf.xml"),
+        ("subject01/subject01_walk1_grf.mot", "subject01_walk1_grf.mot"),
+    ]);
+    let (code, stdout, stderr) = osim_tune(&["run", s(&dir.join("subject01_Setup_Scale.xml"))]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.starts_with("osim-tune scale ") && stdout.contains("--scaled-only"), "{stdout}");
+    let scaled = OsimDocument::read(&dir.join("subject01_scaledOnly.osim")).unwrap();
+    let opensim = OsimDocument::read(&fixture("golden/scale/subject01_scaledOnly.osim")).unwrap();
+    let differences = compare_scaled_models(&opensim, &scaled, SCALED_MODEL_TOLERANCE);
+    assert!(differences.is_empty(), "{differences:#?}");
+    assert_eq!(StorageTable::read(&dir.join("subject01_static_output.mot")).unwrap().n_rows(), 1);
+    assert!(dir.join("subject01_scaleSet_applied.xml").is_file() && dir.join("subject01_simbody.osim").is_file());
+
+    let ik_setup = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "subject01_Setup_IK.xml", &[("<time_range> 0.5 2.5</time_range>", "<time_range> 0.5 0.6</time_range>")]);
+    let (code, stdout, stderr) = osim_tune(&["run", s(&ik_setup)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.starts_with("osim-tune ik "), "{stdout}");
+    assert_eq!(StorageTable::read(&dir.join("subject01_walk1_ik.mot")).unwrap().n_rows(), 7);
+    assert_eq!(StorageTable::read(&dir.join("subject01_ik_marker_errors.sto")).unwrap().n_rows(), 7);
+
+    let (code, _, stderr) = osim_tune(&["run", s(&dir.join("subject01_Setup_InverseDynamics.xml"))]);
+    assert_eq!(code, 0, "{stderr}");
+    let forces = StorageTable::read(&dir.join("ResultsInverseDynamics/InverseDynamicsOutput.sto")).unwrap();
+    assert!(forces.column_index("knee_angle_r_moment").is_some() && forces.n_rows() > 0);
+}
+
+/// The IK setup on OpenSim's scaled model gives OpenSim 4.6's coordinates (run to convergence,
+/// accuracy 1e-10) to 0.05° and 0.1 mm, as `ik` does.
+#[test]
+fn an_ik_setup_gives_opensims_coordinates() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("subject01/subject01_walk1.trc", "subject01_walk1.trc")]);
+    let setup = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "setup_ik.xml", &[
+        ("<time_range> 0.5 2.5</time_range>", "<time_range> 1 1.1</time_range>"),
+        ("<results_directory>./</results_directory>", "<results_directory>results</results_directory>"),
+    ]);
+    let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
+    assert_eq!(code, 0, "{stderr}");
+    let ours = StorageTable::read(&dir.join("subject01_walk1_ik.mot")).unwrap();
+    let opensim = StorageTable::read(&fixture("golden/ik/accuracy_1e-10/subject01_ik.mot")).unwrap();
+    assert_eq!(ours.labels(), opensim.labels());
+    let rotations: Vec<&str> = ours.labels()[1..].iter().map(String::as_str).filter(|l| !l.starts_with("pelvis_t")).collect();
+    assert!(largest_difference(&ours, &opensim, &rotations) < 0.05);
+    assert!(largest_difference(&ours, &opensim, &["pelvis_tx", "pelvis_ty", "pelvis_tz"]) < 1e-4);
+    assert_eq!(StorageTable::read(&dir.join("results/subject01_ik_marker_errors.sto")).unwrap().n_rows(), 7);
+}
+
+/// An AnalyzeTool setup with a StaticOptimization and a JointReaction (OpenSim's arm26 runs,
+/// `oracle/gen_static_optimization.py`): both run, each writing OpenSim's file names into the
+/// results directory; the reactions of OpenSim's own forces are OpenSim's.
+#[test]
+fn an_analyze_setup_runs_static_optimization_then_joint_reaction() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[
+        ("models/arm26.osim", "arm26.osim"),
+        ("golden/static_optimization/arm26/arm26_motion.mot", "arm26_motion.mot"),
+        ("golden/static_optimization/arm26/arm26_reserves.xml", "arm26_reserves.xml"),
+        ("golden/static_optimization/arm26/arm26_StaticOptimization_force.sto", "opensim_forces.sto"),
+    ]);
+    let setup = dir.join("setup.xml");
+    std::fs::write(&setup, ANALYZE_SETUP).unwrap();
+    let (code, stdout, stderr) = osim_tune(&["run", s(&setup)]);
+    assert_eq!(code, 0, "{stderr}");
+    let commands: Vec<&str> = stdout.lines().filter(|l| l.starts_with("osim-tune ")).collect();
+    assert_eq!(commands.len(), 2, "{stdout}");
+    assert!(commands[0].starts_with("osim-tune so ") && commands[1].starts_with("osim-tune reaction "), "{stdout}");
+    let activations = StorageTable::read(&dir.join("Results/arm26_StaticOptimization_activation.sto")).unwrap();
+    let opensim = StorageTable::read(&fixture("golden/static_optimization/arm26/arm26_StaticOptimization_activation.sto")).unwrap();
+    assert_eq!((activations.labels(), activations.n_rows()), (opensim.labels(), opensim.n_rows()));
+    let ours = StorageTable::read(&dir.join("Results/arm26_JointReaction_ReactionLoads.sto")).unwrap();
+    let golden = StorageTable::read(&fixture("golden/joint_reaction/arm26/arm26_JointReactionParent_ReactionLoads.sto")).unwrap();
+    assert_eq!(ours.labels(), golden.labels());
+    let worst = ours.values().iter().zip(golden.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-9, "{worst:e}");
+}
+
+/// arm26's AnalyzeTool, relative names as OpenSim's GUI writes them next to the files.
+const ANALYZE_SETUP: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40600">
+    <AnalyzeTool name="arm26">
+        <model_file>arm26.osim</model_file>
+        <replace_force_set>false</replace_force_set>
+        <force_set_files>arm26_reserves.xml</force_set_files>
+        <results_directory>Results</results_directory>
+        <initial_time>0.1</initial_time>
+        <final_time>0.9</final_time>
+        <AnalysisSet name="Analyses">
+            <objects>
+                <StaticOptimization name="StaticOptimization"><on>true</on></StaticOptimization>
+                <JointReaction name="JointReaction">
+                    <on>true</on>
+                    <forces_file>opensim_forces.sto</forces_file>
+                    <joint_names> ALL</joint_names>
+                    <apply_on_bodies> parent</apply_on_bodies>
+                    <express_in_frame> child</express_in_frame>
+                </JointReaction>
+            </objects>
+        </AnalysisSet>
+        <coordinates_file>arm26_motion.mot</coordinates_file>
+        <lowpass_cutoff_frequency_for_coordinates>-1</lowpass_cutoff_frequency_for_coordinates>
+    </AnalyzeTool>
+</OpenSimDocument>
+"#;
+
+/// `--dry-run` prints the command and writes nothing.
+#[test]
+fn a_dry_run_prints_the_command_only() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[("subject01/subject01_Setup_InverseDynamics.xml", "setup.xml"), ("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot")]);
+    let (code, stdout, stderr) = osim_tune(&["run", s(&dir.join("setup.xml")), "--dry-run"]);
+    assert_eq!(code, 0, "{stderr}");
+    let expected = format!("osim-tune id {0}/subject01_simbody.osim {0}/subject01_walk1_ik.mot --setup {0}/setup.xml -o {0}/ResultsInverseDynamics/InverseDynamicsOutput.sto\n", dir.display());
+    assert_eq!(stdout, expected);
+    assert!(!dir.join("ResultsInverseDynamics").exists());
+}
+
+/// A tool osim-tune does not run, a missing input and an unset output are errors naming the
+/// setup and what it lacks (exit 2, nothing written).
+#[test]
+fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    let cmc = dir.join("cmc.xml");
+    std::fs::write(&cmc, "<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"40000\">\n<CMCTool name=\"walk\"><model_file>m.osim</model_file></CMCTool>\n</OpenSimDocument>\n").unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&cmc)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
+
+    let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
+    let (code, _, stderr) = osim_tune(&["run", s(&ik)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("ik.xml: model_file \"subject01_simbody.osim\": no such file"), "{stderr}");
+
+    copy_into(dir, &[("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("subject01/subject01_walk1.trc", "subject01_walk1.trc")]);
+    let unnamed = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "unnamed.xml", &[("<output_motion_file>subject01_walk1_ik.mot</output_motion_file>", "<output_motion_file>Unassigned</output_motion_file>")]);
+    let (code, _, stderr) = osim_tune(&["run", s(&unnamed)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("unnamed.xml: output_motion_file is not set"), "{stderr}");
+    let written: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).filter(|n| n.ends_with(".mot") || n.ends_with(".sto")).collect();
+    assert!(written.is_empty(), "{written:?}");
+}
