@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use common::{fixture, osim_tune};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::StorageTable;
+use osim_tune::tuning::scale::read_marker_set;
 use osim_tune::validation::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
 
 fn s(path: &Path) -> &str {
@@ -48,16 +49,17 @@ fn largest_difference(ours: &StorageTable, opensim: &StorageTable, columns: &[&s
 }
 
 /// OpenSim's subject01 example as a lab has it — the Scale setup and its files in one folder, the
-/// generic model under the setup's name — then the IK and ID setups on the model scaling wrote:
+/// generic model under the setup's name, the placed markers asked for as a MarkerSet file — then the IK and ID setups on the model scaling wrote:
 /// every output lands under the name OpenSim gives it, the scaled-only model is OpenSim's, the
+/// marker file holds the placed model's markers, the
 /// IK errors file is `<name>_ik_marker_errors.sto` in the results directory, ID writes into its
 /// results directory.
 #[test]
 fn the_subject01_setups_run_in_their_folder_as_opensim_names_the_outputs() {
     let folder = tempfile::tempdir().unwrap();
     let dir = folder.path();
+    let scale_setup = edited_copy(dir, "subject01/subject01_Setup_Scale.xml", "subject01_Setup_Scale.xml", &[("<output_marker_file> Unassigned </output_marker_file>", "<output_marker_file> placed_markers.xml </output_marker_file>")]);
     copy_into(dir, &[
-        ("subject01/subject01_Setup_Scale.xml", "subject01_Setup_Scale.xml"),
         ("subject01/gait2392_Scale_MarkerSet.xml", "gait2392_Scale_MarkerSet.xml"),
         ("subject01/subject01_static.trc", "subject01_static.trc"),
         ("../models/gait2392_millard2012muscle.osim", "gait2392_simbody.osim"),
@@ -66,7 +68,7 @@ fn the_subject01_setups_run_in_their_folder_as_opensim_names_the_outputs() {
         ("subject01/subject01_walk1_grf.xml", "subject01_walk1_grf.xml"),
         ("subject01/subject01_walk1_grf.mot", "subject01_walk1_grf.mot"),
     ]);
-    let (code, stdout, stderr) = osim_tune(&["run", s(&dir.join("subject01_Setup_Scale.xml"))]);
+    let (code, stdout, stderr) = osim_tune(&["run", s(&scale_setup)]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.starts_with("osim-tune scale ") && stdout.contains("--scaled-only"), "{stdout}");
     let scaled = OsimDocument::read(&dir.join("subject01_scaledOnly.osim")).unwrap();
@@ -74,7 +76,15 @@ fn the_subject01_setups_run_in_their_folder_as_opensim_names_the_outputs() {
     let differences = compare_scaled_models(&opensim, &scaled, SCALED_MODEL_TOLERANCE);
     assert!(differences.is_empty(), "{differences:#?}");
     assert_eq!(StorageTable::read(&dir.join("subject01_static_output.mot")).unwrap().n_rows(), 1);
-    assert!(dir.join("subject01_scaleSet_applied.xml").is_file() && dir.join("subject01_simbody.osim").is_file());
+    assert!(dir.join("subject01_scaleSet_applied.xml").is_file());
+    let placed = OsimDocument::read(&dir.join("subject01_simbody.osim")).unwrap();
+    let markers = read_marker_set(&dir.join("placed_markers.xml")).unwrap();
+    assert_eq!(markers.len(), 39);
+    for marker in &markers {
+        let location = placed.xml.text(placed.resolve(&format!("/markerset/{}/location", marker.name)).unwrap()).unwrap();
+        let location: Vec<f64> = location.split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert_eq!(location, marker.location, "{}", marker.name);
+    }
 
     let ik_setup = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "subject01_Setup_IK.xml", &[("<time_range> 0.5 2.5</time_range>", "<time_range> 0.5 0.6</time_range>")]);
     let (code, stdout, stderr) = osim_tune(&["run", s(&ik_setup)]);

@@ -143,6 +143,10 @@ pub enum Command {
         /// Also write the static pose found by marker placement (.mot, degrees).
         #[arg(long)]
         static_pose: Option<PathBuf>,
+        /// Also write the model's markers (placed, when markers are placed) as an OpenSim
+        /// MarkerSet file, as the MarkerPlacer's output_marker_file.
+        #[arg(long)]
+        marker_set: Option<PathBuf>,
         /// Print the summary as JSON.
         #[arg(long)]
         json: bool,

@@ -114,6 +114,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             scaled_only,
             scale_set,
             static_pose,
+            marker_set,
             json,
         } => match trials.as_deref().filter(|folder| !linear && setup.is_none() && scale_functional::is_dynamometry(folder)) {
             Some(folder) => {
@@ -123,7 +124,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
                 scale_functional::run(&model, folder, &output, &request)
             }
             None => {
-                let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose };
+                let outputs = scale::Outputs { model: output, scaled_only, scale_set, static_pose, marker_set };
                 scale::run(&model, trials.as_deref(), setup.as_deref(), linear, &outputs, json)
             }
         },

@@ -101,7 +101,7 @@ fn scale_tool(file: &Path, setup: &ScaleSetup) -> Result<Invocation, Failure> {
         invocation = invocation.with(&["--static-pose".as_ref(), pose.resolved.as_ref()]);
     }
     if let Some(markers) = placer.and_then(|p| p.output_marker_file.as_ref()) {
-        eprintln!("note: {}: MarkerPlacer/output_marker_file {:?} is not written (the placed markers are in the model)", file.display(), markers.written);
+        invocation = invocation.with(&["--marker-set".as_ref(), markers.resolved.as_ref()]);
     }
     Ok(invocation)
 }

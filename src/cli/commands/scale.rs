@@ -11,7 +11,7 @@ use crate::mechanics::Multibody;
 use crate::model::ModelSpec;
 use crate::setup::ScaleSetup;
 use crate::solvers::IkSolution;
-use crate::tuning::scale::{run_scale_tool, trials_setup, ScaleOutcome};
+use crate::tuning::scale::{marker_set_document, run_scale_tool, trials_setup, ScaleOutcome};
 
 /// Files the command writes.
 pub struct Outputs {
@@ -19,6 +19,8 @@ pub struct Outputs {
     pub scaled_only: Option<PathBuf>,
     pub scale_set: Option<PathBuf>,
     pub static_pose: Option<PathBuf>,
+    /// The final model's markers as a MarkerSet document.
+    pub marker_set: Option<PathBuf>,
 }
 
 /// The error for a trials argument that is not a folder: missing, or a file (e.g. the subject.json
@@ -60,6 +62,7 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
         }
         (None, _) => None,
     };
+    let marker_set = outputs.marker_set.as_ref().map(|_| marker_set_document(&outcome.document)).transpose()?;
     create_output_folders(outputs.files().map(PathBuf::as_path))?;
     write_atomically(&outputs.model, &outcome.document.xml.serialize(), &input_refs)?;
     if let (Some(file), Some(text)) = (&outputs.scaled_only, scaled_only) {
@@ -69,6 +72,9 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
         write_atomically(file, outcome.scale_set.to_document_text().as_bytes(), &input_refs)?;
     }
     if let (Some(file), Some(text)) = (&outputs.static_pose, static_pose) {
+        write_atomically(file, text.as_bytes(), &input_refs)?;
+    }
+    if let (Some(file), Some(text)) = (&outputs.marker_set, marker_set) {
         write_atomically(file, text.as_bytes(), &input_refs)?;
     }
     if json {
@@ -81,7 +87,7 @@ pub fn run(model: &Path, trials: Option<&Path>, setup: Option<&Path>, linear: bo
 
 impl Outputs {
     fn files(&self) -> impl Iterator<Item = &PathBuf> {
-        std::iter::once(&self.model).chain(self.scaled_only.iter()).chain(self.scale_set.iter()).chain(self.static_pose.iter())
+        std::iter::once(&self.model).chain(self.scaled_only.iter()).chain(self.scale_set.iter()).chain(self.static_pose.iter()).chain(self.marker_set.iter())
     }
 }
 

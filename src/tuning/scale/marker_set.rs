@@ -63,6 +63,24 @@ pub fn update_marker_set(model: &OsimDocument, markers: &[MarkerDefinition]) -> 
     super::reparse(&updated)
 }
 
+/// The markers of `model` (4.x) as a `MarkerSet` document of their own, as OpenSim's
+/// `Model::writeMarkerFile` writes the MarkerPlacer's `output_marker_file`: the model's
+/// `<MarkerSet>` as written there (edits applied), one level deep (an empty set without one).
+pub fn marker_set_document(model: &OsimDocument) -> Result<String, ScaleError> {
+    let model = super::reparse(model)?;
+    let xml = &model.xml;
+    let set = xml.children(model.object).iter().copied().find(|&c| xml.tag(c) == "MarkerSet");
+    let body = match set {
+        Some(set) => {
+            let indentation = xml.indentation(set);
+            let unit = indent_unit(indentation);
+            xml.element_source(set).replace(&format!("\n{indentation}"), &format!("\n{unit}"))
+        }
+        None => "<MarkerSet name=\"markerset\">\n\t\t<objects />\n\t\t<groups />\n\t</MarkerSet>".to_string(),
+    };
+    Ok(format!("<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<OpenSimDocument Version=\"{}\">\n\t{body}\n</OpenSimDocument>\n", model.version.number))
+}
+
 /// A 4.x `<Marker>` element; `indentation` is that of its start tag.
 fn marker_element(marker: &MarkerDefinition, indentation: &str, unit: &str) -> String {
     let [x, y, z] = marker.location;

@@ -18,7 +18,7 @@ mod trials;
 pub use error::ScaleError;
 pub use inertia::Inertial;
 pub use marker_placer::{averaged_frame, move_markers_to_pose, place_markers, MarkerPlacement, MovedMarkers};
-pub use marker_set::{read_marker_set, update_marker_set, MarkerDefinition};
+pub use marker_set::{marker_set_document, read_marker_set, update_marker_set, MarkerDefinition};
 pub use measurement::{frame_range, measure, DefaultPoseMarkers, MeasuredFactor, PairLength};
 pub use model_scaler::{reparse, scale_model, ScaledModel};
 pub use path_lengths::PathRescale;
