@@ -519,6 +519,9 @@ fn cli_creates_missing_output_folders_but_not_for_a_refused_request() {
     let (code, _, stderr) = common::osim_tune(&["ik", model, trial, "--time", "0.5", "0.52", "--weights", "R.ASIS=heavy", "-o", motion_path, "--errors", errors_path]);
     assert_eq!(code, 2, "{stderr}");
     assert_eq!(std::fs::read_dir(directory.path()).unwrap().count(), 0, "a refused request created folders");
+    let (code, _, stderr) = common::osim_tune(&["ik", model, trial, "--time", "0.5", "0.52", "-o", motion_path, "--errors", errors_path, "--marker-locations", motion_path]);
+    assert!(code == 2 && stderr.contains("--marker-locations and -o name the same file"), "{stderr}");
+    assert_eq!(std::fs::read_dir(directory.path()).unwrap().count(), 0, "a refused request created folders");
     let (code, stdout, stderr) = common::osim_tune(&["ik", model, trial, "--time", "0.5", "0.52", "-o", motion_path, "--errors", errors_path]);
     assert_eq!(code, 0, "{stdout}{stderr}");
     // The trial has two frames in 0.5–0.52 s (at 0.500 and 0.517 s).

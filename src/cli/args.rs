@@ -222,6 +222,10 @@ pub enum Command {
         /// Also write total squared error, RMS and max marker error per frame (.sto).
         #[arg(long)]
         errors: Option<PathBuf>,
+        /// Also write the tracked markers' locations in ground per frame (`<marker>_tx`, `_ty`,
+        /// `_tz`, m; .sto), as OpenSim's report_marker_locations.
+        #[arg(long)]
+        marker_locations: Option<PathBuf>,
     },
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
     /// InverseKinematicsTool, InverseDynamicsTool or AnalyzeTool (StaticOptimization,

@@ -46,6 +46,19 @@ pub(crate) fn create_output_folders<'a>(files: impl IntoIterator<Item = &'a Path
     Ok(())
 }
 
+/// Checks the outputs `(flag, file)` a command was given (unset ones `None`): none may be an input
+/// or name the same file as another.
+pub(crate) fn check_outputs(outputs: &[(&str, Option<&Path>)], inputs: &[&Path]) -> Result<(), Failure> {
+    let named: Vec<(&str, &Path)> = outputs.iter().filter_map(|&(flag, file)| Some((flag, file?))).collect();
+    for (k, &(flag, file)) in named.iter().enumerate() {
+        crate::io::atomic::ensure_not_an_input(file, inputs)?;
+        for &(other, earlier) in &named[..k] {
+            crate::io::atomic::ensure_not_an_input(file, &[earlier]).map_err(|_| format!("{}: {flag} and {other} name the same file", file.display()))?;
+        }
+    }
+    Ok(())
+}
+
 /// Checks `--time START END` (START ≤ END) and `--lowpass HZ` (> 0), shared by the commands that
 /// read a motion.
 pub(crate) fn check_time_and_cutoff(time: Option<[f64; 2]>, lowpass: Option<f64>) -> Result<(), Failure> {

@@ -1,9 +1,9 @@
-//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] [--kalman HZ [--kalman-rates R.sto]] -o Q.mot [--errors ERR.sto]`
+//! `osim-tune ik MODEL TRIAL [--setup SETUP.xml] [--time START END] [--weights NAME=W,…] [--kalman HZ [--kalman-rates R.sto]] -o Q.mot [--errors ERR.sto] [--marker-locations L.sto]`
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::{create_output_folders, Failure, Outcome};
-use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::cli::{check_outputs, create_output_folders, Failure, Outcome};
+use crate::io::atomic::write_atomically;
 use crate::io::osim::OsimDocument;
 use crate::io::table::{MarkerTable, StorageTable};
 use crate::mechanics::Multibody;
@@ -17,6 +17,8 @@ pub struct Outputs {
     pub errors: Option<PathBuf>,
     /// The Kalman smoother's speeds and accelerations.
     pub kalman_rates: Option<PathBuf>,
+    /// The tracked markers' locations in ground.
+    pub marker_locations: Option<PathBuf>,
 }
 
 /// What the command line asks for besides the model, the trial and the outputs.
@@ -38,16 +40,8 @@ pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs
     }
     let inputs: Vec<&Path> = [model, trial_file].into_iter().chain(setup).collect();
     let inputs = inputs.as_slice();
-    ensure_not_an_input(&outputs.motion, inputs)?;
-    if let Some(errors) = &outputs.errors {
-        ensure_not_an_input(errors, inputs)?;
-        ensure_not_an_input(errors, &[&outputs.motion]).map_err(|_| format!("{}: --errors and -o name the same file", errors.display()))?;
-    }
-    if let Some(rates) = &outputs.kalman_rates {
-        ensure_not_an_input(rates, inputs)?;
-        let others: Vec<&Path> = std::iter::once(outputs.motion.as_path()).chain(outputs.errors.as_deref()).collect();
-        ensure_not_an_input(rates, &others).map_err(|_| format!("{}: --kalman-rates names another output", rates.display()))?;
-    }
+    let named = [("-o", Some(outputs.motion.as_path())), ("--errors", outputs.errors.as_deref()), ("--kalman-rates", outputs.kalman_rates.as_deref()), ("--marker-locations", outputs.marker_locations.as_deref())];
+    check_outputs(&named, inputs)?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let multibody = Multibody::new(&spec)?;
     let trial = crate::cli::read_marker_trial(trial_file)?;
@@ -67,13 +61,17 @@ pub fn run(model: &Path, trial_file: &Path, request: &Request, outputs: &Outputs
     }
     let motion = solution.motion_table(&multibody)?;
     let errors = solution.marker_errors_table()?;
-    create_output_folders(std::iter::once(&outputs.motion).chain(&outputs.errors).chain(&outputs.kalman_rates).map(PathBuf::as_path))?;
+    let locations = outputs.marker_locations.as_ref().map(|_| solution.marker_locations_table(&multibody)).transpose()?;
+    create_output_folders(named.iter().filter_map(|(_, file)| *file))?;
     write_atomically(&outputs.motion, motion.to_text().as_bytes(), inputs)?;
     if let Some(file) = &outputs.errors {
         write_atomically(file, errors.to_text().as_bytes(), inputs)?;
     }
     if let (Some(file), Some(rates)) = (&outputs.kalman_rates, &rates) {
         write_atomically(file, rates.to_text().as_bytes(), inputs)?;
+    }
+    if let (Some(file), Some(locations)) = (&outputs.marker_locations, &locations) {
+        write_atomically(file, locations.to_text().as_bytes(), inputs)?;
     }
     report(&ik, &solution, trial_file, outputs);
     Ok(if solution.unconverged().next().is_some() { Outcome::NotConverged } else { Outcome::Success })

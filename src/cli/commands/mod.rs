@@ -86,9 +86,9 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             let request = reaction::Request { forces, setup, external_loads, actuators, time, lowpass, step_interval, joints, on, frames, name, output };
             reaction::run(&model, &coordinates, &request)
         }
-        Command::Ik { model, trial, setup, time, weights, kalman, kalman_rates, output, errors } => {
+        Command::Ik { model, trial, setup, time, weights, kalman, kalman_rates, output, errors, marker_locations } => {
             let request = ik::Request { setup: setup.as_deref(), time: time.map(|t| [t[0], t[1]]), weights: &weights, kalman };
-            ik::run(&model, &trial, &request, &ik::Outputs { motion: output, errors, kalman_rates })
+            ik::run(&model, &trial, &request, &ik::Outputs { motion: output, errors, kalman_rates, marker_locations })
         }
         Command::Scale {
             model,

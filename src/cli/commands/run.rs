@@ -107,7 +107,8 @@ fn scale_tool(file: &Path, setup: &ScaleSetup) -> Result<Invocation, Failure> {
 }
 
 /// InverseKinematicsTool: `ik MODEL TRIAL --setup SETUP -o MOTION`, with
-/// `<results_directory>/<name>_ik_marker_errors.sto` when it reports errors.
+/// `<results_directory>/<name>_ik_marker_errors.sto` and `…_ik_model_marker_locations.sto` when
+/// it reports them.
 fn inverse_kinematics_tool(file: &Path, setup: &IkSetup) -> Result<Invocation, Failure> {
     let model = input(file, "model_file", setup.model_file.as_ref())?;
     let trial = input(file, "marker_file", setup.marker_file.as_ref())?;
@@ -119,7 +120,8 @@ fn inverse_kinematics_tool(file: &Path, setup: &IkSetup) -> Result<Invocation, F
         invocation = invocation.with(&["--errors".as_ref(), errors.as_ref()]);
     }
     if setup.report_marker_locations {
-        eprintln!("note: {}: report_marker_locations: not written (`osim-tune analyze MODEL --motion MOTION` writes MarkerLocations.sto)", file.display());
+        let locations = results.join(format!("{}_ik_model_marker_locations.sto", setup.name));
+        invocation = invocation.with(&["--marker-locations".as_ref(), locations.as_ref()]);
     }
     Ok(invocation)
 }

@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::{create_output_folders, Failure, Outcome};
-use crate::io::atomic::{ensure_not_an_input, write_atomically};
+use crate::cli::{check_outputs, create_output_folders, Failure, Outcome};
+use crate::io::atomic::write_atomically;
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
 use crate::tuning::functional::{
@@ -87,13 +87,7 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     inputs.extend(data.trials.iter().map(|t| t.file.clone()));
     let input_refs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
     let outputs = [("-o", Some(output)), ("--report", request.report.as_deref()), ("--cause-model", request.cause_model.as_deref())];
-    for (k, &(option, file)) in outputs.iter().enumerate() {
-        let Some(file) = file else { continue };
-        ensure_not_an_input(file, &input_refs)?;
-        for (other, earlier) in outputs[..k].iter().filter_map(|&(other, earlier)| earlier.map(|f| (other, f))) {
-            ensure_not_an_input(file, &[earlier]).map_err(|_| format!("{}: {option} and {other} name the same file", file.display()))?;
-        }
-    }
+    check_outputs(&outputs, &input_refs)?;
     let mut document = OsimDocument::read(model)?;
     let spec = ModelSpec::read(&document)?;
     let knee = KneeMomentModel::new(&spec, &data)?;

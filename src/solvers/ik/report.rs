@@ -1,5 +1,6 @@
-//! What inverse kinematics reports per frame, and the two tables OpenSim 4.6 writes: the
-//! coordinates (`<trial>_ik.mot`) and the marker errors (`<trial>_ik_marker_errors.sto`).
+//! What inverse kinematics reports per frame, and the tables OpenSim 4.6 writes: the coordinates
+//! (`<trial>_ik.mot`), the marker errors (`<trial>_ik_marker_errors.sto`) and the model's marker
+//! locations (`<trial>_ik_model_marker_locations.sto`).
 
 use super::tasks::TrackedMarker;
 use crate::io::table::{StorageTable, TableError};
@@ -97,6 +98,24 @@ impl IkSolution {
             .with_comment("Units are S.I. units (second, meters, Newtons, ...)")?
             .with_comment("If the header above contains a line with 'inDegrees', this indicates whether rotational values are in degrees (yes) or radians (no).")?
             .with_comment("")
+    }
+
+    /// OpenSim's `Model Marker Locations from IK` table (`report_marker_locations`): each
+    /// tracked marker's `<marker>_tx`, `_ty`, `_tz` in ground (m) at each frame's pose,
+    /// `inDegrees=no`.
+    pub fn marker_locations_table(&self, multibody: &Multibody) -> Result<StorageTable, TableError> {
+        let indices: Vec<usize> = self.markers.iter().filter_map(|name| multibody.markers.iter().position(|m| &m.name == name)).collect();
+        let labels = std::iter::once("time".to_string()).chain(self.markers.iter().flat_map(|name| ["tx", "ty", "tz"].map(|axis| format!("{name}_{axis}")))).collect();
+        let mut kinematics = multibody.kinematics();
+        let mut values = Vec::with_capacity(self.frames.len() * (3 * indices.len() + 1));
+        for frame in &self.frames {
+            multibody.realize(&frame.q, &mut kinematics);
+            values.push(frame.time);
+            for &k in &indices {
+                values.extend(kinematics.marker_location(multibody, k).iter());
+            }
+        }
+        Ok(StorageTable::new("Model Marker Locations from IK", labels, values)?.with_in_degrees(false))
     }
 
     /// OpenSim's `Model Marker Errors from IK` table: `total_squared_error` (m²),
