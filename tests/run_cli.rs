@@ -185,6 +185,42 @@ const ANALYZE_SETUP: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
 </OpenSimDocument>
 "#;
 
+/// AnalyzeTool setups with a MuscleAnalysis (`oracle/gen_muscle_analysis_tool.py`): every muscle
+/// and coordinate with the coordinates filtered at 6 Hz, and listed muscles (out of the model's
+/// order, one unknown) and coordinates (one unknown) every second row. We write exactly OpenSim
+/// 4.6's Length and MomentArm files (zeros about a coordinate no muscle spans), with its rows,
+/// columns and values to 2e-8 m (printed to 1e-8; 5e-9 found).
+#[test]
+fn a_muscle_analysis_setup_gives_opensims_geometry_tables() {
+    for case in ["all", "listed"] {
+        let folder = tempfile::tempdir().unwrap();
+        let dir = folder.path();
+        let golden = format!("golden/analyze_tool/{case}");
+        copy_into(dir, &[(&format!("{golden}/setup.xml"), "setup.xml"), ("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot")]);
+        let (code, stdout, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
+        assert_eq!(code, 0, "{case}: {stderr}");
+        assert!(stdout.starts_with("osim-tune analyze "), "{stdout}");
+        let opensim_files = std::fs::read_to_string(fixture(&format!("{golden}/files.txt"))).unwrap();
+        let geometry: Vec<&str> = opensim_files.lines().filter(|f| f.starts_with("walk_MuscleAnalysis_Length") || f.starts_with("walk_MuscleAnalysis_MomentArm_")).collect();
+        let mut ours: Vec<String> = std::fs::read_dir(dir.join("Results")).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+        ours.sort();
+        assert_eq!(ours, geometry, "{case}");
+        for entry in std::fs::read_dir(fixture(&golden)).unwrap() {
+            let name = entry.unwrap().file_name().into_string().unwrap();
+            if !name.ends_with(".sto") {
+                continue;
+            }
+            let opensim = StorageTable::read(&fixture(&format!("{golden}/{name}"))).unwrap();
+            let table = StorageTable::read(&dir.join("Results").join(&name)).unwrap();
+            assert_eq!((table.labels(), table.n_rows()), (opensim.labels(), opensim.n_rows()), "{case}: {name}");
+            assert!(largest_difference(&table, &opensim, &column_names(&table)) < 2e-8, "{case}: {name}");
+        }
+        if case == "listed" {
+            assert!(stderr.contains("no_such_muscle") && stderr.contains("no_such_coordinate"), "{stderr}");
+        }
+    }
+}
+
 /// `--dry-run` prints the command and writes nothing.
 #[test]
 fn a_dry_run_prints_the_command_only() {
@@ -209,6 +245,12 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let (code, _, stderr) = osim_tune(&["run", s(&cmc)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
+
+    let kinematics = dir.join("kinematics.xml");
+    std::fs::write(&kinematics, ANALYZE_SETUP.replace(r#"<StaticOptimization name="StaticOptimization"><on>true</on></StaticOptimization>"#, r#"<Kinematics name="Kinematics"><on>true</on></Kinematics>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&kinematics)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("kinematics.xml: the AnalysisSet has no MuscleAnalysis, StaticOptimization or JointReaction that is on (others on: Kinematics)"), "{stderr}");
 
     let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
     let (code, _, stderr) = osim_tune(&["run", s(&ik)]);

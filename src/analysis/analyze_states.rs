@@ -66,6 +66,13 @@ impl AnalyzeStates {
         })
     }
 
+    /// The poses of `rows` (e.g. [`AnalyzeStates::analysed_rows`]) as a [`Motion`]; its
+    /// defaulted coordinates are those held at 0.
+    pub fn motion(&self, rows: &[usize]) -> Motion {
+        let poses: Vec<Vec<f64>> = rows.iter().map(|&i| self.q[i].clone()).collect();
+        Motion::from_poses(rows.iter().map(|&i| self.times[i]).collect(), &poses, self.missing.clone(), self.ignored_columns.clone())
+    }
+
     /// The rows an analysis records in `time_range` (s; see `rows_in_range`): the first, the
     /// last and those whose index is a multiple of `step_interval` (`Analysis::proceed`);
     /// `None` when the range misses the times.

@@ -1,9 +1,16 @@
 //! MuscleAnalysis: muscle-tendon lengths, moment arms and marker locations along a motion, as
-//! OpenSim's `MuscleAnalysis` and `MarkerLocations` report them.
+//! OpenSim's `MuscleAnalysis` and `MarkerLocations` report them; the tables a `MuscleAnalysis`
+//! setup asks for, on the poses OpenSim's `AnalyzeTool` forms from a coordinates file.
 
+use std::path::{Path, PathBuf};
+
+use super::analyze_states::{AnalyzeStates, StatesError};
+use super::signal::{frames_in_range, NoFramesInRange};
 use super::{path_labels, storage, Spans};
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{Motion, MuscleGeometry, PathEvaluation};
+use crate::solvers::{assemble, IkError};
+use crate::mechanics::{Motion, Multibody, MuscleGeometry, PathEvaluation};
+use crate::setup::MuscleAnalysisSetup;
 
 /// The tables of one analysis; every table has a `time` column first.
 #[derive(Debug, Clone)]
@@ -61,4 +68,85 @@ impl MuscleAnalysis {
             ignored_wraps: geometry.paths.iter().filter(|p| !p.ignored_wraps.is_empty()).map(|p| (p.name.clone(), p.ignored_wraps.clone())).collect(),
         })
     }
+}
+
+/// What a `MuscleAnalysis` setup asks of the path geometry, as OpenSim writes it.
+#[derive(Debug, Clone)]
+pub struct SetupTables {
+    /// `Length`, then `MomentArm_<coordinate>` per coordinate of the list when moments are
+    /// computed — zeros about a coordinate no muscle spans — each with the listed muscles'
+    /// columns in the list's order.
+    pub tables: Vec<StorageTable>,
+    /// Listed names that are no muscle or no coordinate of the model (OpenSim drops them).
+    pub unknown_muscles: Vec<String>,
+    pub unknown_coordinates: Vec<String>,
+}
+
+impl MuscleAnalysis {
+    /// The tables `setup` asks for: `muscle_list` exactly `all` is every muscle; a
+    /// `moment_arm_coordinate_list` whose first word is `all` (any case) every coordinate, in
+    /// the model's order (OpenSim's `MuscleAnalysis::allocateStorageObjects`).
+    pub fn setup_tables(&self, multibody: &Multibody, setup: &MuscleAnalysisSetup) -> Result<SetupTables, TableError> {
+        let every_muscle = setup.muscle_list.len() == 1 && setup.muscle_list[0] == "all";
+        let muscle_columns = self.lengths.labels()[1..].to_vec();
+        let muscles: Vec<String> = if every_muscle { muscle_columns.clone() } else { setup.muscle_list.clone() };
+        let (muscles, unknown_muscles): (Vec<String>, Vec<String>) = muscles.into_iter().partition(|m| muscle_columns.contains(m));
+        let every_coordinate = setup.moment_arm_coordinate_list.first().is_some_and(|c| c.eq_ignore_ascii_case("all"));
+        let coordinates: Vec<String> = if every_coordinate { multibody.coordinates.iter().map(|c| c.name.clone()).collect() } else { setup.moment_arm_coordinate_list.clone() };
+        let (coordinates, unknown_coordinates): (Vec<String>, Vec<String>) = coordinates.into_iter().partition(|c| multibody.coordinates.iter().any(|m| &m.name == c));
+        let mut tables = vec![columns_of(&self.lengths, "Length", &muscles)?];
+        if setup.compute_moments {
+            for coordinate in &coordinates {
+                let name = format!("MomentArm_{coordinate}");
+                let table = match self.moment_arms.iter().find(|(c, _)| c == coordinate) {
+                    Some((_, table)) => columns_of(table, &name, &muscles)?,
+                    None => zeros(&self.lengths.times(), &name, &muscles)?,
+                };
+                tables.push(table);
+            }
+        }
+        Ok(SetupTables { tables, unknown_muscles, unknown_coordinates })
+    }
+}
+
+/// `table`'s time and `columns`, named `name`.
+fn columns_of(table: &StorageTable, name: &str, columns: &[String]) -> Result<StorageTable, TableError> {
+    let indices: Vec<usize> = columns.iter().filter_map(|c| table.column_index(c)).collect();
+    let values = table.rows().flat_map(|row| std::iter::once(row[0]).chain(indices.iter().map(|&i| row[i])).collect::<Vec<_>>()).collect();
+    let labels = std::iter::once("time".to_string()).chain(columns.iter().cloned()).collect();
+    storage(name, labels, values)
+}
+
+/// A table of zeros at `times`, a column per muscle of `muscles`, named `name`.
+fn zeros(times: &[f64], name: &str, muscles: &[String]) -> Result<StorageTable, TableError> {
+    let values = times.iter().flat_map(|&t| std::iter::once(t).chain(std::iter::repeat_n(0.0, muscles.len()))).collect();
+    storage(name, std::iter::once("time".to_string()).chain(muscles.iter().cloned()).collect(), values)
+}
+
+/// Why OpenSim's AnalyzeTool poses cannot be formed.
+#[derive(Debug, thiserror::Error)]
+pub enum AnalyzeToolError {
+    #[error(transparent)]
+    States(#[from] StatesError),
+    #[error(transparent)]
+    NoFrames(#[from] NoFramesInRange),
+    #[error("{}: the pose at {time} s cannot be assembled: {source}", file.display())]
+    Assembly { file: PathBuf, time: f64, source: IkError },
+}
+
+/// The poses OpenSim's `AnalyzeTool` hands its analyses from a coordinates file (`table`, read
+/// from `file`): the states [`AnalyzeStates`] forms (filtered at `cutoff` Hz; a coordinate the
+/// file lacks held at 0), the rows of `time_range` (s) an analysis of `step_interval` records,
+/// each pose assembled.
+pub fn analyze_tool_motion(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>, time_range: [f64; 2], step_interval: usize) -> Result<Motion, AnalyzeToolError> {
+    let states = AnalyzeStates::new(multibody, table, file, cutoff)?;
+    frames_in_range(file, &states.times, time_range)?;
+    let rows = states.analysed_rows(time_range, step_interval).unwrap_or_default();
+    let mut motion = states.motion(&rows);
+    let mut row = 0;
+    motion.assemble_poses(|q| {
+        row += 1;
+        assemble(multibody, q).map_err(|source| AnalyzeToolError::Assembly { file: file.into(), time: states.times[rows[row - 1]], source })
+    })?;
+    Ok(motion)
 }

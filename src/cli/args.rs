@@ -182,6 +182,14 @@ pub enum Command {
         /// e.g. a static optimisation activation.sto), interpolated linearly in time.
         #[arg(long)]
         activations: Option<PathBuf>,
+        /// An OpenSim AnalyzeTool setup with a MuscleAnalysis: run as OpenSim's AnalyzeTool runs
+        /// it — its time range, coordinate cutoff (filtered and splined states, coordinates the
+        /// motion lacks held at 0), step interval, muscle_list and moment_arm_coordinate_list —
+        /// writing DIR/<name>_MuscleAnalysis_Length.sto and, with compute_moments,
+        /// …_MomentArm_<coordinate>.sto for every listed coordinate; columns that are no
+        /// coordinate are skipped.
+        #[arg(long, conflicts_with_all = ["activation", "activations", "skip_unknown_columns"])]
+        setup: Option<PathBuf>,
     },
     /// Inverse kinematics like OpenSim 4.6's InverseKinematicsTool: per frame, the pose that
     /// minimises the weighted squared distances between model markers and the trial's markers

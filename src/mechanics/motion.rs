@@ -82,6 +82,13 @@ impl Motion {
         Ok(Motion { times: table.times(), poses, width, ignored_columns, defaulted, in_degrees })
     }
 
+    /// A motion of `poses` (each every coordinate's value, rad or m, [`Multibody::coordinates`]
+    /// order) at `times`, with the coordinates and columns its source did not give or use.
+    pub fn from_poses(times: Vec<f64>, poses: &[Vec<f64>], defaulted: Vec<String>, ignored_columns: Vec<String>) -> Motion {
+        let width = poses.first().map_or(0, Vec::len);
+        Motion { times, poses: poses.concat(), width, ignored_columns, defaulted, in_degrees: false }
+    }
+
     /// Replaces each pose by `assemble(pose)` (OpenSim's `AnalyzeTool` assembles every state:
     /// couplers' dependents follow, other constraints close).
     pub fn assemble_poses<E>(&mut self, mut assemble: impl FnMut(&[f64]) -> Result<Vec<f64>, E>) -> Result<(), E> {

@@ -1,5 +1,5 @@
-//! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization` and `JointReaction`
-//! analyses, typed.
+//! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction` and
+//! `MuscleAnalysis` analyses, typed.
 
 use std::path::{Path, PathBuf};
 
@@ -40,6 +40,8 @@ pub struct AnalyzeSetup {
     pub static_optimization: Option<StaticOptimizationSetup>,
     /// The `JointReaction` analysis, if the set has one that is on.
     pub joint_reaction: Option<JointReactionSetup>,
+    /// The `MuscleAnalysis`, if the set has one that is on.
+    pub muscle_analysis: Option<MuscleAnalysisSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
     pub other_analyses: Vec<String>,
 }
@@ -73,6 +75,19 @@ pub struct JointReactionSetup {
     pub express_in_frame: Vec<String>,
 }
 
+/// OpenSim's `MuscleAnalysis` properties (`MuscleAnalysis.cpp`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MuscleAnalysisSetup {
+    /// Records only every n-th state (default 1).
+    pub step_interval: usize,
+    /// Muscles analysed, or `all` (default; spelled exactly so, as OpenSim compares it).
+    pub muscle_list: Vec<String>,
+    /// Coordinates of the moment arms, or `all` (default; any case).
+    pub moment_arm_coordinate_list: Vec<String>,
+    /// Whether moment arms (and moments) are computed (default true).
+    pub compute_moments: bool,
+}
+
 impl AnalyzeSetup {
     /// Reads the AnalyzeTool setup file `path`.
     pub fn read(path: &Path) -> Result<AnalyzeSetup, SetupError> {
@@ -84,7 +99,7 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());
-        let Analyses { static_optimization, joint_reaction, others: other_analyses } = analyses(tool, &directory)?;
+        let Analyses { static_optimization, joint_reaction, muscle_analysis, others: other_analyses } = analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
@@ -100,6 +115,7 @@ impl AnalyzeSetup {
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             static_optimization,
             joint_reaction,
+            muscle_analysis,
             other_analyses,
         })
     }
@@ -110,12 +126,13 @@ impl AnalyzeSetup {
 struct Analyses {
     static_optimization: Option<StaticOptimizationSetup>,
     joint_reaction: Option<JointReactionSetup>,
+    muscle_analysis: Option<MuscleAnalysisSetup>,
     /// Classes of the others (and of a second analysis of a class already read).
     others: Vec<String>,
 }
 
-/// The first `StaticOptimization` and `JointReaction` that are on, and the classes of the other
-/// analyses; `directory` resolves the forces file.
+/// The first `StaticOptimization`, `JointReaction` and `MuscleAnalysis` that are on, and the
+/// classes of the other analyses; `directory` resolves the forces file.
 fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
     let Some(set) = tool.child("AnalysisSet") else { return Ok(Analyses::default()) };
     let mut found = Analyses::default();
@@ -141,6 +158,15 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                     joint_names: words(analysis, "joint_names"),
                     apply_on_bodies: words(analysis, "apply_on_bodies"),
                     express_in_frame: words(analysis, "express_in_frame"),
+                });
+            }
+            "MuscleAnalysis" if found.muscle_analysis.is_none() => {
+                let or_all = |words: Vec<String>| if words.is_empty() { vec!["all".to_string()] } else { words };
+                found.muscle_analysis = Some(MuscleAnalysisSetup {
+                    step_interval: step_interval()?,
+                    muscle_list: or_all(words(analysis, "muscle_list")),
+                    moment_arm_coordinate_list: or_all(words(analysis, "moment_arm_coordinate_list")),
+                    compute_moments: analysis.boolean_or("compute_moments", true)?,
                 });
             }
             class => found.others.push(class.to_string()),
@@ -184,5 +210,26 @@ mod tests {
         assert_eq!(reaction.joint_names, ["knee_r", "hip_r"]);
         assert_eq!((reaction.apply_on_bodies, reaction.express_in_frame), (vec!["parent".to_string()], vec!["child".to_string(), "ground".to_string()]));
         assert_eq!(setup.other_analyses, ["JointReaction"]);
+    }
+
+    #[test]
+    fn muscle_analysis_properties_are_read_with_opensims_defaults() {
+        let xml = r#"<OpenSimDocument Version="40000"><AnalyzeTool name="walk"><AnalysisSet><objects>
+            <MuscleAnalysis name="a"><on>true</on><step_interval>3</step_interval><muscle_list> vas_lat_r rect_fem_r</muscle_list>
+            <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>
+            <Kinematics name="k"><on>true</on></Kinematics>
+            </objects></AnalysisSet></AnalyzeTool></OpenSimDocument>"#;
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("setup.xml");
+        std::fs::write(&file, xml).unwrap();
+        let analysis = AnalyzeSetup::read(&file).unwrap().muscle_analysis.unwrap();
+        assert_eq!((analysis.step_interval, analysis.compute_moments), (3, false));
+        assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["vas_lat_r".to_string(), "rect_fem_r".to_string()], vec!["knee_angle_r".to_string()]));
+        std::fs::write(&file, xml.replace(r#"<MuscleAnalysis name="a"><on>true</on><step_interval>3</step_interval><muscle_list> vas_lat_r rect_fem_r</muscle_list>
+            <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>"#, "<MuscleAnalysis/>")).unwrap();
+        let setup = AnalyzeSetup::read(&file).unwrap();
+        let analysis = setup.muscle_analysis.unwrap();
+        assert_eq!((analysis.step_interval, analysis.compute_moments, analysis.muscle_list, analysis.moment_arm_coordinate_list), (1, true, vec!["all".to_string()], vec!["all".to_string()]));
+        assert_eq!(setup.other_analyses, ["Kinematics"]);
     }
 }

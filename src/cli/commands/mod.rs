@@ -2,6 +2,7 @@
 
 mod analyze;
 mod analyze_inputs;
+mod analyze_tool;
 mod axis;
 mod diff;
 mod dynamometer;
@@ -23,7 +24,8 @@ use super::{AnalyzeArgs, Command, Failure, Outcome};
 
 pub fn run(command: Command) -> Result<Outcome, Failure> {
     match command {
-        Command::Analyze { model, motion, output, skip_unknown_columns, activation, activations } => {
+        Command::Analyze { model, motion, output, setup: Some(setup), .. } => analyze_tool::run(&model, &motion, &setup, &output),
+        Command::Analyze { model, motion, output, skip_unknown_columns, activation, activations, setup: None } => {
             let fibers = match (activation, activations) {
                 (Some(a), _) => Some(analyze::FiberInput::Uniform(a)),
                 (None, Some(file)) => Some(analyze::FiberInput::File(file)),

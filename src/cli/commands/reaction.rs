@@ -94,6 +94,9 @@ fn check_setup(setup: &AnalyzeSetup) -> Result<JointReactionSetup, Failure> {
     if setup.static_optimization.is_some() {
         others.push("StaticOptimization (run by osim-tune so)".into());
     }
+    if setup.muscle_analysis.is_some() {
+        others.push("MuscleAnalysis (run by osim-tune analyze)".into());
+    }
     if !others.is_empty() {
         println!("not run (only JointReaction is): {}", others.join(", "));
     }

@@ -13,7 +13,7 @@ use crate::model::ComponentReader;
 use crate::setup::{read_document, AnalyzeSetup, IdSetup, IkSetup, ScaleSetup, SetupPath};
 
 /// The setups `run` knows, by their root element.
-const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool> or <AnalyzeTool> (StaticOptimization, JointReaction)";
+const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool> or <AnalyzeTool> (MuscleAnalysis, StaticOptimization, JointReaction)";
 
 /// One osim-tune command line: its words after the program name.
 struct Invocation(Vec<OsString>);
@@ -134,14 +134,15 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
     Ok(Invocation::new(&["id".as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), forces.as_ref()]))
 }
 
-/// AnalyzeTool: `so` for its StaticOptimization, then `reaction` for its JointReaction, each
-/// `MODEL COORDINATES --setup SETUP -o <results_directory>` (which name the other analyses, not
+/// AnalyzeTool: `analyze` for its MuscleAnalysis, `so` for its StaticOptimization, then
+/// `reaction` for its JointReaction, each `MODEL COORDINATES --setup SETUP -o <results_directory>` (which name the other analyses, not
 /// run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
-    let commands: Vec<&str> = [(setup.static_optimization.is_some(), "so"), (setup.joint_reaction.is_some(), "reaction")].into_iter().filter_map(|(on, c)| on.then_some(c)).collect();
+    let analyses = [(setup.muscle_analysis.is_some(), "analyze"), (setup.static_optimization.is_some(), "so"), (setup.joint_reaction.is_some(), "reaction")];
+    let commands: Vec<&str> = analyses.into_iter().filter_map(|(on, c)| on.then_some(c)).collect();
     if commands.is_empty() {
         let others = if setup.other_analyses.is_empty() { "none".to_string() } else { setup.other_analyses.join(", ") };
-        return Err(format!("{}: the AnalysisSet has no StaticOptimization or JointReaction that is on (others on: {others})", file.display()).into());
+        return Err(format!("{}: the AnalysisSet has no MuscleAnalysis, StaticOptimization or JointReaction that is on (others on: {others})", file.display()).into());
     }
     if let (None, Some(states)) = (&setup.coordinates_file, &setup.states_or_speeds_file) {
         return Err(format!("{}: states_file/speeds_file {:?} is not supported; osim-tune analyses coordinates_file", file.display(), states.written).into());
@@ -149,6 +150,9 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
     let model = input(file, "model_file", setup.model_file.as_ref())?;
     let coordinates = input(file, "coordinates_file", setup.coordinates_file.as_ref())?;
     let results = &setup.results_directory.resolved;
-    let invocation = |command: &str| Invocation::new(&[command.as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), results.as_ref()]);
+    let invocation = |command: &str| match command {
+        "analyze" => Invocation::new(&[command.as_ref(), model.as_ref(), "--motion".as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), results.as_ref()]),
+        _ => Invocation::new(&[command.as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), results.as_ref()]),
+    };
     Ok(commands.into_iter().map(invocation).collect())
 }

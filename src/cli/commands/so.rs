@@ -193,6 +193,9 @@ fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure>
     if setup.joint_reaction.is_some() {
         others.push("JointReaction (run by osim-tune reaction)".into());
     }
+    if setup.muscle_analysis.is_some() {
+        others.push("MuscleAnalysis (run by osim-tune analyze)".into());
+    }
     if !others.is_empty() {
         println!("not run (only StaticOptimization is): {}", others.join(", "));
     }
