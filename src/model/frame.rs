@@ -127,14 +127,18 @@ impl FrameIndex {
     }
 }
 
-/// The OpenSim component path of an element: the names of its named ancestors below `<Model>`.
+/// The OpenSim component path of an element: the names of its named ancestors below `<Model>`,
+/// a set of the model written without a name (4.0 development files) named as OpenSim names it,
+/// by its class in lower case (`/bodyset/…`).
 pub fn opensim_path(document: &OsimDocument, id: ElementId) -> String {
     let xml = &document.xml;
     let mut names = Vec::new();
     let mut current = Some(id);
     while let Some(element) = current.filter(|&e| e != document.object) {
-        if let Some(name) = xml.name(element) {
-            names.push(name);
+        match xml.name(element) {
+            Some(name) => names.push(name.to_string()),
+            None if xml.parent(element) == Some(document.object) && xml.tag(element).ends_with("Set") => names.push(xml.tag(element).to_lowercase()),
+            None => {}
         }
         current = xml.parent(element);
     }

@@ -14,7 +14,7 @@ pub enum OsimError {
     #[error("{}:{line}: expected the root element <OpenSimDocument Version=\"…\">, found <{found}>", file.display())]
     NotOpenSim { file: PathBuf, line: usize, found: String },
     /// The `Version` attribute is missing, not a number, or not a dialect we read.
-    #[error("{}:{line}: unsupported OpenSim document version {version:?}; expected 20000–29999 (2.x setup files), 30000–30516 (3.x) or 40000–49999 (4.x)", file.display())]
+    #[error("{}:{line}: unsupported OpenSim document version {version:?}; expected 20000–29999 (2.x setup files), 30000–30499 (3.x) or 30517–49999 (4.x; 30500–30516 are OpenSim 4.0 development formats: open and save the file in OpenSim 4)", file.display())]
     UnsupportedVersion { file: PathBuf, line: usize, version: String },
     /// `<OpenSimDocument>` holds no object (model or tool).
     #[error("{}:{line}: <OpenSimDocument> holds no object (expected e.g. <Model>)", file.display())]
