@@ -4,7 +4,7 @@
 mod common;
 
 use osim_tune::io::osim::OsimDocument;
-use osim_tune::model::{CoordinateUnit, FunctionSpec, ModelSpec, MotionType, PathPointKind, WrapShape};
+use osim_tune::model::{CoordinateUnit, FunctionSpec, LinkSpec, ModelSpec, MotionType, PathPointKind, WrapShape};
 
 const MODELS: [(&str, &str, usize); 6] = [
     ("gait2392_millard2012muscle", "models/gait2392_millard2012muscle.osim", 92),
@@ -77,6 +77,23 @@ fn a_3x_model_reads_into_the_same_form() {
     let vasti = &spec.forces[0];
     assert!(matches!(&vasti.path_points[1].kind, PathPointKind::ConditionalPathPoint { coordinate, range, .. } if coordinate == "knee_angle" && *range == [-2.618, -1.4]));
     assert_eq!(spec.wrap_objects[0].body, "thigh");
+}
+
+/// A 3.x `WeldConstraint`'s offsets become offset frames as OpenSim 4.6 converts them: at six
+/// significant digits (OpenSim read this weld's 0.0012345678 −0.48320312345 0 as 0.00123457
+/// −0.483203 0 and its orientation 0.123456789 0 0 as 0.123457 0 0 in opensim-core's
+/// CoupledCoordinatesMPPsMomentArmTest, checked by hand).
+#[test]
+fn a_3x_weld_constraints_offsets_keep_the_digits_opensims_conversion_keeps() {
+    let text = std::fs::read_to_string(common::fixture("legacy/pendulum_leg_v30000.osim")).unwrap();
+    let weld = "<ConstraintSet>\n\t\t\t<objects>\n\t\t\t\t<WeldConstraint name=\"weld\"><body_1>thigh</body_1><body_2>shank</body_2>\
+        <location_body_1>0 0 0</location_body_1><orientation_body_1>0 0 0</orientation_body_1>\
+        <location_body_2>0.0012345678 -0.48320312345 0</location_body_2><orientation_body_2>0.123456789 0 0</orientation_body_2></WeldConstraint>\n\t\t\t</objects>";
+    let text = text.replacen("<ConstraintSet>\n\t\t\t<objects />", weld, 1);
+    let spec = ModelSpec::read(&OsimDocument::parse(text, &common::fixture("legacy/pendulum_leg_v30000.osim")).unwrap()).unwrap();
+    let Some(LinkSpec::Weld { frames }) = &spec.constraints[0].link else { panic!("{:?}", spec.constraints) };
+    assert_eq!((frames[1].body.as_str(), frames[1].offsets[0].translation, frames[1].offsets[0].orientation), ("shank", [0.00123457, -0.483203, 0.0], [0.123457, 0.0, 0.0]));
+    assert_eq!(frames[0].offsets[0].translation, [0.0; 3]);
 }
 
 /// arm26's and the wrap zoo's wrap objects with their shapes; absent shape properties take

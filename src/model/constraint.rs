@@ -8,6 +8,7 @@ use super::error::ModelError;
 use super::frame::{FrameChain, FrameIndex, Offset};
 use super::function::FunctionSpec;
 use super::reader::ComponentReader;
+use super::conversion::six_significant_digits_each;
 use crate::io::osim::Dialect;
 
 /// dependent = scale_factor · f(independent…).
@@ -112,7 +113,9 @@ impl LinkSpec {
 }
 
 /// A `WeldConstraint`'s frames: 4.x sockets `frame1`, `frame2`; before, `body_1`/`body_2` with
-/// `location_body_k` and `orientation_body_k` (body-fixed X-Y-Z, rad) as an offset in each.
+/// `location_body_k` and `orientation_body_k` (body-fixed X-Y-Z, rad) as an offset in each, at
+/// the six significant digits OpenSim's conversion keeps (`addPhysicalOffsetFrame30505_30517`
+/// writes them through a C++ stream).
 fn weld_frames(reader: ComponentReader, dialect: Dialect, frames: &FrameIndex) -> Result<[FrameChain; 2], ModelError> {
     let frame = |k: usize| -> Result<FrameChain, ModelError> {
         if dialect == Dialect::V4 {
@@ -120,7 +123,8 @@ fn weld_frames(reader: ComponentReader, dialect: Dialect, frames: &FrameIndex) -
             return frames.resolve(reader, &reader.text(&property)?, &property);
         }
         let body = reader.text(&format!("body_{k}"))?;
-        let offset = Offset { translation: reader.vec3_or(&format!("location_body_{k}"), [0.0; 3])?, orientation: reader.vec3_or(&format!("orientation_body_{k}"), [0.0; 3])? };
+        let [translation, orientation] = [format!("location_body_{k}"), format!("orientation_body_{k}")].map(|p| reader.vec3_or(&p, [0.0; 3]).map(six_significant_digits_each));
+        let offset = Offset { translation: translation?, orientation: orientation? };
         Ok(FrameChain { name: body.clone(), body, offsets: vec![offset] })
     };
     Ok([frame(1)?, frame(2)?])
