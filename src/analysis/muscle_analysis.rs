@@ -131,11 +131,11 @@ pub enum AnalyzeToolError {
     #[error(transparent)]
     NoFrames(#[from] NoFramesInRange),
     #[error("{}: the pose at {time} s cannot be assembled: {source}", file.display())]
-    Assembly { file: PathBuf, time: f64, source: IkError },
+    Assembly { file: PathBuf, time: f64, source: Box<IkError> },
 }
 
 /// The poses OpenSim's `AnalyzeTool` hands its analyses from a coordinates file (`table`, read
-/// from `file`): the states [`AnalyzeStates`] forms (filtered at `cutoff` Hz; a coordinate the
+/// from `file`): the states static optimisation also works on (filtered at `cutoff` Hz; a coordinate the
 /// file lacks held at 0), the rows of `time_range` (s) an analysis of `step_interval` records,
 /// each pose assembled.
 pub fn analyze_tool_motion(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>, time_range: [f64; 2], step_interval: usize) -> Result<Motion, AnalyzeToolError> {
@@ -146,7 +146,7 @@ pub fn analyze_tool_motion(multibody: &Multibody, table: &StorageTable, file: &P
     let mut row = 0;
     motion.assemble_poses(|q| {
         row += 1;
-        assemble(multibody, q).map_err(|source| AnalyzeToolError::Assembly { file: file.into(), time: states.times[rows[row - 1]], source })
+        assemble(multibody, q).map_err(|source| AnalyzeToolError::Assembly { file: file.into(), time: states.times[rows[row - 1]], source: Box::new(source) })
     })?;
     Ok(motion)
 }
