@@ -1,6 +1,7 @@
 //! Agreement with OpenSim: comparisons of our mechanics against golden tables that OpenSim 4.6
 //! produced, used by the conformance tests and `cargo xtask validate`.
 
+mod analyze_tool;
 mod assembly;
 mod dynamometer;
 pub mod functional;
@@ -19,6 +20,7 @@ mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
 
+pub use analyze_tool::{compare_muscle_analysis_setup, AnalyzeToolComparison, MUSCLE_ANALYSIS_CASES};
 pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};
 pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES};

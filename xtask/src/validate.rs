@@ -30,6 +30,7 @@ pub fn run() -> ExitCode {
     rows.extend(GOLDEN_MODELS.iter().flat_map(|(stem, file)| geometry::rows(stem, &root().join(file))));
     rows.extend(geometry::model_golden_rows());
     rows.extend(geometry::assembly_rows());
+    rows.extend(geometry::analyze_tool_rows());
     rows.extend(muscle::MUSCLE_MODELS.iter().flat_map(|(stem, file)| muscle::rows(stem, &root().join(file))));
     rows.extend(muscle::thelen_velocity_rows());
     rows.extend(muscle::degroote_rows());
