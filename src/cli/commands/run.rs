@@ -134,13 +134,12 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
     Ok(Invocation::new(&["id".as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), forces.as_ref()]))
 }
 
-/// AnalyzeTool: `analyze` for its MuscleAnalysis, `so` for its StaticOptimization, then
-/// `reaction` for its JointReaction, each `MODEL COORDINATES --setup SETUP -o <results_directory>` (which name the other analyses, not
-/// run).
+/// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, `so` for its StaticOptimization,
+/// then `reaction` for its JointReaction, each `MODEL COORDINATES --setup SETUP -o
+/// <results_directory>` (the commands name the setup's other analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
-    let analyses = [(setup.muscle_analysis.is_some(), "analyze"), (setup.static_optimization.is_some(), "so"), (setup.joint_reaction.is_some(), "reaction")];
-    let commands: Vec<&str> = analyses.into_iter().filter_map(|(on, c)| on.then_some(c)).collect();
-    if commands.is_empty() {
+    let analyses = [(setup.muscle_analysis.is_some(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
+    if !analyses.iter().any(|(on, _, _)| *on) {
         let others = if setup.other_analyses.is_empty() { "none".to_string() } else { setup.other_analyses.join(", ") };
         return Err(format!("{}: the AnalysisSet has no MuscleAnalysis, StaticOptimization or JointReaction that is on (others on: {others})", file.display()).into());
     }
@@ -149,10 +148,10 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
     }
     let model = input(file, "model_file", setup.model_file.as_ref())?;
     let coordinates = input(file, "coordinates_file", setup.coordinates_file.as_ref())?;
-    let results = &setup.results_directory.resolved;
-    let invocation = |command: &str| match command {
-        "analyze" => Invocation::new(&[command.as_ref(), model.as_ref(), "--motion".as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), results.as_ref()]),
-        _ => Invocation::new(&[command.as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), results.as_ref()]),
+    let tail: [&OsStr; 5] = [coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.results_directory.resolved.as_ref()];
+    let invocation = |command: &str, flags: &[&str]| {
+        let flags: Vec<&OsStr> = flags.iter().map(|f| f.as_ref()).collect();
+        Invocation::new(&[command.as_ref(), model.as_ref()]).with(&flags).with(&tail)
     };
-    Ok(commands.into_iter().map(invocation).collect())
+    Ok(analyses.into_iter().filter(|(on, _, _)| *on).map(|(_, command, flags)| invocation(command, flags)).collect())
 }
