@@ -99,8 +99,8 @@ fn the_subject01_setups_run_in_their_folder_as_opensim_names_the_outputs() {
     assert!(forces.column_index("knee_angle_r_moment").is_some() && forces.n_rows() > 0);
 }
 
-/// An IK setup reporting errors and marker locations into a results directory, on OpenSim's
-/// scaled model (`oracle/gen_ik_marker_locations.py`: accuracy 1e-10): OpenSim 4.6's coordinates
+/// An IK setup reporting errors and marker locations into a results directory, its trial named
+/// with Windows separators, on OpenSim's scaled model (`oracle/gen_ik_marker_locations.py`: accuracy 1e-10): OpenSim 4.6's coordinates
 /// to 1e-5 (° and m; 4.7e-7 found) and its `<name>_ik_model_marker_locations.sto` — the tracked
 /// markers in its order — to 2e-8 m (printed to 1e-8).
 #[test]
@@ -108,7 +108,13 @@ fn an_ik_setup_gives_opensims_coordinates_and_marker_locations() {
     let folder = tempfile::tempdir().unwrap();
     let dir = folder.path();
     copy_into(dir, &[("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("subject01/subject01_walk1.trc", "subject01_walk1.trc")]);
-    let setup = edited_copy(dir, "golden/ik/marker_locations/setup_ik.xml", "setup_ik.xml", &[("<results_directory>.</results_directory>", "<results_directory>results</results_directory>")]);
+    std::fs::create_dir(dir.join("data")).unwrap();
+    std::fs::rename(dir.join("subject01_walk1.trc"), dir.join("data/subject01_walk1.trc")).unwrap();
+    // Results in a subfolder; the trial named with Windows separators, as a setup from a Windows lab.
+    let setup = edited_copy(dir, "golden/ik/marker_locations/setup_ik.xml", "setup_ik.xml", &[
+        ("<results_directory>.</results_directory>", "<results_directory>results</results_directory>"),
+        ("<marker_file>subject01_walk1.trc</marker_file>", "<marker_file>.\\data\\subject01_walk1.trc</marker_file>"),
+    ]);
     let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
     assert_eq!(code, 0, "{stderr}");
     let ours = StorageTable::read(&dir.join("ik.mot")).unwrap();
@@ -256,6 +262,10 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let (code, _, stderr) = osim_tune(&["run", s(&ik)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("ik.xml: model_file \"subject01_simbody.osim\": no such file"), "{stderr}");
+
+    let windows = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "windows.xml", &[("<model_file>subject01_simbody.osim</model_file>", "<model_file>C:\\lab\\subject01_simbody.osim</model_file>")]);
+    let (code, _, stderr) = osim_tune(&["run", s(&windows)]);
+    assert!(code == 2 && stderr.contains("a Windows path: give it relative to the setup's folder"), "{stderr}");
 
     copy_into(dir, &[("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("subject01/subject01_walk1.trc", "subject01_walk1.trc")]);
     let unnamed = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "unnamed.xml", &[("<output_motion_file>subject01_walk1_ik.mot</output_motion_file>", "<output_motion_file>Unassigned</output_motion_file>")]);

@@ -16,8 +16,12 @@ pub struct SetupPath {
 }
 
 impl SetupPath {
+    /// `written` resolved against `directory`; a relative name written with Windows separators
+    /// (`..\models\a.osim`, setups shared from Windows) resolves as the same relative path.
     pub fn resolve(written: &str, directory: &Path) -> SetupPath {
-        let resolved = directory.join(written).components().collect();
+        let relative_windows = written.contains('\\') && !written.contains('/') && !written.contains(':') && !written.starts_with('\\');
+        let portable = if relative_windows { written.replace('\\', "/") } else { written.to_string() };
+        let resolved = directory.join(portable).components().collect();
         SetupPath { written: written.to_string(), resolved }
     }
 }
@@ -44,6 +48,8 @@ mod tests {
         assert_eq!(SetupPath::resolve("../models/a.osim", directory).resolved, Path::new("data/subject01/../models/a.osim"));
         assert_eq!(SetupPath::resolve("/abs/a.osim", directory).resolved, Path::new("/abs/a.osim"));
         assert_eq!(SetupPath::resolve("a.osim", &directory_of(Path::new("setup.xml"))).resolved, Path::new("a.osim"));
+        assert_eq!(SetupPath::resolve("..\\models\\a.osim", directory).resolved, Path::new("data/subject01/../models/a.osim"));
+        assert_eq!(SetupPath::resolve("C:\\data\\a.osim", directory).resolved, Path::new("data/subject01/C:\\data\\a.osim"));
     }
 
     #[test]

@@ -68,7 +68,8 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
 fn input(setup: &Path, property: &str, path: Option<&SetupPath>) -> Result<PathBuf, Failure> {
     let path = path.ok_or_else(|| format!("{}: {property} is not set; the tool needs it", setup.display()))?;
     if !path.resolved.is_file() {
-        return Err(format!("{}: {property} {:?}: no such file ({})", setup.display(), path.written, path.resolved.display()).into());
+        let hint = if path.written.contains(":\\") { "; a Windows path: give it relative to the setup's folder" } else { "" };
+        return Err(format!("{}: {property} {:?}: no such file ({}){hint}", setup.display(), path.written, path.resolved.display()).into());
     }
     Ok(path.resolved.clone())
 }
