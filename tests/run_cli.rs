@@ -134,8 +134,9 @@ fn column_names(table: &StorageTable) -> Vec<&str> {
 }
 
 /// An AnalyzeTool setup with a StaticOptimization and a JointReaction (OpenSim's arm26 runs,
-/// `oracle/gen_static_optimization.py`): both run, each writing OpenSim's file names into the
-/// results directory; the reactions of OpenSim's own forces are OpenSim's.
+/// `oracle/gen_static_optimization.py`): both run, each writing into the results directory under
+/// OpenSim's names — `<tool>_<analysis>_…`, the analyses named `SO` and `reactions` here, as
+/// OpenSim 4.6 names them (checked by hand) —; the reactions of OpenSim's own forces are OpenSim's.
 #[test]
 fn an_analyze_setup_runs_static_optimization_then_joint_reaction() {
     let folder = tempfile::tempdir().unwrap();
@@ -153,10 +154,10 @@ fn an_analyze_setup_runs_static_optimization_then_joint_reaction() {
     let commands: Vec<&str> = stdout.lines().filter(|l| l.starts_with("osim-tune ")).collect();
     assert_eq!(commands.len(), 2, "{stdout}");
     assert!(commands[0].starts_with("osim-tune so ") && commands[1].starts_with("osim-tune reaction "), "{stdout}");
-    let activations = StorageTable::read(&dir.join("Results/arm26_StaticOptimization_activation.sto")).unwrap();
+    let activations = StorageTable::read(&dir.join("Results/arm26_SO_activation.sto")).unwrap();
     let opensim = StorageTable::read(&fixture("golden/static_optimization/arm26/arm26_StaticOptimization_activation.sto")).unwrap();
     assert_eq!((activations.labels(), activations.n_rows()), (opensim.labels(), opensim.n_rows()));
-    let ours = StorageTable::read(&dir.join("Results/arm26_JointReaction_ReactionLoads.sto")).unwrap();
+    let ours = StorageTable::read(&dir.join("Results/arm26_reactions_ReactionLoads.sto")).unwrap();
     let golden = StorageTable::read(&fixture("golden/joint_reaction/arm26/arm26_JointReactionParent_ReactionLoads.sto")).unwrap();
     assert_eq!(ours.labels(), golden.labels());
     let worst = ours.values().iter().zip(golden.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -175,8 +176,8 @@ const ANALYZE_SETUP: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
         <final_time>0.9</final_time>
         <AnalysisSet name="Analyses">
             <objects>
-                <StaticOptimization name="StaticOptimization"><on>true</on></StaticOptimization>
-                <JointReaction name="JointReaction">
+                <StaticOptimization name="SO"><on>true</on></StaticOptimization>
+                <JointReaction name="reactions">
                     <on>true</on>
                     <forces_file>opensim_forces.sto</forces_file>
                     <joint_names> ALL</joint_names>
@@ -253,7 +254,7 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
 
     let kinematics = dir.join("kinematics.xml");
-    std::fs::write(&kinematics, ANALYZE_SETUP.replace(r#"<StaticOptimization name="StaticOptimization"><on>true</on></StaticOptimization>"#, r#"<Kinematics name="Kinematics"><on>true</on></Kinematics>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
+    std::fs::write(&kinematics, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<Kinematics name="Kinematics"><on>true</on></Kinematics>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&kinematics)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("kinematics.xml: the AnalysisSet has no MuscleAnalysis, StaticOptimization or JointReaction that is on (others on: Kinematics)"), "{stderr}");

@@ -49,6 +49,9 @@ pub struct AnalyzeSetup {
 /// OpenSim's `StaticOptimization` analysis properties.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StaticOptimizationSetup {
+    /// The analysis's name (default its class), which OpenSim puts in its output files' names
+    /// (`<tool name>_<analysis name>_…`).
+    pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
     /// Default true; false (coordinate actuators for every coordinate) is refused by the command.
@@ -62,6 +65,9 @@ pub struct StaticOptimizationSetup {
 /// OpenSim's `JointReaction` analysis properties.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JointReactionSetup {
+    /// The analysis's name (default its class), which OpenSim puts in its output files' names
+    /// (`<tool name>_<analysis name>_…`).
+    pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
     /// The actuators' forces (e.g. static optimisation's `_force.sto`); OpenSim computes them
@@ -78,6 +84,9 @@ pub struct JointReactionSetup {
 /// OpenSim's `MuscleAnalysis` properties (`MuscleAnalysis.cpp`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MuscleAnalysisSetup {
+    /// The analysis's name (default its class), which OpenSim puts in its output files' names
+    /// (`<tool name>_<analysis name>_…`).
+    pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
     /// Muscles analysed, or `all` (default; spelled exactly so, as OpenSim compares it).
@@ -142,9 +151,11 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
             continue;
         }
         let step_interval = || checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1").map(|n| n as usize);
+        let name = || Some(name_or_empty(analysis)).filter(|n| !n.is_empty()).unwrap_or_else(|| analysis.class().to_string());
         match analysis.class() {
             "StaticOptimization" if found.static_optimization.is_none() => {
                 found.static_optimization = Some(StaticOptimizationSetup {
+                    name: name(),
                     step_interval: step_interval()?,
                     use_model_force_set: analysis.boolean_or("use_model_force_set", true)?,
                     activation_exponent: checked_number_or(analysis, "activation_exponent", 2.0, |p| p >= 1.0, "a number ≥ 1")?,
@@ -153,6 +164,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
             }
             "JointReaction" if found.joint_reaction.is_none() => {
                 found.joint_reaction = Some(JointReactionSetup {
+                    name: name(),
                     step_interval: step_interval()?,
                     forces_file: optional_path(analysis, "forces_file", directory),
                     joint_names: words(analysis, "joint_names"),
@@ -163,6 +175,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
             "MuscleAnalysis" if found.muscle_analysis.is_none() => {
                 let or_all = |words: Vec<String>| if words.is_empty() { vec!["all".to_string()] } else { words };
                 found.muscle_analysis = Some(MuscleAnalysisSetup {
+                    name: name(),
                     step_interval: step_interval()?,
                     muscle_list: or_all(words(analysis, "muscle_list")),
                     moment_arm_coordinate_list: or_all(words(analysis, "moment_arm_coordinate_list")),
@@ -223,13 +236,14 @@ mod tests {
         let file = folder.path().join("setup.xml");
         std::fs::write(&file, xml).unwrap();
         let analysis = AnalyzeSetup::read(&file).unwrap().muscle_analysis.unwrap();
-        assert_eq!((analysis.step_interval, analysis.compute_moments), (3, false));
+        assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("a", 3, false));
         assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["vas_lat_r".to_string(), "rect_fem_r".to_string()], vec!["knee_angle_r".to_string()]));
         std::fs::write(&file, xml.replace(r#"<MuscleAnalysis name="a"><on>true</on><step_interval>3</step_interval><muscle_list> vas_lat_r rect_fem_r</muscle_list>
             <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>"#, "<MuscleAnalysis/>")).unwrap();
         let setup = AnalyzeSetup::read(&file).unwrap();
         let analysis = setup.muscle_analysis.unwrap();
-        assert_eq!((analysis.step_interval, analysis.compute_moments, analysis.muscle_list, analysis.moment_arm_coordinate_list), (1, true, vec!["all".to_string()], vec!["all".to_string()]));
+        assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("MuscleAnalysis", 1, true));
+        assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["all".to_string()], vec!["all".to_string()]));
         assert_eq!(setup.other_analyses, ["Kinematics"]);
     }
 }

@@ -41,9 +41,10 @@ pub fn compare_muscle_analysis_setup(root: &Path, case: &str) -> Result<AnalyzeT
     let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
     let motion = analyze_tool_motion(&geometry.multibody, &table, &motion_file, cutoff, [setup.initial_time, setup.final_time], analysis.step_interval).map_err(|e| e.to_string())?;
     let ours = MuscleAnalysis::run(&geometry, &motion).and_then(|a| a.setup_tables(&geometry.multibody, &analysis)).map_err(|e| e.to_string())?.tables;
-    let file_name = |table: &str| format!("{}_MuscleAnalysis_{table}.sto", setup.name);
+    let prefix = format!("{}_{}_", setup.name, analysis.name);
+    let file_name = |table: &str| format!("{prefix}{table}.sto");
     let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| format!("{}: {e}", golden.join("files.txt").display()))?;
-    let geometry_files: Vec<&str> = written.lines().filter(|f| f.contains("_MuscleAnalysis_Length.") || f.contains("_MuscleAnalysis_MomentArm_")).collect();
+    let geometry_files: Vec<&str> = written.lines().filter(|f| f.starts_with(&format!("{prefix}Length.")) || f.starts_with(&format!("{prefix}MomentArm_"))).collect();
     let our_files: Vec<String> = ours.iter().map(|t| file_name(t.name())).collect();
     let mut comparison = AnalyzeToolComparison {
         missing: geometry_files.iter().filter(|f| !our_files.iter().any(|o| o == *f)).map(|f| f.to_string()).collect(),

@@ -29,7 +29,7 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     let motion = analyze_tool_motion(&geometry.multibody, &table, coordinates, lowpass_cutoff(None, Some(&setup)), range, analysis.step_interval)?;
     let selected = MuscleAnalysis::run(&geometry, &motion)?.setup_tables(&geometry.multibody, &analysis)?;
     let name = output_name(None, Some(&setup), coordinates);
-    let files: Vec<(PathBuf, String)> = selected.tables.iter().map(|t| (output.join(format!("{name}_MuscleAnalysis_{}.sto", t.name())), t.to_text())).collect();
+    let files: Vec<(PathBuf, String)> = selected.tables.iter().map(|t| (output.join(format!("{name}_{}_{}.sto", analysis.name, t.name())), t.to_text())).collect();
     let inputs = [model, coordinates, setup_file];
     for (path, _) in &files {
         ensure_not_an_input(path, &inputs)?;

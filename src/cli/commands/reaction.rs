@@ -50,7 +50,8 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
         step_interval,
     };
     let name = output_name(request.name.as_deref(), setup.as_ref(), coordinates);
-    let output = request.output.join(format!("{name}_JointReaction_ReactionLoads.sto"));
+    let analysis_name = analysis.as_ref().map_or("JointReaction", |a| a.name.as_str());
+    let output = request.output.join(format!("{name}_{analysis_name}_ReactionLoads.sto"));
     let input_paths = read.file_paths();
     ensure_not_an_input(&output, &input_paths)?;
     let problem = ReactionProblem { geometry: &read.geometry, generators: &read.generators, forces: ActuatorForces { table: &forces_table, file: &forces_file }, external: read.external.as_ref() };

@@ -47,10 +47,14 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
         Some(criterion) => {
             let contraction = if request.compliant_tendons { Contraction::CompliantTendon { max_linearisations: MAX_LINEARISATIONS } } else { Contraction::RigidTendon };
             let settings = PhysiologicalInverseSettings { frames: settings, criterion, time_constant_scale: request.time_constant_scale, contraction, moment_weight: request.moment_weight };
-            physiological(&problem, request, &name, settings)
+            physiological(&problem, request, &format!("{name}_PhysiologicalInverse"), settings)
         }
         None if request.compliant_tendons || request.moment_weight.is_some() => Err("--compliant-tendons and --moment-weight apply to the physiological inverse approach; give --pia".into()),
-        None => static_optimisation(&problem, request, &name, &settings),
+        None => {
+            // OpenSim names the files after the tool and the analysis: `<name>_<analysis>_activation.sto`.
+            let prefix = format!("{name}_{}", analysis.as_ref().map_or("StaticOptimization", |a| a.name.as_str()));
+            static_optimisation(&problem, request, &prefix, &settings)
+        }
     }
 }
 
@@ -64,8 +68,8 @@ struct Problem<'a> {
     inputs: &'a [PathBuf],
 }
 
-fn static_optimisation(problem: &Problem, request: &Request, name: &str, settings: &StaticOptimizationSettings) -> Result<Outcome, Failure> {
-    let outputs = [output_file(&request.output, name, "StaticOptimization", "activation"), output_file(&request.output, name, "StaticOptimization", "force")];
+fn static_optimisation(problem: &Problem, request: &Request, prefix: &str, settings: &StaticOptimizationSettings) -> Result<Outcome, Failure> {
+    let outputs = [output_file(&request.output, prefix, "activation"), output_file(&request.output, prefix, "force")];
     let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).chain(request.compare.as_deref()).collect();
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
@@ -81,7 +85,7 @@ fn static_optimisation(problem: &Problem, request: &Request, name: &str, setting
     Ok(if result.failures.is_empty() { Outcome::Success } else { Outcome::NotConverged })
 }
 
-fn physiological(problem: &Problem, request: &Request, name: &str, settings: PhysiologicalInverseSettings) -> Result<Outcome, Failure> {
+fn physiological(problem: &Problem, request: &Request, prefix: &str, settings: PhysiologicalInverseSettings) -> Result<Outcome, Failure> {
     if request.compare.is_some() {
         return Err("--compare judges static optimisation; it does not apply with --pia".into());
     }
@@ -92,7 +96,7 @@ fn physiological(problem: &Problem, request: &Request, name: &str, settings: Phy
         return Err(format!("--moment-weight {weight}: expected a number > 0").into());
     }
     let kinds = ["activation", "force", "excitation", "deviation"];
-    let outputs = kinds.map(|kind| output_file(&request.output, name, "PhysiologicalInverse", kind));
+    let outputs = kinds.map(|kind| output_file(&request.output, prefix, kind));
     let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).collect();
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
@@ -175,8 +179,8 @@ fn print_model_check(generators: &[Generator], activations: &StorageTable, force
 }
 
 /// `<DIR>/<name>_<method>_<kind>.sto` (OpenSim's names for static optimisation).
-fn output_file(directory: &Path, name: &str, method: &str, kind: &str) -> PathBuf {
-    directory.join(format!("{name}_{method}_{kind}.sto"))
+fn output_file(directory: &Path, prefix: &str, kind: &str) -> PathBuf {
+    directory.join(format!("{prefix}_{kind}.sto"))
 }
 
 /// The setup's StaticOptimization, refusing what osim-tune does not do.
