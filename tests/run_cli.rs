@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 use common::{fixture, osim_tune};
 use osim_tune::io::osim::OsimDocument;
+use osim_tune::io::xml::Document;
 use osim_tune::io::table::StorageTable;
 use osim_tune::tuning::scale::read_marker_set;
 use osim_tune::validation::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
@@ -136,7 +137,8 @@ fn column_names(table: &StorageTable) -> Vec<&str> {
 /// An AnalyzeTool setup with a StaticOptimization and a JointReaction (OpenSim's arm26 runs,
 /// `oracle/gen_static_optimization.py`): both run, each writing into the results directory under
 /// OpenSim's names — `<tool>_<analysis>_…`, the analyses named `SO` and `reactions` here, as
-/// OpenSim 4.6 names them (checked by hand) —; the reactions of OpenSim's own forces are OpenSim's.
+/// OpenSim 4.6 names them (checked by hand) —, the controls also as a ControlSet; the reactions of
+/// OpenSim's own forces are OpenSim's.
 #[test]
 fn an_analyze_setup_runs_static_optimization_then_joint_reaction() {
     let folder = tempfile::tempdir().unwrap();
@@ -157,6 +159,18 @@ fn an_analyze_setup_runs_static_optimization_then_joint_reaction() {
     let activations = StorageTable::read(&dir.join("Results/arm26_SO_activation.sto")).unwrap();
     let opensim = StorageTable::read(&fixture("golden/static_optimization/arm26/arm26_StaticOptimization_activation.sto")).unwrap();
     assert_eq!((activations.labels(), activations.n_rows()), (opensim.labels(), opensim.n_rows()));
+    // The controls as OpenSim's ControlSet: a ControlLinear per column, its nodes the rows
+    // (OpenSim 4.6 reads it back to these values, checked by hand).
+    let controls = Document::read(&dir.join("Results/arm26_SO_controls.xml")).unwrap();
+    let linear: Vec<_> = controls.ids().filter(|&id| controls.tag(id) == "ControlLinear").collect();
+    assert_eq!(linear.iter().map(|&id| controls.name(id).unwrap()).collect::<Vec<_>>(), activations.labels()[1..]);
+    for (column, &control) in linear.iter().enumerate() {
+        let nodes = controls.children(controls.child(control, "x_nodes").unwrap());
+        let number = |node, tag| controls.text(controls.child(node, tag).unwrap()).unwrap().parse::<f64>().unwrap();
+        let values: Vec<[f64; 2]> = nodes.iter().map(|&node| [number(node, "t"), number(node, "value")]).collect();
+        let expected: Vec<[f64; 2]> = activations.rows().map(|row| [row[0], row[column + 1]]).collect();
+        assert_eq!(values, expected);
+    }
     let ours = StorageTable::read(&dir.join("Results/arm26_reactions_ReactionLoads.sto")).unwrap();
     let golden = StorageTable::read(&fixture("golden/joint_reaction/arm26/arm26_JointReactionParent_ReactionLoads.sto")).unwrap();
     assert_eq!(ours.labels(), golden.labels());

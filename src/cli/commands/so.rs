@@ -9,6 +9,7 @@ use crate::analysis::{
 };
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
+use crate::io::osim::control_set_document;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
 use crate::tuning::functional::root_mean_square;
@@ -69,7 +70,7 @@ struct Problem<'a> {
 }
 
 fn static_optimisation(problem: &Problem, request: &Request, prefix: &str, settings: &StaticOptimizationSettings) -> Result<Outcome, Failure> {
-    let outputs = [output_file(&request.output, prefix, "activation"), output_file(&request.output, prefix, "force")];
+    let outputs = [output_file(&request.output, prefix, "activation"), output_file(&request.output, prefix, "force"), request.output.join(format!("{prefix}_controls.xml"))];
     let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).chain(request.compare.as_deref()).collect();
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
@@ -78,8 +79,9 @@ fn static_optimisation(problem: &Problem, request: &Request, prefix: &str, setti
     let reference = compared.as_ref().zip(request.compare.as_deref()).map(|(table, file)| ReferenceControls { table, file });
     let result = static_optimization(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, settings, reference)?;
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
-    let texts = [result.activations.to_text(), result.forces.to_text()];
-    write_all_atomically(&[(&outputs[0], texts[0].as_bytes()), (&outputs[1], texts[1].as_bytes())], &input_paths)?;
+    let texts = [result.activations.to_text(), result.forces.to_text(), control_set_document(&result.activations)];
+    let files: Vec<(&Path, &[u8])> = outputs.iter().zip(&texts).map(|(file, text)| (file.as_path(), text.as_bytes())).collect();
+    write_all_atomically(&files, &input_paths)?;
     report(&result, problem.coordinates, &outputs, request.compare.as_deref());
     print_model_check(problem.generators, &result.activations, &result.forces);
     Ok(if result.failures.is_empty() { Outcome::Success } else { Outcome::NotConverged })
@@ -219,10 +221,10 @@ fn settings(request: &Request, setup: Option<&AnalyzeSetup>, analysis: Option<&S
     Ok(StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval, use_muscle_physiology, activation_exponent })
 }
 
-fn report(result: &StaticOptimizationResult, coordinates: &Path, outputs: &[PathBuf; 2], compare: Option<&Path>) {
+fn report(result: &StaticOptimizationResult, coordinates: &Path, outputs: &[PathBuf; 3], compare: Option<&Path>) {
     let times = result.activations.times();
     let (Some(first), Some(last)) = (times.first(), times.last()) else { return };
-    println!("{} frames of {} ({first:.4}–{last:.4} s) → {}, {}", times.len(), coordinates.display(), outputs[0].display(), outputs[1].display());
+    println!("{} frames of {} ({first:.4}–{last:.4} s) → {}, {}, {}", times.len(), coordinates.display(), outputs[0].display(), outputs[1].display(), outputs[2].display());
     println!("largest |generalized force − inverse dynamics|: {:.2e}", result.max_violation);
     if !result.missing.is_empty() {
         println!("held at 0 (not in the coordinates, as OpenSim does): {}", result.missing.join(", "));

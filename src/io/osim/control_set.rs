@@ -1,0 +1,23 @@
+//! OpenSim's `ControlSet` document (`<name>_StaticOptimization_controls.xml`): one
+//! `ControlLinear` per column of a control table, its nodes the table's rows — what a
+//! `ForwardTool` or `CMCTool` reads as `controls_file`.
+
+use crate::io::table::StorageTable;
+use crate::io::xml::escape_attribute;
+
+/// `table`'s columns (time first, a control per column) as a `ControlSet` document, with the
+/// `ControlLinear` defaults OpenSim 4.6's StaticOptimization writes (bounds 0.02–1, gains 100
+/// and 20, linear interpolation, extrapolated).
+pub fn control_set_document(table: &StorageTable) -> String {
+    let mut text = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<OpenSimDocument Version=\"40600\">\n\t<ControlSet name=\"Control Set\">\n\t\t<objects>\n");
+    for (column, name) in table.labels().iter().enumerate().skip(1) {
+        text.push_str(&format!("\t\t\t<ControlLinear name=\"{}\">\n", escape_attribute(name)));
+        text.push_str("\t\t\t\t<is_model_control>true</is_model_control>\n\t\t\t\t<extrapolate>true</extrapolate>\n\t\t\t\t<default_min>0.02</default_min>\n\t\t\t\t<default_max>1</default_max>\n\t\t\t\t<filter_on>false</filter_on>\n\t\t\t\t<use_steps>false</use_steps>\n\t\t\t\t<x_nodes>\n");
+        for row in table.rows() {
+            text.push_str(&format!("\t\t\t\t\t<ControlLinearNode>\n\t\t\t\t\t\t<t>{}</t>\n\t\t\t\t\t\t<value>{}</value>\n\t\t\t\t\t</ControlLinearNode>\n", row[0], row[column]));
+        }
+        text.push_str("\t\t\t\t</x_nodes>\n\t\t\t\t<min_nodes />\n\t\t\t\t<max_nodes />\n\t\t\t\t<kp>100</kp>\n\t\t\t\t<kv>20</kv>\n\t\t\t</ControlLinear>\n");
+    }
+    text.push_str("\t\t</objects>\n\t\t<groups />\n\t</ControlSet>\n</OpenSimDocument>\n");
+    text
+}
