@@ -11,7 +11,7 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::xml::Document;
 use osim_tune::io::table::StorageTable;
 use osim_tune::tuning::scale::read_marker_set;
-use osim_tune::validation::{compare_scaled_models, SCALED_MODEL_TOLERANCE};
+use osim_tune::validation::{compare_scaled_models, formed_by_us, ANALYZE_TOOL_CASES, SCALED_MODEL_TOLERANCE};
 
 fn s(path: &Path) -> &str {
     path.to_str().unwrap()
@@ -206,14 +206,17 @@ const ANALYZE_SETUP: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
 </OpenSimDocument>
 "#;
 
-/// AnalyzeTool setups with a MuscleAnalysis (`oracle/gen_muscle_analysis_tool.py`): every muscle
-/// and coordinate with the coordinates filtered at 6 Hz, and listed muscles (out of the model's
-/// order, one unknown) and coordinates (one unknown) every second row. We write exactly OpenSim
-/// 4.6's Length and MomentArm files (zeros about a coordinate no muscle spans), with its rows,
-/// columns and values to 2e-8 m (printed to 1e-8; 5e-9 found).
+/// AnalyzeTool setups (`oracle/gen_analyze_tool.py`): a MuscleAnalysis of every muscle and
+/// coordinate with the coordinates filtered at 6 Hz, and of listed muscles (out of the model's
+/// order, one unknown) and coordinates (one unknown) every second row; Kinematics and
+/// BodyKinematics of every coordinate and body filtered at 6 Hz, and of listed ones (in radians,
+/// velocities in the bodies' frames, the analyses named otherwise) every second row. We write
+/// exactly the files of OpenSim 4.6's that do not need muscle states or controls (Length,
+/// MomentArm — zeros about a coordinate no muscle spans —, q, u, positions, velocities), with its
+/// rows, columns and values to 2e-8 (m, °, rad; printed to 1e-8; 5e-9 found).
 #[test]
-fn a_muscle_analysis_setup_gives_opensims_geometry_tables() {
-    for case in ["all", "listed"] {
+fn analyze_tool_setups_give_opensims_tables() {
+    for case in ANALYZE_TOOL_CASES {
         let folder = tempfile::tempdir().unwrap();
         let dir = folder.path();
         let golden = format!("golden/analyze_tool/{case}");
@@ -222,10 +225,10 @@ fn a_muscle_analysis_setup_gives_opensims_geometry_tables() {
         assert_eq!(code, 0, "{case}: {stderr}");
         assert!(stdout.starts_with("osim-tune analyze "), "{stdout}");
         let opensim_files = std::fs::read_to_string(fixture(&format!("{golden}/files.txt"))).unwrap();
-        let geometry: Vec<&str> = opensim_files.lines().filter(|f| f.starts_with("walk_MuscleAnalysis_Length") || f.starts_with("walk_MuscleAnalysis_MomentArm_")).collect();
+        let formed: Vec<&str> = opensim_files.lines().filter(|f| formed_by_us(f)).collect();
         let mut ours: Vec<String> = std::fs::read_dir(dir.join("Results")).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
         ours.sort();
-        assert_eq!(ours, geometry, "{case}");
+        assert_eq!(ours, formed, "{case}");
         for entry in std::fs::read_dir(fixture(&golden)).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
             if !name.ends_with(".sto") {
@@ -233,7 +236,7 @@ fn a_muscle_analysis_setup_gives_opensims_geometry_tables() {
             }
             let opensim = StorageTable::read(&fixture(&format!("{golden}/{name}"))).unwrap();
             let table = StorageTable::read(&dir.join("Results").join(&name)).unwrap();
-            assert_eq!((table.labels(), table.n_rows()), (opensim.labels(), opensim.n_rows()), "{case}: {name}");
+            assert_eq!((table.labels(), table.n_rows(), table.in_degrees()), (opensim.labels(), opensim.n_rows(), opensim.in_degrees()), "{case}: {name}");
             assert!(largest_difference(&table, &opensim, &column_names(&table)) < 2e-8, "{case}: {name}");
         }
         if case == "listed" {
@@ -267,11 +270,11 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert_eq!(code, 2);
     assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
 
-    let kinematics = dir.join("kinematics.xml");
-    std::fs::write(&kinematics, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<Kinematics name="Kinematics"><on>true</on></Kinematics>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
-    let (code, _, stderr) = osim_tune(&["run", s(&kinematics)]);
+    let actuation = dir.join("actuation.xml");
+    std::fs::write(&actuation, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<Actuation name="Actuation"><on>true</on></Actuation>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&actuation)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("kinematics.xml: the AnalysisSet has no MuscleAnalysis, StaticOptimization or JointReaction that is on (others on: Kinematics)"), "{stderr}");
+    assert!(stderr.contains("actuation.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, StaticOptimization, JointReaction; others on: Actuation)"), "{stderr}");
 
     let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
     let (code, _, stderr) = osim_tune(&["run", s(&ik)]);

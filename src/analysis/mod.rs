@@ -2,6 +2,8 @@
 
 mod activation;
 mod analyze_states;
+mod analyze_tool;
+mod body_kinematics;
 mod dynamometer;
 mod emg_comparison;
 mod external_loads;
@@ -17,6 +19,7 @@ mod splined_motion;
 mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
+pub use body_kinematics::KinematicsError;
 pub use dynamometer::{agreement, dynamometer_analysis, isometric_contraction, plateau, Agreement, IsometricContraction, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
 pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
@@ -27,7 +30,8 @@ pub use forward::{
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, JointReactionError, JointReactionResult, JointReactionSettings, ReactionProblem, ReactionReport, ReactionSide};
-pub use muscle_analysis::{analyze_tool_motion, AnalyzeToolError, MuscleAnalysis, SetupTables};
+pub use analyze_tool::{analyze_tool_tables, AnalyzeToolError, AnalyzeToolTables};
+pub use muscle_analysis::{MuscleAnalysis, SetupTables};
 pub use physiological_inverse::{physiological_inverse, Contraction, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings, MAX_LINEARISATIONS, SETTLED_STEP, SETTLED_VIOLATION};
 pub use signal::{spline, Series, SignalError};
 pub use sampled_motion::{CoordinateState, SampledMotion, SampledMotionError};

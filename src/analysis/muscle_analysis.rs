@@ -1,14 +1,9 @@
 //! MuscleAnalysis: muscle-tendon lengths, moment arms and marker locations along a motion, as
-//! OpenSim's `MuscleAnalysis` and `MarkerLocations` report them; the tables a `MuscleAnalysis`
-//! setup asks for, on the poses OpenSim's `AnalyzeTool` forms from a coordinates file.
+//! OpenSim's `MuscleAnalysis` and `MarkerLocations` report them, and the tables a
+//! `MuscleAnalysis` setup asks for.
 
-use std::path::{Path, PathBuf};
-
-use super::analyze_states::{AnalyzeStates, StatesError};
-use super::signal::{frames_in_range, NoFramesInRange};
 use super::{path_labels, storage, Spans};
 use crate::io::table::{StorageTable, TableError};
-use crate::solvers::{assemble, IkError};
 use crate::mechanics::{Motion, Multibody, MuscleGeometry, PathEvaluation};
 use crate::setup::MuscleAnalysisSetup;
 
@@ -121,32 +116,4 @@ fn columns_of(table: &StorageTable, name: &str, columns: &[String]) -> Result<St
 fn zeros(times: &[f64], name: &str, muscles: &[String]) -> Result<StorageTable, TableError> {
     let values = times.iter().flat_map(|&t| std::iter::once(t).chain(std::iter::repeat_n(0.0, muscles.len()))).collect();
     storage(name, std::iter::once("time".to_string()).chain(muscles.iter().cloned()).collect(), values)
-}
-
-/// Why OpenSim's AnalyzeTool poses cannot be formed.
-#[derive(Debug, thiserror::Error)]
-pub enum AnalyzeToolError {
-    #[error(transparent)]
-    States(#[from] StatesError),
-    #[error(transparent)]
-    NoFrames(#[from] NoFramesInRange),
-    #[error("{}: the pose at {time} s cannot be assembled: {source}", file.display())]
-    Assembly { file: PathBuf, time: f64, source: Box<IkError> },
-}
-
-/// The poses OpenSim's `AnalyzeTool` hands its analyses from a coordinates file (`table`, read
-/// from `file`): the states static optimisation also works on (filtered at `cutoff` Hz; a coordinate the
-/// file lacks held at 0), the rows of `time_range` (s) an analysis of `step_interval` records,
-/// each pose assembled.
-pub fn analyze_tool_motion(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>, time_range: [f64; 2], step_interval: usize) -> Result<Motion, AnalyzeToolError> {
-    let states = AnalyzeStates::new(multibody, table, file, cutoff)?;
-    frames_in_range(file, &states.times, time_range)?;
-    let rows = states.analysed_rows(time_range, step_interval).unwrap_or_default();
-    let mut motion = states.motion(&rows);
-    let mut row = 0;
-    motion.assemble_poses(|q| {
-        row += 1;
-        assemble(multibody, q).map_err(|source| AnalyzeToolError::Assembly { file: file.into(), time: states.times[rows[row - 1]], source: Box::new(source) })
-    })?;
-    Ok(motion)
 }

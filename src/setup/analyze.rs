@@ -1,5 +1,5 @@
-//! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction` and
-//! `MuscleAnalysis` analyses, typed.
+//! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction`,
+//! `MuscleAnalysis`, `Kinematics` and `BodyKinematics` analyses, typed.
 
 use std::path::{Path, PathBuf};
 
@@ -42,6 +42,10 @@ pub struct AnalyzeSetup {
     pub joint_reaction: Option<JointReactionSetup>,
     /// The `MuscleAnalysis`, if the set has one that is on.
     pub muscle_analysis: Option<MuscleAnalysisSetup>,
+    /// The `Kinematics` analysis, if the set has one that is on.
+    pub kinematics: Option<KinematicsSetup>,
+    /// The `BodyKinematics` analysis, if the set has one that is on.
+    pub body_kinematics: Option<BodyKinematicsSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
     pub other_analyses: Vec<String>,
 }
@@ -97,6 +101,35 @@ pub struct MuscleAnalysisSetup {
     pub compute_moments: bool,
 }
 
+/// OpenSim's `Kinematics` analysis properties (`Kinematics.cpp`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KinematicsSetup {
+    /// The analysis's name (default its class), in its output files' names.
+    pub name: String,
+    /// Records only every n-th state (default 1).
+    pub step_interval: usize,
+    /// Coordinates recorded, or `all` (default).
+    pub coordinates: Vec<String>,
+    /// Rotational values in degrees (default true).
+    pub in_degrees: bool,
+}
+
+/// OpenSim's `BodyKinematics` analysis properties (`BodyKinematics.cpp`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BodyKinematicsSetup {
+    /// The analysis's name (default its class), in its output files' names.
+    pub name: String,
+    /// Records only every n-th state (default 1).
+    pub step_interval: usize,
+    /// Bodies recorded, `all` (default; with the whole model's mass center) or
+    /// `center_of_mass`.
+    pub bodies: Vec<String>,
+    /// Velocities in each body's frame instead of ground (default false).
+    pub express_in_local_frame: bool,
+    /// Angles and angular velocities in degrees (default true).
+    pub in_degrees: bool,
+}
+
 impl AnalyzeSetup {
     /// Reads the AnalyzeTool setup file `path`.
     pub fn read(path: &Path) -> Result<AnalyzeSetup, SetupError> {
@@ -108,7 +141,7 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());
-        let Analyses { static_optimization, joint_reaction, muscle_analysis, others: other_analyses } = analyses(tool, &directory)?;
+        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, others: other_analyses } = analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
@@ -125,6 +158,8 @@ impl AnalyzeSetup {
             static_optimization,
             joint_reaction,
             muscle_analysis,
+            kinematics,
+            body_kinematics,
             other_analyses,
         })
     }
@@ -136,12 +171,14 @@ struct Analyses {
     static_optimization: Option<StaticOptimizationSetup>,
     joint_reaction: Option<JointReactionSetup>,
     muscle_analysis: Option<MuscleAnalysisSetup>,
+    kinematics: Option<KinematicsSetup>,
+    body_kinematics: Option<BodyKinematicsSetup>,
     /// Classes of the others (and of a second analysis of a class already read).
     others: Vec<String>,
 }
 
-/// The first `StaticOptimization`, `JointReaction` and `MuscleAnalysis` that are on, and the
-/// classes of the other analyses; `directory` resolves the forces file.
+/// The first `StaticOptimization`, `JointReaction`, `MuscleAnalysis`, `Kinematics` and
+/// `BodyKinematics` that are on, and the classes of the other analyses; `directory` resolves the forces file.
 fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
     let Some(set) = tool.child("AnalysisSet") else { return Ok(Analyses::default()) };
     let mut found = Analyses::default();
@@ -152,6 +189,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
         }
         let step_interval = || checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1").map(|n| n as usize);
         let name = || Some(name_or_empty(analysis)).filter(|n| !n.is_empty()).unwrap_or_else(|| analysis.class().to_string());
+        let or_all = |words: Vec<String>| if words.is_empty() { vec!["all".to_string()] } else { words };
         match analysis.class() {
             "StaticOptimization" if found.static_optimization.is_none() => {
                 found.static_optimization = Some(StaticOptimizationSetup {
@@ -173,13 +211,29 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                 });
             }
             "MuscleAnalysis" if found.muscle_analysis.is_none() => {
-                let or_all = |words: Vec<String>| if words.is_empty() { vec!["all".to_string()] } else { words };
                 found.muscle_analysis = Some(MuscleAnalysisSetup {
                     name: name(),
                     step_interval: step_interval()?,
                     muscle_list: or_all(words(analysis, "muscle_list")),
                     moment_arm_coordinate_list: or_all(words(analysis, "moment_arm_coordinate_list")),
                     compute_moments: analysis.boolean_or("compute_moments", true)?,
+                });
+            }
+            "Kinematics" if found.kinematics.is_none() => {
+                found.kinematics = Some(KinematicsSetup {
+                    name: name(),
+                    step_interval: step_interval()?,
+                    coordinates: or_all(words(analysis, "coordinates")),
+                    in_degrees: analysis.boolean_or("in_degrees", true)?,
+                });
+            }
+            "BodyKinematics" if found.body_kinematics.is_none() => {
+                found.body_kinematics = Some(BodyKinematicsSetup {
+                    name: name(),
+                    step_interval: step_interval()?,
+                    bodies: or_all(words(analysis, "bodies")),
+                    express_in_local_frame: analysis.boolean_or("express_results_in_body_local_frame", false)?,
+                    in_degrees: analysis.boolean_or("in_degrees", true)?,
                 });
             }
             class => found.others.push(class.to_string()),
@@ -230,7 +284,7 @@ mod tests {
         let xml = r#"<OpenSimDocument Version="40000"><AnalyzeTool name="walk"><AnalysisSet><objects>
             <MuscleAnalysis name="a"><on>true</on><step_interval>3</step_interval><muscle_list> vas_lat_r rect_fem_r</muscle_list>
             <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>
-            <Kinematics name="k"><on>true</on></Kinematics>
+            <Kinematics name="k"><on>true</on><coordinates>knee_angle_r</coordinates><in_degrees>false</in_degrees></Kinematics><BodyKinematics/><Actuation/>
             </objects></AnalysisSet></AnalyzeTool></OpenSimDocument>"#;
         let folder = tempfile::tempdir().unwrap();
         let file = folder.path().join("setup.xml");
@@ -244,6 +298,10 @@ mod tests {
         let analysis = setup.muscle_analysis.unwrap();
         assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("MuscleAnalysis", 1, true));
         assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["all".to_string()], vec!["all".to_string()]));
-        assert_eq!(setup.other_analyses, ["Kinematics"]);
+        assert_eq!(setup.other_analyses, ["Actuation"]);
+        let kinematics = setup.kinematics.unwrap();
+        assert_eq!((kinematics.name.as_str(), kinematics.coordinates, kinematics.in_degrees), ("k", vec!["knee_angle_r".to_string()], false));
+        let bodies = setup.body_kinematics.unwrap();
+        assert_eq!((bodies.name.as_str(), bodies.bodies, bodies.express_in_local_frame, bodies.in_degrees), ("BodyKinematics", vec!["all".to_string()], false, true));
     }
 }

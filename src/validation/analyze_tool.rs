@@ -1,11 +1,11 @@
-//! OpenSim 4.6's AnalyzeTool running a MuscleAnalysis setup (`fixtures/golden/analyze_tool/<case>`,
-//! `oracle/gen_muscle_analysis_tool.py`) against ours: the tables it asks for, by name, value for
-//! value.
+//! OpenSim 4.6's AnalyzeTool running MuscleAnalysis, Kinematics and BodyKinematics setups
+//! (`fixtures/golden/analyze_tool/<case>`, `oracle/gen_analyze_tool.py`) against ours: the files
+//! it writes that we form, by name, and their values.
 
 use std::path::Path;
 
 use super::geometry::Worst;
-use crate::analysis::{analyze_tool_motion, MuscleAnalysis};
+use crate::analysis::analyze_tool_tables;
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -13,8 +13,14 @@ use crate::model::ModelSpec;
 use crate::setup::AnalyzeSetup;
 
 /// The golden cases: every muscle and coordinate filtered at 6 Hz; listed muscles and coordinates
-/// (with unknown names) every second row.
-pub const MUSCLE_ANALYSIS_CASES: [&str; 2] = ["all", "listed"];
+/// (with unknown names) every second row; the Kinematics and BodyKinematics of every coordinate
+/// and body filtered at 6 Hz; listed ones, in radians, velocities in the bodies' frames, every
+/// second row.
+pub const ANALYZE_TOOL_CASES: [&str; 4] = ["all", "listed", "kinematics", "kinematics_listed"];
+
+/// The ends of the names of the files OpenSim writes that we form (the others depend on states a
+/// coordinates file does not give: muscle states, controls).
+const FORMED: [&str; 6] = ["_Length.sto", "_q.sto", "_u.sto", "_pos_global.sto", "_vel_global.sto", "_vel_bodyLocal.sto"];
 
 /// What the comparison found.
 #[derive(Debug, Clone, Default)]
@@ -30,35 +36,36 @@ pub struct AnalyzeToolComparison {
 
 /// Runs `case`'s setup on subject01's scaled model and IK motion (the files its setup names) in
 /// the repository at `root` and compares with OpenSim's tables.
-pub fn compare_muscle_analysis_setup(root: &Path, case: &str) -> Result<AnalyzeToolComparison, String> {
+pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeToolComparison, String> {
     let golden = root.join("fixtures/golden/analyze_tool").join(case);
     let setup = AnalyzeSetup::read(&golden.join("setup.xml")).map_err(|e| e.to_string())?;
-    let analysis = setup.muscle_analysis.clone().ok_or("the golden setup has no MuscleAnalysis")?;
     let spec = ModelSpec::read(&OsimDocument::read(&root.join("fixtures/golden/scale/subject01_simbody.osim")).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
     let geometry = MuscleGeometry::new(&spec).map_err(|e| e.to_string())?;
     let motion_file = root.join("fixtures/golden/ik/subject01_walk1_ik.mot");
     let table = StorageTable::read(&motion_file).map_err(|e| e.to_string())?;
-    let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
-    let motion = analyze_tool_motion(&geometry.multibody, &table, &motion_file, cutoff, [setup.initial_time, setup.final_time], analysis.step_interval).map_err(|e| e.to_string())?;
-    let ours = MuscleAnalysis::run(&geometry, &motion).and_then(|a| a.setup_tables(&geometry.multibody, &analysis)).map_err(|e| e.to_string())?.tables;
-    let prefix = format!("{}_{}_", setup.name, analysis.name);
-    let file_name = |table: &str| format!("{prefix}{table}.sto");
+    let ours = analyze_tool_tables(&spec, &geometry, &table, &motion_file, &setup, &setup.name).map_err(|e| e.to_string())?.files;
     let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| format!("{}: {e}", golden.join("files.txt").display()))?;
-    let geometry_files: Vec<&str> = written.lines().filter(|f| f.starts_with(&format!("{prefix}Length.")) || f.starts_with(&format!("{prefix}MomentArm_"))).collect();
-    let our_files: Vec<String> = ours.iter().map(|t| file_name(t.name())).collect();
+    let our_files: Vec<&str> = ours.iter().map(|(file, _)| file.as_str()).collect();
+    let expected: Vec<&str> = written.lines().filter(|f| formed_by_us(f)).collect();
     let mut comparison = AnalyzeToolComparison {
-        missing: geometry_files.iter().filter(|f| !our_files.iter().any(|o| o == *f)).map(|f| f.to_string()).collect(),
-        extra: our_files.iter().filter(|o| !geometry_files.contains(&o.as_str())).cloned().collect(),
+        missing: expected.iter().filter(|f| !our_files.contains(f)).map(|f| f.to_string()).collect(),
+        extra: our_files.iter().filter(|o| !expected.contains(o)).map(|o| o.to_string()).collect(),
         ..AnalyzeToolComparison::default()
     };
-    for table in &ours {
-        let file = golden.join(file_name(table.name()));
-        if file.exists() {
-            compare_table(&StorageTable::read(&file).map_err(|e| e.to_string())?, table, &mut comparison.values)?;
+    for (file, table) in &ours {
+        let golden_file = golden.join(file);
+        if golden_file.exists() {
+            compare_table(&StorageTable::read(&golden_file).map_err(|e| e.to_string())?, table, &mut comparison.values)?;
             comparison.tables += 1;
         }
     }
     Ok(comparison)
+}
+
+/// Whether we form the table of an AnalyzeTool output file named `file` (not those that depend on
+/// states a coordinates file does not give).
+pub fn formed_by_us(file: &str) -> bool {
+    file.contains("_MomentArm_") || FORMED.iter().any(|end| file.ends_with(end))
 }
 
 /// Every value of `ours` against `opensim`'s (same labels and rows required).

@@ -20,7 +20,7 @@ mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
 
-pub use analyze_tool::{compare_muscle_analysis_setup, AnalyzeToolComparison, MUSCLE_ANALYSIS_CASES};
+pub use analyze_tool::{compare_analyze_tool_setup, formed_by_us, AnalyzeToolComparison, ANALYZE_TOOL_CASES};
 pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};
 pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES};

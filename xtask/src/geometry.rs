@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::MuscleGeometry;
 use osim_tune::model::ModelSpec;
-use osim_tune::validation::{compare_assembly, compare_geometry, compare_model_golden, compare_muscle_analysis_setup, Worst, MUSCLE_ANALYSIS_CASES};
+use osim_tune::validation::{compare_assembly, compare_geometry, compare_model_golden, compare_analyze_tool_setup, Worst, ANALYZE_TOOL_CASES};
 
 use crate::root;
 use crate::validate::Row;
@@ -102,15 +102,15 @@ pub fn assembly_rows() -> Vec<Row> {
     rows
 }
 
-/// OpenSim 4.6's AnalyzeTool running MuscleAnalysis setups on subject01's walk
-/// (`golden/analyze_tool/`): the same Length and MomentArm files, their values.
+/// OpenSim 4.6's AnalyzeTool running MuscleAnalysis, Kinematics and BodyKinematics setups on
+/// subject01's walk (`golden/analyze_tool/`): the same files (of those formed), their values.
 pub fn analyze_tool_rows() -> Vec<Row> {
-    MUSCLE_ANALYSIS_CASES
+    ANALYZE_TOOL_CASES
         .iter()
         .map(|case| {
             let reference = format!("OpenSim 4.6 AnalyzeTool, golden/analyze_tool/{case}");
-            let what = format!("MuscleAnalysis setup '{case}': lengths and moment arms (m)");
-            match compare_muscle_analysis_setup(&root(), case) {
+            let what = format!("AnalyzeTool setup '{case}': every table formed");
+            match compare_analyze_tool_setup(&root(), case) {
                 Ok(c) if c.missing.is_empty() && c.extra.is_empty() => {
                     Row { what: format!("{what}, {} tables, {} values", c.tables, c.values.count), reference, worst: c.values.error, tolerance: 2e-8, at: c.values.at }
                 }

@@ -13,7 +13,9 @@ use crate::model::ComponentReader;
 use crate::setup::{read_document, AnalyzeSetup, IdSetup, IkSetup, ScaleSetup, SetupPath};
 
 /// The setups `run` knows, by their root element.
-const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool> or <AnalyzeTool> (MuscleAnalysis, StaticOptimization, JointReaction)";
+const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool> or <AnalyzeTool>";
+/// The AnalyzeTool analyses `run` runs.
+const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, StaticOptimization, JointReaction";
 
 /// One osim-tune command line: its words after the program name.
 struct Invocation(Vec<OsString>);
@@ -47,7 +49,7 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
         "InverseKinematicsTool" => vec![inverse_kinematics_tool(setup, &IkSetup::from_document(&document)?)?],
         "InverseDynamicsTool" => vec![inverse_dynamics_tool(setup, &IdSetup::from_document(&document)?)?],
         "AnalyzeTool" => analyze_tool(setup, &AnalyzeSetup::from_document(&document)?)?,
-        other => return Err(format!("{}:{}: <{other}> is not a tool osim-tune runs; expected {TOOLS}", setup.display(), tool.line()).into()),
+        other => return Err(format!("{}:{}: <{other}> is not a tool osim-tune runs; expected {TOOLS} ({ANALYSES})", setup.display(), tool.line()).into()),
     };
     let mut outcome = Outcome::Success;
     for invocation in invocations {
@@ -135,14 +137,16 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
     Ok(Invocation::new(&["id".as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), forces.as_ref()]))
 }
 
-/// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, `so` for its StaticOptimization,
+/// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics and BodyKinematics, `so`
+/// for its StaticOptimization,
 /// then `reaction` for its JointReaction, each `MODEL COORDINATES --setup SETUP -o
 /// <results_directory>` (the commands name the setup's other analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
-    let analyses = [(setup.muscle_analysis.is_some(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
+    let kinematic = setup.muscle_analysis.is_some() || setup.kinematics.is_some() || setup.body_kinematics.is_some();
+    let analyses = [(kinematic, "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
     if !analyses.iter().any(|(on, _, _)| *on) {
         let others = if setup.other_analyses.is_empty() { "none".to_string() } else { setup.other_analyses.join(", ") };
-        return Err(format!("{}: the AnalysisSet has no MuscleAnalysis, StaticOptimization or JointReaction that is on (others on: {others})", file.display()).into());
+        return Err(format!("{}: the AnalysisSet has no analysis osim-tune runs that is on ({ANALYSES}; others on: {others})", file.display()).into());
     }
     if let (None, Some(states)) = (&setup.coordinates_file, &setup.states_or_speeds_file) {
         return Err(format!("{}: states_file/speeds_file {:?} is not supported; osim-tune analyses coordinates_file", file.display(), states.written).into());

@@ -1,0 +1,122 @@
+#!/usr/bin/env python3
+"""OpenSim 4.6's AnalyzeTool running MuscleAnalysis, Kinematics and BodyKinematics from a
+coordinates file, as a lab runs them from a setup: subject01's scaled model and its IK motion
+(the IK goldens'), four setups —
+
+* `all`: a MuscleAnalysis of every muscle and coordinate, coordinates low-pass filtered at 6 Hz,
+  0.5–0.6 s;
+* `listed`: muscle_list `vas_lat_r rect_fem_r no_such_muscle bifemlh_r` (not the model's
+  order, one unknown), moment_arm_coordinate_list `knee_angle_r no_such_coordinate
+  hip_flexion_r`, step_interval 2, unfiltered, 0.5–0.7 s;
+* `kinematics`: Kinematics and BodyKinematics of every coordinate and body, filtered at 6 Hz,
+  0.5–0.6 s;
+* `kinematics_listed`: Kinematics of `knee_angle_r pelvis_tx` in radians, BodyKinematics of
+  `tibia_r center_of_mass femur_r` with velocities in the bodies' frames, both named otherwise
+  (`coords`, `segments`), step_interval 2, unfiltered, 0.5–0.7 s.
+
+Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
+test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
+the MomentArm tables of knee_angle_r, hip_flexion_r, lumbar_extension (which no muscle spans) and
+pelvis_tx (`all`), every Length and MomentArm table (`listed`), the q, u, position and velocity
+tables (the kinematics cases; not the accelerations, OpenSim's forward dynamics at default
+muscle states).
+
+    python3 oracle/gen_analyze_tool.py
+"""
+import shutil
+import tempfile
+from pathlib import Path
+
+import opensim as osim
+from tool_run import run_in
+
+REPO = Path(__file__).resolve().parent.parent
+OUT = REPO / "fixtures" / "golden" / "analyze_tool"
+MODEL = REPO / "fixtures" / "golden" / "scale" / "subject01_simbody.osim"
+MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
+KEPT = ["Length", "MomentArm_knee_angle_r", "MomentArm_hip_flexion_r", "MomentArm_lumbar_extension", "MomentArm_pelvis_tx"]
+
+MUSCLES = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis">
+\t\t\t\t\t<on>true</on>
+\t\t\t\t\t<step_interval>{step}</step_interval>
+\t\t\t\t\t<muscle_list> {muscles}</muscle_list>
+\t\t\t\t\t<moment_arm_coordinate_list> {coordinates}</moment_arm_coordinate_list>
+\t\t\t\t\t<compute_moments>true</compute_moments>
+\t\t\t\t</MuscleAnalysis>
+"""
+KINEMATICS = """\t\t\t\t<Kinematics name="{kinematics_name}">
+\t\t\t\t\t<on>true</on>
+\t\t\t\t\t<step_interval>{step}</step_interval>
+\t\t\t\t\t<in_degrees>{in_degrees}</in_degrees>
+\t\t\t\t\t<coordinates> {coordinates}</coordinates>
+\t\t\t\t</Kinematics>
+\t\t\t\t<BodyKinematics name="{bodies_name}">
+\t\t\t\t\t<on>true</on>
+\t\t\t\t\t<step_interval>{step}</step_interval>
+\t\t\t\t\t<bodies> {bodies}</bodies>
+\t\t\t\t\t<express_results_in_body_local_frame>{local}</express_results_in_body_local_frame>
+\t\t\t\t</BodyKinematics>
+"""
+CASES = {
+    "all": dict(range=(0.5, 0.6), cutoff=6, analyses=MUSCLES.format(step=1, muscles="all", coordinates="all")),
+    "listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=MUSCLES.format(step=2, muscles="vas_lat_r rect_fem_r no_such_muscle bifemlh_r",
+                                                                         coordinates="knee_angle_r no_such_coordinate hip_flexion_r")),
+    "kinematics": dict(range=(0.5, 0.6), cutoff=6, analyses=KINEMATICS.format(kinematics_name="Kinematics", bodies_name="BodyKinematics", step=1,
+                                                                               in_degrees="true", coordinates="all", bodies="all", local="false")),
+    "kinematics_listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=KINEMATICS.format(kinematics_name="coords", bodies_name="segments", step=2, in_degrees="false",
+                                                                                       coordinates="knee_angle_r pelvis_tx", bodies="tibia_r center_of_mass femur_r", local="true")),
+}
+
+
+def kept(case, table):
+    """Whether OpenSim's table `table` (the file name without the tool and analysis names) is kept."""
+    if case == "all":
+        return table in KEPT
+    if case == "listed":
+        return table.startswith(("Length", "MomentArm_"))
+    return table in ("q", "u", "pos_global", "vel_global", "vel_bodyLocal")
+
+
+def setup_text(case):
+    c = CASES[case]
+    return f"""<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40600">
+\t<AnalyzeTool name="walk">
+\t\t<model_file>subject01_simbody.osim</model_file>
+\t\t<results_directory>Results</results_directory>
+\t\t<initial_time>{c['range'][0]}</initial_time>
+\t\t<final_time>{c['range'][1]}</final_time>
+\t\t<AnalysisSet name="Analyses">
+\t\t\t<objects>
+{c['analyses']}\t\t\t</objects>
+\t\t</AnalysisSet>
+\t\t<coordinates_file>subject01_walk1_ik.mot</coordinates_file>
+\t\t<lowpass_cutoff_frequency_for_coordinates>{c['cutoff']}</lowpass_cutoff_frequency_for_coordinates>
+\t</AnalyzeTool>
+</OpenSimDocument>
+"""
+
+
+def main():
+    osim.Logger.setLevelString("error")
+    for case in CASES:
+        out = OUT / case
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "setup.xml").write_text(setup_text(case))
+        with tempfile.TemporaryDirectory() as work:
+            work = Path(work)
+            shutil.copy(MODEL, work / "subject01_simbody.osim")
+            shutil.copy(MOTION, work / "subject01_walk1_ik.mot")
+            shutil.copy(out / "setup.xml", work / "setup.xml")
+            run_in(work, osim.AnalyzeTool, "setup.xml")
+            written = sorted(p.name for p in (work / "Results").iterdir())
+            (out / "files.txt").write_text("\n".join(written) + "\n")
+            for name in written:
+                table = name.removeprefix("walk_").split("_", 1)[1].removesuffix(".sto")
+                if kept(case, table):
+                    shutil.copy(work / "Results" / name, out / name)
+        print(case, "written", sorted(p.name for p in out.iterdir()))
+
+
+if __name__ == "__main__":
+    main()
