@@ -91,3 +91,24 @@ pub fn step_interval(flag: Option<usize>, analysis: Option<usize>) -> Result<usi
 pub fn lowpass_cutoff(lowpass: Option<f64>, setup: Option<&AnalyzeSetup>) -> Option<f64> {
     lowpass.or(setup.map(|s| s.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0))
 }
+
+/// Refuses a setup whose states come from a states or speeds file, and prints the setup's
+/// analyses other than `runs` (the classes the calling command runs) as not run.
+pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str]) -> Result<(), Failure> {
+    if let Some(states) = &setup.states_or_speeds_file {
+        return Err(format!("{}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", setup.file.display(), states.written).into());
+    }
+    let commands = [
+        ("MuscleAnalysis", setup.muscle_analysis.is_some(), "analyze --setup"),
+        ("Kinematics", setup.kinematics.is_some(), "analyze --setup"),
+        ("BodyKinematics", setup.body_kinematics.is_some(), "analyze --setup"),
+        ("StaticOptimization", setup.static_optimization.is_some(), "so"),
+        ("JointReaction", setup.joint_reaction.is_some(), "reaction"),
+    ];
+    let mut others = setup.other_analyses.clone();
+    others.extend(commands.iter().filter(|(class, on, _)| *on && !runs.contains(class)).map(|(class, _, command)| format!("{class} (run by osim-tune {command})")));
+    if !others.is_empty() {
+        println!("not run (only {} here): {}", runs.join(", "), others.join(", "));
+    }
+    Ok(())
+}

@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::output_name;
+use super::analyze_inputs::{check_analyses, output_name};
 use crate::analysis::analyze_tool_tables;
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
@@ -17,9 +17,7 @@ use crate::setup::AnalyzeSetup;
 
 pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = AnalyzeSetup::read(setup_file)?;
-    if let Some(states) = &setup.states_or_speeds_file {
-        return Err(format!("{}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", setup_file.display(), states.written).into());
-    }
+    check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics"])?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let name = output_name(None, Some(&setup), coordinates);

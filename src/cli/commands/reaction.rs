@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::{lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
+use super::analyze_inputs::{check_analyses, lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
 use crate::analysis::{joint_reactions, reaction_reports, ActuatorForces, JointReactionSettings, ReactionProblem};
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
@@ -86,20 +86,7 @@ fn forces_file(request: &Request, analysis: Option<&JointReactionSetup>) -> Resu
 
 /// The setup's JointReaction, refusing what osim-tune does not do.
 fn check_setup(setup: &AnalyzeSetup) -> Result<JointReactionSetup, Failure> {
-    let file = setup.file.display();
-    let analysis = setup.joint_reaction.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no JointReaction that is on"))?;
-    if let Some(states) = &setup.states_or_speeds_file {
-        return Err(format!("{file}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", states.written).into());
-    }
-    let mut others = setup.other_analyses.clone();
-    if setup.static_optimization.is_some() {
-        others.push("StaticOptimization (run by osim-tune so)".into());
-    }
-    if setup.muscle_analysis.is_some() {
-        others.push("MuscleAnalysis (run by osim-tune analyze)".into());
-    }
-    if !others.is_empty() {
-        println!("not run (only JointReaction is): {}", others.join(", "));
-    }
+    let analysis = setup.joint_reaction.clone().ok_or_else(|| format!("{}: the AnalysisSet has no JointReaction that is on", setup.file.display()))?;
+    check_analyses(setup, &["JointReaction"])?;
     Ok(analysis)
 }

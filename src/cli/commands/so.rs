@@ -2,7 +2,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::{lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
+use super::analyze_inputs::{check_analyses, lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
 use crate::analysis::{
     physiological_inverse, static_optimization, Contraction, MAX_LINEARISATIONS, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
     StaticOptimizationSettings,
@@ -189,21 +189,9 @@ fn output_file(directory: &Path, prefix: &str, kind: &str) -> PathBuf {
 fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure> {
     let file = setup.file.display();
     let analysis = setup.static_optimization.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no StaticOptimization that is on"))?;
-    if let Some(states) = &setup.states_or_speeds_file {
-        return Err(format!("{file}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", states.written).into());
-    }
+    check_analyses(setup, &["StaticOptimization"])?;
     if !analysis.use_model_force_set {
         return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
-    }
-    let mut others = setup.other_analyses.clone();
-    if setup.joint_reaction.is_some() {
-        others.push("JointReaction (run by osim-tune reaction)".into());
-    }
-    if setup.muscle_analysis.is_some() {
-        others.push("MuscleAnalysis (run by osim-tune analyze)".into());
-    }
-    if !others.is_empty() {
-        println!("not run (only StaticOptimization is): {}", others.join(", "));
     }
     Ok(analysis)
 }
