@@ -284,6 +284,9 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let windows = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "windows.xml", &[("<model_file>subject01_simbody.osim</model_file>", "<model_file>C:\\lab\\subject01_simbody.osim</model_file>")]);
     let (code, _, stderr) = osim_tune(&["run", s(&windows)]);
     assert!(code == 2 && stderr.contains("a Windows path: give it relative to the setup's folder"), "{stderr}");
+    let forward = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "forward.xml", &[("<model_file>subject01_simbody.osim</model_file>", "<model_file>D:/lab/subject01_simbody.osim</model_file>")]);
+    let (code, _, stderr) = osim_tune(&["run", s(&forward)]);
+    assert!(code == 2 && stderr.contains("a Windows path"), "{stderr}");
 
     copy_into(dir, &[("golden/scale/subject01_simbody.osim", "subject01_simbody.osim"), ("subject01/subject01_walk1.trc", "subject01_walk1.trc")]);
     let unnamed = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "unnamed.xml", &[("<output_motion_file>subject01_walk1_ik.mot</output_motion_file>", "<output_motion_file>Unassigned</output_motion_file>")]);

@@ -70,7 +70,8 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
 fn input(setup: &Path, property: &str, path: Option<&SetupPath>) -> Result<PathBuf, Failure> {
     let path = path.ok_or_else(|| format!("{}: {property} is not set; the tool needs it", setup.display()))?;
     if !path.resolved.is_file() {
-        let hint = if path.written.contains(":\\") { "; a Windows path: give it relative to the setup's folder" } else { "" };
+        let drive = path.written.as_bytes().get(..3).is_some_and(|b| b[0].is_ascii_alphabetic() && b[1] == b':' && (b[2] == b'\\' || b[2] == b'/'));
+        let hint = if drive { "; a Windows path: give it relative to the setup's folder" } else { "" };
         return Err(format!("{}: {property} {:?}: no such file ({}){hint}", setup.display(), path.written, path.resolved.display()).into());
     }
     Ok(path.resolved.clone())
