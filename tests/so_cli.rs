@@ -102,7 +102,8 @@ fn an_activation_exponent_of_one_or_less_is_refused() {
     assert!(!output.exists());
 }
 
-/// --pia: the physiological inverse approach writes activations, forces and excitations, and its
+/// --pia: the physiological inverse approach writes activations, forces and excitations (also as a
+/// ControlSet), and its
 /// min–max criterion's largest activation is no larger than the sum-of-squares one's.
 #[test]
 fn the_physiological_inverse_approach_runs_from_the_command_line() {
@@ -121,6 +122,10 @@ fn the_physiological_inverse_approach_runs_from_the_command_line() {
             assert!(output.join(format!("walk_PhysiologicalInverse_{kind}.sto")).exists(), "{kind}");
         }
         let excitations = StorageTable::read(&output.join("walk_PhysiologicalInverse_excitation.sto")).unwrap();
+        // The excitations also as OpenSim's ControlSet (a ForwardTool's controls), a control per column.
+        let controls = std::fs::read_to_string(output.join("walk_PhysiologicalInverse_controls.xml")).unwrap();
+        assert_eq!(controls.matches("<ControlLinear name=").count(), excitations.n_columns() - 1);
+        assert_eq!(controls.matches("<ControlLinearNode>").count(), (excitations.n_columns() - 1) * excitations.n_rows());
         assert!(excitations.rows().all(|r| r[1..].iter().all(|u| (0.0..=1.0).contains(u))));
         assert!(stdout.contains("95 frames"), "{stdout}");
         let activations = StorageTable::read(&output.join("walk_PhysiologicalInverse_activation.sto")).unwrap();

@@ -98,7 +98,7 @@ fn physiological(problem: &Problem, request: &Request, prefix: &str, settings: P
         return Err(format!("--moment-weight {weight}: expected a number > 0").into());
     }
     let kinds = ["activation", "force", "excitation", "deviation"];
-    let outputs = kinds.map(|kind| output_file(&request.output, prefix, kind));
+    let outputs: Vec<PathBuf> = kinds.iter().map(|kind| output_file(&request.output, prefix, kind)).chain([request.output.join(format!("{prefix}_controls.xml"))]).collect();
     let input_paths: Vec<&Path> = problem.inputs.iter().map(PathBuf::as_path).collect();
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
@@ -115,7 +115,8 @@ fn physiological(problem: &Problem, request: &Request, prefix: &str, settings: P
         Err(error) => return Err(error.into()),
     };
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
-    let texts = [&result.activations, &result.forces, &result.excitations, &result.deviations].map(StorageTable::to_text);
+    let mut texts = [&result.activations, &result.forces, &result.excitations, &result.deviations].map(StorageTable::to_text).to_vec();
+    texts.push(control_set_document(&result.excitations));
     let files: Vec<(&Path, &[u8])> = outputs.iter().map(PathBuf::as_path).zip(texts.iter().map(String::as_bytes)).collect();
     write_all_atomically(&files, &input_paths)?;
     let times = result.activations.times();
