@@ -176,6 +176,11 @@ fn an_analyze_setup_runs_static_optimization_then_joint_reaction() {
     assert_eq!(ours.labels(), golden.labels());
     let worst = ours.values().iter().zip(golden.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(worst < 1e-9, "{worst:e}");
+    // An analysis without a name has an empty one in OpenSim's file names (checked by hand).
+    std::fs::write(&setup, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO">"#, "<StaticOptimization>").replace("<results_directory>Results", "<results_directory>Unnamed")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(dir.join("Unnamed/arm26__activation.sto").is_file() && dir.join("Unnamed/arm26_reactions_ReactionLoads.sto").is_file());
 }
 
 /// arm26's AnalyzeTool, relative names as OpenSim's GUI writes them next to the files.

@@ -53,8 +53,8 @@ pub struct AnalyzeSetup {
 /// OpenSim's `StaticOptimization` analysis properties.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StaticOptimizationSetup {
-    /// The analysis's name (default its class), which OpenSim puts in its output files' names
-    /// (`<tool name>_<analysis name>_…`).
+    /// The analysis's name, which OpenSim puts in its output files' names
+    /// (`<tool name>_<analysis name>_…`); empty when the element has none, as OpenSim reads it.
     pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
@@ -69,8 +69,8 @@ pub struct StaticOptimizationSetup {
 /// OpenSim's `JointReaction` analysis properties.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct JointReactionSetup {
-    /// The analysis's name (default its class), which OpenSim puts in its output files' names
-    /// (`<tool name>_<analysis name>_…`).
+    /// The analysis's name, which OpenSim puts in its output files' names
+    /// (`<tool name>_<analysis name>_…`); empty when the element has none, as OpenSim reads it.
     pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
@@ -88,8 +88,8 @@ pub struct JointReactionSetup {
 /// OpenSim's `MuscleAnalysis` properties (`MuscleAnalysis.cpp`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MuscleAnalysisSetup {
-    /// The analysis's name (default its class), which OpenSim puts in its output files' names
-    /// (`<tool name>_<analysis name>_…`).
+    /// The analysis's name, which OpenSim puts in its output files' names
+    /// (`<tool name>_<analysis name>_…`); empty when the element has none, as OpenSim reads it.
     pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
@@ -104,7 +104,7 @@ pub struct MuscleAnalysisSetup {
 /// OpenSim's `Kinematics` analysis properties (`Kinematics.cpp`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct KinematicsSetup {
-    /// The analysis's name (default its class), in its output files' names.
+    /// The analysis's name, in its output files' names (empty when the element has none).
     pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
@@ -117,7 +117,7 @@ pub struct KinematicsSetup {
 /// OpenSim's `BodyKinematics` analysis properties (`BodyKinematics.cpp`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BodyKinematicsSetup {
-    /// The analysis's name (default its class), in its output files' names.
+    /// The analysis's name, in its output files' names (empty when the element has none).
     pub name: String,
     /// Records only every n-th state (default 1).
     pub step_interval: usize,
@@ -188,7 +188,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
             continue;
         }
         let step_interval = || checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1").map(|n| n as usize);
-        let name = || Some(name_or_empty(analysis)).filter(|n| !n.is_empty()).unwrap_or_else(|| analysis.class().to_string());
+        let name = || name_or_empty(analysis);
         let or_all = |words: Vec<String>| if words.is_empty() { vec!["all".to_string()] } else { words };
         match analysis.class() {
             "StaticOptimization" if found.static_optimization.is_none() => {
@@ -296,12 +296,13 @@ mod tests {
             <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>"#, "<MuscleAnalysis/>")).unwrap();
         let setup = AnalyzeSetup::read(&file).unwrap();
         let analysis = setup.muscle_analysis.unwrap();
-        assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("MuscleAnalysis", 1, true));
+        // Unnamed, as OpenSim reads it: its files are `walk__Length.sto`.
+        assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("", 1, true));
         assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["all".to_string()], vec!["all".to_string()]));
         assert_eq!(setup.other_analyses, ["Actuation"]);
         let kinematics = setup.kinematics.unwrap();
         assert_eq!((kinematics.name.as_str(), kinematics.coordinates, kinematics.in_degrees), ("k", vec!["knee_angle_r".to_string()], false));
         let bodies = setup.body_kinematics.unwrap();
-        assert_eq!((bodies.name.as_str(), bodies.bodies, bodies.express_in_local_frame, bodies.in_degrees), ("BodyKinematics", vec!["all".to_string()], false, true));
+        assert_eq!((bodies.name.as_str(), bodies.bodies, bodies.express_in_local_frame, bodies.in_degrees), ("", vec!["all".to_string()], false, true));
     }
 }
