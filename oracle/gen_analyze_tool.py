@@ -12,13 +12,15 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
   0.5–0.6 s;
 * `kinematics_listed`: Kinematics of `knee_angle_r pelvis_tx` in radians, BodyKinematics of
   `tibia_r center_of_mass femur_r` with velocities in the bodies' frames, both named otherwise
-  (`coords`, `segments`), step_interval 2, unfiltered, 0.5–0.7 s.
+  (`coords`, `segments`), step_interval 2, unfiltered, 0.5–0.7 s;
+* `points`: PointKinematics of a heel point, a shin point in the femur's frame (every second
+  row) and an unnamed one with the defaults (ground's origin, `NONAME`), filtered at 6 Hz.
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
 the MomentArm tables of knee_angle_r, hip_flexion_r, lumbar_extension (which no muscle spans) and
 pelvis_tx (`all`), every Length and MomentArm table (`listed`), the q, u, position and velocity
-tables (the kinematics cases; not the accelerations, OpenSim's forward dynamics at default
+tables (the kinematics and points cases; not the accelerations, OpenSim's forward dynamics at default
 muscle states).
 
     python3 oracle/gen_analyze_tool.py
@@ -57,6 +59,10 @@ KINEMATICS = """\t\t\t\t<Kinematics name="{kinematics_name}">
 \t\t\t\t\t<express_results_in_body_local_frame>{local}</express_results_in_body_local_frame>
 \t\t\t\t</BodyKinematics>
 """
+POINTS = """\t\t\t\t<PointKinematics name="heel"><on>true</on><body_name>calcn_r</body_name><point>0.01 0.02 -0.03</point><point_name>heel_r</point_name></PointKinematics>
+\t\t\t\t<PointKinematics name="knee_in_femur"><on>true</on><step_interval>2</step_interval><body_name>tibia_r</body_name><point>0.0 -0.1 0.02</point><point_name>shin</point_name><relative_to_body_name>femur_r</relative_to_body_name></PointKinematics>
+\t\t\t\t<PointKinematics><on>true</on></PointKinematics>
+"""
 CASES = {
     "all": dict(range=(0.5, 0.6), cutoff=6, analyses=MUSCLES.format(step=1, muscles="all", coordinates="all")),
     "listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=MUSCLES.format(step=2, muscles="vas_lat_r rect_fem_r no_such_muscle bifemlh_r",
@@ -65,6 +71,7 @@ CASES = {
                                                                                in_degrees="true", coordinates="all", bodies="all", local="false")),
     "kinematics_listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=KINEMATICS.format(kinematics_name="coords", bodies_name="segments", step=2, in_degrees="false",
                                                                                        coordinates="knee_angle_r pelvis_tx", bodies="tibia_r center_of_mass femur_r", local="true")),
+    "points": dict(range=(0.5, 0.6), cutoff=6, analyses=POINTS),
 }
 
 
@@ -74,7 +81,7 @@ def kept(case, table):
         return table in KEPT
     if case == "listed":
         return table.startswith(("Length", "MomentArm_"))
-    return table in ("q", "u", "pos_global", "vel_global", "vel_bodyLocal")
+    return table in ("q", "u", "pos_global", "vel_global", "vel_bodyLocal") or table.endswith(("_pos", "_vel"))
 
 
 def setup_text(case):
@@ -112,7 +119,7 @@ def main():
             written = sorted(p.name for p in (work / "Results").iterdir())
             (out / "files.txt").write_text("\n".join(written) + "\n")
             for name in written:
-                table = name.removeprefix("walk_").split("_", 1)[1].removesuffix(".sto")
+                table = name.removeprefix("walk_").split("_", 1)[1].removesuffix(".sto")  # an unnamed analysis: "_NONAME_pos"
                 if kept(case, table):
                     shutil.copy(work / "Results" / name, out / name)
         print(case, "written", sorted(p.name for p in out.iterdir()))

@@ -279,7 +279,7 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     std::fs::write(&actuation, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<Actuation name="Actuation"><on>true</on></Actuation>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&actuation)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("actuation.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, StaticOptimization, JointReaction; others on: Actuation)"), "{stderr}");
+    assert!(stderr.contains("actuation.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, StaticOptimization, JointReaction; others on: Actuation)"), "{stderr}");
 
     let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
     let (code, _, stderr) = osim_tune(&["run", s(&ik)]);

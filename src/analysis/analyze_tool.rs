@@ -1,12 +1,12 @@
 //! OpenSim's AnalyzeTool on a coordinates file: the states it hands its analyses (the
 //! coordinates filtered and splined as for static optimisation, each pose assembled, with the
-//! speeds) and the tables its `MuscleAnalysis`, `Kinematics` and `BodyKinematics` write, by file
-//! name.
+//! speeds) and the tables its `MuscleAnalysis`, `Kinematics`, `BodyKinematics` and
+//! `PointKinematics` write, by file name.
 
 use std::path::{Path, PathBuf};
 
 use super::analyze_states::{AnalyzeStates, StatesError};
-use super::body_kinematics::{body_tables, coordinate_tables, KinematicsError};
+use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::muscle_analysis::MuscleAnalysis;
 use super::signal::{frames_in_range, NoFramesInRange};
 use crate::io::table::{StorageTable, TableError};
@@ -31,10 +31,10 @@ pub struct AnalyzeToolTables {
     pub not_written: Vec<&'static str>,
 }
 
-/// The tables of `setup`'s MuscleAnalysis, Kinematics and BodyKinematics on `table` (read from
+/// The tables of `setup`'s MuscleAnalysis, Kinematics, BodyKinematics and PointKinematics on `table` (read from
 /// `file`) with the model `spec` (`geometry` its paths); `tool_name` prefixes the file names.
 pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &StorageTable, file: &Path, setup: &AnalyzeSetup, tool_name: &str) -> Result<AnalyzeToolTables, AnalyzeToolError> {
-    if setup.muscle_analysis.is_none() && setup.kinematics.is_none() && setup.body_kinematics.is_none() {
+    if setup.muscle_analysis.is_none() && setup.kinematics.is_none() && setup.body_kinematics.is_none() && setup.point_kinematics.is_empty() {
         return Err(AnalyzeToolError::NothingToRun { file: setup.file.clone() });
     }
     let multibody = &geometry.multibody;
@@ -72,13 +72,22 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
         add(&mut tables, &analysis.name, if analysis.express_in_local_frame { "vel_bodyLocal" } else { "vel_global" }, velocities, &states);
         tables.not_written.push("BodyKinematics' accelerations (_acc_…), the model's forward dynamics at muscle states and controls a coordinates file does not give");
     }
+    for analysis in &setup.point_kinematics {
+        let states = states(analysis.step_interval)?;
+        let [positions, velocities] = point_tables(multibody, &states, analysis)?;
+        add(&mut tables, &analysis.name, &format!("{}_pos", analysis.point_name), positions, &states);
+        add(&mut tables, &analysis.name, &format!("{}_vel", analysis.point_name), velocities, &states);
+    }
+    if !setup.point_kinematics.is_empty() {
+        tables.not_written.push("PointKinematics' accelerations (_acc), the model's forward dynamics at muscle states and controls a coordinates file does not give");
+    }
     Ok(tables)
 }
 
 /// Why an AnalyzeTool setup's tables cannot be formed.
 #[derive(Debug, thiserror::Error)]
 pub enum AnalyzeToolError {
-    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics or BodyKinematics that is on", file.display())]
+    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics or PointKinematics that is on", file.display())]
     NothingToRun { file: PathBuf },
     #[error(transparent)]
     States(#[from] StatesError),

@@ -1,7 +1,8 @@
-//! OpenSim's `Kinematics` and `BodyKinematics` analyses on the AnalyzeTool's states: coordinate
-//! values and speeds (`_q`, `_u`), and each body's mass center and orientation (body-fixed X-Y-Z
-//! angles) with their velocities (`_pos_global`, `_vel_global` or `_vel_bodyLocal`), the whole
-//! model's mass center last. Their accelerations (`_dudt`, `_acc_…`) are the model's forward
+//! OpenSim's `Kinematics`, `BodyKinematics` and `PointKinematics` analyses on the AnalyzeTool's
+//! states: coordinate values and speeds (`_q`, `_u`); each body's mass center and orientation
+//! (body-fixed X-Y-Z angles) with their velocities (`_pos_global`, `_vel_global` or
+//! `_vel_bodyLocal`), the whole model's mass center last; a point's position and velocity in
+//! ground or another body's frame (`_<point>_pos`, `_vel`). Their accelerations (`_dudt`, `_acc_…`) are the model's forward
 //! dynamics at states a coordinates file does not give (muscle states, controls) and are not
 //! formed.
 
@@ -10,7 +11,7 @@ use super::storage;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{MotionState, Multibody, Vec3};
 use crate::model::{body_fixed_xyz_angles, MotionType};
-use crate::setup::{BodyKinematicsSetup, KinematicsSetup};
+use crate::setup::{BodyKinematicsSetup, KinematicsSetup, PointKinematicsSetup};
 
 /// OpenSim's name for the whole model's mass center in a body list.
 const CENTER_OF_MASS: &str = "center_of_mass";
@@ -97,4 +98,31 @@ fn recorded_bodies(multibody: &Multibody, bodies: &[usize], setup: &BodyKinemati
         }
     }
     Ok((recorded, whole))
+}
+
+/// `PointKinematics`' position and velocity tables: the point fixed in its body, located in ground
+/// — or in the `relative_to` body's frame, where its velocity in ground is re-expressed (not made
+/// relative), as OpenSim records them — with OpenSim's labels `state_0` … `state_2`.
+pub fn point_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &PointKinematicsSetup) -> Result<[StorageTable; 2], KinematicsError> {
+    let body_index = |name: &str| multibody.bodies.iter().position(|b| b.name == name).ok_or_else(|| KinematicsError::Unknown { analysis: setup.name.clone(), what: "body", name: name.to_string() });
+    let body = body_index(&setup.body)?;
+    let relative_to = setup.relative_to.as_deref().map(body_index).transpose()?;
+    let point = Vec3::from(setup.point);
+    let zeros = vec![0.0; multibody.coordinates.len()];
+    let (mut positions, mut velocities) = (Vec::new(), Vec::new());
+    for (k, &time) in states.motion.times.iter().enumerate() {
+        let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot: &zeros });
+        let mut position = motions[body].transform.apply(&point);
+        let mut velocity = motions[body].rotation_rate * point + motions[body].translation_rate;
+        if let Some(frame) = relative_to.map(|r| motions[r].transform) {
+            position = frame.rotation.transpose() * (position - frame.translation);
+            velocity = frame.rotation.transpose() * velocity;
+        }
+        positions.push(time);
+        positions.extend(position.iter());
+        velocities.push(time);
+        velocities.extend(velocity.iter());
+    }
+    let labels: Vec<String> = ["time", "state_0", "state_1", "state_2"].map(String::from).to_vec();
+    Ok([storage("PointPosition", labels.clone(), positions)?, storage("PointVelocity", labels, velocities)?])
 }

@@ -1,5 +1,5 @@
 //! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction`,
-//! `MuscleAnalysis`, `Kinematics` and `BodyKinematics` analyses, typed.
+//! `MuscleAnalysis`, `Kinematics`, `BodyKinematics` and `PointKinematics` analyses, typed.
 
 use std::path::{Path, PathBuf};
 
@@ -46,6 +46,8 @@ pub struct AnalyzeSetup {
     pub kinematics: Option<KinematicsSetup>,
     /// The `BodyKinematics` analysis, if the set has one that is on.
     pub body_kinematics: Option<BodyKinematicsSetup>,
+    /// Every `PointKinematics` analysis that is on.
+    pub point_kinematics: Vec<PointKinematicsSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
     pub other_analyses: Vec<String>,
 }
@@ -130,6 +132,23 @@ pub struct BodyKinematicsSetup {
     pub in_degrees: bool,
 }
 
+/// OpenSim's `PointKinematics` analysis properties (`PointKinematics.cpp`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PointKinematicsSetup {
+    /// The analysis's name, in its output files' names (empty when the element has none).
+    pub name: String,
+    /// Records only every n-th state (default 1).
+    pub step_interval: usize,
+    /// The body the point is fixed in (default `ground`).
+    pub body: String,
+    /// m, in the body (default 0 0 0).
+    pub point: [f64; 3],
+    /// In the output files' names (default `NONAME`).
+    pub point_name: String,
+    /// The body whose frame the results are expressed in; `None` for ground (`none`, the default).
+    pub relative_to: Option<String>,
+}
+
 impl AnalyzeSetup {
     /// Reads the AnalyzeTool setup file `path`.
     pub fn read(path: &Path) -> Result<AnalyzeSetup, SetupError> {
@@ -141,7 +160,7 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());
-        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, others: other_analyses } = analyses(tool, &directory)?;
+        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, others: other_analyses } = analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
@@ -160,6 +179,7 @@ impl AnalyzeSetup {
             muscle_analysis,
             kinematics,
             body_kinematics,
+            point_kinematics,
             other_analyses,
         })
     }
@@ -173,12 +193,14 @@ struct Analyses {
     muscle_analysis: Option<MuscleAnalysisSetup>,
     kinematics: Option<KinematicsSetup>,
     body_kinematics: Option<BodyKinematicsSetup>,
+    point_kinematics: Vec<PointKinematicsSetup>,
     /// Classes of the others (and of a second analysis of a class already read).
     others: Vec<String>,
 }
 
 /// The first `StaticOptimization`, `JointReaction`, `MuscleAnalysis`, `Kinematics` and
-/// `BodyKinematics` that are on, and the classes of the other analyses; `directory` resolves the forces file.
+/// `BodyKinematics` that are on, every `PointKinematics` that is on, and the classes of the other
+/// analyses; `directory` resolves the forces file.
 fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
     let Some(set) = tool.child("AnalysisSet") else { return Ok(Analyses::default()) };
     let mut found = Analyses::default();
@@ -234,6 +256,17 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                     bodies: or_all(words(analysis, "bodies")),
                     express_in_local_frame: analysis.boolean_or("express_results_in_body_local_frame", false)?,
                     in_degrees: analysis.boolean_or("in_degrees", true)?,
+                });
+            }
+            "PointKinematics" => {
+                let relative_to = analysis.optional_text("relative_to_body_name").filter(|b| !b.is_empty() && b != "none");
+                found.point_kinematics.push(PointKinematicsSetup {
+                    name: name(),
+                    step_interval: step_interval()?,
+                    body: analysis.optional_text("body_name").filter(|b| !b.is_empty()).unwrap_or_else(|| "ground".into()),
+                    point: analysis.vec3_or("point", [0.0; 3])?,
+                    point_name: analysis.optional_text("point_name").filter(|p| !p.is_empty()).unwrap_or_else(|| "NONAME".into()),
+                    relative_to,
                 });
             }
             class => found.others.push(class.to_string()),

@@ -15,12 +15,13 @@ use crate::setup::AnalyzeSetup;
 /// The golden cases: every muscle and coordinate filtered at 6 Hz; listed muscles and coordinates
 /// (with unknown names) every second row; the Kinematics and BodyKinematics of every coordinate
 /// and body filtered at 6 Hz; listed ones, in radians, velocities in the bodies' frames, every
-/// second row.
-pub const ANALYZE_TOOL_CASES: [&str; 4] = ["all", "listed", "kinematics", "kinematics_listed"];
+/// second row; three PointKinematics (a heel point, a shin point in the femur's frame every
+/// second row, an unnamed one at ground's origin).
+pub const ANALYZE_TOOL_CASES: [&str; 5] = ["all", "listed", "kinematics", "kinematics_listed", "points"];
 
 /// The ends of the names of the files OpenSim writes that we form (the others depend on states a
 /// coordinates file does not give: muscle states, controls).
-const FORMED: [&str; 6] = ["_Length.sto", "_q.sto", "_u.sto", "_pos_global.sto", "_vel_global.sto", "_vel_bodyLocal.sto"];
+const FORMED: [&str; 8] = ["_Length.sto", "_q.sto", "_u.sto", "_pos_global.sto", "_vel_global.sto", "_vel_bodyLocal.sto", "_pos.sto", "_vel.sto"];
 
 /// What the comparison found.
 #[derive(Debug, Clone, Default)]

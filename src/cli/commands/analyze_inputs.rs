@@ -102,6 +102,7 @@ pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str]) -> Result<(), Failure
         ("MuscleAnalysis", setup.muscle_analysis.is_some(), "analyze --setup"),
         ("Kinematics", setup.kinematics.is_some(), "analyze --setup"),
         ("BodyKinematics", setup.body_kinematics.is_some(), "analyze --setup"),
+        ("PointKinematics", !setup.point_kinematics.is_empty(), "analyze --setup"),
         ("StaticOptimization", setup.static_optimization.is_some(), "so"),
         ("JointReaction", setup.joint_reaction.is_some(), "reaction"),
     ];
