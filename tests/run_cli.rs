@@ -264,7 +264,7 @@ fn a_dry_run_prints_the_command_only() {
 }
 
 /// A tool osim-tune does not run, a missing input and an unset output are errors naming the
-/// setup and what it lacks (exit 2, nothing written).
+/// setup and what it lacks (exit 2, nothing written); `info` on a setup points to `run`.
 #[test]
 fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let folder = tempfile::tempdir().unwrap();
@@ -282,6 +282,8 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert!(stderr.contains("actuation.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, StaticOptimization, JointReaction; others on: Actuation)"), "{stderr}");
 
     let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
+    let (code, _, stderr) = osim_tune(&["info", s(&ik)]);
+    assert!(code == 2 && stderr.contains("<InverseKinematicsTool> is a tool setup, not a model; `osim-tune run --dry-run"), "{stderr}");
     let (code, _, stderr) = osim_tune(&["run", s(&ik)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("ik.xml: model_file \"subject01_simbody.osim\": no such file"), "{stderr}");

@@ -66,6 +66,9 @@ struct JointLine<'a> {
 
 pub fn run(model: &Path, json: bool) -> Result<Outcome, Failure> {
     let document = OsimDocument::read(model)?;
+    if document.object_class().ends_with("Tool") {
+        return Err(format!("{}: <{}> is a tool setup, not a model; `osim-tune run --dry-run {}` shows what it runs", model.display(), document.object_class(), model.display()).into());
+    }
     let spec = ModelSpec::read(&document)?;
     let summary = summarise(&spec, model);
     if json {
