@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use super::flatten::{flatten, FlatDocument, FlatEntry};
+use super::flatten::{flatten_for_comparison, FlatDocument, FlatEntry};
 use crate::io::osim::OsimDocument;
 
 /// What happened at one path.
@@ -35,6 +35,9 @@ pub struct Difference {
 #[derive(Debug, Clone, Serialize)]
 pub struct DocumentDiff {
     pub version_change: Option<(u32, u32)>,
+    /// Forces' `GeometryPath`s of the older document compared under the name OpenSim ≥ 4.5 gives
+    /// them, `path` (0 when the versions do not straddle 40500).
+    pub paths_renamed: usize,
     pub differences: Vec<Difference>,
 }
 
@@ -51,7 +54,8 @@ pub struct Tolerance {
     pub absolute: f64,
 }
 
-/// Compares `a` with `b`. Numbers are equal when |a − b| ≤ `relative_tolerance`·max(|a|, |b|)
+/// Compares `a` with `b`, each read as OpenSim reads it for the other's version (forces' paths
+/// renamed across 4.5). Numbers are equal when |a − b| ≤ `relative_tolerance`·max(|a|, |b|)
 /// (0 compares values exactly, so `0.1` equals `1.0e-01`); NaN equals NaN.
 pub fn diff(a: &OsimDocument, b: &OsimDocument, relative_tolerance: f64) -> DocumentDiff {
     diff_within(a, b, Tolerance { relative: relative_tolerance, absolute: 0.0 })
@@ -59,9 +63,10 @@ pub fn diff(a: &OsimDocument, b: &OsimDocument, relative_tolerance: f64) -> Docu
 
 /// [`diff`] with an absolute floor under the relative tolerance (for values near zero).
 pub fn diff_within(a: &OsimDocument, b: &OsimDocument, tolerance: Tolerance) -> DocumentDiff {
-    let differences = diff_flat(&flatten(a), &flatten(b), tolerance);
+    let ((flat_a, renamed_a), (flat_b, renamed_b)) = (flatten_for_comparison(a, b.version.number), flatten_for_comparison(b, a.version.number));
+    let differences = diff_flat(&flat_a, &flat_b, tolerance);
     let version_change = (a.version.number != b.version.number).then_some((a.version.number, b.version.number));
-    DocumentDiff { version_change, differences }
+    DocumentDiff { version_change, paths_renamed: renamed_a + renamed_b, differences }
 }
 
 /// The differences between two flattened documents.

@@ -42,6 +42,34 @@ impl FlatDocument {
     }
 }
 
+/// The document version from which OpenSim names a force's `GeometryPath` `path`
+/// (`Force::updateFromXMLNode`: older ones are renamed so when read).
+const PATH_RENAMED_VERSION: u32 = 40500;
+
+/// [`flatten`] of `document` as OpenSim reads it for comparison with a document of version
+/// `other_version`: a 4.x document older than 40500 compared with a newer one has its forces'
+/// `GeometryPath`s under the name OpenSim ≥ 4.5 gives them, `path`. Also returns how many were
+/// renamed.
+pub fn flatten_for_comparison(document: &OsimDocument, other_version: u32) -> (FlatDocument, usize) {
+    let flat = flatten(document);
+    let older = document.version.dialect == crate::io::osim::Dialect::V4 && document.version.number < PATH_RENAMED_VERSION && other_version >= PATH_RENAMED_VERSION;
+    let paths: Vec<String> = flat.entries.iter().filter(|(path, entry)| older && matches!(entry, FlatEntry::Component { class } if class == "GeometryPath") && !path.ends_with("/path")).map(|(path, _)| path.clone()).collect();
+    if paths.is_empty() {
+        return (flat, 0);
+    }
+    let rename = |path: &str| {
+        for old in &paths {
+            if let Some(rest) = path.strip_prefix(old.as_str()).filter(|rest| rest.is_empty() || rest.starts_with(['/', '@'])) {
+                let parent = &old[..old.rfind('/').unwrap_or(0)];
+                return format!("{parent}/path{rest}");
+            }
+        }
+        path.to_string()
+    };
+    let count = paths.len();
+    (flat.renamed(rename), count)
+}
+
 /// Flattens the object of `document` (the `<Model>` or tool) with canonical paths.
 pub fn flatten(document: &OsimDocument) -> FlatDocument {
     let mut flat = FlatDocument::default();

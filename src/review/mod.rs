@@ -5,4 +5,4 @@ mod diff;
 mod flatten;
 
 pub use diff::{diff, diff_flat, diff_within, Change, Difference, DocumentDiff, Tolerance};
-pub use flatten::{flatten, FlatDocument, FlatEntry};
+pub use flatten::{flatten, flatten_for_comparison, FlatDocument, FlatEntry};

@@ -3,22 +3,17 @@
 use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Multibody, Vec3};
-use crate::review::{diff_flat, flatten, Difference, Tolerance};
+use crate::review::{diff_flat, flatten, flatten_for_comparison, Difference, Tolerance};
 use crate::setup::IkTaskSet;
 
 /// The agreement the Scale step must reach: 1e-7 relative, or 1e-9 (m, kg, …) for values near 0.
 pub const SCALED_MODEL_TOLERANCE: Tolerance = Tolerance { relative: 1e-7, absolute: 1e-9 };
 
-/// Every difference between OpenSim's scaled model and ours beyond `tolerance`. Component paths
-/// of ours are first renamed as OpenSim 4.6 writes them (a 4.0 generic model names a muscle's
-/// path `geometrypath`; 4.6 writes `path`).
+/// Every difference between OpenSim's scaled model and ours beyond `tolerance`, ours read as
+/// OpenSim 4.6 writes it (a 4.0 generic model names a muscle's path `geometrypath`; 4.6 `path`).
 pub fn compare_scaled_models(opensim: &OsimDocument, ours: &OsimDocument, tolerance: Tolerance) -> Vec<Difference> {
-    let ours = flatten(ours).renamed(as_written_by_opensim_46);
+    let (ours, _) = flatten_for_comparison(ours, opensim.version.number);
     diff_flat(&flatten(opensim), &ours, tolerance)
-}
-
-fn as_written_by_opensim_46(path: &str) -> String {
-    path.split('/').map(|segment| if segment == "geometrypath" { "path" } else { segment }).collect::<Vec<_>>().join("/")
 }
 
 /// MarkerPlacer's objective Σ w_i‖x_i(q) − x̂_i‖² (m²) over the applied marker tasks of `tasks`,

@@ -28,6 +28,9 @@ fn render(differences: &DocumentDiff, a: &Path, b: &Path) -> String {
     if let Some((old, new)) = differences.version_change {
         text += &format!("~ document Version: {old} → {new}\n");
     }
+    if differences.paths_renamed > 0 {
+        text += &format!("# {} forces' GeometryPath compared as `path`, the name OpenSim ≥ 4.5 reads them under\n", differences.paths_renamed);
+    }
     for difference in &differences.differences {
         let line = match &difference.change {
             Change::Added { class } => format!("+ {} ({class})", difference.path),
