@@ -261,6 +261,14 @@ fn a_dry_run_prints_the_command_only() {
     let expected = format!("osim-tune id {0}/subject01_simbody.osim {0}/subject01_walk1_ik.mot --setup {0}/setup.xml -o {0}/ResultsInverseDynamics/InverseDynamicsOutput.sto\n", dir.display());
     assert_eq!(stdout, expected);
     assert!(!dir.join("ResultsInverseDynamics").exists());
+    // A ScaleTool whose MarkerPlacer is off writes the scaled model where its ModelScaler says,
+    // and neither a scaled-only copy nor a static pose.
+    copy_into(dir, &[("subject01/gait2392_Scale_MarkerSet.xml", "gait2392_Scale_MarkerSet.xml"), ("../models/gait2392_millard2012muscle.osim", "gait2392_simbody.osim")]);
+    let unplaced = edited_copy(dir, "subject01/subject01_Setup_Scale.xml", "scale.xml", &[("<MarkerPlacer name=\"\">\n\t\t\t<!--Whether or not to use the marker placer during scale-->\n\t\t\t<apply> true </apply>", "<MarkerPlacer name=\"\">\n\t\t\t<apply> false </apply>")]);
+    let (code, stdout, stderr) = osim_tune(&["run", s(&unplaced), "--dry-run"]);
+    assert_eq!(code, 0, "{stderr}");
+    let expected = format!("osim-tune scale {0}/gait2392_simbody.osim --setup {0}/scale.xml -o {0}/subject01_scaledOnly.osim --scale-set {0}/subject01_scaleSet_applied.xml\n", dir.display());
+    assert_eq!(stdout, expected);
 }
 
 /// A tool osim-tune does not run, a missing input and an unset output are errors naming the
