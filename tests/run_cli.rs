@@ -80,7 +80,10 @@ fn the_subject01_setups_run_in_their_folder_as_opensim_names_the_outputs() {
     assert!(dir.join("subject01_scaleSet_applied.xml").is_file());
     let placed = OsimDocument::read(&dir.join("subject01_simbody.osim")).unwrap();
     let markers = read_marker_set(&dir.join("placed_markers.xml")).unwrap();
-    assert_eq!(markers.len(), 39);
+    // As many as OpenSim's placed model keeps (its golden has 39).
+    let opensim_placed = OsimDocument::read(&fixture("golden/scale/subject01_simbody.osim")).unwrap();
+    let opensim_markers = opensim_placed.xml.ids().filter(|&id| opensim_placed.xml.tag(id) == "Marker").count();
+    assert_eq!(markers.len(), opensim_markers);
     for marker in &markers {
         let location = placed.xml.text(placed.resolve(&format!("/markerset/{}/location", marker.name)).unwrap()).unwrap();
         let location: Vec<f64> = location.split_whitespace().map(|v| v.parse().unwrap()).collect();
@@ -271,8 +274,9 @@ fn a_dry_run_prints_the_command_only() {
     assert_eq!(stdout, expected);
 }
 
-/// A tool osim-tune does not run, a missing input and an unset output are errors naming the
-/// setup and what it lacks (exit 2, nothing written); `info` on a setup points to `run`.
+/// A tool osim-tune does not run, a missing input, an unset output and an analysis naming a
+/// coordinate the model lacks are errors naming the setup and what is wrong (exit 2, nothing
+/// written); `info` on a setup points to `run`.
 #[test]
 fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let folder = tempfile::tempdir().unwrap();
@@ -308,6 +312,13 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let (code, _, stderr) = osim_tune(&["run", s(&unnamed)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("unnamed.xml: output_motion_file is not set"), "{stderr}");
+    let kinematics = dir.join("kinematics");
+    std::fs::create_dir(&kinematics).unwrap();
+    copy_into(&kinematics, &[("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot"), ("golden/scale/subject01_simbody.osim", "subject01_simbody.osim")]);
+    let unknown = edited_copy(&kinematics, "golden/analyze_tool/kinematics_listed/setup.xml", "unknown.xml", &[("<coordinates> knee_angle_r pelvis_tx</coordinates>", "<coordinates> knee_angle_r no_such_coordinate</coordinates>")]);
+    let (code, _, stderr) = osim_tune(&["run", s(&unknown)]);
+    assert!(code == 2 && stderr.contains("unknown.xml: <Kinematics> names coordinate \"no_such_coordinate\", which the model does not have"), "{stderr}");
+    assert!(!kinematics.join("Results").exists());
     let written: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).filter(|n| n.ends_with(".mot") || n.ends_with(".sto")).collect();
     assert!(written.is_empty(), "{written:?}");
 }

@@ -28,18 +28,27 @@ pub struct AnalyzeToolTables {
     pub unknown_muscles: Vec<String>,
     pub unknown_coordinates: Vec<String>,
     /// The tables OpenSim also writes that depend on states a coordinates file does not give.
-    pub not_written: Vec<&'static str>,
+    pub not_written: Vec<String>,
 }
 
-/// The tables of `setup`'s MuscleAnalysis, Kinematics, BodyKinematics and PointKinematics on `table` (read from
-/// `file`) with the model `spec` (`geometry` its paths); `tool_name` prefixes the file names.
+/// Why the analyses' accelerations are not formed.
+const FORWARD_DYNAMICS: &str = "the model's forward dynamics at muscle states and controls a coordinates file does not give";
+
+/// The tables of `setup`'s MuscleAnalysis, Kinematics, BodyKinematics and PointKinematics on
+/// `table` (read from `file`) with the model `spec` (`geometry` its paths); `tool_name` prefixes
+/// the file names.
 pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &StorageTable, file: &Path, setup: &AnalyzeSetup, tool_name: &str) -> Result<AnalyzeToolTables, AnalyzeToolError> {
     if setup.muscle_analysis.is_none() && setup.kinematics.is_none() && setup.body_kinematics.is_none() && setup.point_kinematics.is_empty() {
         return Err(AnalyzeToolError::NothingToRun { file: setup.file.clone() });
     }
     let multibody = &geometry.multibody;
     let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
-    let states = |step_interval| analyze_tool_motion(multibody, table, file, cutoff, [setup.initial_time, setup.final_time], step_interval);
+    // Filtered and splined once; each analysis takes its rows and assembles them.
+    let all_states = AnalyzeStates::new(multibody, table, file, cutoff)?;
+    let time_range = [setup.initial_time, setup.final_time];
+    frames_in_range(file, &all_states.times, time_range)?;
+    let states = |step_interval| analyze_tool_motion(multibody, &all_states, file, time_range, step_interval);
+    let in_setup = |source| AnalyzeToolError::Kinematics { file: setup.file.clone(), source };
     let mut tables = AnalyzeToolTables::default();
     let add = |tables: &mut AnalyzeToolTables, analysis: &str, suffix: &str, table: StorageTable, states: &AnalyzeToolMotion| {
         tables.files.push((format!("{tool_name}_{analysis}_{suffix}.sto"), table));
@@ -55,31 +64,31 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
             add(&mut tables, &analysis.name, &suffix, table, &states);
         }
         (tables.unknown_muscles, tables.unknown_coordinates) = (selected.unknown_muscles, selected.unknown_coordinates);
-        tables.not_written.push("the MuscleAnalysis' fiber, tendon, force and power tables, which need the muscles' states");
+        tables.not_written.push("the MuscleAnalysis' fiber, tendon, force and power tables, which need the muscles' states".into());
     }
     if let Some(analysis) = &setup.kinematics {
         let states = states(analysis.step_interval)?;
-        let [q, u] = coordinate_tables(multibody, &states, analysis)?;
+        let [q, u] = coordinate_tables(multibody, &states, analysis).map_err(in_setup)?;
         add(&mut tables, &analysis.name, "q", q, &states);
         add(&mut tables, &analysis.name, "u", u, &states);
-        tables.not_written.push("Kinematics' accelerations (_dudt), the model's forward dynamics at muscle states and controls a coordinates file does not give");
+        tables.not_written.push(format!("Kinematics' accelerations (_dudt), {FORWARD_DYNAMICS}"));
     }
     if let Some(analysis) = &setup.body_kinematics {
         let states = states(analysis.step_interval)?;
         let bodies: Vec<usize> = spec.bodies.iter().filter_map(|b| multibody.bodies.iter().position(|m| m.name == b.name)).collect();
-        let [positions, velocities] = body_tables(multibody, &bodies, &states, analysis)?;
+        let [positions, velocities] = body_tables(multibody, &bodies, &states, analysis).map_err(in_setup)?;
         add(&mut tables, &analysis.name, "pos_global", positions, &states);
         add(&mut tables, &analysis.name, if analysis.express_in_local_frame { "vel_bodyLocal" } else { "vel_global" }, velocities, &states);
-        tables.not_written.push("BodyKinematics' accelerations (_acc_…), the model's forward dynamics at muscle states and controls a coordinates file does not give");
+        tables.not_written.push(format!("BodyKinematics' accelerations (_acc_…), {FORWARD_DYNAMICS}"));
     }
     for analysis in &setup.point_kinematics {
         let states = states(analysis.step_interval)?;
-        let [positions, velocities] = point_tables(multibody, &states, analysis)?;
+        let [positions, velocities] = point_tables(multibody, &states, analysis).map_err(in_setup)?;
         add(&mut tables, &analysis.name, &format!("{}_pos", analysis.point_name), positions, &states);
         add(&mut tables, &analysis.name, &format!("{}_vel", analysis.point_name), velocities, &states);
     }
     if !setup.point_kinematics.is_empty() {
-        tables.not_written.push("PointKinematics' accelerations (_acc), the model's forward dynamics at muscle states and controls a coordinates file does not give");
+        tables.not_written.push(format!("PointKinematics' accelerations (_acc), {FORWARD_DYNAMICS}"));
     }
     Ok(tables)
 }
@@ -95,8 +104,8 @@ pub enum AnalyzeToolError {
     NoFrames(#[from] NoFramesInRange),
     #[error("{}: the pose at {time} s cannot be assembled: {source}", file.display())]
     Assembly { file: PathBuf, time: f64, source: Box<IkError> },
-    #[error(transparent)]
-    Kinematics(#[from] KinematicsError),
+    #[error("{}: {source}", file.display())]
+    Kinematics { file: PathBuf, source: KinematicsError },
     #[error(transparent)]
     Table(#[from] TableError),
 }
@@ -109,13 +118,11 @@ pub struct AnalyzeToolMotion {
     pub speeds: Vec<Vec<f64>>,
 }
 
-/// The states OpenSim's `AnalyzeTool` hands its analyses from a coordinates file (`table`, read
-/// from `file`): the states static optimisation also works on (filtered at `cutoff` Hz; a
-/// coordinate the file lacks held at 0), the rows of `time_range` (s) an analysis of
-/// `step_interval` records, each pose assembled.
-pub fn analyze_tool_motion(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>, time_range: [f64; 2], step_interval: usize) -> Result<AnalyzeToolMotion, AnalyzeToolError> {
-    let states = AnalyzeStates::new(multibody, table, file, cutoff)?;
-    frames_in_range(file, &states.times, time_range)?;
+/// The states OpenSim's `AnalyzeTool` hands an analysis of `step_interval`: of `states` (the
+/// coordinates file's, read from `file`, filtered and splined as for static optimisation; a
+/// coordinate the file lacks held at 0), the rows of `time_range` (s) the analysis records, each
+/// pose assembled.
+fn analyze_tool_motion(multibody: &Multibody, states: &AnalyzeStates, file: &Path, time_range: [f64; 2], step_interval: usize) -> Result<AnalyzeToolMotion, AnalyzeToolError> {
     let rows = states.analysed_rows(time_range, step_interval).unwrap_or_default();
     let mut motion = states.motion(&rows);
     let mut row = 0;

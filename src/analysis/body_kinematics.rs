@@ -2,9 +2,9 @@
 //! states: coordinate values and speeds (`_q`, `_u`); each body's mass center and orientation
 //! (body-fixed X-Y-Z angles) with their velocities (`_pos_global`, `_vel_global` or
 //! `_vel_bodyLocal`), the whole model's mass center last; a point's position and velocity in
-//! ground or another body's frame (`_<point>_pos`, `_vel`). Their accelerations (`_dudt`, `_acc_…`) are the model's forward
-//! dynamics at states a coordinates file does not give (muscle states, controls) and are not
-//! formed.
+//! ground or another body's frame (`_<point>_pos`, `_vel`). Their accelerations (`_dudt`,
+//! `_acc_…`) are the model's forward dynamics at states a coordinates file does not give (muscle
+//! states, controls) and are not formed.
 
 use super::analyze_tool::AnalyzeToolMotion;
 use super::storage;
@@ -20,8 +20,8 @@ const CENTER_OF_MASS: &str = "center_of_mass";
 #[derive(Debug, thiserror::Error)]
 pub enum KinematicsError {
     /// A listed coordinate or body the model lacks (OpenSim stops there too).
-    #[error("the {analysis} analysis names {what} {name:?}, which the model does not have")]
-    Unknown { analysis: String, what: &'static str, name: String },
+    #[error("<{class}> names {what} {name:?}, which the model does not have")]
+    Unknown { class: &'static str, what: &'static str, name: String },
     #[error(transparent)]
     Table(#[from] TableError),
 }
@@ -32,7 +32,7 @@ pub fn coordinate_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setu
     let coordinates: Vec<usize> = if setup.coordinates.iter().any(|c| c == "all") {
         (0..multibody.coordinates.len()).collect()
     } else {
-        let index = |name: &String| multibody.coordinates.iter().position(|c| &c.name == name).ok_or_else(|| KinematicsError::Unknown { analysis: setup.name.clone(), what: "coordinate", name: name.clone() });
+        let index = |name: &String| multibody.coordinates.iter().position(|c| &c.name == name).ok_or_else(|| KinematicsError::Unknown { class: "Kinematics", what: "coordinate", name: name.clone() });
         setup.coordinates.iter().map(index).collect::<Result<_, _>>()?
     };
     let scale = |c: usize| if setup.in_degrees && multibody.coordinates[c].motion_type == MotionType::Rotational { 1f64.to_degrees() } else { 1.0 };
@@ -57,7 +57,7 @@ pub fn body_tables(multibody: &Multibody, bodies: &[usize], states: &AnalyzeTool
     for (k, &time) in states.motion.times.iter().enumerate() {
         let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot: &zeros });
         let center = |b: usize| motions[b].transform.apply(&multibody.bodies[b].mass_center);
-        let center_velocity = |b: usize| motions[b].rotation_rate * multibody.bodies[b].mass_center + motions[b].translation_rate;
+        let center_velocity = |b: usize| motions[b].point_velocity(&multibody.bodies[b].mass_center);
         positions.push(time);
         velocities.push(time);
         for &b in &recorded {
@@ -94,7 +94,7 @@ fn recorded_bodies(multibody: &Multibody, bodies: &[usize], setup: &BodyKinemati
         match name.as_str() {
             "all" => return Ok((bodies.to_vec(), true)),
             CENTER_OF_MASS => whole = true,
-            _ => recorded.push(bodies.iter().copied().find(|&b| &multibody.bodies[b].name == name).ok_or_else(|| KinematicsError::Unknown { analysis: setup.name.clone(), what: "body", name: name.clone() })?),
+            _ => recorded.push(bodies.iter().copied().find(|&b| &multibody.bodies[b].name == name).ok_or_else(|| KinematicsError::Unknown { class: "BodyKinematics", what: "body", name: name.clone() })?),
         }
     }
     Ok((recorded, whole))
@@ -104,7 +104,7 @@ fn recorded_bodies(multibody: &Multibody, bodies: &[usize], setup: &BodyKinemati
 /// — or in the `relative_to` body's frame, where its velocity in ground is re-expressed (not made
 /// relative), as OpenSim records them — with OpenSim's labels `state_0` … `state_2`.
 pub fn point_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &PointKinematicsSetup) -> Result<[StorageTable; 2], KinematicsError> {
-    let body_index = |name: &str| multibody.bodies.iter().position(|b| b.name == name).ok_or_else(|| KinematicsError::Unknown { analysis: setup.name.clone(), what: "body", name: name.to_string() });
+    let body_index = |name: &str| multibody.bodies.iter().position(|b| b.name == name).ok_or_else(|| KinematicsError::Unknown { class: "PointKinematics", what: "body", name: name.to_string() });
     let body = body_index(&setup.body)?;
     let relative_to = setup.relative_to.as_deref().map(body_index).transpose()?;
     let point = Vec3::from(setup.point);
@@ -113,7 +113,7 @@ pub fn point_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &P
     for (k, &time) in states.motion.times.iter().enumerate() {
         let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot: &zeros });
         let mut position = motions[body].transform.apply(&point);
-        let mut velocity = motions[body].rotation_rate * point + motions[body].translation_rate;
+        let mut velocity = motions[body].point_velocity(&point);
         if let Some(frame) = relative_to.map(|r| motions[r].transform) {
             position = frame.rotation.transpose() * (position - frame.translation);
             velocity = frame.rotation.transpose() * velocity;

@@ -182,12 +182,12 @@ pub enum Command {
         /// e.g. a static optimisation activation.sto), interpolated linearly in time.
         #[arg(long)]
         activations: Option<PathBuf>,
-        /// An OpenSim AnalyzeTool setup with a MuscleAnalysis: run as OpenSim's AnalyzeTool runs
-        /// it — its time range, coordinate cutoff (filtered and splined states, coordinates the
-        /// motion lacks held at 0), step interval, muscle_list and moment_arm_coordinate_list —
-        /// writing DIR/<name>_MuscleAnalysis_Length.sto and, with compute_moments,
-        /// …_MomentArm_<coordinate>.sto for every listed coordinate; columns that are no
-        /// coordinate are skipped.
+        /// An OpenSim AnalyzeTool setup: its MuscleAnalysis, Kinematics, BodyKinematics and
+        /// PointKinematics run as OpenSim's AnalyzeTool runs them — its time range, coordinate
+        /// cutoff (filtered and splined states, coordinates the motion lacks held at 0), each
+        /// analysis's step interval and lists — writing DIR/<name>_<analysis>_Length.sto,
+        /// …_MomentArm_<coordinate>.sto, …_q.sto, …_u.sto, …_pos_global.sto, …_vel_global.sto,
+        /// …_<point>_pos.sto and …_<point>_vel.sto; columns that are no coordinate are skipped.
         #[arg(long, conflicts_with_all = ["activation", "activations", "skip_unknown_columns"])]
         setup: Option<PathBuf>,
     },
@@ -236,8 +236,9 @@ pub enum Command {
         marker_locations: Option<PathBuf>,
     },
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
-    /// InverseKinematicsTool, InverseDynamicsTool or AnalyzeTool (StaticOptimization,
-    /// JointReaction) setup's model, input and output files (relative names from the setup's
+    /// InverseKinematicsTool, InverseDynamicsTool or AnalyzeTool (MuscleAnalysis, Kinematics,
+    /// BodyKinematics, PointKinematics, StaticOptimization, JointReaction) setup's model, input
+    /// and output files (relative names from the setup's
     /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
     /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as
     /// that command: 0 success, 1 a frame did not converge, 2 error.

@@ -148,7 +148,7 @@ mod tests {
             .iter()
             .zip(&multibody.bodies)
             .map(|(m, b)| {
-                let v = m.rotation_rate * b.mass_center + m.translation_rate;
+                let v = m.point_velocity(&b.mass_center);
                 let omega = m.angular_velocity();
                 let inertia = m.transform.rotation * b.inertia * m.transform.rotation.transpose();
                 0.5 * b.mass * v.norm_squared() + 0.5 * omega.dot(&(inertia * omega))

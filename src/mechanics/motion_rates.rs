@@ -70,6 +70,11 @@ impl TransformRates {
         axial(&(self.rotation_acceleration * self.transform.rotation.transpose()))
     }
 
+    /// Velocity in A of the point `point` fixed in B (given in B), m/s.
+    pub fn point_velocity(&self, point: &Vec3) -> Vec3 {
+        self.rotation_rate * point + self.translation_rate
+    }
+
     /// Acceleration in A of the point `point` fixed in B (given in B), m/s².
     pub fn point_acceleration(&self, point: &Vec3) -> Vec3 {
         self.rotation_acceleration * point + self.translation_acceleration

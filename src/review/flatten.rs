@@ -53,7 +53,10 @@ const PATH_RENAMED_VERSION: u32 = 40500;
 pub fn flatten_for_comparison(document: &OsimDocument, other_version: u32) -> (FlatDocument, usize) {
     let flat = flatten(document);
     let older = document.version.dialect == crate::io::osim::Dialect::V4 && document.version.number < PATH_RENAMED_VERSION && other_version >= PATH_RENAMED_VERSION;
-    let paths: Vec<String> = flat.entries.iter().filter(|(path, entry)| older && matches!(entry, FlatEntry::Component { class } if class == "GeometryPath") && !path.ends_with("/path")).map(|(path, _)| path.clone()).collect();
+    if !older {
+        return (flat, 0);
+    }
+    let paths: Vec<String> = flat.entries.iter().filter(|(path, entry)| matches!(entry, FlatEntry::Component { class } if class == "GeometryPath") && !path.ends_with("/path")).map(|(path, _)| path.clone()).collect();
     if paths.is_empty() {
         return (flat, 0);
     }

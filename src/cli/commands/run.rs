@@ -139,10 +139,9 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
 }
 
 /// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics, BodyKinematics and
-/// PointKinematics, `so`
-/// for its StaticOptimization,
-/// then `reaction` for its JointReaction, each `MODEL COORDINATES --setup SETUP -o
-/// <results_directory>` (the commands name the setup's other analyses, which they do not run).
+/// PointKinematics, `so` for its StaticOptimization, then `reaction` for its JointReaction, each
+/// `MODEL COORDINATES --setup SETUP -o <results_directory>` (the commands name the setup's other
+/// analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
     let kinematic = setup.muscle_analysis.is_some() || setup.kinematics.is_some() || setup.body_kinematics.is_some() || !setup.point_kinematics.is_empty();
     let analyses = [(kinematic, "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
