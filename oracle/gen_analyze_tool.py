@@ -14,14 +14,22 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
   `tibia_r center_of_mass femur_r` with velocities in the bodies' frames, both named otherwise
   (`coords`, `segments`), step_interval 2, unfiltered, 0.5–0.7 s;
 * `points`: PointKinematics of a heel point, a shin point in the femur's frame (every second
-  row) and an unnamed one with the defaults (ground's origin, `NONAME`), filtered at 6 Hz.
+  row) and an unnamed one with the defaults (ground's origin, `NONAME`), filtered at 6 Hz;
+* `muscle_states`: a MuscleAnalysis of listed muscles (sar_r and semiten_r start below their
+  minimum fiber length) and coordinates, ForceReporter, Actuation (every second row) and
+  StatesReporter, the muscles at their default states (Thelen), filtered at 6 Hz, 0.5–0.6 s;
+* `equilibrium`: the same with `solve_for_equilibrium_for_auxiliary_states`;
+* `millard`: the same analyses, equilibrated, on gait2392 with Millard muscles (models/);
+* `rajagopal`: the same, equilibrated, on the scaled Rajagopal2016 model of the scale zoo
+  (Millard muscles with rigid and compliant tendons and fiber damping, CoordinateActuators,
+  coupler constraints; its knee's range clamps the walk's negative knee angles).
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
 the MomentArm tables of knee_angle_r, hip_flexion_r, lumbar_extension (which no muscle spans) and
-pelvis_tx (`all`), every Length and MomentArm table (`listed`), the q, u, position and velocity
-tables (the kinematics and points cases; not the accelerations, OpenSim's forward dynamics at default
-muscle states).
+pelvis_tx (`all`), every MuscleAnalysis table (`listed` and the muscle-state cases), the q, u,
+position and velocity tables (the kinematics and points cases; not the accelerations, OpenSim's
+forward dynamics at default muscle states), every reporter table.
 
     python3 oracle/gen_analyze_tool.py
 """
@@ -34,7 +42,11 @@ from tool_run import run_in
 
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "analyze_tool"
-MODEL = REPO / "fixtures" / "golden" / "scale" / "subject01_simbody.osim"
+MODELS = {
+    "subject01_simbody.osim": REPO / "fixtures" / "golden" / "scale" / "subject01_simbody.osim",
+    "gait2392_millard2012muscle.osim": REPO / "models" / "gait2392_millard2012muscle.osim",
+    "Rajagopal2016_scaled.osim": REPO / "fixtures" / "golden" / "scale_zoo" / "Rajagopal2016_scaled.osim",
+}
 MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
 KEPT = ["Length", "MomentArm_knee_angle_r", "MomentArm_hip_flexion_r", "MomentArm_lumbar_extension", "MomentArm_pelvis_tx"]
 
@@ -63,6 +75,14 @@ POINTS = """\t\t\t\t<PointKinematics name="heel"><on>true</on><body_name>calcn_r
 \t\t\t\t<PointKinematics name="knee_in_femur"><on>true</on><step_interval>2</step_interval><body_name>tibia_r</body_name><point>0.0 -0.1 0.02</point><point_name>shin</point_name><relative_to_body_name>femur_r</relative_to_body_name></PointKinematics>
 \t\t\t\t<PointKinematics><on>true</on></PointKinematics>
 """
+REPORTERS = """\t\t\t\t<ForceReporter name="ForceReporter"><on>true</on></ForceReporter>
+\t\t\t\t<Actuation name="Actuation"><on>true</on><step_interval>2</step_interval></Actuation>
+\t\t\t\t<StatesReporter name="StatesReporter"><on>true</on></StatesReporter>
+"""
+GAIT_MUSCLES = MUSCLES.format(step=1, muscles="sar_r semiten_r bifemsh_r glut_med1_r rect_fem_r vas_lat_r soleus_r med_gas_r",
+                              coordinates="knee_angle_r ankle_angle_r hip_flexion_r") + REPORTERS
+RAJAGOPAL_MUSCLES = MUSCLES.format(step=1, muscles="bflh_r semiten_r recfem_r vasint_r soleus_r gaslat_r tibpost_r sart_r bfsh_r",
+                                   coordinates="knee_angle_r ankle_angle_r") + REPORTERS
 CASES = {
     "all": dict(range=(0.5, 0.6), cutoff=6, analyses=MUSCLES.format(step=1, muscles="all", coordinates="all")),
     "listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=MUSCLES.format(step=2, muscles="vas_lat_r rect_fem_r no_such_muscle bifemlh_r",
@@ -72,28 +92,36 @@ CASES = {
     "kinematics_listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=KINEMATICS.format(kinematics_name="coords", bodies_name="segments", step=2, in_degrees="false",
                                                                                        coordinates="knee_angle_r pelvis_tx", bodies="tibia_r center_of_mass femur_r", local="true")),
     "points": dict(range=(0.5, 0.6), cutoff=6, analyses=POINTS),
+    "muscle_states": dict(range=(0.5, 0.6), cutoff=6, analyses=GAIT_MUSCLES),
+    "equilibrium": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, analyses=GAIT_MUSCLES),
+    "millard": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, model="gait2392_millard2012muscle.osim", analyses=GAIT_MUSCLES),
+    "rajagopal": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, model="Rajagopal2016_scaled.osim", analyses=RAJAGOPAL_MUSCLES),
 }
+
+
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal")
 
 
 def kept(case, table):
     """Whether OpenSim's table `table` (the file name without the tool and analysis names) is kept."""
     if case == "all":
         return table in KEPT
-    if case == "listed":
-        return table.startswith(("Length", "MomentArm_"))
+    if case == "listed" or case in STATE_CASES:
+        return True
     return table in ("q", "u", "pos_global", "vel_global", "vel_bodyLocal") or table.endswith(("_pos", "_vel"))
 
 
 def setup_text(case):
     c = CASES[case]
+    equilibrium = "\t\t<solve_for_equilibrium_for_auxiliary_states>true</solve_for_equilibrium_for_auxiliary_states>\n" if c.get("equilibrium") else ""
     return f"""<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40600">
 \t<AnalyzeTool name="walk">
-\t\t<model_file>subject01_simbody.osim</model_file>
+\t\t<model_file>{c.get('model', 'subject01_simbody.osim')}</model_file>
 \t\t<results_directory>Results</results_directory>
 \t\t<initial_time>{c['range'][0]}</initial_time>
 \t\t<final_time>{c['range'][1]}</final_time>
-\t\t<AnalysisSet name="Analyses">
+{equilibrium}\t\t<AnalysisSet name="Analyses">
 \t\t\t<objects>
 {c['analyses']}\t\t\t</objects>
 \t\t</AnalysisSet>
@@ -112,7 +140,8 @@ def main():
         (out / "setup.xml").write_text(setup_text(case))
         with tempfile.TemporaryDirectory() as work:
             work = Path(work)
-            shutil.copy(MODEL, work / "subject01_simbody.osim")
+            model = CASES[case].get("model", "subject01_simbody.osim")
+            shutil.copy(MODELS[model], work / model)
             shutil.copy(MOTION, work / "subject01_walk1_ik.mot")
             shutil.copy(out / "setup.xml", work / "setup.xml")
             run_in(work, osim.AnalyzeTool, "setup.xml")

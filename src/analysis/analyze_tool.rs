@@ -1,18 +1,22 @@
 //! OpenSim's AnalyzeTool on a coordinates file: the states it hands its analyses (the
 //! coordinates filtered and splined as for static optimisation, each pose assembled, with the
-//! speeds) and the tables its `MuscleAnalysis`, `Kinematics`, `BodyKinematics` and
-//! `PointKinematics` write, by file name.
+//! speeds; the muscles at their default or equilibrium states, [`super::muscle_states`]) and the
+//! tables its `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`,
+//! `ForceReporter`, `Actuation` and `StatesReporter` write, by file name.
 
 use std::path::{Path, PathBuf};
 
 use super::analyze_states::{AnalyzeStates, StatesError};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::muscle_analysis::MuscleAnalysis;
+use super::muscle_state_tables::muscle_state_tables;
+use super::muscle_states::{muscle_states, MuscleStates};
+use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, ReporterError};
 use super::signal::{frames_in_range, NoFramesInRange};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Motion, Multibody, MuscleGeometry};
 use crate::model::ModelSpec;
-use crate::setup::AnalyzeSetup;
+use crate::setup::{AnalyzeSetup, ReporterSetup};
 use crate::solvers::{assemble, IkError};
 
 /// The tables an AnalyzeTool setup's analyses write, with what the run leaves to note.
@@ -27,8 +31,10 @@ pub struct AnalyzeToolTables {
     /// Names the MuscleAnalysis lists that the model lacks (dropped, as OpenSim drops them).
     pub unknown_muscles: Vec<String>,
     pub unknown_coordinates: Vec<String>,
-    /// The tables OpenSim also writes that depend on states a coordinates file does not give.
+    /// The tables OpenSim also writes that osim-tune does not form here, with why.
     pub not_written: Vec<String>,
+    /// What OpenSim warns about while forming the muscles' states (each once).
+    pub warnings: Vec<String>,
 }
 
 /// Why the analyses' accelerations are not formed.
@@ -38,7 +44,7 @@ const FORWARD_DYNAMICS: &str = "the model's forward dynamics at muscle states an
 /// `table` (read from `file`) with the model `spec` (`geometry` its paths); `tool_name` prefixes
 /// the file names.
 pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &StorageTable, file: &Path, setup: &AnalyzeSetup, tool_name: &str) -> Result<AnalyzeToolTables, AnalyzeToolError> {
-    if setup.muscle_analysis.is_none() && setup.kinematics.is_none() && setup.body_kinematics.is_none() && setup.point_kinematics.is_empty() {
+    if !setup.has_analyze_tables() {
         return Err(AnalyzeToolError::NothingToRun { file: setup.file.clone() });
     }
     let multibody = &geometry.multibody;
@@ -56,15 +62,28 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
         tables.rows = (times.len(), times.first().copied().unwrap_or(f64::NAN), times.last().copied().unwrap_or(f64::NAN));
         tables.held_at_zero.clone_from(&states.motion.defaulted);
     };
+    let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, &states.motion, &states.speeds, setup.solve_for_equilibrium_for_auxiliary_states);
     if let Some(analysis) = &setup.muscle_analysis {
         let states = states(analysis.step_interval)?;
         let selected = MuscleAnalysis::run(geometry, &states.motion)?.setup_tables(multibody, analysis)?;
-        for table in selected.tables {
+        let arms: Vec<&StorageTable> = selected.tables.iter().filter(|t| t.name().starts_with("MomentArm_")).collect();
+        let formed = match (controls_ignored(spec, setup, false), muscles(&states)) {
+            (Some(reason), _) => Err(reason),
+            (None, Err(e)) => Err(e.to_string()),
+            (None, Ok(muscles)) => {
+                tables.warnings.extend(muscles.warnings.iter().cloned());
+                Ok(muscle_state_tables(&muscles, &states.motion.times, &selected.muscles, &arms)?)
+            }
+        };
+        let state_tables = formed.unwrap_or_else(|reason| {
+            tables.not_written.push(format!("the MuscleAnalysis' fiber, tendon, force, power and moment tables: {reason}"));
+            Vec::new()
+        });
+        for table in selected.tables.into_iter().chain(state_tables) {
             let suffix = table.name().to_string();
             add(&mut tables, &analysis.name, &suffix, table, &states);
         }
         (tables.unknown_muscles, tables.unknown_coordinates) = (selected.unknown_muscles, selected.unknown_coordinates);
-        tables.not_written.push("the MuscleAnalysis' fiber, tendon, force and power tables, which need the muscles' states".into());
     }
     if let Some(analysis) = &setup.kinematics {
         let states = states(analysis.step_interval)?;
@@ -90,13 +109,59 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
     if !setup.point_kinematics.is_empty() {
         tables.not_written.push(format!("PointKinematics' accelerations (_acc), {FORWARD_DYNAMICS}"));
     }
+    let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter")];
+    for (analysis, class) in reporters.into_iter().filter_map(|(a, class)| a.as_ref().map(|a| (a, class))) {
+        let states = states(analysis.step_interval)?;
+        let formed = muscles(&states).map_err(|e| ReporterError::NotFormed(e.to_string())).and_then(|muscles| {
+            tables.warnings.extend(muscles.warnings.iter().cloned());
+            reporter_tables(spec, multibody, setup, analysis, class, &muscles, &states)
+        });
+        match formed {
+            Ok(formed) => formed.into_iter().for_each(|(suffix, t)| add(&mut tables, &analysis.name, suffix, t, &states)),
+            Err(ReporterError::Table(e)) => return Err(e.into()),
+            Err(reason) => tables.not_written.push(format!("{class}'s tables: {reason}")),
+        }
+    }
+    tables.warnings.sort();
+    tables.warnings.dedup();
     Ok(tables)
+}
+
+/// The tables of reporter `class` (`ForceReporter`, `Actuation` or `StatesReporter`) with their
+/// file name suffixes.
+fn reporter_tables(spec: &ModelSpec, multibody: &Multibody, setup: &AnalyzeSetup, analysis: &ReporterSetup, class: &str, muscles: &MuscleStates, states: &AnalyzeToolMotion) -> Result<Vec<(&'static str, StorageTable)>, ReporterError> {
+    let (motion, speeds) = (&states.motion, &states.speeds);
+    if class == "StatesReporter" {
+        return Ok(vec![("states", states_reporter_table(spec, multibody, muscles, motion, speeds)?)]);
+    }
+    if let Some(reason) = controls_ignored(spec, setup, true) {
+        return Err(ReporterError::NotFormed(reason));
+    }
+    if class == "Actuation" {
+        let [force, speed, power] = actuation_tables(spec, multibody, muscles, motion, speeds)?;
+        return Ok(vec![("force", force), ("speed", speed), ("power", power)]);
+    }
+    if let Some(loads) = &setup.external_loads_file {
+        return Err(ReporterError::NotFormed(format!("the external loads of {} would be reported too, which osim-tune does not apply here", loads.written)));
+    }
+    if analysis.include_constraint_forces && !spec.constraints.is_empty() {
+        return Err(ReporterError::NotFormed("include_constraint_forces: the constraints' forces need the model's dynamics".into()));
+    }
+    Ok(vec![("forces", force_reporter_table(spec, multibody, muscles, &motion.times)?)])
+}
+
+/// Why a force table would not be OpenSim's: the setup's controls file (not read here) drives
+/// a muscle without activation dynamics or, with `actuators`, a non-muscle actuator.
+fn controls_ignored(spec: &ModelSpec, setup: &AnalyzeSetup, actuators: bool) -> Option<String> {
+    let controls = setup.controls_file.as_ref()?;
+    let driven = (actuators && !spec.actuators.is_empty()) || spec.forces.iter().any(|f| f.muscle.as_ref().is_some_and(|m| m.ignore_activation_dynamics));
+    driven.then(|| format!("controls_file {} drives forces of the model, and osim-tune does not read controls", controls.written))
 }
 
 /// Why an AnalyzeTool setup's tables cannot be formed.
 #[derive(Debug, thiserror::Error)]
 pub enum AnalyzeToolError {
-    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics or PointKinematics that is on", file.display())]
+    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation or StatesReporter that is on", file.display())]
     NothingToRun { file: PathBuf },
     #[error(transparent)]
     States(#[from] StatesError),

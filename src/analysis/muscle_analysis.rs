@@ -72,6 +72,8 @@ pub struct SetupTables {
     /// computed — zeros about a coordinate no muscle spans — each with the listed muscles'
     /// columns in the list's order.
     pub tables: Vec<StorageTable>,
+    /// The listed muscles of the model, in the tables' column order.
+    pub muscles: Vec<String>,
     /// Listed names that are no muscle or no coordinate of the model (OpenSim drops them).
     pub unknown_muscles: Vec<String>,
     pub unknown_coordinates: Vec<String>,
@@ -100,7 +102,7 @@ impl MuscleAnalysis {
                 tables.push(table);
             }
         }
-        Ok(SetupTables { tables, unknown_muscles, unknown_coordinates })
+        Ok(SetupTables { tables, muscles, unknown_muscles, unknown_coordinates })
     }
 }
 

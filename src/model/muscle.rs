@@ -39,6 +39,8 @@ pub struct MillardSpec {
     /// Normalised damping coefficient β (F_max · s / L_opt per unit normalised velocity).
     pub fiber_damping: f64,
     pub default_activation: f64,
+    /// The fiber-length state a model starts from, m (OpenSim's default 0.1).
+    pub default_fiber_length: f64,
     pub minimum_activation: f64,
     /// τ_a, `activation_time_constant`, s.
     pub activation_time_constant: f64,
@@ -110,6 +112,8 @@ pub struct ThelenSpec {
     /// rad.
     pub maximum_pennation_angle: f64,
     pub default_activation: f64,
+    /// The fiber-length state a model starts from, m (OpenSim's default 0.1).
+    pub default_fiber_length: f64,
     pub minimum_activation: f64,
     /// τ_a, `activation_time_constant`, s.
     pub activation_time_constant: f64,
@@ -144,6 +148,10 @@ pub const MUSCLE_CLASSES: [&str; 3] = [
     "DeGrooteFregly2016Muscle",
 ];
 
+/// `default_fiber_length` when absent, m (Millard and Thelen alike: the class default
+/// `optimal_fiber_length` at construction).
+const DEFAULT_FIBER_LENGTH: f64 = 0.1;
+
 /// Minimum cos α of the 4.6 defaults: `maximum_pennation_angle = acos(0.1)`.
 const DEFAULT_MAXIMUM_PENNATION: f64 = 1.4706289056333368;
 
@@ -154,6 +162,16 @@ impl MuscleSpec {
             MuscleModelSpec::Millard2012(m) => [m.activation_time_constant, m.deactivation_time_constant],
             MuscleModelSpec::Thelen2003(t) => [t.activation_time_constant, t.deactivation_time_constant],
             MuscleModelSpec::DeGrooteFregly2016(d) => [d.activation_time_constant, d.deactivation_time_constant],
+        }
+    }
+
+    /// (activation, fiber length in m) of the state a model starts from, for the classes whose
+    /// state is a fiber length (Millard, Thelen); `None` for DeGroote (a tendon-force state).
+    pub fn default_fiber_state(&self) -> Option<(f64, f64)> {
+        match &self.model {
+            MuscleModelSpec::Millard2012(m) => Some((m.default_activation, m.default_fiber_length)),
+            MuscleModelSpec::Thelen2003(t) => Some((t.default_activation, t.default_fiber_length)),
+            MuscleModelSpec::DeGrooteFregly2016(_) => None,
         }
     }
 
@@ -225,6 +243,7 @@ impl MillardSpec {
         Ok(MillardSpec {
             fiber_damping: reader.number_or("fiber_damping", 0.1)?,
             default_activation: reader.number_or("default_activation", 0.05)?,
+            default_fiber_length: reader.number_or("default_fiber_length", DEFAULT_FIBER_LENGTH)?,
             minimum_activation: reader.number_or("minimum_activation", 0.01)?,
             activation_time_constant: reader.number_or("activation_time_constant", 0.01)?,
             deactivation_time_constant: reader.number_or("deactivation_time_constant", 0.04)?,
@@ -290,6 +309,7 @@ impl ThelenSpec {
             maximum_pennation_angle: reader
                 .number_or("maximum_pennation_angle", DEFAULT_MAXIMUM_PENNATION)?,
             default_activation: reader.number_or("default_activation", 0.05)?,
+            default_fiber_length: reader.number_or("default_fiber_length", DEFAULT_FIBER_LENGTH)?,
             minimum_activation: reader.number_or("minimum_activation", 0.01)?,
             activation_time_constant,
             deactivation_time_constant,

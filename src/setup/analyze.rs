@@ -1,5 +1,6 @@
 //! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction`,
-//! `MuscleAnalysis`, `Kinematics`, `BodyKinematics` and `PointKinematics` analyses, typed.
+//! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`, `Actuation` and
+//! `StatesReporter` analyses, typed.
 
 use std::path::{Path, PathBuf};
 
@@ -36,6 +37,11 @@ pub struct AnalyzeSetup {
     pub external_loads_file: Option<SetupPath>,
     /// Hz; negative: no filtering (default −1).
     pub lowpass_cutoff_frequency_for_coordinates: f64,
+    /// Muscles' fibers put in equilibrium at each state (`equilibrateMuscles`) rather than left
+    /// at their default lengths (default false).
+    pub solve_for_equilibrium_for_auxiliary_states: bool,
+    /// Actuator controls (`ControlSet` XML or a table), which osim-tune does not read.
+    pub controls_file: Option<SetupPath>,
     /// The `StaticOptimization` analysis, if the set has one that is on.
     pub static_optimization: Option<StaticOptimizationSetup>,
     /// The `JointReaction` analysis, if the set has one that is on.
@@ -48,6 +54,11 @@ pub struct AnalyzeSetup {
     pub body_kinematics: Option<BodyKinematicsSetup>,
     /// Every `PointKinematics` analysis that is on.
     pub point_kinematics: Vec<PointKinematicsSetup>,
+    /// The `ForceReporter`, `Actuation` and `StatesReporter` analyses, if the set has one that
+    /// is on.
+    pub force_reporter: Option<ReporterSetup>,
+    pub actuation: Option<ReporterSetup>,
+    pub states_reporter: Option<ReporterSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
     pub other_analyses: Vec<String>,
 }
@@ -149,10 +160,28 @@ pub struct PointKinematicsSetup {
     pub relative_to: Option<String>,
 }
 
+/// A reporter analysis (`ForceReporter`, `Actuation`, `StatesReporter`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReporterSetup {
+    /// The analysis's name, in its output files' names (empty when the element has none).
+    pub name: String,
+    /// Records only every n-th state (default 1).
+    pub step_interval: usize,
+    /// ForceReporter's `include_constraint_forces` (default false; false for the others).
+    pub include_constraint_forces: bool,
+}
+
 impl AnalyzeSetup {
     /// Reads the AnalyzeTool setup file `path`.
     pub fn read(path: &Path) -> Result<AnalyzeSetup, SetupError> {
         Self::from_document(&read_document(path)?)
+    }
+
+    /// Whether an analysis `analyze --setup` runs is on (all but StaticOptimization and
+    /// JointReaction).
+    pub fn has_analyze_tables(&self) -> bool {
+        let reporters = [&self.force_reporter, &self.actuation, &self.states_reporter];
+        self.muscle_analysis.is_some() || self.kinematics.is_some() || self.body_kinematics.is_some() || !self.point_kinematics.is_empty() || reporters.iter().any(|r| r.is_some())
     }
 
     /// The object of `document` (its file names resolve against the document's directory).
@@ -160,7 +189,8 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, "AnalyzeTool")?;
         let directory = directory_of(document.xml.file());
-        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, others: other_analyses } = analyses(tool, &directory)?;
+        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, force_reporter, actuation, states_reporter, others: other_analyses } =
+            analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
@@ -174,12 +204,17 @@ impl AnalyzeSetup {
             states_or_speeds_file: optional_path(tool, "states_file", &directory).or_else(|| optional_path(tool, "speeds_file", &directory)),
             external_loads_file: optional_path(tool, "external_loads_file", &directory),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
+            solve_for_equilibrium_for_auxiliary_states: tool.boolean_or("solve_for_equilibrium_for_auxiliary_states", false)?,
+            controls_file: optional_path(tool, "controls_file", &directory),
             static_optimization,
             joint_reaction,
             muscle_analysis,
             kinematics,
             body_kinematics,
             point_kinematics,
+            force_reporter,
+            actuation,
+            states_reporter,
             other_analyses,
         })
     }
@@ -194,12 +229,15 @@ struct Analyses {
     kinematics: Option<KinematicsSetup>,
     body_kinematics: Option<BodyKinematicsSetup>,
     point_kinematics: Vec<PointKinematicsSetup>,
+    force_reporter: Option<ReporterSetup>,
+    actuation: Option<ReporterSetup>,
+    states_reporter: Option<ReporterSetup>,
     /// Classes of the others (and of a second analysis of a class already read).
     others: Vec<String>,
 }
 
-/// The first `StaticOptimization`, `JointReaction`, `MuscleAnalysis`, `Kinematics` and
-/// `BodyKinematics` that are on, every `PointKinematics` that is on, and the classes of the other
+/// The first `StaticOptimization`, `JointReaction`, `MuscleAnalysis`, `Kinematics`,
+/// `BodyKinematics`, `ForceReporter`, `Actuation` and `StatesReporter` that are on, every `PointKinematics` that is on, and the classes of the other
 /// analyses; `directory` resolves the forces file.
 fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
     let Some(set) = tool.child("AnalysisSet") else { return Ok(Analyses::default()) };
@@ -269,10 +307,23 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                     relative_to,
                 });
             }
+            "ForceReporter" | "Actuation" | "StatesReporter" if reporter(&mut found, analysis.class()).is_none() => {
+                let include_constraint_forces = analysis.class() == "ForceReporter" && analysis.boolean_or("include_constraint_forces", false)?;
+                *reporter(&mut found, analysis.class()) = Some(ReporterSetup { name: name(), step_interval: step_interval()?, include_constraint_forces });
+            }
             class => found.others.push(class.to_string()),
         }
     }
     Ok(found)
+}
+
+/// The slot of reporter class `class` (`ForceReporter`, `Actuation`, else `StatesReporter`).
+fn reporter<'a>(found: &'a mut Analyses, class: &str) -> &'a mut Option<ReporterSetup> {
+    match class {
+        "ForceReporter" => &mut found.force_reporter,
+        "Actuation" => &mut found.actuation,
+        _ => &mut found.states_reporter,
+    }
 }
 
 #[cfg(test)]
@@ -317,7 +368,7 @@ mod tests {
         let xml = r#"<OpenSimDocument Version="40000"><AnalyzeTool name="walk"><AnalysisSet><objects>
             <MuscleAnalysis name="a"><on>true</on><step_interval>3</step_interval><muscle_list> vas_lat_r rect_fem_r</muscle_list>
             <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>
-            <Kinematics name="k"><on>true</on><coordinates>knee_angle_r</coordinates><in_degrees>false</in_degrees></Kinematics><BodyKinematics/><Actuation/>
+            <Kinematics name="k"><on>true</on><coordinates>knee_angle_r</coordinates><in_degrees>false</in_degrees></Kinematics><BodyKinematics/><Actuation/><ProbeReporter/>
             </objects></AnalysisSet></AnalyzeTool></OpenSimDocument>"#;
         let folder = tempfile::tempdir().unwrap();
         let file = folder.path().join("setup.xml");
@@ -332,7 +383,8 @@ mod tests {
         // Unnamed, as OpenSim reads it: its files are `walk__Length.sto`.
         assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("", 1, true));
         assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["all".to_string()], vec!["all".to_string()]));
-        assert_eq!(setup.other_analyses, ["Actuation"]);
+        assert_eq!(setup.other_analyses, ["ProbeReporter"]);
+        assert_eq!(setup.actuation.map(|a| (a.name, a.step_interval)), Some((String::new(), 1)));
         let kinematics = setup.kinematics.unwrap();
         assert_eq!((kinematics.name.as_str(), kinematics.coordinates, kinematics.in_degrees), ("k", vec!["knee_angle_r".to_string()], false));
         let bodies = setup.body_kinematics.unwrap();

@@ -20,7 +20,7 @@ mod property;
 mod scale;
 mod time_range;
 
-pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, StaticOptimizationSetup};
+pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup, StaticOptimizationSetup};
 pub use error::SetupError;
 pub use object::read_document;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};

@@ -103,6 +103,9 @@ pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str]) -> Result<(), Failure
         ("Kinematics", setup.kinematics.is_some(), "analyze --setup"),
         ("BodyKinematics", setup.body_kinematics.is_some(), "analyze --setup"),
         ("PointKinematics", !setup.point_kinematics.is_empty(), "analyze --setup"),
+        ("ForceReporter", setup.force_reporter.is_some(), "analyze --setup"),
+        ("Actuation", setup.actuation.is_some(), "analyze --setup"),
+        ("StatesReporter", setup.states_reporter.is_some(), "analyze --setup"),
         ("StaticOptimization", setup.static_optimization.is_some(), "so"),
         ("JointReaction", setup.joint_reaction.is_some(), "reaction"),
     ];

@@ -1,7 +1,8 @@
 //! `osim-tune analyze MODEL --motion COORDINATES --setup SETUP.xml -o DIR`: OpenSim's AnalyzeTool
-//! running its `MuscleAnalysis`, `Kinematics`, `BodyKinematics` and `PointKinematics` — the
-//! setup's time range, cutoff, and each analysis's step interval and lists — writing their tables
-//! under OpenSim's names (`<name>_<analysis name>_Length.sto`, `…_q.sto`, `…_pos_global.sto`, …).
+//! running its `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`,
+//! `ForceReporter`, `Actuation` and `StatesReporter` — the setup's time range, cutoff, muscle
+//! equilibrium, and each analysis's step interval and lists — writing their tables under
+//! OpenSim's names (`<name>_<analysis name>_Length.sto`, `…_q.sto`, `…_forces.sto`, …).
 
 use std::path::{Path, PathBuf};
 
@@ -17,7 +18,7 @@ use crate::setup::AnalyzeSetup;
 
 pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = AnalyzeSetup::read(setup_file)?;
-    check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics"])?;
+    check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"])?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let name = output_name(None, Some(&setup), coordinates);
@@ -42,6 +43,9 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     }
     for table in &tables.not_written {
         eprintln!("note: not written: {table}");
+    }
+    for warning in &tables.warnings {
+        eprintln!("warning: {warning}");
     }
     Ok(Outcome::Success)
 }

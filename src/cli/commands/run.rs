@@ -15,7 +15,7 @@ use crate::setup::{read_document, AnalyzeSetup, IdSetup, IkSetup, ScaleSetup, Se
 /// The setups `run` knows, by their root element.
 const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool> or <AnalyzeTool>";
 /// The AnalyzeTool analyses `run` runs.
-const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, StaticOptimization, JointReaction";
+const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, StaticOptimization, JointReaction";
 
 /// One osim-tune command line: its words after the program name.
 struct Invocation(Vec<OsString>);
@@ -143,8 +143,7 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
 /// `MODEL COORDINATES --setup SETUP -o <results_directory>` (the commands name the setup's other
 /// analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
-    let kinematic = setup.muscle_analysis.is_some() || setup.kinematics.is_some() || setup.body_kinematics.is_some() || !setup.point_kinematics.is_empty();
-    let analyses = [(kinematic, "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
+    let analyses = [(setup.has_analyze_tables(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
     if !analyses.iter().any(|(on, _, _)| *on) {
         let others = if setup.other_analyses.is_empty() { "none".to_string() } else { setup.other_analyses.join(", ") };
         return Err(format!("{}: the AnalysisSet has no analysis osim-tune runs that is on ({ANALYSES}; others on: {others})", file.display()).into());

@@ -9,6 +9,7 @@ mod error;
 mod millard;
 mod pennation;
 mod root;
+mod state;
 mod thelen;
 
 pub use activation_dynamics::{ActivationDynamics, FirstOrderActivation};
@@ -20,6 +21,7 @@ pub use millard::{
     SmoothSegmentedFunction,
 };
 pub use pennation::FixedWidthPennation;
+pub use state::MuscleState;
 pub use root::{bracketed_newton, bracketed_newton_from, BracketEnd, Root, RootFailure};
 pub use thelen::{Thelen2003Muscle, ThelenCurves};
 
@@ -156,6 +158,16 @@ impl HillMuscle {
         }
     }
 
+    /// The shortest fiber the muscle allows, m (Millard, Thelen: `getMinimumFiberLength`); 0 for
+    /// DeGroote, which has no fiber-length state.
+    pub fn minimum_fiber_length(&self) -> f64 {
+        match self {
+            HillMuscle::Millard(m) => m.minimum_fiber_length,
+            HillMuscle::Thelen(m) => m.minimum_fiber_length(),
+            HillMuscle::DeGroote(_) => 0.0,
+        }
+    }
+
     /// Whether the fiber follows the path beside a rigid tendon (`ignore_tendon_compliance`).
     pub fn has_rigid_tendon(&self) -> bool {
         match self {
@@ -175,6 +187,18 @@ impl HillMuscle {
             }
             HillMuscle::DeGroote(m) if m.ignore_tendon_compliance => Some(m.rigid_tendon_state(activation, mt_length, lengthening_speed)),
             _ => None,
+        }
+    }
+
+    /// The muscle at activation `activation` ∈ [0, 1] with fiber-length state `fiber_length`
+    /// (m; ignored by a rigid tendon, whose fiber follows the path) on a path of length
+    /// `mt_length` (m) lengthening at `lengthening_speed` (m/s), as OpenSim reports it
+    /// (Millard, Thelen; DeGroote's state is its tendon force, an error here).
+    pub fn state(&self, activation: f64, fiber_length: f64, mt_length: f64, lengthening_speed: f64) -> Result<MuscleState, MuscleError> {
+        match self {
+            HillMuscle::Millard(m) => m.state(activation, fiber_length, mt_length, lengthening_speed),
+            HillMuscle::Thelen(m) => m.state(activation, fiber_length, mt_length, lengthening_speed),
+            HillMuscle::DeGroote(m) => Err(MuscleError::NoFiberLengthState { muscle: m.name().to_string() }),
         }
     }
 

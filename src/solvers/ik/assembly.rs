@@ -22,6 +22,17 @@ use crate::solvers::IkError;
 /// module doc); the default pose of OpenSim's `initSystem` for `values` the default values.
 pub fn assemble(multibody: &Multibody, values: &[f64]) -> Result<Vec<f64>, IkError> {
     let mut q = values.to_vec();
+    if !(multibody.couplers.is_empty() && multibody.links.is_empty() && multibody.unheld_constraints.is_empty()) {
+        // OpenSim assembles only a model with constraints, and then holds every locked
+        // coordinate at its default value and keeps every clamped one within its range.
+        for (c, coordinate) in multibody.coordinates.iter().enumerate().filter(|(c, _)| !multibody.is_dependent(*c)) {
+            if coordinate.locked {
+                q[c] = coordinate.default_value;
+            } else if coordinate.clamped {
+                q[c] = q[c].clamp(coordinate.range[0], coordinate.range[1]);
+            }
+        }
+    }
     multibody.follow_couplers(&mut q, &[]);
     if multibody.links.is_empty() {
         return Ok(q);

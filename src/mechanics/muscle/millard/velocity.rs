@@ -4,7 +4,8 @@
 
 use super::muscle::{Millard2012Muscle, Position};
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
-use crate::mechanics::muscle::{check_compliant_tendon, check_inputs, MuscleError};
+use crate::mechanics::muscle::state::PennatedMotion;
+use crate::mechanics::muscle::{check_compliant_tendon, check_inputs, EquilibriumStatus, MuscleError, MuscleState};
 
 /// Newton steps of the damped velocity solve (`calcDampedNormFiberVelocity`).
 const MAX_VELOCITY_ITERATIONS: usize = 20;
@@ -79,24 +80,49 @@ impl Millard2012Muscle {
         fiber_length: f64,
         mt_length: f64,
     ) -> Result<f64, MuscleError> {
-        check_inputs(&self.name, activation, mt_length)?;
         check_compliant_tendon(&self.name, self.ignore_tendon_compliance)?;
-        if !(fiber_length > 0.0 && fiber_length.is_finite()) {
-            return Err(MuscleError::invalid_input(
-                &self.name,
-                "fiber length",
-                fiber_length,
-                "a positive length in m",
-            ));
-        }
-        let p = self.position(fiber_length.max(self.minimum_fiber_length), mt_length);
-        let v = self.norm_fiber_velocity(self.clamp_activation(activation), &p, mt_length)?;
-        let clamped =
-            fiber_length.max(self.minimum_fiber_length) <= self.minimum_fiber_length && v <= 0.0;
-        Ok(if clamped {
-            0.0
+        Ok(self.state(activation, fiber_length, mt_length, 0.0)?.fiber_velocity)
+    }
+
+    /// The muscle at activation `activation` ∈ [0, 1] (clamped) on a path of length
+    /// `mt_length` (m) lengthening at `lengthening_speed` (m/s), the fiber at its state
+    /// `fiber_length` (m, > 0; a rigid tendon's fiber follows the path instead), as OpenSim
+    /// reports it (`calcFiberVelocityInfo`, `calcMuscleDynamicsInfo`): a compliant fiber at the
+    /// velocity that balances the tendon, a rigid tendon's at the path's (at rest while the
+    /// tendon is slack). A fiber at its minimum length and not lengthening is held: at rest,
+    /// no fiber force.
+    pub fn state(&self, activation: f64, fiber_length: f64, mt_length: f64, lengthening_speed: f64) -> Result<MuscleState, MuscleError> {
+        check_inputs(&self.name, activation, mt_length)?;
+        let a = self.clamp_activation(activation);
+        let (p, norm_velocity) = if self.ignore_tendon_compliance {
+            let p = self.position(self.rigid_tendon_fiber_length(mt_length), mt_length);
+            let slack = p.tendon_length < self.tendon_slack_length - SIGNIFICANT_REAL;
+            let velocity = if slack { 0.0 } else { lengthening_speed * p.fiber.cos_alpha };
+            (p, velocity / (self.optimal_fiber_length * self.max_contraction_velocity))
         } else {
-            v * self.optimal_fiber_length * self.max_contraction_velocity
-        })
+            if !(fiber_length > 0.0 && fiber_length.is_finite()) {
+                return Err(MuscleError::invalid_input(&self.name, "fiber length", fiber_length, "a positive length in m"));
+            }
+            let p = self.position(fiber_length.max(self.minimum_fiber_length), mt_length);
+            (p, self.norm_fiber_velocity(a, &p, mt_length)?)
+        };
+        let mut report = self.report(a, mt_length, &p, norm_velocity, self.ignore_tendon_compliance);
+        let f = self.max_isometric_force;
+        if report.status == EquilibriumStatus::ClampedAtMinimumFiberLength {
+            return Ok(PennatedMotion::clamped(lengthening_speed).state(report, lengthening_speed, 0.0, 0.0));
+        }
+        if self.ignore_tendon_compliance && report.fiber_force < 0.0 {
+            // A rigid tendon cannot push: the damping takes up the rest (OpenSim's p2Fm).
+            report.passive_fiber_force = -report.active_fiber_force;
+            (report.fiber_force, report.fiber_force_along_tendon, report.tendon_force) = (0.0, 0.0, 0.0);
+        }
+        let elastic = f * p.fiber.fiber_force_length;
+        let damping = report.passive_fiber_force - elastic;
+        let velocity = report.normalized_fiber_velocity * self.optimal_fiber_length * self.max_contraction_velocity;
+        let mut motion = PennatedMotion::new(p.fiber.length, report.pennation_angle, velocity, lengthening_speed);
+        if self.ignore_tendon_compliance {
+            motion.tendon_velocity = 0.0;
+        }
+        Ok(motion.state(report, lengthening_speed, report.active_fiber_force + damping, elastic))
     }
 }

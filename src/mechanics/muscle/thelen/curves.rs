@@ -186,6 +186,7 @@ pub(super) mod tests {
             fv_linear_extrap_threshold: 0.95,
             maximum_pennation_angle: 0.1f64.acos(),
             default_activation: 0.05,
+            default_fiber_length: 0.1,
             minimum_activation: 0.01,
             activation_time_constant: 0.01,
             deactivation_time_constant: 0.04,

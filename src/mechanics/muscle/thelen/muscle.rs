@@ -24,8 +24,9 @@ use super::ThelenCurves;
 use crate::mechanics::muscle::pennation::SIGNIFICANT_REAL;
 use crate::mechanics::muscle::{
     bracketed_newton_from, check_inputs, BracketEnd, EquilibriumStatus, FiberEquilibrium, FixedWidthPennation,
-    MuscleError, Root, RootFailure,
+    MuscleError, MuscleState, Root, RootFailure,
 };
+use crate::mechanics::muscle::state::PennatedMotion;
 use crate::model::{MuscleSpec, ThelenSpec};
 
 /// The equilibrium solver stops when |r| ≤ this (N) …
@@ -211,49 +212,55 @@ impl Thelen2003Muscle {
 
     /// dL_m/dt in m/s, the fiber-length state derivative of OpenSim's forward simulation
     /// (`calcFiberVelocityInfo`), at activation `activation` ∈ [0, 1], fiber length
-    /// `fiber_length` (m, ≥ 0) and path length `mt_length` (m). Lengthening positive.
-    ///
-    /// The fiber develops the force the tendon carries, F = f_SE / cos α − f_PE (normalized),
-    /// and the velocity is Thelen's ṽ(F) · v_max · L_opt. Fiber lengths below the minimum are
-    /// evaluated at the minimum; there (state ≤ L_min) a shortening velocity is replaced by 0
-    /// (`isFiberStateClamped`). Independent of the path lengthening speed.
+    /// `fiber_length` (m, ≥ 0) and path length `mt_length` (m): [`Thelen2003Muscle::state`]'s.
+    /// Independent of the path lengthening speed.
     pub fn fiber_velocity(
         &self,
         activation: f64,
         fiber_length: f64,
         mt_length: f64,
     ) -> Result<f64, MuscleError> {
+        Ok(self.state(activation, fiber_length, mt_length, 0.0)?.fiber_velocity)
+    }
+
+    /// The muscle at activation `activation` ∈ [0, 1] (clamped), fiber-length state
+    /// `fiber_length` (m, ≥ 0) on a path of length `mt_length` (m) lengthening at
+    /// `lengthening_speed` (m/s), as OpenSim reports it (`calcFiberVelocityInfo`,
+    /// `calcMuscleDynamicsInfo`).
+    ///
+    /// The fiber develops the force the tendon carries, a f_L f_V = f_SE / cos α − f_PE
+    /// (normalized), and moves at Thelen's ṽ(a f_L f_V) · v_max · L_opt. Fiber lengths below the
+    /// minimum are evaluated at the minimum; there (state ≤ L_min) a shortening fiber is held
+    /// (`isFiberStateClamped`): at rest, no active or total fiber force, the passive force
+    /// still reported.
+    pub fn state(&self, activation: f64, fiber_length: f64, mt_length: f64, lengthening_speed: f64) -> Result<MuscleState, MuscleError> {
         check_inputs(&self.name, activation, mt_length)?;
         if !(fiber_length >= 0.0 && fiber_length.is_finite()) {
-            return Err(MuscleError::invalid_input(
-                &self.name,
-                "fiber length",
-                fiber_length,
-                "a non-negative length in m",
-            ));
+            return Err(MuscleError::invalid_input(&self.name, "fiber length", fiber_length, "a non-negative length in m"));
         }
         let a = self.clamp_activation(activation);
         let info = self.length_info(fiber_length, mt_length);
-        let force = info.tendon_force_length / info.cos_pennation_angle - info.passive_force_length;
-        let normalized = self
-            .curves
-            .normalized_fiber_velocity(a, info.active_force_length, force);
+        let active_force = info.tendon_force_length / info.cos_pennation_angle - info.passive_force_length;
+        let normalized = self.curves.normalized_fiber_velocity(a, info.active_force_length, active_force);
         if !normalized.is_finite() {
-            let reason = format!(
-                "the fiber velocity is not finite (active force–length multiplier {})",
-                info.active_force_length
-            );
-            return Err(MuscleError::Infeasible {
-                muscle: self.name.clone(),
-                activation,
-                mt_length,
-                reason,
-            });
+            let reason = format!("the fiber velocity is not finite (active force–length multiplier {})", info.active_force_length);
+            return Err(MuscleError::Infeasible { muscle: self.name.clone(), activation, mt_length, reason });
         }
+        let fmax = self.max_isometric_force;
         if fiber_length <= self.minimum_fiber_length() && normalized <= 0.0 {
-            return Ok(0.0);
+            let report = self.report(a, mt_length, &info, EquilibriumStatus::ClampedAtMinimumFiberLength);
+            return Ok(PennatedMotion::clamped(lengthening_speed).state(report, lengthening_speed, 0.0, report.passive_fiber_force));
         }
-        Ok(normalized * self.max_contraction_velocity * self.optimal_fiber_length)
+        let force_velocity = active_force / (a * info.active_force_length);
+        let mut report = self.report(a, mt_length, &info, EquilibriumStatus::Converged);
+        report.active_fiber_force = a * info.active_force_length * force_velocity * fmax;
+        report.fiber_force = (a * info.active_force_length * force_velocity + info.passive_force_length) * fmax;
+        report.fiber_force_along_tendon = report.fiber_force * info.cos_pennation_angle;
+        report.force_velocity_multiplier = force_velocity;
+        report.normalized_fiber_velocity = normalized;
+        let velocity = normalized * self.max_contraction_velocity * self.optimal_fiber_length;
+        let motion = PennatedMotion::new(info.fiber_length, info.pennation_angle, velocity, lengthening_speed);
+        Ok(motion.state(report, lengthening_speed, report.active_fiber_force, report.passive_fiber_force))
     }
 
     /// F_t (N) with the fiber at `fiber_length` (m, raised to the minimum) on a path of
