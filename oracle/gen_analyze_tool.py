@@ -16,8 +16,9 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
 * `points`: PointKinematics of a heel point, a shin point in the femur's frame (every second
   row) and an unnamed one with the defaults (ground's origin, `NONAME`), filtered at 6 Hz;
 * `muscle_states`: a MuscleAnalysis of listed muscles (sar_r and semiten_r start below their
-  minimum fiber length) and coordinates, ForceReporter, Actuation (every second row) and
-  StatesReporter, the muscles at their default states (Thelen), filtered at 6 Hz, 0.5–0.6 s;
+  minimum fiber length) and coordinates, ForceReporter, Actuation (every second row),
+  StatesReporter and Kinematics (with the accelerations those states give), the muscles at their
+  default states (Thelen), filtered at 6 Hz, 0.5–0.6 s;
 * `equilibrium`: the same with `solve_for_equilibrium_for_auxiliary_states`;
 * `millard`: the same analyses, equilibrated, on gait2392 with Millard muscles (models/);
 * `rajagopal`: the same, equilibrated, on the scaled Rajagopal2016 model of the scale zoo
@@ -28,8 +29,9 @@ Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names r
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
 the MomentArm tables of knee_angle_r, hip_flexion_r, lumbar_extension (which no muscle spans) and
 pelvis_tx (`all`), every MuscleAnalysis table (`listed` and the muscle-state cases), the q, u,
-position and velocity tables (the kinematics and points cases; not the accelerations, OpenSim's
-forward dynamics at default muscle states), every reporter table.
+u̇, position, velocity and acceleration tables (the kinematics and points cases; the
+accelerations are OpenSim's forward dynamics with the muscles at their default states), every
+reporter table.
 
     python3 oracle/gen_analyze_tool.py
 """
@@ -78,6 +80,7 @@ POINTS = """\t\t\t\t<PointKinematics name="heel"><on>true</on><body_name>calcn_r
 REPORTERS = """\t\t\t\t<ForceReporter name="ForceReporter"><on>true</on></ForceReporter>
 \t\t\t\t<Actuation name="Actuation"><on>true</on><step_interval>2</step_interval></Actuation>
 \t\t\t\t<StatesReporter name="StatesReporter"><on>true</on></StatesReporter>
+\t\t\t\t<Kinematics name="Kinematics"><on>true</on></Kinematics>
 """
 GAIT_MUSCLES = MUSCLES.format(step=1, muscles="sar_r semiten_r bifemsh_r glut_med1_r rect_fem_r vas_lat_r soleus_r med_gas_r",
                               coordinates="knee_angle_r ankle_angle_r hip_flexion_r") + REPORTERS
@@ -108,7 +111,7 @@ def kept(case, table):
         return table in KEPT
     if case == "listed" or case in STATE_CASES:
         return True
-    return table in ("q", "u", "pos_global", "vel_global", "vel_bodyLocal") or table.endswith(("_pos", "_vel"))
+    return table in ("q", "u", "dudt", "pos_global", "vel_global", "vel_bodyLocal", "acc_global", "acc_bodyLocal") or table.endswith(("_pos", "_vel", "_acc"))
 
 
 def setup_text(case):

@@ -1,11 +1,13 @@
 //! OpenSim's AnalyzeTool on a coordinates file: the states it hands its analyses (the
 //! coordinates filtered and splined as for static optimisation, each pose assembled, with the
-//! speeds; the muscles at their default or equilibrium states, [`super::muscle_states`]) and the
-//! tables its `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`,
-//! `ForceReporter`, `Actuation` and `StatesReporter` write, by file name.
+//! speeds; the muscles at their default or equilibrium states, [`super::muscle_states`]; the
+//! accelerations they give, [`super::analyze_accelerations`]) and the tables its
+//! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`,
+//! `Actuation` and `StatesReporter` write, by file name.
 
 use std::path::{Path, PathBuf};
 
+use super::analyze_accelerations::analyze_accelerations;
 use super::analyze_states::{AnalyzeStates, StatesError};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::muscle_analysis::MuscleAnalysis;
@@ -36,9 +38,6 @@ pub struct AnalyzeToolTables {
     /// What OpenSim warns about while forming the muscles' states (each once).
     pub warnings: Vec<String>,
 }
-
-/// Why the analyses' accelerations are not formed.
-const FORWARD_DYNAMICS: &str = "the model's forward dynamics at muscle states and controls a coordinates file does not give";
 
 /// The tables of `setup`'s MuscleAnalysis, Kinematics, BodyKinematics and PointKinematics on
 /// `table` (read from `file`) with the model `spec` (`geometry` its paths); `tool_name` prefixes
@@ -85,29 +84,43 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
         }
         (tables.unknown_muscles, tables.unknown_coordinates) = (selected.unknown_muscles, selected.unknown_coordinates);
     }
+    // The accelerations of a row set, or why they are not formed (noted once per analysis).
+    let accelerations = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| {
+        let formed = match (controls_ignored(spec, setup, true), &setup.external_loads_file) {
+            (Some(reason), _) => Err(reason),
+            (None, Some(loads)) => Err(format!("the external loads of {} would act, which osim-tune does not apply here", loads.written)),
+            (None, None) => muscles(states).map_err(|e| e.to_string()).and_then(|muscles| {
+                tables.warnings.extend(muscles.warnings.iter().cloned());
+                analyze_accelerations(spec, geometry, states, &muscles)
+            }),
+        };
+        formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
+    };
     if let Some(analysis) = &setup.kinematics {
         let states = states(analysis.step_interval)?;
-        let [q, u] = coordinate_tables(multibody, &states, analysis).map_err(in_setup)?;
-        add(&mut tables, &analysis.name, "q", q, &states);
-        add(&mut tables, &analysis.name, "u", u, &states);
-        tables.not_written.push(format!("Kinematics' accelerations (_dudt), {FORWARD_DYNAMICS}"));
+        let udot = accelerations(&states, &mut tables, "Kinematics' accelerations (_dudt)");
+        let formed = coordinate_tables(multibody, &states, analysis, udot.as_deref()).map_err(in_setup)?;
+        for (suffix, table) in ["q", "u", "dudt"].into_iter().zip(formed) {
+            add(&mut tables, &analysis.name, suffix, table, &states);
+        }
     }
     if let Some(analysis) = &setup.body_kinematics {
         let states = states(analysis.step_interval)?;
+        let udot = accelerations(&states, &mut tables, "BodyKinematics' accelerations (_acc_…)");
         let bodies: Vec<usize> = spec.bodies.iter().filter_map(|b| multibody.bodies.iter().position(|m| m.name == b.name)).collect();
-        let [positions, velocities] = body_tables(multibody, &bodies, &states, analysis).map_err(in_setup)?;
-        add(&mut tables, &analysis.name, "pos_global", positions, &states);
-        add(&mut tables, &analysis.name, if analysis.express_in_local_frame { "vel_bodyLocal" } else { "vel_global" }, velocities, &states);
-        tables.not_written.push(format!("BodyKinematics' accelerations (_acc_…), {FORWARD_DYNAMICS}"));
+        let formed = body_tables(multibody, &bodies, &states, analysis, udot.as_deref()).map_err(in_setup)?;
+        let frame = if analysis.express_in_local_frame { "bodyLocal" } else { "global" };
+        for (suffix, table) in ["pos_global".to_string(), format!("vel_{frame}"), format!("acc_{frame}")].into_iter().zip(formed) {
+            add(&mut tables, &analysis.name, &suffix, table, &states);
+        }
     }
     for analysis in &setup.point_kinematics {
         let states = states(analysis.step_interval)?;
-        let [positions, velocities] = point_tables(multibody, &states, analysis).map_err(in_setup)?;
-        add(&mut tables, &analysis.name, &format!("{}_pos", analysis.point_name), positions, &states);
-        add(&mut tables, &analysis.name, &format!("{}_vel", analysis.point_name), velocities, &states);
-    }
-    if !setup.point_kinematics.is_empty() {
-        tables.not_written.push(format!("PointKinematics' accelerations (_acc), {FORWARD_DYNAMICS}"));
+        let udot = accelerations(&states, &mut tables, &format!("PointKinematics {}'s accelerations (_acc)", analysis.point_name));
+        let formed = point_tables(multibody, &states, analysis, udot.as_deref()).map_err(in_setup)?;
+        for (suffix, table) in ["pos", "vel", "acc"].into_iter().zip(formed) {
+            add(&mut tables, &analysis.name, &format!("{}_{suffix}", analysis.point_name), table, &states);
+        }
     }
     let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter")];
     for (analysis, class) in reporters.into_iter().filter_map(|(a, class)| a.as_ref().map(|a| (a, class))) {

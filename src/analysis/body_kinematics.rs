@@ -2,9 +2,9 @@
 //! states: coordinate values and speeds (`_q`, `_u`); each body's mass center and orientation
 //! (body-fixed X-Y-Z angles) with their velocities (`_pos_global`, `_vel_global` or
 //! `_vel_bodyLocal`), the whole model's mass center last; a point's position and velocity in
-//! ground or another body's frame (`_<point>_pos`, `_vel`). Their accelerations (`_dudt`,
-//! `_acc_…`) are the model's forward dynamics at states a coordinates file does not give (muscle
-//! states, controls) and are not formed.
+//! ground or another body's frame (`_<point>_pos`, `_vel`); and, given the accelerations the
+//! AnalyzeTool realizes ([`super::analyze_accelerations`]), theirs (`_dudt`, `_acc_global` or
+//! `_acc_bodyLocal`, `_acc`).
 
 use super::analyze_tool::AnalyzeToolMotion;
 use super::storage;
@@ -26,9 +26,9 @@ pub enum KinematicsError {
     Table(#[from] TableError),
 }
 
-/// `Kinematics`' `q` and `u` tables (rotational values in degrees when `in_degrees`, as OpenSim
-/// converts only rotational coordinates).
-pub fn coordinate_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &KinematicsSetup) -> Result<[StorageTable; 2], KinematicsError> {
+/// `Kinematics`' `q`, `u` and, with `accelerations` (u̇ per row), `dudt` tables (rotational values
+/// in degrees when `in_degrees`, as OpenSim converts only rotational coordinates).
+pub fn coordinate_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &KinematicsSetup, accelerations: Option<&[Vec<f64>]>) -> Result<Vec<StorageTable>, KinematicsError> {
     let coordinates: Vec<usize> = if setup.coordinates.iter().any(|c| c == "all") {
         (0..multibody.coordinates.len()).collect()
     } else {
@@ -42,37 +42,46 @@ pub fn coordinate_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setu
         storage(name, labels.clone(), values).map(|t| t.with_in_degrees(setup.in_degrees))
     };
     let poses = (0..states.motion.len()).map(|k| states.motion.pose(k)).collect();
-    Ok([table("Coordinates", poses)?, table("Speeds", states.speeds.iter().map(Vec::as_slice).collect())?])
+    let mut tables = vec![table("Coordinates", poses)?, table("Speeds", states.speeds.iter().map(Vec::as_slice).collect())?];
+    if let Some(accelerations) = accelerations {
+        tables.push(table("Accelerations", accelerations.iter().map(Vec::as_slice).collect())?);
+    }
+    Ok(tables)
 }
 
-/// `BodyKinematics`' positions and velocities tables for `bodies` (the model's bodies in its
-/// BodySet order, as `Multibody::bodies` indices).
-pub fn body_tables(multibody: &Multibody, bodies: &[usize], states: &AnalyzeToolMotion, setup: &BodyKinematicsSetup) -> Result<[StorageTable; 2], KinematicsError> {
+/// `BodyKinematics`' positions, velocities and, with `accelerations` (u̇ per row), accelerations
+/// tables for `bodies` (the model's bodies in its BodySet order, as `Multibody::bodies` indices).
+pub fn body_tables(multibody: &Multibody, bodies: &[usize], states: &AnalyzeToolMotion, setup: &BodyKinematicsSetup, accelerations: Option<&[Vec<f64>]>) -> Result<Vec<StorageTable>, KinematicsError> {
     let (recorded, whole) = recorded_bodies(multibody, bodies, setup)?;
     let angle = if setup.in_degrees { 1f64.to_degrees() } else { 1.0 };
     let total_mass: f64 = bodies.iter().map(|&b| multibody.bodies[b].mass).sum();
-    let width = 6 * recorded.len() + if whole { 3 } else { 0 };
-    let (mut positions, mut velocities) = (Vec::with_capacity(states.motion.len() * (width + 1)), Vec::with_capacity(states.motion.len() * (width + 1)));
+    let mut rows = [Vec::new(), Vec::new(), Vec::new()];
     let zeros = vec![0.0; multibody.coordinates.len()];
     for (k, &time) in states.motion.times.iter().enumerate() {
-        let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot: &zeros });
+        let udot = accelerations.map_or(zeros.as_slice(), |a| &a[k]);
+        let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot });
         let center = |b: usize| motions[b].transform.apply(&multibody.bodies[b].mass_center);
         let center_velocity = |b: usize| motions[b].point_velocity(&multibody.bodies[b].mass_center);
-        positions.push(time);
-        velocities.push(time);
+        let center_acceleration = |b: usize| motions[b].point_acceleration(&multibody.bodies[b].mass_center);
+        let [positions, velocities, accelerations] = &mut rows;
+        for row in [&mut *positions, &mut *velocities, &mut *accelerations] {
+            row.push(time);
+        }
         for &b in &recorded {
             let rotation = motions[b].transform.rotation;
             positions.extend(center(b).iter());
             positions.extend(body_fixed_xyz_angles(&rotation).map(|a| a * angle));
-            let (velocity, spin) = (center_velocity(b), motions[b].angular_velocity());
-            let [velocity, spin] = if setup.express_in_local_frame { [rotation.transpose() * velocity, rotation.transpose() * spin] } else { [velocity, spin] };
-            velocities.extend(velocity.iter());
-            velocities.extend(spin.iter().map(|w| w * angle));
+            let local = |v: Vec3| if setup.express_in_local_frame { rotation.transpose() * v } else { v };
+            velocities.extend(local(center_velocity(b)).iter());
+            velocities.extend(local(motions[b].angular_velocity()).iter().map(|w| w * angle));
+            accelerations.extend(local(center_acceleration(b)).iter());
+            accelerations.extend(local(motions[b].angular_acceleration()).iter().map(|w| w * angle));
         }
         if whole {
             let weighted = |f: &dyn Fn(usize) -> Vec3| bodies.iter().map(|&b| multibody.bodies[b].mass * f(b)).sum::<Vec3>() / total_mass;
             positions.extend(weighted(&center).iter());
             velocities.extend(weighted(&center_velocity).iter());
+            accelerations.extend(weighted(&center_acceleration).iter());
         }
     }
     let mut labels = vec!["time".to_string()];
@@ -82,8 +91,9 @@ pub fn body_tables(multibody: &Multibody, bodies: &[usize], states: &AnalyzeTool
     if whole {
         labels.extend(["X", "Y", "Z"].map(|axis| format!("{CENTER_OF_MASS}_{axis}")));
     }
-    let table = |name: &str, values| storage(name, labels.clone(), values).map(|t| t.with_in_degrees(setup.in_degrees));
-    Ok([table("Positions", positions)?, table("Velocities", velocities)?])
+    let names = ["Positions", "Velocities", "Accelerations"];
+    let formed = if accelerations.is_some() { 3 } else { 2 };
+    rows.into_iter().zip(names).take(formed).map(|(values, name)| Ok(storage(name, labels.clone(), values)?.with_in_degrees(setup.in_degrees))).collect()
 }
 
 /// The bodies `setup` records and whether the whole model's mass center is recorded: `all` is
@@ -100,29 +110,31 @@ fn recorded_bodies(multibody: &Multibody, bodies: &[usize], setup: &BodyKinemati
     Ok((recorded, whole))
 }
 
-/// `PointKinematics`' position and velocity tables: the point fixed in its body, located in ground
-/// — or in the `relative_to` body's frame, where its velocity in ground is re-expressed (not made
-/// relative), as OpenSim records them — with OpenSim's labels `state_0` … `state_2`.
-pub fn point_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &PointKinematicsSetup) -> Result<[StorageTable; 2], KinematicsError> {
+/// `PointKinematics`' position, velocity and, with `accelerations` (u̇ per row), acceleration
+/// tables: the point fixed in its body, located in ground — or in the `relative_to` body's frame,
+/// where its velocity and acceleration in ground are re-expressed (not made relative), as OpenSim
+/// records them — with OpenSim's labels `state_0` … `state_2`.
+pub fn point_tables(multibody: &Multibody, states: &AnalyzeToolMotion, setup: &PointKinematicsSetup, accelerations: Option<&[Vec<f64>]>) -> Result<Vec<StorageTable>, KinematicsError> {
     let body_index = |name: &str| multibody.bodies.iter().position(|b| b.name == name).ok_or_else(|| KinematicsError::Unknown { class: "PointKinematics", what: "body", name: name.to_string() });
     let body = body_index(&setup.body)?;
     let relative_to = setup.relative_to.as_deref().map(body_index).transpose()?;
     let point = Vec3::from(setup.point);
     let zeros = vec![0.0; multibody.coordinates.len()];
-    let (mut positions, mut velocities) = (Vec::new(), Vec::new());
+    let mut rows = [Vec::new(), Vec::new(), Vec::new()];
     for (k, &time) in states.motion.times.iter().enumerate() {
-        let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot: &zeros });
-        let mut position = motions[body].transform.apply(&point);
-        let mut velocity = motions[body].point_velocity(&point);
+        let udot = accelerations.map_or(zeros.as_slice(), |a| &a[k]);
+        let motions = multibody.body_motions(&MotionState { q: states.motion.pose(k), u: &states.speeds[k], udot });
+        let mut values = [motions[body].transform.apply(&point), motions[body].point_velocity(&point), motions[body].point_acceleration(&point)];
         if let Some(frame) = relative_to.map(|r| motions[r].transform) {
-            position = frame.rotation.transpose() * (position - frame.translation);
-            velocity = frame.rotation.transpose() * velocity;
+            values[0] -= frame.translation;
+            values = values.map(|v| frame.rotation.transpose() * v);
         }
-        positions.push(time);
-        positions.extend(position.iter());
-        velocities.push(time);
-        velocities.extend(velocity.iter());
+        for (row, value) in rows.iter_mut().zip(values) {
+            row.push(time);
+            row.extend(value.iter());
+        }
     }
     let labels: Vec<String> = ["time", "state_0", "state_1", "state_2"].map(String::from).to_vec();
-    Ok([storage("PointPosition", labels.clone(), positions)?, storage("PointVelocity", labels, velocities)?])
+    let formed = if accelerations.is_some() { 3 } else { 2 };
+    rows.into_iter().zip(["PointPosition", "PointVelocity", "PointAcceleration"]).take(formed).map(|(values, name)| Ok(storage(name, labels.clone(), values)?)).collect()
 }
