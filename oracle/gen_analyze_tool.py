@@ -23,7 +23,11 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
 * `millard`: the same analyses, equilibrated, on gait2392 with Millard muscles (models/);
 * `rajagopal`: the same, equilibrated, on the scaled Rajagopal2016 model of the scale zoo
   (Millard muscles with rigid and compliant tendons and fiber damping, CoordinateActuators,
-  coupler constraints; its knee's range clamps the walk's negative knee angles).
+  coupler constraints; its knee's range clamps the walk's negative knee angles);
+* `loads`: subject01's walk with its ground reaction forces (`external_loads_file`) and the
+  residual and reserve actuators of its static optimisation (`force_set_files`: point, torque
+  and coordinate actuators), equilibrated: ForceReporter, Actuation, Kinematics, BodyKinematics
+  (pelvis, calcn_r, the whole model's mass center) and a heel point's PointKinematics.
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
@@ -44,10 +48,13 @@ from tool_run import run_in
 
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "analyze_tool"
-MODELS = {
+INPUTS = {
     "subject01_simbody.osim": REPO / "fixtures" / "golden" / "scale" / "subject01_simbody.osim",
     "gait2392_millard2012muscle.osim": REPO / "models" / "gait2392_millard2012muscle.osim",
     "Rajagopal2016_scaled.osim": REPO / "fixtures" / "golden" / "scale_zoo" / "Rajagopal2016_scaled.osim",
+    "gait2392_SO_Residual_Actuators.xml": REPO / "fixtures" / "subject01" / "gait2392_SO_Residual_Actuators.xml",
+    "subject01_walk1_grf.xml": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.xml",
+    "subject01_walk1_grf.mot": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.mot",
 }
 MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
 KEPT = ["Length", "MomentArm_knee_angle_r", "MomentArm_hip_flexion_r", "MomentArm_lumbar_extension", "MomentArm_pelvis_tx"]
@@ -86,6 +93,12 @@ GAIT_MUSCLES = MUSCLES.format(step=1, muscles="sar_r semiten_r bifemsh_r glut_me
                               coordinates="knee_angle_r ankle_angle_r hip_flexion_r") + REPORTERS
 RAJAGOPAL_MUSCLES = MUSCLES.format(step=1, muscles="bflh_r semiten_r recfem_r vasint_r soleus_r gaslat_r tibpost_r sart_r bfsh_r",
                                    coordinates="knee_angle_r ankle_angle_r") + REPORTERS
+LOADED = """\t\t\t\t<ForceReporter name="ForceReporter"><on>true</on></ForceReporter>
+\t\t\t\t<Actuation name="Actuation"><on>true</on></Actuation>
+\t\t\t\t<Kinematics name="Kinematics"><on>true</on></Kinematics>
+\t\t\t\t<BodyKinematics name="BodyKinematics"><on>true</on><bodies> pelvis calcn_r center_of_mass</bodies></BodyKinematics>
+\t\t\t\t<PointKinematics name="heel"><on>true</on><body_name>calcn_r</body_name><point>0.01 0.02 -0.03</point><point_name>heel_r</point_name></PointKinematics>
+"""
 CASES = {
     "all": dict(range=(0.5, 0.6), cutoff=6, analyses=MUSCLES.format(step=1, muscles="all", coordinates="all")),
     "listed": dict(range=(0.5, 0.7), cutoff=-1, analyses=MUSCLES.format(step=2, muscles="vas_lat_r rect_fem_r no_such_muscle bifemlh_r",
@@ -99,10 +112,13 @@ CASES = {
     "equilibrium": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, analyses=GAIT_MUSCLES),
     "millard": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, model="gait2392_millard2012muscle.osim", analyses=GAIT_MUSCLES),
     "rajagopal": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, model="Rajagopal2016_scaled.osim", analyses=RAJAGOPAL_MUSCLES),
+    "loads": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, analyses=LOADED,
+                  extra="\t\t<force_set_files> gait2392_SO_Residual_Actuators.xml</force_set_files>\n\t\t<replace_force_set>false</replace_force_set>\n"
+                        "\t\t<external_loads_file>subject01_walk1_grf.xml</external_loads_file>\n"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads")
 
 
 def kept(case, table):
@@ -124,7 +140,7 @@ def setup_text(case):
 \t\t<results_directory>Results</results_directory>
 \t\t<initial_time>{c['range'][0]}</initial_time>
 \t\t<final_time>{c['range'][1]}</final_time>
-{equilibrium}\t\t<AnalysisSet name="Analyses">
+{equilibrium}{c.get('extra', '')}\t\t<AnalysisSet name="Analyses">
 \t\t\t<objects>
 {c['analyses']}\t\t\t</objects>
 \t\t</AnalysisSet>
@@ -143,8 +159,8 @@ def main():
         (out / "setup.xml").write_text(setup_text(case))
         with tempfile.TemporaryDirectory() as work:
             work = Path(work)
-            model = CASES[case].get("model", "subject01_simbody.osim")
-            shutil.copy(MODELS[model], work / model)
+            for name, source in INPUTS.items():
+                shutil.copy(source, work / name)
             shutil.copy(MOTION, work / "subject01_walk1_ik.mot")
             shutil.copy(out / "setup.xml", work / "setup.xml")
             run_in(work, osim.AnalyzeTool, "setup.xml")

@@ -11,7 +11,7 @@ use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::xml::Document;
 use osim_tune::io::table::StorageTable;
 use osim_tune::tuning::scale::read_marker_set;
-use osim_tune::validation::{compare_scaled_models, row_errors, row_tolerance, ANALYZE_TOOL_CASES, ANALYZE_TOOL_MODELS, SCALED_MODEL_TOLERANCE};
+use osim_tune::validation::{compare_scaled_models, row_errors, row_tolerance, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, SCALED_MODEL_TOLERANCE};
 
 fn s(path: &Path) -> &str {
     path.to_str().unwrap()
@@ -220,7 +220,8 @@ const ANALYZE_SETUP: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
 /// BodyKinematics of every coordinate and body filtered at 6 Hz, and of listed ones (in radians,
 /// velocities in the bodies' frames, the analyses named otherwise) every second row;
 /// PointKinematics; MuscleAnalysis, ForceReporter, Actuation and StatesReporter with the muscles at
-/// their default states and equilibrated, on gait2392 (Thelen, Millard) and Rajagopal2016. We
+/// their default states and equilibrated, on gait2392 (Thelen, Millard) and Rajagopal2016; the
+/// walk with its ground reactions and the residual and reserve actuators of a force set. We
 /// write exactly OpenSim 4.6's files — the accelerations too, the model's forward dynamics at
 /// those states —, with its rows, columns and values to 2e-8 (m, °, rad, N, W up to 1000;
 /// relative beyond; accelerations relative to the row's largest; printed to 1e-8: `row_errors`)
@@ -233,8 +234,8 @@ fn analyze_tool_setups_give_opensims_tables() {
         let dir = folder.path();
         let golden = format!("golden/analyze_tool/{case}");
         copy_into(dir, &[(&format!("{golden}/setup.xml"), "setup.xml"), ("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot")]);
-        for (model, source) in ANALYZE_TOOL_MODELS {
-            std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join(source), dir.join(model)).unwrap();
+        for (name, source) in ANALYZE_TOOL_INPUTS {
+            std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join(source), dir.join(name)).unwrap();
         }
         let (code, stdout, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
         assert_eq!(code, 0, "{case}: {stderr}");

@@ -12,12 +12,14 @@ use super::analyze_states::{AnalyzeStates, StatesError};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::muscle_analysis::MuscleAnalysis;
 use super::muscle_state_tables::muscle_state_tables;
-use super::muscle_states::{muscle_states, MuscleStates};
-use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, ReporterError};
+use super::muscle_states::muscle_states;
+use super::external_loads::ExternalLoads;
+use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, AppliedAt, ReporterError};
+use super::static_optimization::generators;
 use super::signal::{frames_in_range, NoFramesInRange};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Motion, Multibody, MuscleGeometry};
-use crate::model::ModelSpec;
+use crate::model::{ActuatorSpec, ModelSpec};
 use crate::setup::{AnalyzeSetup, ReporterSetup};
 use crate::solvers::{assemble, IkError};
 
@@ -39,14 +41,31 @@ pub struct AnalyzeToolTables {
     pub warnings: Vec<String>,
 }
 
-/// The tables of `setup`'s MuscleAnalysis, Kinematics, BodyKinematics and PointKinematics on
-/// `table` (read from `file`) with the model `spec` (`geometry` its paths); `tool_name` prefixes
-/// the file names.
-pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &StorageTable, file: &Path, setup: &AnalyzeSetup, tool_name: &str) -> Result<AnalyzeToolTables, AnalyzeToolError> {
+/// The model an AnalyzeTool setup analyses: the model (`geometry` its paths), the actuators of
+/// its `force_set_files` (`added`, replacing the model's forces when `replace`) and its external
+/// loads.
+#[derive(Debug, Clone, Copy)]
+pub struct AnalyzeModel<'a> {
+    pub spec: &'a ModelSpec,
+    pub geometry: &'a MuscleGeometry,
+    pub added: &'a [ActuatorSpec],
+    pub replace: bool,
+    pub external: Option<&'a ExternalLoads>,
+}
+
+/// The tables of `setup`'s analyses (see the module documentation) on `table` (read from
+/// `file`) with `model`; `tool_name` prefixes the file names.
+pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Path, setup: &AnalyzeSetup, tool_name: &str) -> Result<AnalyzeToolTables, AnalyzeToolError> {
     if !setup.has_analyze_tables() {
         return Err(AnalyzeToolError::NothingToRun { file: setup.file.clone() });
     }
+    let &AnalyzeModel { spec, geometry, external, .. } = model;
     let multibody = &geometry.multibody;
+    // The forces the model applies, or why they cannot be applied here.
+    let generators = match controls_ignored(spec, setup, true) {
+        Some(reason) => Err(reason),
+        None => generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
+    };
     let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
     // Filtered and splined once; each analysis takes its rows and assembles them.
     let all_states = AnalyzeStates::new(multibody, table, file, cutoff)?;
@@ -62,7 +81,9 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
         tables.held_at_zero.clone_from(&states.motion.defaulted);
     };
     let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, &states.motion, &states.speeds, setup.solve_for_equilibrium_for_auxiliary_states);
-    if let Some(analysis) = &setup.muscle_analysis {
+    if let (Some(analysis), true) = (&setup.muscle_analysis, model.replace) {
+        tables.not_written.push(format!("{}: replace_force_set replaces the model's muscles by the force-set files' actuators, so OpenSim's MuscleAnalysis has no muscles", analysis.name));
+    } else if let Some(analysis) = &setup.muscle_analysis {
         let states = states(analysis.step_interval)?;
         let selected = MuscleAnalysis::run(geometry, &states.motion)?.setup_tables(multibody, analysis)?;
         let arms: Vec<&StorageTable> = selected.tables.iter().filter(|t| t.name().starts_with("MomentArm_")).collect();
@@ -86,14 +107,12 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
     }
     // The accelerations of a row set, or why they are not formed (noted once per analysis).
     let accelerations = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| {
-        let formed = match (controls_ignored(spec, setup, true), &setup.external_loads_file) {
-            (Some(reason), _) => Err(reason),
-            (None, Some(loads)) => Err(format!("the external loads of {} would act, which osim-tune does not apply here", loads.written)),
-            (None, None) => muscles(states).map_err(|e| e.to_string()).and_then(|muscles| {
-                tables.warnings.extend(muscles.warnings.iter().cloned());
-                analyze_accelerations(spec, geometry, states, &muscles)
-            }),
-        };
+        let formed = generators.clone().and_then(|generators| {
+            let muscles = muscles(states).map_err(|e| e.to_string())?;
+            tables.warnings.extend(muscles.warnings.iter().cloned());
+            let at = AppliedAt { multibody, generators: &generators, external, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
+            analyze_accelerations(geometry, &at)
+        });
         formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
     };
     if let Some(analysis) = &setup.kinematics {
@@ -127,7 +146,12 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
         let states = states(analysis.step_interval)?;
         let formed = muscles(&states).map_err(|e| ReporterError::NotFormed(e.to_string())).and_then(|muscles| {
             tables.warnings.extend(muscles.warnings.iter().cloned());
-            reporter_tables(spec, multibody, setup, analysis, class, &muscles, &states)
+            if class == "StatesReporter" {
+                return Ok(vec![("states", states_reporter_table(spec, multibody, &muscles, &states.motion, &states.speeds)?)]);
+            }
+            let generators = generators.clone().map_err(ReporterError::NotFormed)?;
+            let at = AppliedAt { multibody, generators: &generators, external, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
+            reporter_tables(spec, analysis, class, &at)
         });
         match formed {
             Ok(formed) => formed.into_iter().for_each(|(suffix, t)| add(&mut tables, &analysis.name, suffix, t, &states)),
@@ -140,27 +164,16 @@ pub fn analyze_tool_tables(spec: &ModelSpec, geometry: &MuscleGeometry, table: &
     Ok(tables)
 }
 
-/// The tables of reporter `class` (`ForceReporter`, `Actuation` or `StatesReporter`) with their
-/// file name suffixes.
-fn reporter_tables(spec: &ModelSpec, multibody: &Multibody, setup: &AnalyzeSetup, analysis: &ReporterSetup, class: &str, muscles: &MuscleStates, states: &AnalyzeToolMotion) -> Result<Vec<(&'static str, StorageTable)>, ReporterError> {
-    let (motion, speeds) = (&states.motion, &states.speeds);
-    if class == "StatesReporter" {
-        return Ok(vec![("states", states_reporter_table(spec, multibody, muscles, motion, speeds)?)]);
-    }
-    if let Some(reason) = controls_ignored(spec, setup, true) {
-        return Err(ReporterError::NotFormed(reason));
-    }
+/// The tables of reporter `class` (`ForceReporter` or `Actuation`) with their file name suffixes.
+fn reporter_tables(spec: &ModelSpec, analysis: &ReporterSetup, class: &str, at: &AppliedAt) -> Result<Vec<(&'static str, StorageTable)>, ReporterError> {
     if class == "Actuation" {
-        let [force, speed, power] = actuation_tables(spec, multibody, muscles, motion, speeds)?;
+        let [force, speed, power] = actuation_tables(at)?;
         return Ok(vec![("force", force), ("speed", speed), ("power", power)]);
-    }
-    if let Some(loads) = &setup.external_loads_file {
-        return Err(ReporterError::NotFormed(format!("the external loads of {} would be reported too, which osim-tune does not apply here", loads.written)));
     }
     if analysis.include_constraint_forces && !spec.constraints.is_empty() {
         return Err(ReporterError::NotFormed("include_constraint_forces: the constraints' forces need the model's dynamics".into()));
     }
-    Ok(vec![("forces", force_reporter_table(spec, multibody, muscles, &motion.times)?)])
+    Ok(vec![("forces", force_reporter_table(at)?)])
 }
 
 /// Why a force table would not be OpenSim's: the setup's controls file (not read here) drives

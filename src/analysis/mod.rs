@@ -34,7 +34,7 @@ pub use forward::{
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, JointReactionError, JointReactionResult, JointReactionSettings, ReactionProblem, ReactionReport, ReactionSide};
-pub use analyze_tool::{analyze_tool_tables, AnalyzeToolError, AnalyzeToolTables};
+pub use analyze_tool::{analyze_tool_tables, AnalyzeModel, AnalyzeToolError, AnalyzeToolTables};
 pub use muscle_analysis::{MuscleAnalysis, SetupTables};
 pub use physiological_inverse::{physiological_inverse, Contraction, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings, MAX_LINEARISATIONS, SETTLED_STEP, SETTLED_VIOLATION};
 pub use signal::{spline, Series, SignalError};

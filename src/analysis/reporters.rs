@@ -1,83 +1,111 @@
 //! OpenSim's `ForceReporter`, `Actuation` and `StatesReporter` on the states an AnalyzeTool forms
 //! from a coordinates file: muscles at their [`MuscleStates`], other actuators at zero control
-//! (no controls file), every coordinate's value and speed.
+//! (no controls file), the external loads as their `ExternalForce`s record them, every
+//! coordinate's value and speed.
 
+use super::external_loads::ExternalLoads;
 use super::muscle_states::MuscleStates;
+use super::static_optimization::Generator;
 use super::storage;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{Motion, Multibody};
-use crate::model::{ActuatorKind, ModelSpec};
+use crate::mechanics::{Kinematics, Motion, MotionState, Multibody};
+use crate::model::ModelSpec;
 
 /// Why a reporter's table is not formed.
 #[derive(Debug, thiserror::Error)]
 pub enum ReporterError {
-    /// A force it has no value for (the table is left out, with a note).
-    #[error("{reporter}'s table, as {force} ({class}) {reason}")]
-    NotReported { reporter: &'static str, force: String, class: String, reason: &'static str },
-    /// The states or settings it needs are not formed here (why).
+    /// The states, forces or settings it needs are not formed here (why).
     #[error("{0}")]
     NotFormed(String),
     #[error(transparent)]
     Table(#[from] TableError),
 }
 
-/// One force a reporter records, by what it reports.
-enum Recorded {
-    /// Muscle k of the states.
-    Muscle(usize),
-    /// A scalar actuator at zero control; for a `CoordinateActuator`, its coordinate's index.
-    IdleActuator(Option<usize>),
+/// The force generators (the model's muscles and actuators that apply force, ForceSet order, then
+/// those of the setup's force-set files) with the external loads, at the AnalyzeTool's rows.
+#[derive(Debug, Clone, Copy)]
+pub struct AppliedAt<'a> {
+    pub multibody: &'a Multibody,
+    pub generators: &'a [Generator],
+    pub external: Option<&'a ExternalLoads>,
+    pub muscles: &'a MuscleStates,
+    pub motion: &'a Motion,
+    /// Speeds per row (rad/s or m/s, [`Multibody::coordinates`] order).
+    pub speeds: &'a [Vec<f64>],
 }
 
-/// The forces that apply force, in ForceSet order, each with its record.
-fn recorded(spec: &ModelSpec, multibody: &Multibody, states: &MuscleStates, reporter: &'static str) -> Result<Vec<(String, Recorded)>, ReporterError> {
-    let mut forces = Vec::new();
-    for force in spec.forces.iter().filter(|f| f.applies_force) {
-        let not_reported = |reason| ReporterError::NotReported { reporter, force: force.name.clone(), class: force.class.clone(), reason };
-        let record = if let Some(k) = states.muscles.iter().position(|(_, name)| *name == force.name) {
-            Recorded::Muscle(k)
-        } else if let Some(actuator) = spec.actuators.iter().find(|a| a.name == force.name) {
-            Recorded::IdleActuator(match &actuator.kind {
-                ActuatorKind::Coordinate { coordinate } => multibody.coordinates.iter().position(|c| &c.name == coordinate),
-                _ => None,
+impl AppliedAt<'_> {
+    /// Each generator's force at `row` (N or N·m): a muscle's tendon force at its state (NaN
+    /// where it was not evaluated), an actuator's actuation at zero control.
+    pub(super) fn forces(&self, row: usize) -> Vec<f64> {
+        let muscle = |name: &str| self.muscles.muscles.iter().position(|(_, m)| m == name);
+        self.generators
+            .iter()
+            .map(|g| match (g.muscle_path(), muscle(&g.name)) {
+                (Some(_), Some(k)) => self.muscles.states[row][k].map_or(f64::NAN, |s| s.report.tendon_force),
+                (Some(_), None) => f64::NAN,
+                (None, _) => 0.0,
             })
-        } else {
-            return Err(not_reported("has no force evaluated here"));
-        };
-        forces.push((force.name.clone(), record));
+            .collect()
     }
-    Ok(forces)
+
+    /// The body poses of `row`.
+    fn kinematics(&self, row: usize, kinematics: &mut Kinematics) {
+        self.multibody.realize(self.motion.pose(row), kinematics);
+    }
+
+    /// `time` and then each generator's name.
+    fn labels(&self) -> Vec<String> {
+        std::iter::once("time".to_string()).chain(self.generators.iter().map(|g| g.name.clone())).collect()
+    }
 }
 
-/// `ForceReporter`'s `forces` table: each force's tension or actuation (N or N·m) at `times`.
-pub fn force_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &MuscleStates, times: &[f64]) -> Result<StorageTable, ReporterError> {
-    let forces = recorded(spec, multibody, states, "ForceReporter")?;
-    let labels = std::iter::once("time".to_string()).chain(forces.iter().map(|(n, _)| n.clone())).collect();
-    let values = rows(times, |row| forces.iter().map(|(_, r)| force(states, row, r)).collect());
-    Ok(storage("ModelForces", labels, values)?)
+/// `ForceReporter`'s `forces` table: each generator's tension or actuation (N or N·m), then the
+/// external forces' records (force and torque in ground, point in its body).
+pub fn force_reporter_table(at: &AppliedAt) -> Result<StorageTable, TableError> {
+    let mut labels = at.labels();
+    labels.extend(at.external.map(ExternalLoads::record_labels).unwrap_or_default());
+    let mut kinematics = at.multibody.kinematics();
+    let values = rows(&at.motion.times, |row| {
+        let mut values = at.forces(row);
+        if let Some(external) = at.external {
+            at.kinematics(row, &mut kinematics);
+            values.extend(external.record_values(at.motion.times[row], &kinematics));
+        }
+        values
+    });
+    storage("ModelForces", labels, values)
 }
 
-/// `Actuation`'s `force`, `speed` and `power` tables of the actuators (muscles and
-/// `CoordinateActuator`s; speed m/s or rad/s, power W = −F·v for a muscle, F·v otherwise) at the
-/// rows of `motion` with `speeds`.
-pub fn actuation_tables(spec: &ModelSpec, multibody: &Multibody, states: &MuscleStates, motion: &Motion, speeds: &[Vec<f64>]) -> Result<[StorageTable; 3], ReporterError> {
-    let actuators = recorded(spec, multibody, states, "Actuation")?;
-    if let Some((name, _)) = actuators.iter().find(|(_, r)| matches!(r, Recorded::IdleActuator(None))) {
-        let actuator = spec.actuators.iter().find(|a| &a.name == name).map_or(String::new(), |a| a.class.clone());
-        return Err(ReporterError::NotReported { reporter: "Actuation", force: name.clone(), class: actuator, reason: "has no speed evaluated here" });
+/// `Actuation`'s `force`, `speed` and `power` tables of the generators: force as
+/// [`force_reporter_table`], speed a muscle's path lengthening speed or an actuator's `getSpeed`
+/// (m/s or rad/s, OpenSim's quirks kept: [`crate::mechanics::Actuator::speed`]), power W = −F·v for a muscle (power it delivers), F·v for an actuator.
+pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError> {
+    let mut rows_of = [Vec::new(), Vec::new(), Vec::new()];
+    let zeros = vec![0.0; at.multibody.coordinates.len()];
+    for (row, &time) in at.motion.times.iter().enumerate() {
+        let motions = at.multibody.body_motions(&MotionState { q: at.motion.pose(row), u: &at.speeds[row], udot: &zeros });
+        let forces = at.forces(row);
+        let speeds: Vec<f64> = at
+            .generators
+            .iter()
+            .map(|g| {
+                g.actuator_speed(&motions, &at.speeds[row]).unwrap_or_else(|| {
+                    let k = at.muscles.muscles.iter().position(|(_, m)| *m == g.name);
+                    k.and_then(|k| at.muscles.states[row][k]).map_or(f64::NAN, |s| s.lengthening_speed)
+                })
+            })
+            .collect();
+        let powers = at.generators.iter().zip(forces.iter().zip(&speeds)).map(|(g, (f, v))| if g.muscle_path().is_some() { -f * v } else { f * v });
+        let [forces_row, speeds_row, powers_row] = &mut rows_of;
+        for (out, values) in [(forces_row, forces.clone()), (speeds_row, speeds.clone()), (powers_row, powers.collect())] {
+            out.push(time);
+            out.extend(values);
+        }
     }
-    let speed = |row: usize, r: &Recorded| match *r {
-        Recorded::Muscle(k) => states.states[row][k].map_or(f64::NAN, |s| s.lengthening_speed),
-        Recorded::IdleActuator(c) => c.map_or(f64::NAN, |c| speeds[row][c]),
-    };
-    let power = |row: usize, r: &Recorded| match r {
-        Recorded::Muscle(_) => -force(states, row, r) * speed(row, r),
-        Recorded::IdleActuator(_) => force(states, row, r) * speed(row, r),
-    };
-    let labels: Vec<String> = std::iter::once("time".to_string()).chain(actuators.iter().map(|(n, _)| n.clone())).collect();
-    let table = |name: &str, of: &dyn Fn(usize, &Recorded) -> f64| storage(name, labels.clone(), rows(&motion.times, |row| actuators.iter().map(|(_, r)| of(row, r)).collect()));
-    let force_of = |row: usize, r: &Recorded| force(states, row, r);
-    Ok([table("ActuatorForces", &force_of)?, table("ActuatorSpeeds", &speed)?, table("ActuatorPowers", &power)?])
+    let labels = at.labels();
+    let [f, v, p] = rows_of;
+    Ok([storage("ActuatorForces", labels.clone(), f)?, storage("ActuatorSpeeds", labels.clone(), v)?, storage("ActuatorPowers", labels, p)?])
 }
 
 /// `StatesReporter`'s `states` table: every coordinate's `value` and `speed` (rad or m, rad/s or
@@ -113,15 +141,7 @@ pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &M
     storage("ModelStates", labels, values)
 }
 
-/// The force (N or N·m) `record` reports at `row`.
-fn force(states: &MuscleStates, row: usize, record: &Recorded) -> f64 {
-    match *record {
-        Recorded::Muscle(k) => states.states[row][k].map_or(f64::NAN, |s| s.report.tendon_force),
-        Recorded::IdleActuator(_) => 0.0,
-    }
-}
-
 /// Time and `row_values(row)` for each of `times`, row after row.
-fn rows(times: &[f64], row_values: impl Fn(usize) -> Vec<f64>) -> Vec<f64> {
+fn rows(times: &[f64], mut row_values: impl FnMut(usize) -> Vec<f64>) -> Vec<f64> {
     times.iter().enumerate().flat_map(|(row, &t)| std::iter::once(t).chain(row_values(row))).collect()
 }

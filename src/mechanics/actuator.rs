@@ -6,6 +6,7 @@
 use super::error::MechanicsError;
 use super::inverse_dynamics::{AppliedForces, BodyLoad};
 use super::kinematics::Kinematics;
+use super::motion_rates::TransformRates;
 use super::multibody::{Multibody, GROUND_INDEX};
 use super::spatial::Vec3;
 use crate::model::{ActuatorKind, ActuatorSpec};
@@ -95,6 +96,19 @@ impl Actuator {
                     *value = torque.dot(&(turning(body_a) - turning(body_b)));
                 }
             }
+        }
+    }
+
+    /// OpenSim's `getSpeed` (m/s or rad/s) with the bodies moving as `motions`
+    /// ([`Multibody::body_motions`]) at speeds `u`: a `CoordinateActuator` its coordinate's speed;
+    /// a `PointActuator` the magnitude of its point's velocity in ground — the point taken in the
+    /// body even when `point_is_global` (OpenSim's `calcSpeed`); a `TorqueActuator` the angular
+    /// velocity of body A relative to B along the axis as written, in ground or not.
+    pub fn speed(&self, motions: &[TransformRates], u: &[f64]) -> f64 {
+        match self.action {
+            Action::Coordinate(coordinate) => u[coordinate],
+            Action::Point { body, point, .. } => motions[body].point_velocity(&point).norm(),
+            Action::Torque { body_a, body_b, axis, .. } => (motions[body_a].angular_velocity() - motions[body_b].angular_velocity()).dot(&axis),
         }
     }
 

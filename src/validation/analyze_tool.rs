@@ -6,12 +6,12 @@
 use std::path::Path;
 
 use super::geometry::Worst;
-use crate::analysis::analyze_tool_tables;
+use crate::analysis::{analyze_tool_tables, AnalyzeModel, ExternalLoads};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
-use crate::model::ModelSpec;
-use crate::setup::AnalyzeSetup;
+use crate::model::{read_force_set, ModelSpec};
+use crate::setup::{read_document, AnalyzeSetup};
 
 /// The golden cases: every muscle and coordinate filtered at 6 Hz; listed muscles and coordinates
 /// (with unknown names) every second row; the Kinematics and BodyKinematics of every coordinate
@@ -20,15 +20,26 @@ use crate::setup::AnalyzeSetup;
 /// second row, an unnamed one at ground's origin); MuscleAnalysis, ForceReporter, Actuation and
 /// StatesReporter with the muscles at their default states (Thelen), equilibrated (Thelen,
 /// Millard), and equilibrated on Rajagopal2016 (rigid and compliant tendons, damping,
-/// CoordinateActuators, couplers, clamped knee).
-pub const ANALYZE_TOOL_CASES: [&str; 9] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal"];
+/// CoordinateActuators, couplers, clamped knee); the walk with its ground reactions and the
+/// static optimisation's residual and reserve actuators.
+pub const ANALYZE_TOOL_CASES: [&str; 10] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads"];
 
-/// The models the golden setups name, with where the repository keeps them.
-pub const ANALYZE_TOOL_MODELS: [(&str, &str); 3] = [
+/// The files the golden setups name (models, force set, external loads and their data), with
+/// where the repository keeps them.
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 6] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
+    ("gait2392_SO_Residual_Actuators.xml", "fixtures/subject01/gait2392_SO_Residual_Actuators.xml"),
+    ("subject01_walk1_grf.xml", "fixtures/subject01/subject01_walk1_grf.xml"),
+    ("subject01_walk1_grf.mot", "fixtures/subject01/subject01_walk1_grf.mot"),
 ];
+
+/// Where the repository at `root` keeps the input a golden setup names `written`.
+fn input(root: &Path, case: &str, written: &str) -> Result<std::path::PathBuf, String> {
+    let (_, path) = ANALYZE_TOOL_INPUTS.iter().find(|(name, _)| *name == written).ok_or_else(|| format!("{case}: the setup names {written}, which is no file of ANALYZE_TOOL_INPUTS"))?;
+    Ok(root.join(path))
+}
 
 /// Value agreement with OpenSim's tables: absolute (m, N, W, …) up to magnitude 1000, relative
 /// beyond (muscles far from their equilibrium carry forces and powers up to 3e7; OpenSim prints 8
@@ -94,12 +105,22 @@ pub struct AnalyzeToolComparison {
 pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeToolComparison, String> {
     let golden = root.join("fixtures/golden/analyze_tool").join(case);
     let setup = AnalyzeSetup::read(&golden.join("setup.xml")).map_err(|e| e.to_string())?;
-    let model = setup.model_file.as_ref().and_then(|m| ANALYZE_TOOL_MODELS.iter().find(|(name, _)| m.written == *name)).ok_or_else(|| format!("{case}: the setup names no model of ANALYZE_TOOL_MODELS"))?;
-    let spec = ModelSpec::read(&OsimDocument::read(&root.join(model.1)).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
+    let model = input(root, case, setup.model_file.as_ref().map_or("", |m| &m.written))?;
+    let spec = ModelSpec::read(&OsimDocument::read(&model).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
     let geometry = MuscleGeometry::new(&spec).map_err(|e| e.to_string())?;
     let motion_file = root.join("fixtures/golden/ik/subject01_walk1_ik.mot");
     let table = StorageTable::read(&motion_file).map_err(|e| e.to_string())?;
-    let ours = analyze_tool_tables(&spec, &geometry, &table, &motion_file, &setup, &setup.name).map_err(|e| e.to_string())?.files;
+    let mut added = Vec::new();
+    for file in &setup.force_set_files {
+        added.extend(read_force_set(&read_document(&input(root, case, &file.written)?).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?);
+    }
+    let external = match &setup.external_loads_file {
+        Some(file) => Some(ExternalLoads::read(&input(root, case, &file.written)?, &geometry.multibody).map_err(|e| e.to_string())?.0),
+        None => None,
+    };
+    let replace = setup.replace_force_set && !setup.force_set_files.is_empty();
+    let model = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref() };
+    let ours = analyze_tool_tables(&model, &table, &motion_file, &setup, &setup.name).map_err(|e| e.to_string())?.files;
     let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| format!("{}: {e}", golden.join("files.txt").display()))?;
     let our_files: Vec<&str> = ours.iter().map(|(file, _)| file.as_str()).collect();
     let expected: Vec<&str> = written.lines().collect();

@@ -4,7 +4,7 @@
 //! unit control in a state and the loads a force of it applies.
 
 use crate::mechanics::muscle::{HillMuscle, MuscleError};
-use crate::mechanics::{Actuator, AppliedForces, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch};
+use crate::mechanics::{Actuator, AppliedForces, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch, TransformRates};
 use crate::model::{ActuatorSpec, ModelSpec, MuscleModelSpec};
 
 use super::StaticOptimizationError;
@@ -117,6 +117,13 @@ impl Generator {
             Kind::Muscle { path, slot, .. } => Some((*path, *slot)),
             Kind::Actuator { .. } => None,
         }
+    }
+
+    /// A scalar actuator's speed (m/s or rad/s, [`Actuator::speed`]) with the bodies moving as
+    /// `motions` at speeds `u`; `None` for a muscle (its path's lengthening speed).
+    pub fn actuator_speed(&self, motions: &[TransformRates], u: &[f64]) -> Option<f64> {
+        let Kind::Actuator { actuator, .. } = &self.kind else { return None };
+        Some(actuator.speed(motions, u))
     }
 
     /// What a force `force` (N or N·m) of the generator applies at coordinates `q`, whose body

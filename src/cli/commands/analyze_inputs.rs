@@ -47,7 +47,7 @@ impl AnalyzeInputs {
 /// inside `<OpenSimDocument>` or as the root, as OpenSim reads both), and whether they replace
 /// the model's forces (the setup's `replace_force_set`; never for `--actuators`). Each file read
 /// joins `inputs`.
-fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
+pub fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, inputs: &mut Vec<PathBuf>) -> Result<(Vec<ActuatorSpec>, bool), Failure> {
     let (files, replace): (Vec<PathBuf>, bool) = match setup {
         Some(setup) if actuators.is_empty() => (setup.force_set_files.iter().map(|f| f.resolved.clone()).collect(), setup.replace_force_set && !setup.force_set_files.is_empty()),
         _ => (actuators.to_vec(), false),
@@ -61,7 +61,7 @@ fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, inputs: &
 }
 
 /// The `--external-loads` file, else the setup's, read on `multibody`; its files join `inputs`.
-fn external_loads_of(file: Option<&Path>, setup: Option<&AnalyzeSetup>, multibody: &Multibody, inputs: &mut Vec<PathBuf>) -> Result<Option<ExternalLoads>, Failure> {
+pub fn external_loads_of(file: Option<&Path>, setup: Option<&AnalyzeSetup>, multibody: &Multibody, inputs: &mut Vec<PathBuf>) -> Result<Option<ExternalLoads>, Failure> {
     let file = file.map(Path::to_path_buf).or_else(|| setup.and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
     file.map(|file| read_external_loads(&file, multibody, inputs)).transpose()
 }

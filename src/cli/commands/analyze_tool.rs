@@ -6,8 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::{check_analyses, output_name};
-use crate::analysis::analyze_tool_tables;
+use super::analyze_inputs::{actuator_files, check_analyses, external_loads_of, output_name};
+use crate::analysis::{analyze_tool_tables, AnalyzeModel};
 use crate::cli::{create_output_folders, Failure, Outcome};
 use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
 use crate::io::osim::OsimDocument;
@@ -21,10 +21,14 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"])?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
+    let mut read: Vec<PathBuf> = [model, coordinates, setup_file].map(Path::to_path_buf).to_vec();
+    let (added, replace) = actuator_files(&[], Some(&setup), &mut read)?;
+    let external = external_loads_of(None, Some(&setup), &geometry.multibody, &mut read)?;
     let name = output_name(None, Some(&setup), coordinates);
-    let tables = analyze_tool_tables(&spec, &geometry, &StorageTable::read(coordinates)?, coordinates, &setup, &name)?;
+    let analysed = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref() };
+    let tables = analyze_tool_tables(&analysed, &StorageTable::read(coordinates)?, coordinates, &setup, &name)?;
     let files: Vec<(PathBuf, String)> = tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())).collect();
-    let inputs = [model, coordinates, setup_file];
+    let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
     for (path, _) in &files {
         ensure_not_an_input(path, &inputs)?;
     }
