@@ -27,7 +27,12 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
 * `loads`: subject01's walk with its ground reaction forces (`external_loads_file`) and the
   residual and reserve actuators of its static optimisation (`force_set_files`: point, torque
   and coordinate actuators), equilibrated: ForceReporter, Actuation, Kinematics, BodyKinematics
-  (pelvis, calcn_r, the whole model's mass center) and a heel point's PointKinematics.
+  (pelvis, calcn_r, the whole model's mass center) and a heel point's PointKinematics;
+* `states`: arm26 from a `states_file` — OpenSim's forward simulation of it under constant
+  excitations (`arm26_states.sto`, written here) — MuscleAnalysis, Kinematics, BodyKinematics,
+  ForceReporter, Actuation, StatesReporter, every third row;
+* `states_legacy`: the same states under OpenSim 3's labels (`r_shoulder_elev`,
+  `r_shoulder_elev_u`, `TRIlong.activation`, `TRIlong.fiber_length`), equilibrated.
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
@@ -55,7 +60,17 @@ INPUTS = {
     "gait2392_SO_Residual_Actuators.xml": REPO / "fixtures" / "subject01" / "gait2392_SO_Residual_Actuators.xml",
     "subject01_walk1_grf.xml": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.xml",
     "subject01_walk1_grf.mot": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.mot",
+    "arm26.osim": REPO / "fixtures" / "models" / "arm26.osim",
+    "arm26_states.sto": OUT / "states" / "arm26_states.sto",
+    "arm26_states_legacy.sto": OUT / "states_legacy" / "arm26_states_legacy.sto",
 }
+ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interval>3</step_interval></MuscleAnalysis>
+\t\t\t\t<Kinematics name="Kinematics"><on>true</on><step_interval>3</step_interval></Kinematics>
+\t\t\t\t<BodyKinematics name="BodyKinematics"><on>true</on><step_interval>3</step_interval></BodyKinematics>
+\t\t\t\t<ForceReporter name="ForceReporter"><on>true</on><step_interval>3</step_interval></ForceReporter>
+\t\t\t\t<Actuation name="Actuation"><on>true</on><step_interval>3</step_interval></Actuation>
+\t\t\t\t<StatesReporter name="StatesReporter"><on>true</on><step_interval>3</step_interval></StatesReporter>
+"""
 MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
 KEPT = ["Length", "MomentArm_knee_angle_r", "MomentArm_hip_flexion_r", "MomentArm_lumbar_extension", "MomentArm_pelvis_tx"]
 
@@ -115,10 +130,12 @@ CASES = {
     "loads": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, analyses=LOADED,
                   extra="\t\t<force_set_files> gait2392_SO_Residual_Actuators.xml</force_set_files>\n\t\t<replace_force_set>false</replace_force_set>\n"
                         "\t\t<external_loads_file>subject01_walk1_grf.xml</external_loads_file>\n"),
+    "states": dict(range=(0.05, 0.25), cutoff=-1, model="arm26.osim", analyses=ARM, states="arm26_states.sto"),
+    "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "states", "states_legacy")
 
 
 def kept(case, table):
@@ -132,6 +149,7 @@ def kept(case, table):
 
 def setup_text(case):
     c = CASES[case]
+    inputs = f"\t\t<states_file>{c['states']}</states_file>" if "states" in c else "\t\t<coordinates_file>subject01_walk1_ik.mot</coordinates_file>"
     equilibrium = "\t\t<solve_for_equilibrium_for_auxiliary_states>true</solve_for_equilibrium_for_auxiliary_states>\n" if c.get("equilibrium") else ""
     return f"""<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40600">
@@ -144,15 +162,49 @@ def setup_text(case):
 \t\t\t<objects>
 {c['analyses']}\t\t\t</objects>
 \t\t</AnalysisSet>
-\t\t<coordinates_file>subject01_walk1_ik.mot</coordinates_file>
+{inputs}
 \t\t<lowpass_cutoff_frequency_for_coordinates>{c['cutoff']}</lowpass_cutoff_frequency_for_coordinates>
 \t</AnalyzeTool>
 </OpenSimDocument>
 """
 
 
+def write_states():
+    """arm26 simulated for 0.3 s from its equilibrated default state under constant excitations
+    (0.1 to 0.6), its states table written with OpenSim 4's labels and with OpenSim 3's."""
+    model = osim.Model(str(INPUTS["arm26.osim"]))
+    controller = osim.PrescribedController()
+    for i in range(model.getActuators().getSize()):
+        actuator = model.getActuators().get(i)
+        controller.addActuator(actuator)
+        controller.prescribeControlForActuator(actuator.getName(), osim.Constant(0.1 + 0.1 * i))
+    model.addController(controller)
+    state = model.initSystem()
+    model.equilibrateMuscles(state)
+    manager = osim.Manager(model)
+    manager.setIntegratorAccuracy(1e-4)
+    manager.initialize(state)
+    manager.integrate(0.3)
+    for case, name in (("states", "arm26_states.sto"), ("states_legacy", "arm26_states_legacy.sto")):
+        (OUT / case).mkdir(parents=True, exist_ok=True)
+        osim.STOFileAdapter.write(manager.getStatesTable(), str(OUT / case / name))
+    legacy = OUT / "states_legacy" / "arm26_states_legacy.sto"
+    lines = legacy.read_text().split("\n")
+    header = lines.index("endheader") + 1
+
+    def old_label(label):
+        parts = label.split("/")
+        if label.startswith("/jointset/"):
+            return parts[3] if parts[4] == "value" else parts[3] + "_u"
+        return label if label == "time" else parts[2] + "." + parts[3]
+
+    lines[header] = "\t".join(old_label(l) for l in lines[header].split("\t"))
+    legacy.write_text("\n".join(lines))
+
+
 def main():
     osim.Logger.setLevelString("error")
+    write_states()
     for case in CASES:
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)

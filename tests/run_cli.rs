@@ -247,7 +247,7 @@ fn analyze_tool_setups_give_opensims_tables() {
         assert_eq!(ours, formed, "{case}");
         for entry in std::fs::read_dir(fixture(&golden)).unwrap() {
             let name = entry.unwrap().file_name().into_string().unwrap();
-            if !name.ends_with(".sto") {
+            if !name.ends_with(".sto") || ANALYZE_TOOL_INPUTS.iter().any(|(input, _)| *input == name) {
                 continue;
             }
             let opensim = StorageTable::read(&fixture(&format!("{golden}/{name}"))).unwrap();
@@ -297,6 +297,16 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let (code, _, stderr) = osim_tune(&["run", s(&cmc)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
+
+    let states = dir.join("states.xml");
+    std::fs::write(&states, ANALYZE_SETUP.replace("<coordinates_file>arm26_motion.mot</coordinates_file>", "<states_file>arm26_states.sto</states_file>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&states)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("states.xml: states_file \"arm26_states.sto\": osim-tune's StaticOptimization and JointReaction run from coordinates_file"), "{stderr}");
+    let speeds = dir.join("speeds.xml");
+    std::fs::write(&speeds, ANALYZE_SETUP.replace("<coordinates_file>", "<speeds_file>u.sto</speeds_file><coordinates_file>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&speeds)]);
+    assert!(code == 2 && stderr.contains("speeds.xml: speeds_file \"u.sto\" is not supported"), "{stderr}");
 
     let induced = dir.join("induced.xml");
     std::fs::write(&induced, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<InducedAccelerations name="IAA"><on>true</on></InducedAccelerations>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();

@@ -4,6 +4,11 @@
 //! derivatives of degree-5 GCV splines through the coordinates at the rows, and accelerations u̇
 //! the derivatives of degree-5 GCV splines through those speeds (`GCVSplineSet(5, states)`).
 //!
+//! A states file (`states_file`) gives every state variable per row instead, used as it is: each
+//! column found as OpenSim's `formStateStorage` finds it (`findStateLabelIndex`: the state's
+//! path, a shorter tail of it, or OpenSim 3's name — `<coordinate>`, `<coordinate>_u`,
+//! `<muscle>.activation`), a state the file lacks at its default.
+//!
 //! Each row is then assembled: a coupler's dependent coordinate is put where its constraint says,
 //! its speed left as it is (OpenSim assembles positions only) — 0 when the file lacks it. A dependent coordinate whose motion
 //! type is `Coupled` (e.g. leg6dof9musc's patella) is not converted from degrees by OpenSim's
@@ -23,7 +28,13 @@ pub enum StatesError {
     Motion(#[from] MotionError),
     #[error("{}: {source}", file.display())]
     Signal { file: PathBuf, source: SignalError },
+    #[error("{}: a states file holds coordinates in radians and meters (inDegrees=no), as OpenSim requires", file.display())]
+    StatesInDegrees { file: PathBuf },
 }
+
+/// A muscle's state variables as a states file gives them per row: activation and fiber length
+/// (m), each `None` when the file lacks it.
+pub type GivenMuscleStates = (String, [Option<Vec<f64>>; 2]);
 
 /// Coordinates (rad or m), speeds and accelerations per row, [`Multibody::coordinates`] order.
 #[derive(Debug, Clone)]
@@ -35,8 +46,10 @@ pub struct AnalyzeStates {
     pub udot: Vec<Vec<f64>>,
     /// Coordinates the file lacks and no coupler sets (held at 0, as OpenSim does).
     pub missing: Vec<String>,
-    /// Columns that are no coordinate of the model.
+    /// Columns that are no coordinate (no state variable, for a states file) of the model.
     pub ignored_columns: Vec<String>,
+    /// The muscles' states a states file gives (empty from a coordinates file).
+    pub muscle_states: Vec<GivenMuscleStates>,
 }
 
 impl AnalyzeStates {
@@ -63,6 +76,49 @@ impl AnalyzeStates {
             times: q.times,
             missing: missing.iter().map(|&c| multibody.coordinates[c].name.clone()).collect(),
             ignored_columns: motion.ignored_columns,
+            muscle_states: Vec::new(),
+        })
+    }
+
+    /// The states of a states file `table` (read from `file`) for `multibody` and the muscles
+    /// named `muscles`: no filtering, no splines; a coordinate the file lacks at its default
+    /// value, a speed at 0, each a muscle state at the muscle's default.
+    pub fn from_states(multibody: &Multibody, table: &StorageTable, file: &Path, muscles: &[String]) -> Result<AnalyzeStates, StatesError> {
+        if table.in_degrees() == Some(true) {
+            return Err(StatesError::StatesInDegrees { file: file.into() });
+        }
+        let labels = &table.labels()[1..];
+        let mut used = vec![false; labels.len()];
+        let mut column = |path: String| {
+            let index = state_label_index(labels, &path)?;
+            used[index] = true;
+            table.column(&labels[index])
+        };
+        let coordinates = &multibody.coordinates;
+        let (mut q_columns, mut u_columns, mut missing) = (Vec::new(), Vec::new(), Vec::new());
+        for (c, coordinate) in coordinates.iter().enumerate() {
+            let path = format!("/jointset/{}/{}", multibody.joints[multibody.coordinate_joint(c)].name, coordinate.name);
+            let value = column(format!("{path}/value"));
+            if value.is_none() && !multibody.is_dependent(c) {
+                missing.push(coordinate.name.clone());
+            }
+            q_columns.push(value.unwrap_or_else(|| vec![coordinate.default_value; table.n_rows()]));
+            u_columns.push(column(format!("{path}/speed")).unwrap_or_else(|| vec![0.0; table.n_rows()]));
+        }
+        let muscle_states = muscles.iter().map(|m| (m.clone(), ["activation", "fiber_length"].map(|v| column(format!("/forceset/{m}/{v}"))))).collect();
+        let rows_of = |columns: &[Vec<f64>]| (0..table.n_rows()).map(|i| columns.iter().map(|c| c[i]).collect::<Vec<f64>>()).collect::<Vec<_>>();
+        let mut q = rows_of(&q_columns);
+        for row in &mut q {
+            multibody.follow_couplers(row, &[]);
+        }
+        Ok(AnalyzeStates {
+            times: table.times(),
+            u: rows_of(&u_columns),
+            udot: vec![vec![0.0; coordinates.len()]; table.n_rows()],
+            q,
+            missing,
+            ignored_columns: labels.iter().zip(&used).filter(|(_, used)| !**used).map(|(l, _)| l.clone()).collect(),
+            muscle_states,
         })
     }
 
@@ -83,6 +139,31 @@ impl AnalyzeStates {
     }
 }
 
+/// The column of `labels` (time excluded) OpenSim takes for the state variable `path`
+/// (`TableUtilities::findStateLabelIndex`): the path itself, else its shorter tails, else its last
+/// element, else OpenSim 3's name — a coordinate's `value` its name, its `speed` `<name>_u`,
+/// another state `<component>.<state>`.
+fn state_label_index(labels: &[String], path: &str) -> Option<usize> {
+    let find = |name: &str| labels.iter().position(|l| l == name);
+    let mut tail = path;
+    while let Some(slash) = tail.find('/') {
+        if let Some(index) = find(tail) {
+            return Some(index);
+        }
+        tail = &tail[slash + 1..];
+    }
+    if let Some(index) = find(tail) {
+        return Some(index);
+    }
+    let (prefix, last) = path.rsplit_once('/')?;
+    let owner = prefix.rsplit('/').next().unwrap_or(prefix);
+    match last {
+        "value" => find(owner),
+        "speed" => find(&format!("{owner}_u")),
+        _ => find(&format!("{owner}.{last}")),
+    }
+}
+
 /// The derivative at each row of the degree-5 GCV spline through each signal.
 fn derivatives(series: &Series) -> Result<Series, SignalError> {
     let columns = series.splines()?.iter().map(|s| series.times.iter().map(|&t| s.derivative(t)).collect()).collect();
@@ -92,4 +173,22 @@ fn derivatives(series: &Series) -> Result<Series, SignalError> {
 /// Per row, every signal's value.
 fn rows(series: &Series) -> Vec<Vec<f64>> {
     (0..series.times.len()).map(|i| series.columns.iter().map(|c| c[i]).collect()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::state_label_index;
+
+    /// OpenSim's `findStateLabelIndex` cases: the full path, a 4.0-beta tail, OpenSim 3's names.
+    #[test]
+    fn state_columns_are_found_as_opensim_finds_them() {
+        let labels: Vec<String> = ["r_shoulder/r_shoulder_elev/value", "r_elbow_flex", "r_elbow_flex_u", "TRIlong.activation", "/forceset/BRA/fiber_length"].map(String::from).to_vec();
+        let find = |path: &str| state_label_index(&labels, path);
+        assert_eq!(find("/jointset/r_shoulder/r_shoulder_elev/value"), Some(0));
+        assert_eq!(find("/jointset/r_elbow/r_elbow_flex/value"), Some(1));
+        assert_eq!(find("/jointset/r_elbow/r_elbow_flex/speed"), Some(2));
+        assert_eq!(find("/forceset/TRIlong/activation"), Some(3));
+        assert_eq!(find("/forceset/BRA/fiber_length"), Some(4));
+        assert_eq!((find("/jointset/r_shoulder/r_shoulder_elev/speed"), find("/forceset/BRA/activation")), (None, None));
+    }
 }

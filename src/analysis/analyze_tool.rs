@@ -8,7 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use super::analyze_accelerations::analyze_accelerations;
-use super::analyze_states::{AnalyzeStates, StatesError};
+use super::analyze_states::{AnalyzeStates, GivenMuscleStates, StatesError};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::muscle_analysis::MuscleAnalysis;
 use super::muscle_state_tables::muscle_state_tables;
@@ -67,8 +67,14 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
         None => generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
     };
     let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
-    // Filtered and splined once; each analysis takes its rows and assembles them.
-    let all_states = AnalyzeStates::new(multibody, table, file, cutoff)?;
+    // Filtered and splined once (or read from a states file); each analysis takes its rows and
+    // assembles them.
+    let all_states = if setup.states_file.is_some() {
+        let muscles: Vec<String> = spec.muscles().map(|m| m.name.clone()).collect();
+        AnalyzeStates::from_states(multibody, table, file, &muscles)?
+    } else {
+        AnalyzeStates::new(multibody, table, file, cutoff)?
+    };
     let time_range = [setup.initial_time, setup.final_time];
     frames_in_range(file, &all_states.times, time_range)?;
     let states = |step_interval| analyze_tool_motion(multibody, &all_states, file, time_range, step_interval);
@@ -80,7 +86,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
         tables.rows = (times.len(), times.first().copied().unwrap_or(f64::NAN), times.last().copied().unwrap_or(f64::NAN));
         tables.held_at_zero.clone_from(&states.motion.defaulted);
     };
-    let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, &states.motion, &states.speeds, setup.solve_for_equilibrium_for_auxiliary_states);
+    let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, states, setup.solve_for_equilibrium_for_auxiliary_states);
     if let (Some(analysis), true) = (&setup.muscle_analysis, model.replace) {
         tables.not_written.push(format!("{}: replace_force_set replaces the model's muscles by the force-set files' actuators, so OpenSim's MuscleAnalysis has no muscles", analysis.name));
     } else if let Some(analysis) = &setup.muscle_analysis {
@@ -207,6 +213,8 @@ pub enum AnalyzeToolError {
 pub struct AnalyzeToolMotion {
     pub motion: Motion,
     pub speeds: Vec<Vec<f64>>,
+    /// The muscles' states a states file gives, at these rows.
+    pub muscle_states: Vec<GivenMuscleStates>,
 }
 
 /// The states OpenSim's `AnalyzeTool` hands an analysis of `step_interval`: of `states` (the
@@ -221,5 +229,7 @@ fn analyze_tool_motion(multibody: &Multibody, states: &AnalyzeStates, file: &Pat
         row += 1;
         assemble(multibody, q).map_err(|source| AnalyzeToolError::Assembly { file: file.into(), time: states.times[rows[row - 1]], source: Box::new(source) })
     })?;
-    Ok(AnalyzeToolMotion { motion, speeds: rows.iter().map(|&i| states.u[i].clone()).collect() })
+    let at_rows = |column: &Option<Vec<f64>>| column.as_ref().map(|c| rows.iter().map(|&i| c[i]).collect());
+    let muscle_states = states.muscle_states.iter().map(|(m, columns)| (m.clone(), columns.each_ref().map(at_rows))).collect();
+    Ok(AnalyzeToolMotion { motion, speeds: rows.iter().map(|&i| states.u[i].clone()).collect(), muscle_states })
 }

@@ -1,13 +1,14 @@
-//! The muscle states OpenSim's AnalyzeTool hands its analyses when it reads a coordinates
-//! file (`formStateStorage` fills what the file lacks with the model's defaults): each muscle at
-//! its `default_activation` — a muscle without activation dynamics at its control, 0 without a
+//! The muscle states OpenSim's AnalyzeTool hands its analyses: those a states file gives, and
+//! what a coordinates file (or a states file) lacks filled with the model's defaults
+//! (`formStateStorage`): each muscle at its `default_activation` — a muscle without activation dynamics at its control, 0 without a
 //! controls file — and its fiber at `default_fiber_length`, or, with
 //! `solve_for_equilibrium_for_auxiliary_states`, where `equilibrateMuscles` puts it (Thelen's
 //! speed-sharing `initMuscleState`, Millard's static equilibrium); each on the path of the
 //! analysed pose moving at the pose's speeds.
 
 use crate::mechanics::muscle::{HillMuscle, MuscleError, MuscleState};
-use crate::mechanics::{Motion, MuscleGeometry, PathEvaluation};
+use super::analyze_tool::AnalyzeToolMotion;
+use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::{ModelSpec, MuscleSpec};
 
 /// One muscle's state variables as OpenSim holds them.
@@ -43,51 +44,70 @@ pub enum MuscleStatesError {
     Muscle(#[from] MuscleError),
 }
 
-/// The states of every muscle of `spec` (`geometry` its paths) at each pose of `motion` with
-/// speeds `speeds[row]` (rad/s or m/s, [`crate::mechanics::Multibody::coordinates`] order),
-/// equilibrated when `equilibrate`.
-pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, motion: &Motion, speeds: &[Vec<f64>], equilibrate: bool) -> Result<MuscleStates, MuscleStatesError> {
-    let mut muscles = Vec::new();
-    let mut models = Vec::new();
+/// One muscle as the AnalyzeTool holds it.
+struct HeldMuscle<'a> {
+    muscle: HillMuscle,
+    spec: &'a MuscleSpec,
+    /// (activation, fiber length in m) of the model's initial state, the fiber length raised to
+    /// the minimum as the initial state holds it.
+    defaults: (f64, f64),
+    /// Activation and fiber length per row, as a states file gives them.
+    given: [Option<Vec<f64>>; 2],
+}
+
+impl HeldMuscle<'_> {
+    /// Its state variables at `row`: the given ones, else the defaults.
+    fn variables(&self, row: usize) -> StateVariables {
+        let [activation, fiber_length] = self.given.each_ref().map(|c| c.as_ref().map(|c| c[row]));
+        state_variables(self.spec, (activation.unwrap_or(self.defaults.0), fiber_length.unwrap_or(self.defaults.1)))
+    }
+}
+
+/// The states of every muscle of `spec` (`geometry` its paths) at each pose of `states` with its
+/// speeds — those its states file gives, the others at their defaults — equilibrated when
+/// `equilibrate`.
+pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &AnalyzeToolMotion, equilibrate: bool) -> Result<MuscleStates, MuscleStatesError> {
+    let (motion, speeds) = (&states.motion, &states.speeds);
+    let (mut muscles, mut held) = (Vec::new(), Vec::new());
     for force in spec.muscles() {
         let not_formed = || MuscleStatesError::NotFormed { muscle: force.name.clone(), class: force.class.clone() };
         let muscle_spec = force.muscle.as_ref().ok_or_else(not_formed)?;
         let defaults = muscle_spec.default_fiber_state().ok_or_else(not_formed)?;
         let path = geometry.path_index(&force.name).ok_or_else(not_formed)?;
         let muscle = HillMuscle::from_force(force)?;
-        // The model's initial state holds the default fiber length raised to the minimum.
+        let given = states.muscle_states.iter().find(|(m, _)| *m == force.name).map(|(_, columns)| columns.clone()).unwrap_or_default();
         let defaults = (defaults.0, defaults.1.max(muscle.minimum_fiber_length()));
-        models.push((muscle, defaults, muscle_spec));
+        held.push(HeldMuscle { muscle, spec: muscle_spec, defaults, given });
         muscles.push((path, force.name.clone()));
     }
     let indices: Vec<usize> = muscles.iter().map(|(p, _)| *p).collect();
     let mut evaluation = PathEvaluation::new(geometry, &indices);
-    let mut states = MuscleStates { muscles, variables: Vec::new(), states: Vec::new(), warnings: Vec::new() };
+    let mut result = MuscleStates { muscles, variables: Vec::new(), states: Vec::new(), warnings: Vec::new() };
     for (row, &time) in motion.times.iter().enumerate() {
         evaluation.evaluate_moving(geometry, motion.pose(row), Some(&speeds[row]));
         let (mut variables, mut reports) = (Vec::new(), Vec::new());
-        for (k, (muscle, defaults, muscle_spec)) in models.iter().enumerate() {
+        for (k, held) in held.iter().enumerate() {
             let (length, speed) = (evaluation.length(k), evaluation.lengthening_speed(k));
-            let mut warn = |what: &str, e: MuscleError| states.warnings.push(format!("at {time} s: {what}: {e}"));
-            let held = state_variables(muscle_spec, *defaults);
-            let variable = match held.fiber_length {
-                Some(_) if equilibrate => match equilibrated_fiber_length(muscle, held.activation.unwrap_or(0.0), length, speed) {
-                    Ok(fiber_length) => StateVariables { fiber_length: Some(fiber_length), ..held },
+            let mut warn = |what: &str, e: MuscleError| result.warnings.push(format!("at {time} s: {what}: {e}"));
+            let start = held.variables(row);
+            let variable = match start.fiber_length {
+                Some(_) if equilibrate => match equilibrated_fiber_length(&held.muscle, start.activation.unwrap_or(0.0), length, speed) {
+                    Ok(fiber_length) => StateVariables { fiber_length: Some(fiber_length), ..start },
                     Err(e) => {
-                        warn("not equilibrated, left at its default state", e);
-                        held
+                        warn("not equilibrated, left as it was", e);
+                        start
                     }
                 },
-                _ => held,
+                _ => start,
             };
-            let report = muscle.state(variable.activation.unwrap_or(0.0), variable.fiber_length.unwrap_or(0.0), length, speed);
+            let report = held.muscle.state(variable.activation.unwrap_or(0.0), variable.fiber_length.unwrap_or(0.0), length, speed);
             reports.push(report.map_err(|e| warn("not evaluated (NaN)", e)).ok());
             variables.push(variable);
         }
-        states.variables.push(variables);
-        states.states.push(reports);
+        result.variables.push(variables);
+        result.states.push(reports);
     }
-    Ok(states)
+    Ok(result)
 }
 
 /// The fiber length (m) OpenSim's `equilibrateMuscles` leaves at `activation` on a path of length

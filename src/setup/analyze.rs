@@ -32,8 +32,12 @@ pub struct AnalyzeSetup {
     /// s (default 1).
     pub final_time: f64,
     pub coordinates_file: Option<SetupPath>,
-    /// A states or speeds file, which osim-tune does not read (refused by the command).
-    pub states_or_speeds_file: Option<SetupPath>,
+    /// A states file (every state variable per row; OpenSim then ignores `coordinates_file`),
+    /// which `analyze --setup` reads and the other commands refuse.
+    pub states_file: Option<SetupPath>,
+    /// Speeds to use instead of the coordinates' derivatives, which osim-tune does not read
+    /// (refused by the commands).
+    pub speeds_file: Option<SetupPath>,
     pub external_loads_file: Option<SetupPath>,
     /// Hz; negative: no filtering (default −1).
     pub lowpass_cutoff_frequency_for_coordinates: f64,
@@ -201,7 +205,8 @@ impl AnalyzeSetup {
             initial_time: tool.number_or("initial_time", 0.0)?,
             final_time: tool.number_or("final_time", 1.0)?,
             coordinates_file: optional_path(tool, "coordinates_file", &directory),
-            states_or_speeds_file: optional_path(tool, "states_file", &directory).or_else(|| optional_path(tool, "speeds_file", &directory)),
+            states_file: optional_path(tool, "states_file", &directory),
+            speeds_file: optional_path(tool, "speeds_file", &directory),
             external_loads_file: optional_path(tool, "external_loads_file", &directory),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             solve_for_equilibrium_for_auxiliary_states: tool.boolean_or("solve_for_equilibrium_for_auxiliary_states", false)?,

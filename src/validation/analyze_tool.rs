@@ -21,18 +21,22 @@ use crate::setup::{read_document, AnalyzeSetup};
 /// StatesReporter with the muscles at their default states (Thelen), equilibrated (Thelen,
 /// Millard), and equilibrated on Rajagopal2016 (rigid and compliant tendons, damping,
 /// CoordinateActuators, couplers, clamped knee); the walk with its ground reactions and the
-/// static optimisation's residual and reserve actuators.
-pub const ANALYZE_TOOL_CASES: [&str; 10] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads"];
+/// static optimisation's residual and reserve actuators; arm26 from a states file (OpenSim's
+/// forward simulation) under OpenSim 4's and OpenSim 3's labels.
+pub const ANALYZE_TOOL_CASES: [&str; 12] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "states", "states_legacy"];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
 /// where the repository keeps them.
-pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 6] = [
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 9] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
     ("gait2392_SO_Residual_Actuators.xml", "fixtures/subject01/gait2392_SO_Residual_Actuators.xml"),
     ("subject01_walk1_grf.xml", "fixtures/subject01/subject01_walk1_grf.xml"),
     ("subject01_walk1_grf.mot", "fixtures/subject01/subject01_walk1_grf.mot"),
+    ("arm26.osim", "fixtures/models/arm26.osim"),
+    ("arm26_states.sto", "fixtures/golden/analyze_tool/states/arm26_states.sto"),
+    ("arm26_states_legacy.sto", "fixtures/golden/analyze_tool/states_legacy/arm26_states_legacy.sto"),
 ];
 
 /// Where the repository at `root` keeps the input a golden setup names `written`.
@@ -108,7 +112,10 @@ pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeTool
     let model = input(root, case, setup.model_file.as_ref().map_or("", |m| &m.written))?;
     let spec = ModelSpec::read(&OsimDocument::read(&model).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
     let geometry = MuscleGeometry::new(&spec).map_err(|e| e.to_string())?;
-    let motion_file = root.join("fixtures/golden/ik/subject01_walk1_ik.mot");
+    let motion_file = match &setup.states_file {
+        Some(states) => input(root, case, &states.written)?,
+        None => root.join("fixtures/golden/ik/subject01_walk1_ik.mot"),
+    };
     let table = StorageTable::read(&motion_file).map_err(|e| e.to_string())?;
     let mut added = Vec::new();
     for file in &setup.force_set_files {

@@ -92,11 +92,15 @@ pub fn lowpass_cutoff(lowpass: Option<f64>, setup: Option<&AnalyzeSetup>) -> Opt
     lowpass.or(setup.map(|s| s.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0))
 }
 
-/// Refuses a setup whose states come from a states or speeds file, and prints the setup's
-/// analyses other than `runs` (the classes the calling command runs) as not run.
-pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str]) -> Result<(), Failure> {
-    if let Some(states) = &setup.states_or_speeds_file {
-        return Err(format!("{}: states_file/speeds_file {} is not supported; give coordinates_file (COORDINATES)", setup.file.display(), states.written).into());
+/// Refuses a setup whose speeds come from a speeds file or, unless `reads_states`, whose states
+/// come from a states file, and prints the setup's analyses other than `runs` (the classes the
+/// calling command runs) as not run.
+pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str], reads_states: bool) -> Result<(), Failure> {
+    if let Some(speeds) = &setup.speeds_file {
+        return Err(format!("{}: speeds_file {} is not supported; the speeds are the coordinates' spline derivatives", setup.file.display(), speeds.written).into());
+    }
+    if let (false, Some(states)) = (reads_states, &setup.states_file) {
+        return Err(format!("{}: states_file {} is not supported here; give coordinates_file (COORDINATES)", setup.file.display(), states.written).into());
     }
     let commands = [
         ("MuscleAnalysis", setup.muscle_analysis.is_some(), "analyze --setup"),

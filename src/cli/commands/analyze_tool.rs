@@ -18,7 +18,7 @@ use crate::setup::AnalyzeSetup;
 
 pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = AnalyzeSetup::read(setup_file)?;
-    check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"])?;
+    check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"], true)?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let mut read: Vec<PathBuf> = [model, coordinates, setup_file].map(Path::to_path_buf).to_vec();

@@ -87,6 +87,6 @@ fn forces_file(request: &Request, analysis: Option<&JointReactionSetup>) -> Resu
 /// The setup's JointReaction, refusing what osim-tune does not do.
 fn check_setup(setup: &AnalyzeSetup) -> Result<JointReactionSetup, Failure> {
     let analysis = setup.joint_reaction.clone().ok_or_else(|| format!("{}: the AnalysisSet has no JointReaction that is on", setup.file.display()))?;
-    check_analyses(setup, &["JointReaction"])?;
+    check_analyses(setup, &["JointReaction"], false)?;
     Ok(analysis)
 }

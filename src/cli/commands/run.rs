@@ -138,9 +138,10 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
     Ok(Invocation::new(&["id".as_ref(), model.as_ref(), coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), forces.as_ref()]))
 }
 
-/// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics, BodyKinematics and
-/// PointKinematics, `so` for its StaticOptimization, then `reaction` for its JointReaction, each
-/// `MODEL COORDINATES --setup SETUP -o <results_directory>` (the commands name the setup's other
+/// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics, BodyKinematics,
+/// PointKinematics and reporters, `so` for its StaticOptimization, then `reaction` for its
+/// JointReaction, each `MODEL COORDINATES --setup SETUP -o <results_directory>` — `analyze` given
+/// the states file instead when the setup names one (the commands name the setup's other
 /// analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
     let analyses = [(setup.has_analyze_tables(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
@@ -148,11 +149,18 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
         let others = if setup.other_analyses.is_empty() { "none".to_string() } else { setup.other_analyses.join(", ") };
         return Err(format!("{}: the AnalysisSet has no analysis osim-tune runs that is on ({ANALYSES}; others on: {others})", file.display()).into());
     }
-    if let (None, Some(states)) = (&setup.coordinates_file, &setup.states_or_speeds_file) {
-        return Err(format!("{}: states_file/speeds_file {:?} is not supported; osim-tune analyses coordinates_file", file.display(), states.written).into());
+    if let Some(speeds) = &setup.speeds_file {
+        return Err(format!("{}: speeds_file {:?} is not supported; the speeds are the coordinates' spline derivatives", file.display(), speeds.written).into());
+    }
+    if let (Some(states), true) = (&setup.states_file, setup.static_optimization.is_some() || setup.joint_reaction.is_some()) {
+        return Err(format!("{}: states_file {:?}: osim-tune's StaticOptimization and JointReaction run from coordinates_file (the other analyses read the states)", file.display(), states.written).into());
     }
     let model = input(file, "model_file", setup.model_file.as_ref())?;
-    let coordinates = input(file, "coordinates_file", setup.coordinates_file.as_ref())?;
+    // OpenSim reads the states file and ignores the coordinates file when both are set.
+    let coordinates = match &setup.states_file {
+        Some(states) => input(file, "states_file", Some(states))?,
+        None => input(file, "coordinates_file", setup.coordinates_file.as_ref())?,
+    };
     let tail: [&OsStr; 5] = [coordinates.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.results_directory.resolved.as_ref()];
     let invocation = |command: &str, flags: &[&str]| {
         let flags: Vec<&OsStr> = flags.iter().map(|f| f.as_ref()).collect();

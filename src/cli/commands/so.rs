@@ -190,7 +190,7 @@ fn output_file(directory: &Path, prefix: &str, kind: &str) -> PathBuf {
 fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure> {
     let file = setup.file.display();
     let analysis = setup.static_optimization.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no StaticOptimization that is on"))?;
-    check_analyses(setup, &["StaticOptimization"])?;
+    check_analyses(setup, &["StaticOptimization"], false)?;
     if !analysis.use_model_force_set {
         return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
     }
