@@ -344,8 +344,8 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert!(written.is_empty(), "{written:?}");
 }
 
-/// What the muscles' states cannot give is named, not guessed: a controls file (not read) drives
-/// Rajagopal2016's CoordinateActuators, so ForceReporter and Actuation are left out while the
+/// What the muscles' states cannot give is named, not guessed: a ControlSetController (not
+/// applied) drives Rajagopal2016's CoordinateActuators, so ForceReporter and Actuation are left out while the
 /// MuscleAnalysis and StatesReporter tables stay OpenSim's; a DeGrooteFregly2016Muscle's state is
 /// its tendon force, so only its path tables are written.
 #[test]
@@ -353,11 +353,12 @@ fn tables_the_muscle_states_cannot_give_are_named() {
     let folder = tempfile::tempdir().unwrap();
     let dir = folder.path();
     copy_into(dir, &[("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot"), ("golden/scale_zoo/Rajagopal2016_scaled.osim", "Rajagopal2016_scaled.osim")]);
-    let setup = edited_copy(dir, "golden/analyze_tool/rajagopal/setup.xml", "setup.xml", &[("<coordinates_file>", "<controls_file>controls.xml</controls_file>\n\t\t<coordinates_file>")]);
+    let controllers = "<ControllerSet name=\"Controllers\"><objects><ControlSetController name=\"cmc\"><controls_file>controls.xml</controls_file></ControlSetController></objects></ControllerSet>\n\t\t<coordinates_file>";
+    let setup = edited_copy(dir, "golden/analyze_tool/rajagopal/setup.xml", "setup.xml", &[("<coordinates_file>", controllers)]);
     let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("not written: ForceReporter's tables: controls_file controls.xml drives forces of the model"), "{stderr}");
-    assert!(stderr.contains("not written: Actuation's tables: controls_file controls.xml"), "{stderr}");
+    assert!(stderr.contains("not written: ForceReporter's tables: the ControllerSet's ControlSetController cmc (controls.xml) drives forces of the model"), "{stderr}");
+    assert!(stderr.contains("not written: Actuation's tables: the ControllerSet's ControlSetController cmc (controls.xml)"), "{stderr}");
     let written = |name: &str| dir.join("Results").join(name).exists();
     assert!(written("walk_StatesReporter_states.sto") && written("walk_MuscleAnalysis_TendonForce.sto"));
     assert!(!written("walk_ForceReporter_forces.sto") && !written("walk_Actuation_force.sto"));
@@ -367,7 +368,7 @@ fn tables_the_muscle_states_cannot_give_are_named() {
     std::fs::write(dir.join(mot), format!("walk\nversion=1\nnRows=11\nnColumns=2\ninDegrees=no\nendheader\ntime\tdefault_length\n{rows}")).unwrap();
     let degroote = dir.join("degroote.xml");
     let text = std::fs::read_to_string(&setup).unwrap().replace("Rajagopal2016_scaled.osim", &fixture("models/degroote_bench.osim").display().to_string()).replace("subject01_walk1_ik.mot", mot);
-    std::fs::write(&degroote, text.replace("<controls_file>controls.xml</controls_file>", "").replace("<initial_time>0.5</initial_time>", "<initial_time>0</initial_time>").replace("<final_time>0.6</final_time>", "<final_time>1</final_time>")).unwrap();
+    std::fs::write(&degroote, text.replace(controllers, "<coordinates_file>").replace("<initial_time>0.5</initial_time>", "<initial_time>0</initial_time>").replace("<final_time>0.6</final_time>", "<final_time>1</final_time>")).unwrap();
     std::fs::remove_dir_all(dir.join("Results")).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&degroote)]);
     assert_eq!(code, 0, "{stderr}");

@@ -1,6 +1,6 @@
 //! The accelerations OpenSim's AnalyzeTool realizes for its analyses' `_dudt` and `_acc` tables:
 //! the model's forward dynamics at each row's state — every muscle pulling with its tendon force
-//! at its state, every other actuator at zero control (no controls file), the external loads,
+//! at its state, every other actuator at zero control (no controller), the external loads,
 //! gravity — with locks and couplers holding.
 
 use super::reporters::AppliedAt;

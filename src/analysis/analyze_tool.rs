@@ -182,12 +182,14 @@ fn reporter_tables(spec: &ModelSpec, analysis: &ReporterSetup, class: &str, at: 
     Ok(vec![("forces", force_reporter_table(at)?)])
 }
 
-/// Why a force table would not be OpenSim's: the setup's controls file (not read here) drives
+/// Why a force table would not be OpenSim's: the setup's controllers (not applied here) drive
 /// a muscle without activation dynamics or, with `actuators`, a non-muscle actuator.
 fn controls_ignored(spec: &ModelSpec, setup: &AnalyzeSetup, actuators: bool) -> Option<String> {
-    let controls = setup.controls_file.as_ref()?;
+    if setup.controllers.is_empty() {
+        return None;
+    }
     let driven = (actuators && !spec.actuators.is_empty()) || spec.forces.iter().any(|f| f.muscle.as_ref().is_some_and(|m| m.ignore_activation_dynamics));
-    driven.then(|| format!("controls_file {} drives forces of the model, and osim-tune does not read controls", controls.written))
+    driven.then(|| format!("the ControllerSet's {} drives forces of the model, and osim-tune applies no controllers", setup.controllers.join(", ")))
 }
 
 /// Why an AnalyzeTool setup's tables cannot be formed.

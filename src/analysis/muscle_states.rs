@@ -1,7 +1,7 @@
 //! The muscle states OpenSim's AnalyzeTool hands its analyses: those a states file gives, and
 //! what a coordinates file (or a states file) lacks filled with the model's defaults
-//! (`formStateStorage`): each muscle at its `default_activation` — a muscle without activation dynamics at its control, 0 without a
-//! controls file — and its fiber at `default_fiber_length`, or, with
+//! (`formStateStorage`): each muscle at its `default_activation` — a muscle without activation
+//! dynamics at its control, 0 without a controller — and its fiber at `default_fiber_length`, or, with
 //! `solve_for_equilibrium_for_auxiliary_states`, where `equilibrateMuscles` puts it (Thelen's
 //! speed-sharing `initMuscleState`, Millard's static equilibrium); each on the path of the
 //! analysed pose moving at the pose's speeds.

@@ -1,6 +1,6 @@
 //! OpenSim's `ForceReporter`, `Actuation` and `StatesReporter` on the states an AnalyzeTool forms
 //! from a coordinates file: muscles at their [`MuscleStates`], other actuators at zero control
-//! (no controls file), the external loads as their `ExternalForce`s record them, every
+//! (no controller), the external loads as their `ExternalForce`s record them, every
 //! coordinate's value and speed.
 
 use super::external_loads::ExternalLoads;

@@ -44,8 +44,10 @@ pub struct AnalyzeSetup {
     /// Muscles' fibers put in equilibrium at each state (`equilibrateMuscles`) rather than left
     /// at their default lengths (default false).
     pub solve_for_equilibrium_for_auxiliary_states: bool,
-    /// Actuator controls (`ControlSet` XML or a table), which osim-tune does not read.
-    pub controls_file: Option<SetupPath>,
+    /// The enabled controllers of the tool's `ControllerSet`, as `<class> <name>` (with a
+    /// `ControlSetController`'s controls file), which osim-tune does not apply. (A `controls_file`
+    /// outside a controller OpenSim 4 ignores, and so does osim-tune.)
+    pub controllers: Vec<String>,
     /// The `StaticOptimization` analysis, if the set has one that is on.
     pub static_optimization: Option<StaticOptimizationSetup>,
     /// The `JointReaction` analysis, if the set has one that is on.
@@ -210,7 +212,7 @@ impl AnalyzeSetup {
             external_loads_file: optional_path(tool, "external_loads_file", &directory),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             solve_for_equilibrium_for_auxiliary_states: tool.boolean_or("solve_for_equilibrium_for_auxiliary_states", false)?,
-            controls_file: optional_path(tool, "controls_file", &directory),
+            controllers: controllers(tool)?,
             static_optimization,
             joint_reaction,
             muscle_analysis,
@@ -317,6 +319,26 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                 *reporter(&mut found, analysis.class()) = Some(ReporterSetup { name: name(), step_interval: step_interval()?, include_constraint_forces });
             }
             class => found.others.push(class.to_string()),
+        }
+    }
+    Ok(found)
+}
+
+/// The enabled controllers of the tool's `ControllerSet`, described as `<class> <name>` and a
+/// `ControlSetController`'s `controls_file`.
+fn controllers(tool: ComponentReader) -> Result<Vec<String>, SetupError> {
+    let Some(set) = tool.child("ControllerSet") else { return Ok(Vec::new()) };
+    let mut found = Vec::new();
+    for element in tool.at(set).listed_objects(set) {
+        let controller = tool.at(element);
+        if controller.boolean_or("enabled", true)? {
+            let mut description = controller.class().to_string();
+            for (part, pattern) in [(Some(controller.name()).filter(|n| !n.is_empty()), " {}"), (controller.optional_text("controls_file"), " ({})")] {
+                if let Some(part) = part {
+                    description += &pattern.replace("{}", &part);
+                }
+            }
+            found.push(description);
         }
     }
     Ok(found)
