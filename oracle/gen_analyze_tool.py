@@ -28,6 +28,9 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
   residual and reserve actuators of its static optimisation (`force_set_files`: point, torque
   and coordinate actuators), equilibrated: ForceReporter, Actuation, Kinematics, BodyKinematics
   (pelvis, calcn_r, the whole model's mass center) and a heel point's PointKinematics;
+* `controls`: the `loads` case driven by two `ControlSetController`s: `residual_controls.xml`
+  (ControlLinear: FX linear, FY in steps, `FZ.excitation` held past its last node, MY) and
+  `residual_controls.sto` (MX and MY, whose controls add up); MZ has none;
 * `states`: arm26 from a `states_file` — OpenSim's forward simulation of it under constant
   excitations (`arm26_states.sto`, written here) — MuscleAnalysis, Kinematics, BodyKinematics,
   ForceReporter, Actuation, StatesReporter, every third row;
@@ -61,6 +64,8 @@ INPUTS = {
     "subject01_walk1_grf.xml": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.xml",
     "subject01_walk1_grf.mot": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.mot",
     "arm26.osim": REPO / "fixtures" / "models" / "arm26.osim",
+    "residual_controls.xml": OUT / "controls" / "residual_controls.xml",
+    "residual_controls.sto": OUT / "controls" / "residual_controls.sto",
     "arm26_states.sto": OUT / "states" / "arm26_states.sto",
     "arm26_states_legacy.sto": OUT / "states_legacy" / "arm26_states_legacy.sto",
 }
@@ -130,12 +135,19 @@ CASES = {
     "loads": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, analyses=LOADED,
                   extra="\t\t<force_set_files> gait2392_SO_Residual_Actuators.xml</force_set_files>\n\t\t<replace_force_set>false</replace_force_set>\n"
                         "\t\t<external_loads_file>subject01_walk1_grf.xml</external_loads_file>\n"),
+    "controls": dict(range=(0.5, 0.6), cutoff=6, equilibrium=True, analyses=LOADED,
+                     extra="\t\t<force_set_files> gait2392_SO_Residual_Actuators.xml</force_set_files>\n\t\t<replace_force_set>false</replace_force_set>\n"
+                           "\t\t<external_loads_file>subject01_walk1_grf.xml</external_loads_file>\n"
+                           "\t\t<ControllerSet name=\"Controllers\"><objects>"
+                           "<ControlSetController name=\"xml\"><controls_file>residual_controls.xml</controls_file></ControlSetController>"
+                           "<ControlSetController name=\"sto\"><controls_file>residual_controls.sto</controls_file></ControlSetController>"
+                           "</objects></ControllerSet>\n"),
     "states": dict(range=(0.05, 0.25), cutoff=-1, model="arm26.osim", analyses=ARM, states="arm26_states.sto"),
     "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "states", "states_legacy")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy")
 
 
 def kept(case, table):
@@ -202,9 +214,32 @@ def write_states():
     legacy.write_text("\n".join(lines))
 
 
+def control_linear(name, nodes, use_steps="false", extrapolate="true"):
+    points = "".join(f"<ControlLinearNode><t>{t}</t><value>{v}</value></ControlLinearNode>" for t, v in nodes)
+    return (f'<ControlLinear name="{name}"><extrapolate>{extrapolate}</extrapolate><use_steps>{use_steps}</use_steps>'
+            f"<x_nodes>{points}</x_nodes></ControlLinear>")
+
+
+def write_controls():
+    """The residual actuators' controls of the `controls` case, as a ControlSet and a table."""
+    folder = OUT / "controls"
+    folder.mkdir(parents=True, exist_ok=True)
+    controls = [
+        control_linear("FX", [(0.45, 2.0), (0.55, -3.0), (0.65, 1.0)]),
+        control_linear("FY", [(0.45, 1.0), (0.526, 4.0), (0.56, -2.0), (0.7, 3.0)], use_steps="true"),
+        control_linear("FZ.excitation", [(0.40, 0.5), (0.55, 2.5)], extrapolate="false"),
+        control_linear("MY", [(0.5, 1.5), (0.6, 0.5)]),
+    ]
+    (folder / "residual_controls.xml").write_text('<?xml version="1.0" encoding="UTF-8" ?>\n<OpenSimDocument Version="40600">\n'
+                                                  f'<ControlSet name="residuals"><objects>{"".join(controls)}</objects></ControlSet>\n</OpenSimDocument>\n')
+    rows = "".join(f"{t:.3f}\t{0.2 + 3 * t:.6f}\t{1 - t:.6f}\n" for t in (0.45, 0.5, 0.55, 0.6, 0.65))
+    (folder / "residual_controls.sto").write_text(f"controls\nversion=1\nnRows=5\nnColumns=3\ninDegrees=no\nendheader\ntime\tMX\tMY\n{rows}")
+
+
 def main():
     osim.Logger.setLevelString("error")
     write_states()
+    write_controls()
     for case in CASES:
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)

@@ -344,7 +344,7 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert!(written.is_empty(), "{written:?}");
 }
 
-/// What the muscles' states cannot give is named, not guessed: a ControlSetController (not
+/// What the muscles' states cannot give is named, not guessed: a PrescribedController (not
 /// applied) drives Rajagopal2016's CoordinateActuators, so ForceReporter and Actuation are left out while the
 /// MuscleAnalysis and StatesReporter tables stay OpenSim's; a DeGrooteFregly2016Muscle's state is
 /// its tendon force, so only its path tables are written.
@@ -353,15 +353,16 @@ fn tables_the_muscle_states_cannot_give_are_named() {
     let folder = tempfile::tempdir().unwrap();
     let dir = folder.path();
     copy_into(dir, &[("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot"), ("golden/scale_zoo/Rajagopal2016_scaled.osim", "Rajagopal2016_scaled.osim")]);
-    let controllers = "<ControllerSet name=\"Controllers\"><objects><ControlSetController name=\"cmc\"><controls_file>controls.xml</controls_file></ControlSetController></objects></ControllerSet>\n\t\t<coordinates_file>";
+    let controllers = "<ControllerSet name=\"Controllers\"><objects><PrescribedController name=\"arms\"><actuator_list>shoulder_flex_r</actuator_list></PrescribedController></objects></ControllerSet>\n\t\t<coordinates_file>";
     let setup = edited_copy(dir, "golden/analyze_tool/rajagopal/setup.xml", "setup.xml", &[("<coordinates_file>", controllers)]);
     let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("not written: ForceReporter's tables: the ControllerSet's ControlSetController cmc (controls.xml) drives forces of the model"), "{stderr}");
-    assert!(stderr.contains("not written: Actuation's tables: the ControllerSet's ControlSetController cmc (controls.xml)"), "{stderr}");
+    assert!(stderr.contains("not written: ForceReporter's tables: the ControllerSet's PrescribedController arms drives forces of the model, and osim-tune applies only ControlSetControllers"), "{stderr}");
+    assert!(stderr.contains("not written: Actuation's tables: the ControllerSet's PrescribedController arms"), "{stderr}");
+    assert!(stderr.contains("not written: Kinematics' accelerations (_dudt): the ControllerSet's PrescribedController arms"), "{stderr}");
     let written = |name: &str| dir.join("Results").join(name).exists();
     assert!(written("walk_StatesReporter_states.sto") && written("walk_MuscleAnalysis_TendonForce.sto"));
-    assert!(!written("walk_ForceReporter_forces.sto") && !written("walk_Actuation_force.sto"));
+    assert!(!written("walk_ForceReporter_forces.sto") && !written("walk_Actuation_force.sto") && !written("walk_Kinematics_dudt.sto"));
 
     let mot = "degroote.mot";
     let rows: String = (0..11).map(|i| format!("{}\t{}\n", 0.1 * i as f64, 0.001 * i as f64)).collect();

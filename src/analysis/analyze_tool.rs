@@ -20,7 +20,7 @@ use super::signal::{frames_in_range, NoFramesInRange};
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Motion, Multibody, MuscleGeometry};
 use crate::model::{ActuatorSpec, ModelSpec};
-use crate::setup::{AnalyzeSetup, ReporterSetup};
+use crate::setup::{AnalyzeSetup, ControlSet, ReporterSetup};
 use crate::solvers::{assemble, IkError};
 
 /// The tables an AnalyzeTool setup's analyses write, with what the run leaves to note.
@@ -51,6 +51,8 @@ pub struct AnalyzeModel<'a> {
     pub added: &'a [ActuatorSpec],
     pub replace: bool,
     pub external: Option<&'a ExternalLoads>,
+    /// The control sets of the setup's `ControlSetController`s, whose controls add up.
+    pub controls: &'a [ControlSet],
 }
 
 /// The tables of `setup`'s analyses (see the module documentation) on `table` (read from
@@ -59,7 +61,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
     if !setup.has_analyze_tables() {
         return Err(AnalyzeToolError::NothingToRun { file: setup.file.clone() });
     }
-    let &AnalyzeModel { spec, geometry, external, .. } = model;
+    let &AnalyzeModel { spec, geometry, external, controls, .. } = model;
     let multibody = &geometry.multibody;
     // The forces the model applies, or why they cannot be applied here.
     let generators = match controls_ignored(spec, setup, true) {
@@ -86,7 +88,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
         tables.rows = (times.len(), times.first().copied().unwrap_or(f64::NAN), times.last().copied().unwrap_or(f64::NAN));
         tables.held_at_zero.clone_from(&states.motion.defaulted);
     };
-    let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, states, setup.solve_for_equilibrium_for_auxiliary_states);
+    let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, states, controls, setup.solve_for_equilibrium_for_auxiliary_states);
     if let (Some(analysis), true) = (&setup.muscle_analysis, model.replace) {
         tables.not_written.push(format!("{}: replace_force_set replaces the model's muscles by the force-set files' actuators, so OpenSim's MuscleAnalysis has no muscles", analysis.name));
     } else if let Some(analysis) = &setup.muscle_analysis {
@@ -116,7 +118,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
         let formed = generators.clone().and_then(|generators| {
             let muscles = muscles(states).map_err(|e| e.to_string())?;
             tables.warnings.extend(muscles.warnings.iter().cloned());
-            let at = AppliedAt { multibody, generators: &generators, external, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
+            let at = AppliedAt { multibody, generators: &generators, external, controls, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
             analyze_accelerations(geometry, &at)
         });
         formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
@@ -156,7 +158,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
                 return Ok(vec![("states", states_reporter_table(spec, multibody, &muscles, &states.motion, &states.speeds)?)]);
             }
             let generators = generators.clone().map_err(ReporterError::NotFormed)?;
-            let at = AppliedAt { multibody, generators: &generators, external, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
+            let at = AppliedAt { multibody, generators: &generators, external, controls, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
             reporter_tables(spec, analysis, class, &at)
         });
         match formed {
@@ -182,14 +184,16 @@ fn reporter_tables(spec: &ModelSpec, analysis: &ReporterSetup, class: &str, at: 
     Ok(vec![("forces", force_reporter_table(at)?)])
 }
 
-/// Why a force table would not be OpenSim's: the setup's controllers (not applied here) drive
-/// a muscle without activation dynamics or, with `actuators`, a non-muscle actuator.
+/// Why a force table would not be OpenSim's: a controller of the setup that osim-tune does not
+/// apply (any but a `ControlSetController` with its file) drives a muscle without activation
+/// dynamics or, with `actuators`, a non-muscle actuator.
 fn controls_ignored(spec: &ModelSpec, setup: &AnalyzeSetup, actuators: bool) -> Option<String> {
-    if setup.controllers.is_empty() {
+    let unapplied: Vec<&str> = setup.controllers.iter().filter(|c| c.controls_file.is_none()).map(|c| c.description.as_str()).collect();
+    if unapplied.is_empty() {
         return None;
     }
     let driven = (actuators && !spec.actuators.is_empty()) || spec.forces.iter().any(|f| f.muscle.as_ref().is_some_and(|m| m.ignore_activation_dynamics));
-    driven.then(|| format!("the ControllerSet's {} drives forces of the model, and osim-tune applies no controllers", setup.controllers.join(", ")))
+    driven.then(|| format!("the ControllerSet's {} drives forces of the model, and osim-tune applies only ControlSetControllers", unapplied.join(", ")))
 }
 
 /// Why an AnalyzeTool setup's tables cannot be formed.

@@ -1,13 +1,15 @@
 //! The muscle states OpenSim's AnalyzeTool hands its analyses: those a states file gives, and
 //! what a coordinates file (or a states file) lacks filled with the model's defaults
 //! (`formStateStorage`): each muscle at its `default_activation` — a muscle without activation
-//! dynamics at its control, 0 without a controller — and its fiber at `default_fiber_length`, or, with
+//! dynamics at its control (a `ControlSetController`'s, else 0) — and its fiber at `default_fiber_length`, or, with
 //! `solve_for_equilibrium_for_auxiliary_states`, where `equilibrateMuscles` puts it (Thelen's
 //! speed-sharing `initMuscleState`, Millard's static equilibrium); each on the path of the
 //! analysed pose moving at the pose's speeds.
 
 use crate::mechanics::muscle::{HillMuscle, MuscleError, MuscleState};
 use super::analyze_tool::AnalyzeToolMotion;
+use super::reporters::control;
+use crate::setup::ControlSet;
 use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::{ModelSpec, MuscleSpec};
 
@@ -66,7 +68,7 @@ impl HeldMuscle<'_> {
 /// The states of every muscle of `spec` (`geometry` its paths) at each pose of `states` with its
 /// speeds — those its states file gives, the others at their defaults — equilibrated when
 /// `equilibrate`.
-pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &AnalyzeToolMotion, equilibrate: bool) -> Result<MuscleStates, MuscleStatesError> {
+pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &AnalyzeToolMotion, controls: &[ControlSet], equilibrate: bool) -> Result<MuscleStates, MuscleStatesError> {
     let (motion, speeds) = (&states.motion, &states.speeds);
     let (mut muscles, mut held) = (Vec::new(), Vec::new());
     for force in spec.muscles() {
@@ -90,8 +92,10 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
             let (length, speed) = (evaluation.length(k), evaluation.lengthening_speed(k));
             let mut warn = |what: &str, e: MuscleError| result.warnings.push(format!("at {time} s: {what}: {e}"));
             let start = held.variables(row);
+            // A muscle without activation dynamics is activated by its control.
+            let activation = start.activation.unwrap_or_else(|| control(controls, &result.muscles[k].1, time));
             let variable = match start.fiber_length {
-                Some(_) if equilibrate => match equilibrated_fiber_length(&held.muscle, start.activation.unwrap_or(0.0), length, speed) {
+                Some(_) if equilibrate => match equilibrated_fiber_length(&held.muscle, activation, length, speed) {
                     Ok(fiber_length) => StateVariables { fiber_length: Some(fiber_length), ..start },
                     Err(e) => {
                         warn("not equilibrated, left as it was", e);
@@ -100,7 +104,7 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
                 },
                 _ => start,
             };
-            let report = held.muscle.state(variable.activation.unwrap_or(0.0), variable.fiber_length.unwrap_or(0.0), length, speed);
+            let report = held.muscle.state(activation, variable.fiber_length.unwrap_or(0.0), length, speed);
             reports.push(report.map_err(|e| warn("not evaluated (NaN)", e)).ok());
             variables.push(variable);
         }

@@ -1,6 +1,6 @@
 //! OpenSim's `ForceReporter`, `Actuation` and `StatesReporter` on the states an AnalyzeTool forms
-//! from a coordinates file: muscles at their [`MuscleStates`], other actuators at zero control
-//! (no controller), the external loads as their `ExternalForce`s record them, every
+//! from a coordinates file: muscles at their [`MuscleStates`], other actuators at the controls of
+//! the setup's `ControlSetController`s (zero without), the external loads as their `ExternalForce`s record them, every
 //! coordinate's value and speed.
 
 use super::external_loads::ExternalLoads;
@@ -10,6 +10,7 @@ use super::storage;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Kinematics, Motion, MotionState, Multibody};
 use crate::model::ModelSpec;
+use crate::setup::ControlSet;
 
 /// Why a reporter's table is not formed.
 #[derive(Debug, thiserror::Error)]
@@ -28,6 +29,8 @@ pub struct AppliedAt<'a> {
     pub multibody: &'a Multibody,
     pub generators: &'a [Generator],
     pub external: Option<&'a ExternalLoads>,
+    /// The controls applied (summed over the sets; an actuator without one at 0).
+    pub controls: &'a [ControlSet],
     pub muscles: &'a MuscleStates,
     pub motion: &'a Motion,
     /// Speeds per row (rad/s or m/s, [`Multibody::coordinates`] order).
@@ -36,15 +39,16 @@ pub struct AppliedAt<'a> {
 
 impl AppliedAt<'_> {
     /// Each generator's force at `row` (N or N·m): a muscle's tendon force at its state (NaN
-    /// where it was not evaluated), an actuator's actuation at zero control.
+    /// where it was not evaluated), an actuator's actuation, control × optimal force.
     pub(super) fn forces(&self, row: usize) -> Vec<f64> {
         let muscle = |name: &str| self.muscles.muscles.iter().position(|(_, m)| m == name);
+        let time = self.motion.times[row];
         self.generators
             .iter()
             .map(|g| match (g.muscle_path(), muscle(&g.name)) {
                 (Some(_), Some(k)) => self.muscles.states[row][k].map_or(f64::NAN, |s| s.report.tendon_force),
                 (Some(_), None) => f64::NAN,
-                (None, _) => 0.0,
+                (None, _) => control(self.controls, &g.name, time) * g.unit_force(false, 0.0, 0.0),
             })
             .collect()
     }
@@ -139,6 +143,11 @@ pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &M
         values
     });
     storage("ModelStates", labels, values)
+}
+
+/// The control of `actuator` at `time` (s): the sum of the sets' (`addInControls`), 0 without one.
+pub fn control(controls: &[ControlSet], actuator: &str, time: f64) -> f64 {
+    controls.iter().filter_map(|set| set.control(actuator, time)).sum()
 }
 
 /// Time and `row_values(row)` for each of `times`, row after row.

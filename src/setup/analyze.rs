@@ -44,10 +44,9 @@ pub struct AnalyzeSetup {
     /// Muscles' fibers put in equilibrium at each state (`equilibrateMuscles`) rather than left
     /// at their default lengths (default false).
     pub solve_for_equilibrium_for_auxiliary_states: bool,
-    /// The enabled controllers of the tool's `ControllerSet`, as `<class> <name>` (with a
-    /// `ControlSetController`'s controls file), which osim-tune does not apply. (A `controls_file`
-    /// outside a controller OpenSim 4 ignores, and so does osim-tune.)
-    pub controllers: Vec<String>,
+    /// The enabled controllers of the tool's `ControllerSet`. (A `controls_file` outside a
+    /// controller OpenSim 4 ignores, and so does osim-tune.)
+    pub controllers: Vec<ControllerSetup>,
     /// The `StaticOptimization` analysis, if the set has one that is on.
     pub static_optimization: Option<StaticOptimizationSetup>,
     /// The `JointReaction` analysis, if the set has one that is on.
@@ -166,6 +165,15 @@ pub struct PointKinematicsSetup {
     pub relative_to: Option<String>,
 }
 
+/// A controller of the tool's `ControllerSet`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ControllerSetup {
+    /// `<class> <name>` and a controls file, for messages.
+    pub description: String,
+    /// A `ControlSetController`'s `controls_file` (the only controller osim-tune applies).
+    pub controls_file: Option<SetupPath>,
+}
+
 /// A reporter analysis (`ForceReporter`, `Actuation`, `StatesReporter`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReporterSetup {
@@ -212,7 +220,7 @@ impl AnalyzeSetup {
             external_loads_file: optional_path(tool, "external_loads_file", &directory),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             solve_for_equilibrium_for_auxiliary_states: tool.boolean_or("solve_for_equilibrium_for_auxiliary_states", false)?,
-            controllers: controllers(tool)?,
+            controllers: controllers(tool, &directory)?,
             static_optimization,
             joint_reaction,
             muscle_analysis,
@@ -324,22 +332,24 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
     Ok(found)
 }
 
-/// The enabled controllers of the tool's `ControllerSet`, described as `<class> <name>` and a
-/// `ControlSetController`'s `controls_file`.
-fn controllers(tool: ComponentReader) -> Result<Vec<String>, SetupError> {
+/// The enabled controllers of the tool's `ControllerSet` (`directory` resolves their files).
+fn controllers(tool: ComponentReader, directory: &Path) -> Result<Vec<ControllerSetup>, SetupError> {
     let Some(set) = tool.child("ControllerSet") else { return Ok(Vec::new()) };
     let mut found = Vec::new();
     for element in tool.at(set).listed_objects(set) {
         let controller = tool.at(element);
-        if controller.boolean_or("enabled", true)? {
-            let mut description = controller.class().to_string();
-            for (part, pattern) in [(Some(controller.name()).filter(|n| !n.is_empty()), " {}"), (controller.optional_text("controls_file"), " ({})")] {
-                if let Some(part) = part {
-                    description += &pattern.replace("{}", &part);
-                }
-            }
-            found.push(description);
+        if !controller.boolean_or("enabled", true)? {
+            continue;
         }
+        let file = optional_path(controller, "controls_file", directory);
+        let mut description = controller.class().to_string();
+        for (part, pattern) in [(Some(controller.name()).filter(|n| !n.is_empty()), " {}"), (file.as_ref().map(|f| f.written.clone()), " ({})")] {
+            if let Some(part) = part {
+                description += &pattern.replace("{}", &part);
+            }
+        }
+        let controls_file = file.filter(|_| controller.class() == "ControlSetController");
+        found.push(ControllerSetup { description, controls_file });
     }
     Ok(found)
 }

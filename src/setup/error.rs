@@ -23,9 +23,18 @@ pub enum SetupError {
     /// `name` attribute.
     #[error("{}:{line}: {component}: <{class}> needs a name attribute naming its {what}", file.display())]
     Unnamed { file: PathBuf, line: usize, component: String, class: String, what: String },
+    /// A table a setup names (a controls `.sto`) could not be read. Boxed as `Property`.
+    #[error(transparent)]
+    Table(Box<crate::io::table::TableError>),
     /// An object given by reference (`<MeasurementSet file="…"/>`) could not be read.
     #[error("{}:{line}: <{element} file={reference:?}>: {source}", file.display())]
     Reference { file: PathBuf, line: usize, element: String, reference: String, source: Box<SetupError> },
+}
+
+impl From<crate::io::table::TableError> for SetupError {
+    fn from(error: crate::io::table::TableError) -> Self {
+        SetupError::Table(Box::new(error))
+    }
 }
 
 impl From<ModelError> for SetupError {

@@ -6,6 +6,7 @@
 //! empty and `Unassigned` names are `None`.
 
 mod analyze;
+mod controls;
 mod error;
 mod external_loads;
 mod ik;
@@ -20,7 +21,8 @@ mod property;
 mod scale;
 mod time_range;
 
-pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup, StaticOptimizationSetup};
+pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, ControllerSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup, StaticOptimizationSetup};
+pub use controls::{ControlLinear, ControlSet};
 pub use error::SetupError;
 pub use object::read_document;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};

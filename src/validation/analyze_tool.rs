@@ -11,7 +11,7 @@ use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
 use crate::model::{read_force_set, ModelSpec};
-use crate::setup::{read_document, AnalyzeSetup};
+use crate::setup::{read_document, AnalyzeSetup, ControlSet};
 
 /// The golden cases: every muscle and coordinate filtered at 6 Hz; listed muscles and coordinates
 /// (with unknown names) every second row; the Kinematics and BodyKinematics of every coordinate
@@ -21,13 +21,14 @@ use crate::setup::{read_document, AnalyzeSetup};
 /// StatesReporter with the muscles at their default states (Thelen), equilibrated (Thelen,
 /// Millard), and equilibrated on Rajagopal2016 (rigid and compliant tendons, damping,
 /// CoordinateActuators, couplers, clamped knee); the walk with its ground reactions and the
-/// static optimisation's residual and reserve actuators; arm26 from a states file (OpenSim's
-/// forward simulation) under OpenSim 4's and OpenSim 3's labels.
-pub const ANALYZE_TOOL_CASES: [&str; 12] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "states", "states_legacy"];
+/// static optimisation's residual actuators, and those driven by two ControlSetControllers (a
+/// ControlSet and a table); arm26 from a states file (OpenSim's forward simulation) under OpenSim
+/// 4's and OpenSim 3's labels.
+pub const ANALYZE_TOOL_CASES: [&str; 13] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy"];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
 /// where the repository keeps them.
-pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 9] = [
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 11] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
@@ -35,6 +36,8 @@ pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 9] = [
     ("subject01_walk1_grf.xml", "fixtures/subject01/subject01_walk1_grf.xml"),
     ("subject01_walk1_grf.mot", "fixtures/subject01/subject01_walk1_grf.mot"),
     ("arm26.osim", "fixtures/models/arm26.osim"),
+    ("residual_controls.xml", "fixtures/golden/analyze_tool/controls/residual_controls.xml"),
+    ("residual_controls.sto", "fixtures/golden/analyze_tool/controls/residual_controls.sto"),
     ("arm26_states.sto", "fixtures/golden/analyze_tool/states/arm26_states.sto"),
     ("arm26_states_legacy.sto", "fixtures/golden/analyze_tool/states_legacy/arm26_states_legacy.sto"),
 ];
@@ -126,7 +129,8 @@ pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeTool
         None => None,
     };
     let replace = setup.replace_force_set && !setup.force_set_files.is_empty();
-    let model = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref() };
+    let controls = setup.controllers.iter().filter_map(|c| c.controls_file.as_ref()).map(|f| ControlSet::read(&input(root, case, &f.written)?).map_err(|e| e.to_string())).collect::<Result<Vec<_>, _>>()?;
+    let model = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
     let ours = analyze_tool_tables(&model, &table, &motion_file, &setup, &setup.name).map_err(|e| e.to_string())?.files;
     let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| format!("{}: {e}", golden.join("files.txt").display()))?;
     let our_files: Vec<&str> = ours.iter().map(|(file, _)| file.as_str()).collect();
