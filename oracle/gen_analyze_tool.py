@@ -27,13 +27,16 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
 * `loads`: subject01's walk with its ground reaction forces (`external_loads_file`) and the
   residual and reserve actuators of its static optimisation (`force_set_files`: point, torque
   and coordinate actuators), equilibrated: ForceReporter, Actuation, Kinematics, BodyKinematics
-  (pelvis, calcn_r, the whole model's mass center) and a heel point's PointKinematics;
+  (pelvis, calcn_r, the whole model's mass center), a heel point's PointKinematics and a
+  JointReaction without a forces file (the right hip, knee and ankle on their children, in the
+  children's frames: the model's forces at the muscles' states);
 * `controls`: the `loads` case driven by two `ControlSetController`s: `residual_controls.xml`
   (ControlLinear: FX linear, FY in steps, `FZ.excitation` held past its last node, MY) and
   `residual_controls.sto` (MX and MY, whose controls add up); MZ has none;
 * `states`: arm26 from a `states_file` — OpenSim's forward simulation of it under constant
   excitations (`arm26_states.sto`, written here) — MuscleAnalysis, Kinematics, BodyKinematics,
-  ForceReporter, Actuation, StatesReporter, every third row;
+  ForceReporter, Actuation, StatesReporter, JointReaction (every joint on its parent, in ground,
+  no forces file), every third row;
 * `states_legacy`: the same states under OpenSim 3's labels (`r_shoulder_elev`,
   `r_shoulder_elev_u`, `TRIlong.activation`, `TRIlong.fiber_length`), equilibrated.
 
@@ -75,6 +78,7 @@ ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interv
 \t\t\t\t<ForceReporter name="ForceReporter"><on>true</on><step_interval>3</step_interval></ForceReporter>
 \t\t\t\t<Actuation name="Actuation"><on>true</on><step_interval>3</step_interval></Actuation>
 \t\t\t\t<StatesReporter name="StatesReporter"><on>true</on><step_interval>3</step_interval></StatesReporter>
+\t\t\t\t<JointReaction name="JointReaction"><on>true</on><step_interval>3</step_interval><joint_names> ALL</joint_names><apply_on_bodies> parent</apply_on_bodies><express_in_frame> ground</express_in_frame></JointReaction>
 """
 MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
 KEPT = ["Length", "MomentArm_knee_angle_r", "MomentArm_hip_flexion_r", "MomentArm_lumbar_extension", "MomentArm_pelvis_tx"]
@@ -118,6 +122,7 @@ LOADED = """\t\t\t\t<ForceReporter name="ForceReporter"><on>true</on></ForceRepo
 \t\t\t\t<Kinematics name="Kinematics"><on>true</on></Kinematics>
 \t\t\t\t<BodyKinematics name="BodyKinematics"><on>true</on><bodies> pelvis calcn_r center_of_mass</bodies></BodyKinematics>
 \t\t\t\t<PointKinematics name="heel"><on>true</on><body_name>calcn_r</body_name><point>0.01 0.02 -0.03</point><point_name>heel_r</point_name></PointKinematics>
+\t\t\t\t<JointReaction name="JointReaction"><on>true</on><joint_names> hip_r knee_r ankle_r</joint_names><apply_on_bodies> child</apply_on_bodies><express_in_frame> child</express_in_frame></JointReaction>
 """
 CASES = {
     "all": dict(range=(0.5, 0.6), cutoff=6, analyses=MUSCLES.format(step=1, muscles="all", coordinates="all")),

@@ -302,7 +302,7 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     std::fs::write(&states, ANALYZE_SETUP.replace("<coordinates_file>arm26_motion.mot</coordinates_file>", "<states_file>arm26_states.sto</states_file>")).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&states)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("states.xml: states_file \"arm26_states.sto\": osim-tune's StaticOptimization and JointReaction run from coordinates_file"), "{stderr}");
+    assert!(stderr.contains("states.xml: states_file \"arm26_states.sto\": osim-tune's StaticOptimization and a JointReaction with a forces_file run from coordinates_file"), "{stderr}");
     let speeds = dir.join("speeds.xml");
     std::fs::write(&speeds, ANALYZE_SETUP.replace("<coordinates_file>", "<speeds_file>u.sto</speeds_file><coordinates_file>")).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&speeds)]);

@@ -1,24 +1,25 @@
 //! OpenSim's AnalyzeTool on a coordinates file: the states it hands its analyses (the
 //! coordinates filtered and splined as for static optimisation, each pose assembled, with the
 //! speeds; the muscles at their default or equilibrium states, [`super::muscle_states`]; the
-//! accelerations they give, [`super::analyze_accelerations`]) and the tables its
+//! accelerations they give, [`super::analyze_dynamics`]) and the tables its
 //! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`,
 //! `Actuation` and `StatesReporter` write, by file name.
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_accelerations::analyze_accelerations;
+use super::analyze_dynamics::analyze_dynamics;
 use super::analyze_states::{AnalyzeStates, GivenMuscleStates, StatesError};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::muscle_analysis::MuscleAnalysis;
 use super::muscle_state_tables::muscle_state_tables;
 use super::muscle_states::muscle_states;
 use super::external_loads::ExternalLoads;
+use super::joint_reaction::{reaction_reports, reaction_row, reaction_table, JointReactionError};
 use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, AppliedAt, ReporterError};
 use super::static_optimization::generators;
 use super::signal::{frames_in_range, NoFramesInRange};
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{Motion, Multibody, MuscleGeometry};
+use crate::mechanics::{MotionState, Motion, Multibody, MuscleGeometry};
 use crate::model::{ActuatorSpec, ModelSpec};
 use crate::setup::{AnalyzeSetup, ControlSet, ReporterSetup};
 use crate::solvers::{assemble, IkError};
@@ -113,16 +114,17 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
         }
         (tables.unknown_muscles, tables.unknown_coordinates) = (selected.unknown_muscles, selected.unknown_coordinates);
     }
-    // The accelerations of a row set, or why they are not formed (noted once per analysis).
-    let accelerations = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| {
+    // The dynamics of a row set, or why they are not formed (noted once per analysis).
+    let dynamics = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| {
         let formed = generators.clone().and_then(|generators| {
             let muscles = muscles(states).map_err(|e| e.to_string())?;
             tables.warnings.extend(muscles.warnings.iter().cloned());
             let at = AppliedAt { multibody, generators: &generators, external, controls, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
-            analyze_accelerations(geometry, &at)
+            analyze_dynamics(geometry, &at)
         });
         formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
     };
+    let accelerations = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| dynamics(states, tables, what).map(|rows| rows.into_iter().map(|r| r.udot).collect::<Vec<_>>());
     if let Some(analysis) = &setup.kinematics {
         let states = states(analysis.step_interval)?;
         let udot = accelerations(&states, &mut tables, "Kinematics' accelerations (_dudt)");
@@ -147,6 +149,21 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
         let formed = point_tables(multibody, &states, analysis, udot.as_deref()).map_err(in_setup)?;
         for (suffix, table) in ["pos", "vel", "acc"].into_iter().zip(formed) {
             add(&mut tables, &analysis.name, &format!("{}_{suffix}", analysis.point_name), table, &states);
+        }
+    }
+    if let Some(analysis) = setup.joint_reaction.as_ref().filter(|a| a.forces_file.is_none()) {
+        let states = states(analysis.step_interval)?;
+        let reports = reaction_reports(spec, multibody, &analysis.joint_names, &analysis.apply_on_bodies, &analysis.express_in_frame, &setup.file).map_err(Box::new)?;
+        if let Some(rows) = dynamics(&states, &mut tables, "the JointReaction's loads") {
+            let mut kinematics = multibody.kinematics();
+            let mut values = Vec::new();
+            for (row, dynamics) in rows.iter().enumerate() {
+                let (q, u) = (states.motion.pose(row), &states.speeds[row]);
+                multibody.realize(q, &mut kinematics);
+                values.push(states.motion.times[row]);
+                values.extend(reaction_row(multibody, &kinematics, &MotionState { q, u, udot: &dynamics.udot }, &dynamics.loads, &reports));
+            }
+            add(&mut tables, &analysis.name, "ReactionLoads", reaction_table(multibody, &reports, values)?, &states);
         }
     }
     let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter")];
@@ -211,6 +228,8 @@ pub enum AnalyzeToolError {
     Kinematics { file: PathBuf, source: KinematicsError },
     #[error(transparent)]
     Table(#[from] TableError),
+    #[error(transparent)]
+    Reaction(#[from] Box<JointReactionError>),
 }
 
 /// The states OpenSim's `AnalyzeTool` hands an analysis: the poses (each assembled) and the

@@ -3,7 +3,7 @@
 //! (body-fixed X-Y-Z angles) with their velocities (`_pos_global`, `_vel_global` or
 //! `_vel_bodyLocal`), the whole model's mass center last; a point's position and velocity in
 //! ground or another body's frame (`_<point>_pos`, `_vel`); and, given the accelerations the
-//! AnalyzeTool realizes ([`super::analyze_accelerations`]), theirs (`_dudt`, `_acc_global` or
+//! AnalyzeTool realizes ([`super::analyze_dynamics`]), theirs (`_dudt`, `_acc_global` or
 //! `_acc_bodyLocal`, `_acc`).
 
 use super::analyze_tool::AnalyzeToolMotion;

@@ -17,7 +17,7 @@ use super::external_loads::ExternalLoads;
 use super::signal::linear_interpolation;
 use super::static_optimization::Generator;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{AppliedForces, ForwardDynamicsError, JointReaction, Kinematics, MotionState, MuscleGeometry, Multibody, PathScratch, Vec3};
+use crate::mechanics::{AppliedForces, BodyLoad, ForwardDynamicsError, JointReaction, Kinematics, MotionState, MuscleGeometry, Multibody, PathScratch, Vec3};
 use crate::model::ModelSpec;
 
 /// Why the reactions cannot be computed.
@@ -160,19 +160,29 @@ pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &P
             generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut applied);
         }
         let udot = multibody.accelerations(&kinematics, q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
-        let reactions = multibody.joint_reactions(&MotionState { q, u, udot: &udot }, &applied.loads);
         values.push(time);
-        for report in reports {
-            values.extend(reported(&reactions[report.joint], report, &kinematics));
-        }
+        values.extend(reaction_row(multibody, &kinematics, &MotionState { q, u, udot: &udot }, &applied.loads, reports));
     }
+    let loads = reaction_table(multibody, reports, values)?;
+    Ok(JointReactionResult { loads, missing: states.missing, ignored_columns: states.ignored_columns, unused_forces, rows_without_forces })
+}
+
+/// The reported loads (`reports`, 9 values each) in the state `state` of the pose `kinematics`
+/// holds, with the body loads `loads` applied.
+pub fn reaction_row(multibody: &Multibody, kinematics: &Kinematics, state: &MotionState, loads: &[BodyLoad], reports: &[ReactionReport]) -> Vec<f64> {
+    let reactions = multibody.joint_reactions(state, loads);
+    reports.iter().flat_map(|report| reported(&reactions[report.joint], report, kinematics)).collect()
+}
+
+/// OpenSim's `ReactionLoads` table of `reports` from its rows `values` (time, then
+/// [`reaction_row`]).
+pub fn reaction_table(multibody: &Multibody, reports: &[ReactionReport], values: Vec<f64>) -> Result<StorageTable, TableError> {
     let labels = std::iter::once("time".to_string()).chain(reports.iter().flat_map(|r| labels(multibody, r))).collect();
-    let loads = StorageTable::new("Joint Reaction Loads", labels, values)?
+    StorageTable::new("Joint Reaction Loads", labels, values)?
         .with_in_degrees(false)
         .with_comment("This file contains the reaction forces and moments")?
         .with_comment("applied to the specified body of a joint pair and expressed  in the specified reference frame.")?
-        .with_comment("Units are S.I. units (seconds, meters, Newtons, ...)")?;
-    Ok(JointReactionResult { loads, missing: states.missing, ignored_columns: states.ignored_columns, unused_forces, rows_without_forces })
+        .with_comment("Units are S.I. units (seconds, meters, Newtons, ...)")
 }
 
 /// Each generator's force column; every generator must have one. Also returns the columns that

@@ -1,7 +1,7 @@
 //! Analyses along a motion, in the spirit of OpenSim's analyses (`MuscleAnalysis`, …).
 
 mod activation;
-mod analyze_accelerations;
+mod analyze_dynamics;
 mod analyze_states;
 mod analyze_tool;
 mod body_kinematics;

@@ -191,11 +191,17 @@ impl AnalyzeSetup {
         Self::from_document(&read_document(path)?)
     }
 
-    /// Whether an analysis `analyze --setup` runs is on (all but StaticOptimization and
-    /// JointReaction).
+    /// Whether an analysis `analyze --setup` runs is on (all but StaticOptimization and a
+    /// JointReaction with a forces file).
     pub fn has_analyze_tables(&self) -> bool {
         let reporters = [&self.force_reporter, &self.actuation, &self.states_reporter];
-        self.muscle_analysis.is_some() || self.kinematics.is_some() || self.body_kinematics.is_some() || !self.point_kinematics.is_empty() || reporters.iter().any(|r| r.is_some())
+        self.muscle_analysis.is_some() || self.kinematics.is_some() || self.body_kinematics.is_some() || !self.point_kinematics.is_empty() || reporters.iter().any(|r| r.is_some()) || self.joint_reaction_from_states()
+    }
+
+    /// Whether the JointReaction is on without a forces file: its forces are then the model's at
+    /// the states (`analyze --setup`), not a file's (`reaction`).
+    pub fn joint_reaction_from_states(&self) -> bool {
+        self.joint_reaction.as_ref().is_some_and(|r| r.forces_file.is_none())
     }
 
     /// The object of `document` (its file names resolve against the document's directory).

@@ -111,7 +111,8 @@ pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str], reads_states: bool) -
         ("Actuation", setup.actuation.is_some(), "analyze --setup"),
         ("StatesReporter", setup.states_reporter.is_some(), "analyze --setup"),
         ("StaticOptimization", setup.static_optimization.is_some(), "so"),
-        ("JointReaction", setup.joint_reaction.is_some(), "reaction"),
+        ("JointReaction", setup.joint_reaction.is_some() && !setup.joint_reaction_from_states(), "reaction"),
+        ("JointReaction", setup.joint_reaction_from_states(), "analyze --setup"),
     ];
     let mut others = setup.other_analyses.clone();
     others.extend(commands.iter().filter(|(class, on, _)| *on && !runs.contains(class)).map(|(class, _, command)| format!("{class} (run by osim-tune {command})")));

@@ -18,7 +18,11 @@ use crate::setup::{AnalyzeSetup, ControlSet};
 
 pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = AnalyzeSetup::read(setup_file)?;
-    check_analyses(&setup, &["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"], true)?;
+    let mut runs = vec!["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"];
+    if setup.joint_reaction_from_states() {
+        runs.push("JointReaction");
+    }
+    check_analyses(&setup, &runs, true)?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let mut read: Vec<PathBuf> = [model, coordinates, setup_file].map(Path::to_path_buf).to_vec();

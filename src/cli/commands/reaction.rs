@@ -80,7 +80,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
 /// `--forces`, else the setup's `forces_file`.
 fn forces_file(request: &Request, analysis: Option<&JointReactionSetup>) -> Result<PathBuf, Failure> {
     request.forces.clone().or_else(|| analysis.and_then(|a| a.forces_file.as_ref()).map(|f| f.resolved.clone())).ok_or_else(|| {
-        "no forces file: give --forces (e.g. static optimisation's _force.sto) or a setup whose JointReaction names forces_file; osim-tune does not compute actuator forces from muscle states".into()
+        "no forces file: give --forces (e.g. static optimisation's _force.sto) or a setup whose JointReaction names forces_file; without one the forces are the model's at the muscles' states, which `osim-tune analyze --setup` (or `run`) computes".into()
     })
 }
 

@@ -139,12 +139,12 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
 }
 
 /// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics, BodyKinematics,
-/// PointKinematics and reporters, `so` for its StaticOptimization, then `reaction` for its
-/// JointReaction, each `MODEL COORDINATES --setup SETUP -o <results_directory>` — `analyze` given
+/// PointKinematics, reporters and a JointReaction without a forces file, `so` for its
+/// StaticOptimization, then `reaction` for a JointReaction with one, each `MODEL COORDINATES --setup SETUP -o <results_directory>` — `analyze` given
 /// the states file instead when the setup names one (the commands name the setup's other
 /// analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
-    let analyses = [(setup.has_analyze_tables(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some(), "reaction", &[])];
+    let analyses = [(setup.has_analyze_tables(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some() && !setup.joint_reaction_from_states(), "reaction", &[])];
     if !analyses.iter().any(|(on, _, _)| *on) {
         let others = if setup.other_analyses.is_empty() { "none".to_string() } else { setup.other_analyses.join(", ") };
         return Err(format!("{}: the AnalysisSet has no analysis osim-tune runs that is on ({ANALYSES}; others on: {others})", file.display()).into());
@@ -152,8 +152,9 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
     if let Some(speeds) = &setup.speeds_file {
         return Err(format!("{}: speeds_file {:?} is not supported; the speeds are the coordinates' spline derivatives", file.display(), speeds.written).into());
     }
-    if let (Some(states), true) = (&setup.states_file, setup.static_optimization.is_some() || setup.joint_reaction.is_some()) {
-        return Err(format!("{}: states_file {:?}: osim-tune's StaticOptimization and JointReaction run from coordinates_file (the other analyses read the states)", file.display(), states.written).into());
+    let from_forces_file = setup.joint_reaction.is_some() && !setup.joint_reaction_from_states();
+    if let (Some(states), true) = (&setup.states_file, setup.static_optimization.is_some() || from_forces_file) {
+        return Err(format!("{}: states_file {:?}: osim-tune's StaticOptimization and a JointReaction with a forces_file run from coordinates_file (the other analyses read the states)", file.display(), states.written).into());
     }
     let model = input(file, "model_file", setup.model_file.as_ref())?;
     // OpenSim reads the states file and ignores the coordinates file when both are set.
