@@ -7,21 +7,16 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_dynamics::analyze_dynamics;
+use super::analyze_runs::ToolRun;
 use super::analyze_states::{AnalyzeStates, GivenMuscleStates, StatesError};
-use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
-use super::muscle_analysis::MuscleAnalysis;
-use super::muscle_state_tables::muscle_state_tables;
-use super::muscle_states::muscle_states;
+use super::body_kinematics::KinematicsError;
 use super::external_loads::ExternalLoads;
-use super::joint_reaction::{reaction_reports, reaction_row, reaction_table, JointReactionError};
-use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, AppliedAt, ReporterError};
-use super::static_optimization::generators;
-use super::signal::{frames_in_range, NoFramesInRange};
+use super::joint_reaction::JointReactionError;
+use super::signal::NoFramesInRange;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{MotionState, Motion, Multibody, MuscleGeometry};
+use crate::mechanics::{Motion, Multibody, MuscleGeometry};
 use crate::model::{ActuatorSpec, ModelSpec};
-use crate::setup::{AnalyzeSetup, ControlSet, ReporterSetup};
+use crate::setup::{AnalyzeSetup, ControlSet};
 use crate::solvers::{assemble, IkError};
 
 /// The tables an AnalyzeTool setup's analyses write, with what the run leaves to note.
@@ -62,161 +57,46 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
     if !setup.has_analyze_tables() {
         return Err(AnalyzeToolError::NothingToRun { file: setup.file.clone() });
     }
-    let &AnalyzeModel { spec, geometry, external, controls, .. } = model;
-    let multibody = &geometry.multibody;
-    // The forces the model applies, or why they cannot be applied here.
-    let generators = match controls_ignored(spec, setup, true) {
-        Some(reason) => Err(reason),
-        None => generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
-    };
-    let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
-    // Filtered and splined once (or read from a states file); each analysis takes its rows and
-    // assembles them.
-    let all_states = if setup.states_file.is_some() {
-        let muscles: Vec<String> = spec.muscles().map(|m| m.name.clone()).collect();
-        AnalyzeStates::from_states(multibody, table, file, &muscles)?
-    } else {
-        AnalyzeStates::new(multibody, table, file, cutoff)?
-    };
-    let time_range = [setup.initial_time, setup.final_time];
-    frames_in_range(file, &all_states.times, time_range)?;
-    let states = |step_interval| analyze_tool_motion(multibody, &all_states, file, time_range, step_interval);
-    let in_setup = |source| AnalyzeToolError::Kinematics { file: setup.file.clone(), source };
+    let run = ToolRun::new(model, table, file, setup, tool_name)?;
     let mut tables = AnalyzeToolTables::default();
-    let add = |tables: &mut AnalyzeToolTables, analysis: &str, suffix: &str, table: StorageTable, states: &AnalyzeToolMotion| {
-        tables.files.push((format!("{tool_name}_{analysis}_{suffix}.sto"), table));
-        let times = &states.motion.times;
-        tables.rows = (times.len(), times.first().copied().unwrap_or(f64::NAN), times.last().copied().unwrap_or(f64::NAN));
-        tables.held_at_zero.clone_from(&states.motion.defaulted);
-    };
-    let muscles = |states: &AnalyzeToolMotion| muscle_states(spec, geometry, states, controls, setup.solve_for_equilibrium_for_auxiliary_states);
-    if let (Some(analysis), true) = (&setup.muscle_analysis, model.replace) {
-        tables.not_written.push(format!("{}: replace_force_set replaces the model's muscles by the force-set files' actuators, so OpenSim's MuscleAnalysis has no muscles", analysis.name));
-    } else if let Some(analysis) = &setup.muscle_analysis {
-        let states = states(analysis.step_interval)?;
-        let selected = MuscleAnalysis::run(geometry, &states.motion)?.setup_tables(multibody, analysis)?;
-        let arms: Vec<&StorageTable> = selected.tables.iter().filter(|t| t.name().starts_with("MomentArm_")).collect();
-        let formed = match (controls_ignored(spec, setup, false), muscles(&states)) {
-            (Some(reason), _) => Err(reason),
-            (None, Err(e)) => Err(e.to_string()),
-            (None, Ok(muscles)) => {
-                tables.warnings.extend(muscles.warnings.iter().cloned());
-                Ok(muscle_state_tables(&muscles, &states.motion.times, &selected.muscles, &arms)?)
-            }
-        };
-        let state_tables = formed.unwrap_or_else(|reason| {
-            tables.not_written.push(format!("the MuscleAnalysis' fiber, tendon, force, power and moment tables: {reason}"));
-            Vec::new()
-        });
-        for table in selected.tables.into_iter().chain(state_tables) {
-            let suffix = table.name().to_string();
-            add(&mut tables, &analysis.name, &suffix, table, &states);
-        }
-        (tables.unknown_muscles, tables.unknown_coordinates) = (selected.unknown_muscles, selected.unknown_coordinates);
+    if let Some(analysis) = &setup.muscle_analysis {
+        run.muscle_analysis(analysis, &mut tables)?;
     }
-    // The dynamics of a row set, or why they are not formed (noted once per analysis).
-    let dynamics = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| {
-        let formed = generators.clone().and_then(|generators| {
-            let muscles = muscles(states).map_err(|e| e.to_string())?;
-            tables.warnings.extend(muscles.warnings.iter().cloned());
-            let at = AppliedAt { multibody, generators: &generators, external, controls, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
-            analyze_dynamics(geometry, &at)
-        });
-        formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
-    };
-    let accelerations = |states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str| dynamics(states, tables, what).map(|rows| rows.into_iter().map(|r| r.udot).collect::<Vec<_>>());
     if let Some(analysis) = &setup.kinematics {
-        let states = states(analysis.step_interval)?;
-        let udot = accelerations(&states, &mut tables, "Kinematics' accelerations (_dudt)");
-        let formed = coordinate_tables(multibody, &states, analysis, udot.as_deref()).map_err(in_setup)?;
-        for (suffix, table) in ["q", "u", "dudt"].into_iter().zip(formed) {
-            add(&mut tables, &analysis.name, suffix, table, &states);
-        }
+        run.kinematics(analysis, &mut tables)?;
     }
     if let Some(analysis) = &setup.body_kinematics {
-        let states = states(analysis.step_interval)?;
-        let udot = accelerations(&states, &mut tables, "BodyKinematics' accelerations (_acc_…)");
-        let bodies: Vec<usize> = spec.bodies.iter().filter_map(|b| multibody.bodies.iter().position(|m| m.name == b.name)).collect();
-        let formed = body_tables(multibody, &bodies, &states, analysis, udot.as_deref()).map_err(in_setup)?;
-        let frame = if analysis.express_in_local_frame { "bodyLocal" } else { "global" };
-        for (suffix, table) in ["pos_global".to_string(), format!("vel_{frame}"), format!("acc_{frame}")].into_iter().zip(formed) {
-            add(&mut tables, &analysis.name, &suffix, table, &states);
-        }
+        run.body_kinematics(analysis, &mut tables)?;
     }
     for analysis in &setup.point_kinematics {
-        let states = states(analysis.step_interval)?;
-        let udot = accelerations(&states, &mut tables, &format!("PointKinematics {}'s accelerations (_acc)", analysis.point_name));
-        let formed = point_tables(multibody, &states, analysis, udot.as_deref()).map_err(in_setup)?;
-        for (suffix, table) in ["pos", "vel", "acc"].into_iter().zip(formed) {
-            add(&mut tables, &analysis.name, &format!("{}_{suffix}", analysis.point_name), table, &states);
-        }
+        run.point_kinematics(analysis, &mut tables)?;
     }
     if let Some(analysis) = setup.joint_reaction.as_ref().filter(|a| a.forces_file.is_none()) {
-        let states = states(analysis.step_interval)?;
-        let reports = reaction_reports(spec, multibody, &analysis.joint_names, &analysis.apply_on_bodies, &analysis.express_in_frame, &setup.file).map_err(Box::new)?;
-        if let Some(rows) = dynamics(&states, &mut tables, "the JointReaction's loads") {
-            let mut kinematics = multibody.kinematics();
-            let mut values = Vec::new();
-            for (row, dynamics) in rows.iter().enumerate() {
-                let (q, u) = (states.motion.pose(row), &states.speeds[row]);
-                multibody.realize(q, &mut kinematics);
-                values.push(states.motion.times[row]);
-                values.extend(reaction_row(multibody, &kinematics, &MotionState { q, u, udot: &dynamics.udot }, &dynamics.loads, &reports));
-            }
-            add(&mut tables, &analysis.name, "ReactionLoads", reaction_table(multibody, &reports, values)?, &states);
-        }
+        run.joint_reaction(analysis, &mut tables)?;
     }
     let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter")];
     for (analysis, class) in reporters.into_iter().filter_map(|(a, class)| a.as_ref().map(|a| (a, class))) {
-        let states = states(analysis.step_interval)?;
-        let formed = muscles(&states).map_err(|e| ReporterError::NotFormed(e.to_string())).and_then(|muscles| {
-            tables.warnings.extend(muscles.warnings.iter().cloned());
-            if class == "StatesReporter" {
-                return Ok(vec![("states", states_reporter_table(spec, multibody, &muscles, &states.motion, &states.speeds)?)]);
-            }
-            let generators = generators.clone().map_err(ReporterError::NotFormed)?;
-            let at = AppliedAt { multibody, generators: &generators, external, controls, muscles: &muscles, motion: &states.motion, speeds: &states.speeds };
-            reporter_tables(spec, analysis, class, &at)
-        });
-        match formed {
-            Ok(formed) => formed.into_iter().for_each(|(suffix, t)| add(&mut tables, &analysis.name, suffix, t, &states)),
-            Err(ReporterError::Table(e)) => return Err(e.into()),
-            Err(reason) => tables.not_written.push(format!("{class}'s tables: {reason}")),
-        }
+        run.reporter(analysis, class, &mut tables)?;
     }
     tables.warnings.sort();
     tables.warnings.dedup();
     Ok(tables)
 }
 
-/// The tables of reporter `class` (`ForceReporter` or `Actuation`) with their file name suffixes.
-fn reporter_tables(spec: &ModelSpec, analysis: &ReporterSetup, class: &str, at: &AppliedAt) -> Result<Vec<(&'static str, StorageTable)>, ReporterError> {
-    if class == "Actuation" {
-        let [force, speed, power] = actuation_tables(at)?;
-        return Ok(vec![("force", force), ("speed", speed), ("power", power)]);
+impl AnalyzeToolTables {
+    /// Adds `table` as `<tool>_<analysis>_<suffix>.sto`, formed at the rows of `states`.
+    pub(super) fn add(&mut self, tool: &str, analysis: &str, suffix: &str, table: StorageTable, states: &AnalyzeToolMotion) {
+        self.files.push((format!("{tool}_{analysis}_{suffix}.sto"), table));
+        let times = &states.motion.times;
+        self.rows = (times.len(), times.first().copied().unwrap_or(f64::NAN), times.last().copied().unwrap_or(f64::NAN));
+        self.held_at_zero.clone_from(&states.motion.defaulted);
     }
-    if analysis.include_constraint_forces && !spec.constraints.is_empty() {
-        return Err(ReporterError::NotFormed("include_constraint_forces: the constraints' forces need the model's dynamics".into()));
-    }
-    Ok(vec![("forces", force_reporter_table(at)?)])
-}
-
-/// Why a force table would not be OpenSim's: a controller of the setup that osim-tune does not
-/// apply (any but a `ControlSetController` with its file) drives a muscle without activation
-/// dynamics or, with `actuators`, a non-muscle actuator.
-fn controls_ignored(spec: &ModelSpec, setup: &AnalyzeSetup, actuators: bool) -> Option<String> {
-    let unapplied: Vec<&str> = setup.controllers.iter().filter(|c| c.controls_file.is_none()).map(|c| c.description.as_str()).collect();
-    if unapplied.is_empty() {
-        return None;
-    }
-    let driven = (actuators && !spec.actuators.is_empty()) || spec.forces.iter().any(|f| f.muscle.as_ref().is_some_and(|m| m.ignore_activation_dynamics));
-    driven.then(|| format!("the ControllerSet's {} drives forces of the model, and osim-tune applies only ControlSetControllers", unapplied.join(", ")))
 }
 
 /// Why an AnalyzeTool setup's tables cannot be formed.
 #[derive(Debug, thiserror::Error)]
 pub enum AnalyzeToolError {
-    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation or StatesReporter that is on", file.display())]
+    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter or JointReaction without a forces file that is on", file.display())]
     NothingToRun { file: PathBuf },
     #[error(transparent)]
     States(#[from] StatesError),
@@ -246,7 +126,7 @@ pub struct AnalyzeToolMotion {
 /// coordinates file's, read from `file`, filtered and splined as for static optimisation; a
 /// coordinate the file lacks held at 0), the rows of `time_range` (s) the analysis records, each
 /// pose assembled.
-fn analyze_tool_motion(multibody: &Multibody, states: &AnalyzeStates, file: &Path, time_range: [f64; 2], step_interval: usize) -> Result<AnalyzeToolMotion, AnalyzeToolError> {
+pub(super) fn analyze_tool_motion(multibody: &Multibody, states: &AnalyzeStates, file: &Path, time_range: [f64; 2], step_interval: usize) -> Result<AnalyzeToolMotion, AnalyzeToolError> {
     let rows = states.analysed_rows(time_range, step_interval).unwrap_or_default();
     let mut motion = states.motion(&rows);
     let mut row = 0;

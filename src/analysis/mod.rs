@@ -2,6 +2,7 @@
 
 mod activation;
 mod analyze_dynamics;
+mod analyze_runs;
 mod analyze_states;
 mod analyze_tool;
 mod body_kinematics;
