@@ -37,6 +37,11 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
   excitations (`arm26_states.sto`, written here) — MuscleAnalysis, Kinematics, BodyKinematics,
   ForceReporter, Actuation, StatesReporter, JointReaction (every joint on its parent, in ground,
   no forces file), every third row;
+* `degroote`: arm26 with DeGrooteFregly2016Muscles (explicit tendon dynamics) from the states
+  of OpenSim's forward simulation of it (`arm26_degroote_states.sto`, written here: activation
+  and normalized_tendon_force), the `states` analyses;
+* `degroote_equilibrium`, `degroote_rigid`: the same analyses on arm26's coordinates
+  (`arm26_motion.mot`), equilibrated, with compliant and with rigid tendons;
 * `states_legacy`: the same states under OpenSim 3's labels (`r_shoulder_elev`,
   `r_shoulder_elev_u`, `TRIlong.activation`, `TRIlong.fiber_length`), equilibrated.
 
@@ -67,6 +72,10 @@ INPUTS = {
     "subject01_walk1_grf.xml": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.xml",
     "subject01_walk1_grf.mot": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.mot",
     "arm26.osim": REPO / "fixtures" / "models" / "arm26.osim",
+    "arm26_degroote.osim": REPO / "fixtures" / "models" / "arm26_degroote.osim",
+    "arm26_degroote_rigid.osim": REPO / "fixtures" / "models" / "arm26_degroote_rigid.osim",
+    "arm26_motion.mot": REPO / "fixtures" / "golden" / "static_optimization" / "arm26" / "arm26_motion.mot",
+    "arm26_degroote_states.sto": OUT / "degroote" / "arm26_degroote_states.sto",
     "residual_controls.xml": OUT / "controls" / "residual_controls.xml",
     "residual_controls.sto": OUT / "controls" / "residual_controls.sto",
     "arm26_states.sto": OUT / "states" / "arm26_states.sto",
@@ -148,11 +157,14 @@ CASES = {
                            "<ControlSetController name=\"sto\"><controls_file>residual_controls.sto</controls_file></ControlSetController>"
                            "</objects></ControllerSet>\n"),
     "states": dict(range=(0.05, 0.25), cutoff=-1, model="arm26.osim", analyses=ARM, states="arm26_states.sto"),
+    "degroote": dict(range=(0.05, 0.25), cutoff=-1, model="arm26_degroote.osim", analyses=ARM, states="arm26_degroote_states.sto"),
+    "degroote_equilibrium": dict(range=(0.2, 0.4), cutoff=-1, equilibrium=True, model="arm26_degroote.osim", analyses=ARM, coordinates="arm26_motion.mot"),
+    "degroote_rigid": dict(range=(0.2, 0.4), cutoff=-1, equilibrium=True, model="arm26_degroote_rigid.osim", analyses=ARM, coordinates="arm26_motion.mot"),
     "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid")
 
 
 def kept(case, table):
@@ -166,7 +178,7 @@ def kept(case, table):
 
 def setup_text(case):
     c = CASES[case]
-    inputs = f"\t\t<states_file>{c['states']}</states_file>" if "states" in c else "\t\t<coordinates_file>subject01_walk1_ik.mot</coordinates_file>"
+    inputs = f"\t\t<states_file>{c['states']}</states_file>" if "states" in c else f"\t\t<coordinates_file>{c.get('coordinates', 'subject01_walk1_ik.mot')}</coordinates_file>"
     equilibrium = "\t\t<solve_for_equilibrium_for_auxiliary_states>true</solve_for_equilibrium_for_auxiliary_states>\n" if c.get("equilibrium") else ""
     return f"""<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40600">
@@ -186,10 +198,10 @@ def setup_text(case):
 """
 
 
-def write_states():
-    """arm26 simulated for 0.3 s from its equilibrated default state under constant excitations
-    (0.1 to 0.6), its states table written with OpenSim 4's labels and with OpenSim 3's."""
-    model = osim.Model(str(INPUTS["arm26.osim"]))
+def simulate(model_file):
+    """The states table of `model_file` simulated for 0.3 s from its equilibrated default state
+    under constant excitations (0.1 to 0.6)."""
+    model = osim.Model(str(INPUTS[model_file]))
     controller = osim.PrescribedController()
     for i in range(model.getActuators().getSize()):
         actuator = model.getActuators().get(i)
@@ -202,9 +214,18 @@ def write_states():
     manager.setIntegratorAccuracy(1e-4)
     manager.initialize(state)
     manager.integrate(0.3)
+    return manager.getStatesTable()
+
+
+def write_states():
+    """arm26's simulated states with OpenSim 4's labels and with OpenSim 3's, and arm26 with
+    DeGroote muscles'."""
+    (OUT / "degroote").mkdir(parents=True, exist_ok=True)
+    osim.STOFileAdapter.write(simulate("arm26_degroote.osim"), str(OUT / "degroote" / "arm26_degroote_states.sto"))
+    table = simulate("arm26.osim")
     for case, name in (("states", "arm26_states.sto"), ("states_legacy", "arm26_states_legacy.sto")):
         (OUT / case).mkdir(parents=True, exist_ok=True)
-        osim.STOFileAdapter.write(manager.getStatesTable(), str(OUT / case / name))
+        osim.STOFileAdapter.write(table, str(OUT / case / name))
     legacy = OUT / "states_legacy" / "arm26_states_legacy.sto"
     lines = legacy.read_text().split("\n")
     header = lines.index("endheader") + 1

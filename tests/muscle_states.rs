@@ -114,3 +114,38 @@ fn a_fiber_held_at_its_minimum_length_rests_and_the_tendon_follows_the_path() {
     }
     assert!(held > 100, "{held}");
 }
+
+/// DeGroote–Fregly muscles (degroote_bench: pennated, damped, rigid, …; explicit tendon
+/// dynamics — an implicit-mode muscle's state needs the tendon force's derivative and is an
+/// error): from its normalized tendon force state the fiber develops that force without its
+/// damping (OpenSim's explicit velocity leaves damping out), and the pennation and tendon rates
+/// are the fixed-width ones.
+#[test]
+fn degroote_states_balance_the_tendon_force_without_damping() {
+    let spec = ModelSpec::read(&OsimDocument::read(&common::fixture("models/degroote_bench.osim")).unwrap()).unwrap();
+    let (mut checked, mut implicit) = (0, 0);
+    for force in spec.muscles() {
+        let (muscle, muscle_spec) = (HillMuscle::from_force(force).unwrap(), force.muscle.as_ref().unwrap());
+        let length = muscle_spec.tendon_slack_length + muscle_spec.optimal_fiber_length * muscle_spec.pennation_angle_at_optimal.cos();
+        for (tendon_force, speed) in [(0.2, -0.3), (0.5, 0.0), (0.8, 0.4)] {
+            let state = match muscle.state(0.6, tendon_force, length, speed) {
+                Ok(state) => state,
+                Err(_) => {
+                    implicit += 1;
+                    continue;
+                }
+            };
+            let r = &state.report;
+            let damping = r.passive_fiber_force - r.passive_force_multiplier * muscle_spec.max_isometric_force;
+            if !muscle_spec.ignore_tendon_compliance {
+                assert!(((r.fiber_force - damping) * r.cos_pennation_angle - r.tendon_force).abs() <= 1e-9 * muscle_spec.max_isometric_force, "{}", force.name);
+            }
+            let (l, v, sin) = (r.fiber_length, state.fiber_velocity, r.pennation_angle.sin());
+            assert!((state.pennation_angular_velocity + v / l * r.pennation_angle.tan()).abs() <= 1e-12 * (1.0 + state.pennation_angular_velocity.abs()));
+            let tendon_velocity = speed - v * r.cos_pennation_angle + l * sin * state.pennation_angular_velocity;
+            assert!((state.tendon_velocity - tendon_velocity).abs() <= 1e-12 * (1.0 + speed.abs()), "{}", force.name);
+            checked += 1;
+        }
+    }
+    assert!(checked >= 20 && implicit == 3, "{checked} {implicit}");
+}

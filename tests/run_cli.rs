@@ -346,8 +346,8 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
 
 /// What the muscles' states cannot give is named, not guessed: a PrescribedController (not
 /// applied) drives Rajagopal2016's CoordinateActuators, so ForceReporter and Actuation are left out while the
-/// MuscleAnalysis and StatesReporter tables stay OpenSim's; a DeGrooteFregly2016Muscle's state is
-/// its tendon force, so only its path tables are written.
+/// MuscleAnalysis and StatesReporter tables stay OpenSim's; a muscle class without mechanics here
+/// (RigidTendonMuscle) leaves only the path tables.
 #[test]
 fn tables_the_muscle_states_cannot_give_are_named() {
     let folder = tempfile::tempdir().unwrap();
@@ -364,16 +364,17 @@ fn tables_the_muscle_states_cannot_give_are_named() {
     assert!(written("walk_StatesReporter_states.sto") && written("walk_MuscleAnalysis_TendonForce.sto"));
     assert!(!written("walk_ForceReporter_forces.sto") && !written("walk_Actuation_force.sto") && !written("walk_Kinematics_dudt.sto"));
 
-    let mot = "degroote.mot";
-    let rows: String = (0..11).map(|i| format!("{}\t{}\n", 0.1 * i as f64, 0.001 * i as f64)).collect();
-    std::fs::write(dir.join(mot), format!("walk\nversion=1\nnRows=11\nnColumns=2\ninDegrees=no\nendheader\ntime\tdefault_length\n{rows}")).unwrap();
-    let degroote = dir.join("degroote.xml");
-    let text = std::fs::read_to_string(&setup).unwrap().replace("Rajagopal2016_scaled.osim", &fixture("models/degroote_bench.osim").display().to_string()).replace("subject01_walk1_ik.mot", mot);
-    std::fs::write(&degroote, text.replace(controllers, "<coordinates_file>").replace("<initial_time>0.5</initial_time>", "<initial_time>0</initial_time>").replace("<final_time>0.6</final_time>", "<final_time>1</final_time>")).unwrap();
+    // A muscle class without mechanics here (RigidTendonMuscle): its path tables only.
+    let other = edited_copy(dir, "models/arm26.osim", "arm26_other.osim", &[("<Thelen2003Muscle name=\"BRA\">", "<RigidTendonMuscle name=\"BRA\">")]);
+    let text = std::fs::read_to_string(other.as_path()).unwrap();
+    let closing = text.rfind("</Thelen2003Muscle>").unwrap();
+    std::fs::write(&other, format!("{}</RigidTendonMuscle>{}", &text[..closing], &text[closing + "</Thelen2003Muscle>".len()..])).unwrap();
+    copy_into(dir, &[("golden/static_optimization/arm26/arm26_motion.mot", "arm26_motion.mot")]);
+    let setup = edited_copy(dir, "golden/analyze_tool/degroote_rigid/setup.xml", "other.xml", &[("arm26_degroote_rigid.osim", "arm26_other.osim")]);
     std::fs::remove_dir_all(dir.join("Results")).unwrap();
-    let (code, _, stderr) = osim_tune(&["run", s(&degroote)]);
+    let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("not written: the MuscleAnalysis' fiber, tendon, force, power and moment tables: muscle 'default' (DeGrooteFregly2016Muscle) has no fiber-length state here"), "{stderr}");
-    assert!(stderr.contains("not written: StatesReporter's tables: muscle 'default'"), "{stderr}");
+    assert!(stderr.contains("not written: the MuscleAnalysis' fiber, tendon, force, power and moment tables: muscle 'BRA' (RigidTendonMuscle) has no muscle mechanics here"), "{stderr}");
+    assert!(stderr.contains("not written: StatesReporter's tables: muscle 'BRA'"), "{stderr}");
     assert!(written("walk_MuscleAnalysis_Length.sto") && !written("walk_MuscleAnalysis_FiberLength.sto") && !written("walk_StatesReporter_states.sto"));
 }

@@ -37,7 +37,7 @@ impl<'a> ToolRun<'a> {
         let &AnalyzeModel { spec, geometry, .. } = model;
         let multibody = &geometry.multibody;
         let states = if setup.states_file.is_some() {
-            let muscles: Vec<String> = spec.muscles().map(|m| m.name.clone()).collect();
+            let muscles: Vec<(String, &str)> = spec.muscles().filter_map(|m| m.muscle.as_ref().map(|s| (m.name.clone(), s.default_state().1.label()))).collect();
             AnalyzeStates::from_states(multibody, table, file, &muscles)?
         } else {
             let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);

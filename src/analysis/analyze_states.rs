@@ -32,8 +32,8 @@ pub enum StatesError {
     StatesInDegrees { file: PathBuf },
 }
 
-/// A muscle's state variables as a states file gives them per row: activation and fiber length
-/// (m), each `None` when the file lacks it.
+/// A muscle's state variables as a states file gives them per row: activation and the second
+/// state (fiber length in m, or normalized tendon force), each `None` when the file lacks it.
 pub type GivenMuscleStates = (String, [Option<Vec<f64>>; 2]);
 
 /// Coordinates (rad or m), speeds and accelerations per row, [`Multibody::coordinates`] order.
@@ -81,9 +81,10 @@ impl AnalyzeStates {
     }
 
     /// The states of a states file `table` (read from `file`) for `multibody` and the muscles
-    /// named `muscles`: no filtering, no splines; a coordinate the file lacks at its default
-    /// value, a speed at 0, each a muscle state at the muscle's default.
-    pub fn from_states(multibody: &Multibody, table: &StorageTable, file: &Path, muscles: &[String]) -> Result<AnalyzeStates, StatesError> {
+    /// `muscles` (name, second state's name: `fiber_length` or `normalized_tendon_force`): no
+    /// filtering, no splines; a coordinate the file lacks at its default value, a speed at 0,
+    /// each a muscle state at the muscle's default.
+    pub fn from_states(multibody: &Multibody, table: &StorageTable, file: &Path, muscles: &[(String, &str)]) -> Result<AnalyzeStates, StatesError> {
         if table.in_degrees() == Some(true) {
             return Err(StatesError::StatesInDegrees { file: file.into() });
         }
@@ -105,7 +106,7 @@ impl AnalyzeStates {
             q_columns.push(value.unwrap_or_else(|| vec![coordinate.default_value; table.n_rows()]));
             u_columns.push(column(format!("{path}/speed")).unwrap_or_else(|| vec![0.0; table.n_rows()]));
         }
-        let muscle_states = muscles.iter().map(|m| (m.clone(), ["activation", "fiber_length"].map(|v| column(format!("/forceset/{m}/{v}"))))).collect();
+        let muscle_states = muscles.iter().map(|(m, second)| (m.clone(), ["activation", second].map(|v| column(format!("/forceset/{m}/{v}"))))).collect();
         let rows_of = |columns: &[Vec<f64>]| (0..table.n_rows()).map(|i| columns.iter().map(|c| c[i]).collect::<Vec<f64>>()).collect::<Vec<_>>();
         let mut q = rows_of(&q_columns);
         for row in &mut q {

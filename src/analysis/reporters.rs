@@ -113,7 +113,8 @@ pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError>
 }
 
 /// `StatesReporter`'s `states` table: every coordinate's `value` and `speed` (rad or m, rad/s or
-/// m/s) joint by joint, then every muscle's `activation` and `fiber_length` state, labelled by
+/// m/s) joint by joint, then every muscle's `activation` and second state (`fiber_length` or
+/// `normalized_tendon_force`), labelled by
 /// their paths as OpenSim 4 names state variables.
 pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &MuscleStates, motion: &Motion, speeds: &[Vec<f64>]) -> Result<StorageTable, TableError> {
     let coordinates: Vec<(String, usize)> = spec
@@ -132,14 +133,14 @@ pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &M
         if held.is_some_and(|v| v.activation.is_some()) {
             labels.push(format!("/forceset/{name}/activation"));
         }
-        if held.is_some_and(|v| v.fiber_length.is_some()) {
-            labels.push(format!("/forceset/{name}/fiber_length"));
+        if held.is_some_and(|v| v.second.is_some()) {
+            labels.push(format!("/forceset/{name}/{}", states.second_states[k].label()));
         }
     }
     let values = rows(&motion.times, |row| {
         let q = motion.pose(row);
         let mut values: Vec<f64> = coordinates.iter().flat_map(|&(_, i)| [q[i], speeds[row][i]]).collect();
-        values.extend(states.variables[row].iter().flat_map(|v| v.activation.into_iter().chain(v.fiber_length)));
+        values.extend(states.variables[row].iter().flat_map(|v| v.activation.into_iter().chain(v.second)));
         values
     });
     storage("ModelStates", labels, values)

@@ -35,7 +35,7 @@ pub use marker::MarkerSpec;
 pub use orientation::{body_fixed_xyz, body_fixed_xyz_angles};
 pub use muscle::{
     ActiveForceLengthCurveSpec, DeGrooteSpec, FiberForceLengthCurveSpec, ForceVelocityCurveSpec, MillardSpec,
-    MuscleModelSpec, MuscleSpec, TendonForceLengthCurveSpec, ThelenSpec, MUSCLE_CLASSES,
+    MuscleModelSpec, MuscleSpec, SecondState, TendonForceLengthCurveSpec, ThelenSpec, MUSCLE_CLASSES,
 };
 pub use reader::ComponentReader;
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};

@@ -141,6 +141,25 @@ pub struct DeGrooteSpec {
     pub activation_dynamics_smoothing: f64,
 }
 
+/// The state a muscle class integrates besides its activation (none beside a rigid tendon).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum SecondState {
+    /// `fiber_length`, m (Millard, Thelen).
+    FiberLength,
+    /// `normalized_tendon_force` (DeGroote).
+    NormalizedTendonForce,
+}
+
+impl SecondState {
+    /// The state variable's name in OpenSim.
+    pub fn label(self) -> &'static str {
+        match self {
+            SecondState::FiberLength => "fiber_length",
+            SecondState::NormalizedTendonForce => "normalized_tendon_force",
+        }
+    }
+}
+
 /// The muscle classes with mechanics in osim-tune.
 pub const MUSCLE_CLASSES: [&str; 3] = [
     "Millard2012EquilibriumMuscle",
@@ -165,13 +184,12 @@ impl MuscleSpec {
         }
     }
 
-    /// (activation, fiber length in m) of the state a model starts from, for the classes whose
-    /// state is a fiber length (Millard, Thelen); `None` for DeGroote (a tendon-force state).
-    pub fn default_fiber_state(&self) -> Option<(f64, f64)> {
+    /// (activation, the second state's kind and value) of the state a model starts from.
+    pub fn default_state(&self) -> (f64, SecondState, f64) {
         match &self.model {
-            MuscleModelSpec::Millard2012(m) => Some((m.default_activation, m.default_fiber_length)),
-            MuscleModelSpec::Thelen2003(t) => Some((t.default_activation, t.default_fiber_length)),
-            MuscleModelSpec::DeGrooteFregly2016(_) => None,
+            MuscleModelSpec::Millard2012(m) => (m.default_activation, SecondState::FiberLength, m.default_fiber_length),
+            MuscleModelSpec::Thelen2003(t) => (t.default_activation, SecondState::FiberLength, t.default_fiber_length),
+            MuscleModelSpec::DeGrooteFregly2016(d) => (d.default_activation, SecondState::NormalizedTendonForce, d.default_normalized_tendon_force),
         }
     }
 

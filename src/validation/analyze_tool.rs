@@ -23,12 +23,16 @@ use crate::setup::{read_document, AnalyzeSetup, ControlSet};
 /// CoordinateActuators, couplers, clamped knee); the walk with its ground reactions and the
 /// static optimisation's residual actuators, and those driven by two ControlSetControllers (a
 /// ControlSet and a table); arm26 from a states file (OpenSim's forward simulation) under OpenSim
-/// 4's and OpenSim 3's labels.
-pub const ANALYZE_TOOL_CASES: [&str; 13] = ["all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy"];
+/// 4's and OpenSim 3's labels; arm26 with DeGroote muscles from a states file, and equilibrated
+/// with compliant and rigid tendons.
+pub const ANALYZE_TOOL_CASES: [&str; 16] = [
+    "all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote",
+    "degroote_equilibrium", "degroote_rigid",
+];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
 /// where the repository keeps them.
-pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 11] = [
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 15] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
@@ -36,6 +40,10 @@ pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 11] = [
     ("subject01_walk1_grf.xml", "fixtures/subject01/subject01_walk1_grf.xml"),
     ("subject01_walk1_grf.mot", "fixtures/subject01/subject01_walk1_grf.mot"),
     ("arm26.osim", "fixtures/models/arm26.osim"),
+    ("arm26_degroote.osim", "fixtures/models/arm26_degroote.osim"),
+    ("arm26_degroote_rigid.osim", "fixtures/models/arm26_degroote_rigid.osim"),
+    ("arm26_motion.mot", "fixtures/golden/static_optimization/arm26/arm26_motion.mot"),
+    ("arm26_degroote_states.sto", "fixtures/golden/analyze_tool/degroote/arm26_degroote_states.sto"),
     ("residual_controls.xml", "fixtures/golden/analyze_tool/controls/residual_controls.xml"),
     ("residual_controls.sto", "fixtures/golden/analyze_tool/controls/residual_controls.sto"),
     ("arm26_states.sto", "fixtures/golden/analyze_tool/states/arm26_states.sto"),
@@ -115,9 +123,10 @@ pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeTool
     let model = input(root, case, setup.model_file.as_ref().map_or("", |m| &m.written))?;
     let spec = ModelSpec::read(&OsimDocument::read(&model).map_err(|e| e.to_string())?).map_err(|e| e.to_string())?;
     let geometry = MuscleGeometry::new(&spec).map_err(|e| e.to_string())?;
-    let motion_file = match &setup.states_file {
-        Some(states) => input(root, case, &states.written)?,
-        None => root.join("fixtures/golden/ik/subject01_walk1_ik.mot"),
+    let motion_file = match (&setup.states_file, &setup.coordinates_file) {
+        (Some(states), _) => input(root, case, &states.written)?,
+        (None, Some(coordinates)) if coordinates.written != "subject01_walk1_ik.mot" => input(root, case, &coordinates.written)?,
+        _ => root.join("fixtures/golden/ik/subject01_walk1_ik.mot"),
     };
     let table = StorageTable::read(&motion_file).map_err(|e| e.to_string())?;
     let mut added = Vec::new();

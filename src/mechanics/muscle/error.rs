@@ -40,8 +40,6 @@ pub enum MuscleError {
     },
     #[error("muscle '{muscle}': class {class} has no muscle mechanics in osim-tune (supported: {supported})", supported = crate::model::MUSCLE_CLASSES.join(", "))]
     Unsupported { muscle: String, class: String },
-    #[error("muscle '{muscle}': a DeGrooteFregly2016Muscle's state is its normalized tendon force, not a fiber length")]
-    NoFiberLengthState { muscle: String },
 }
 
 impl MuscleError {

@@ -190,15 +190,15 @@ impl HillMuscle {
         }
     }
 
-    /// The muscle at activation `activation` ∈ [0, 1] with fiber-length state `fiber_length`
-    /// (m; ignored by a rigid tendon, whose fiber follows the path) on a path of length
-    /// `mt_length` (m) lengthening at `lengthening_speed` (m/s), as OpenSim reports it
-    /// (Millard, Thelen; DeGroote's state is its tendon force, an error here).
-    pub fn state(&self, activation: f64, fiber_length: f64, mt_length: f64, lengthening_speed: f64) -> Result<MuscleState, MuscleError> {
+    /// The muscle at activation `activation` ∈ [0, 1] with its second state `state` — the fiber
+    /// length (m, Millard and Thelen) or the normalized tendon force (DeGroote); ignored by a
+    /// rigid tendon — on a path of length `mt_length` (m) lengthening at `lengthening_speed`
+    /// (m/s), as OpenSim reports it.
+    pub fn state(&self, activation: f64, state: f64, mt_length: f64, lengthening_speed: f64) -> Result<MuscleState, MuscleError> {
         match self {
-            HillMuscle::Millard(m) => m.state(activation, fiber_length, mt_length, lengthening_speed),
-            HillMuscle::Thelen(m) => m.state(activation, fiber_length, mt_length, lengthening_speed),
-            HillMuscle::DeGroote(m) => Err(MuscleError::NoFiberLengthState { muscle: m.name().to_string() }),
+            HillMuscle::Millard(m) => m.state(activation, state, mt_length, lengthening_speed),
+            HillMuscle::Thelen(m) => m.state(activation, state, mt_length, lengthening_speed),
+            HillMuscle::DeGroote(m) => m.state(activation, state, mt_length, lengthening_speed),
         }
     }
 

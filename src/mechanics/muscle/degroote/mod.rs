@@ -4,12 +4,14 @@
 //! (`equilibrium.rs`), the fiber velocity of explicit and implicit tendon dynamics
 //! (`fiber_velocity.rs`), the active fiber force with a rigid tendon (`inextensible.rs`) and
 //! the normalized tendon force as a forward-simulation state, its rate and its start as OpenSim's
-//! `equilibrateMuscles` finds it (`tendon_force_state.rs`).
+//! `equilibrateMuscles` finds it (`tendon_force_state.rs`), and the muscle at any state
+//! (`state.rs`).
 
 mod curves;
 mod equilibrium;
 mod fiber_velocity;
 mod inextensible;
+mod state;
 mod tendon_force_state;
 mod muscle;
 
