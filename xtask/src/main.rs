@@ -4,6 +4,7 @@
 //! (mutated inputs into every parser for a bounded time; exits non-zero on a panic).
 
 mod bench;
+mod bench_analyze;
 mod bench_scale;
 mod bench_forward;
 mod bench_functional;
