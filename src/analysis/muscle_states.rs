@@ -9,11 +9,10 @@
 //! moving at the pose's speeds.
 
 use super::analyze_tool::AnalyzeToolMotion;
-use super::reporters::control;
 use crate::mechanics::muscle::{HillMuscle, MuscleError, MuscleState};
 use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::{ModelSpec, MuscleSpec, SecondState};
-use crate::setup::ControlSet;
+use crate::setup::{control, ControlSet};
 
 /// One muscle's state variables as OpenSim holds them.
 #[derive(Debug, Clone, Copy, PartialEq)]

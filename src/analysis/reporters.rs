@@ -1,7 +1,7 @@
-//! OpenSim's `ForceReporter`, `Actuation` and `StatesReporter` on the states an AnalyzeTool forms
-//! from a coordinates file: muscles at their [`MuscleStates`], other actuators at the controls of
-//! the setup's `ControlSetController`s (zero without), the external loads as their `ExternalForce`s record them, every
-//! coordinate's value and speed.
+//! OpenSim's `ForceReporter`, `Actuation` and `StatesReporter` on the states an AnalyzeTool forms:
+//! muscles at their [`MuscleStates`], other actuators at the controls of the setup's
+//! `ControlSetController`s (zero without), the external loads as their `ExternalForce`s record
+//! them, every coordinate's value and speed.
 
 use super::external_loads::ExternalLoads;
 use super::muscle_states::MuscleStates;
@@ -10,7 +10,7 @@ use super::storage;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Kinematics, Motion, MotionState, Multibody};
 use crate::model::ModelSpec;
-use crate::setup::ControlSet;
+use crate::setup::{control, ControlSet};
 
 /// Why a reporter's table is not formed.
 #[derive(Debug, thiserror::Error)]
@@ -144,11 +144,6 @@ pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &M
         values
     });
     storage("ModelStates", labels, values)
-}
-
-/// The control of `actuator` at `time` (s): the sum of the sets' (`addInControls`), 0 without one.
-pub fn control(controls: &[ControlSet], actuator: &str, time: f64) -> f64 {
-    controls.iter().filter_map(|set| set.control(actuator, time)).sum()
 }
 
 /// Time and `row_values(row)` for each of `times`, row after row.
