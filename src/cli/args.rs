@@ -182,12 +182,16 @@ pub enum Command {
         /// e.g. a static optimisation activation.sto), interpolated linearly in time.
         #[arg(long)]
         activations: Option<PathBuf>,
-        /// An OpenSim AnalyzeTool setup: its MuscleAnalysis, Kinematics, BodyKinematics and
-        /// PointKinematics run as OpenSim's AnalyzeTool runs them — its time range, coordinate
-        /// cutoff (filtered and splined states, coordinates the motion lacks held at 0), each
-        /// analysis's step interval and lists — writing DIR/<name>_<analysis>_Length.sto,
-        /// …_MomentArm_<coordinate>.sto, …_q.sto, …_u.sto, …_pos_global.sto, …_vel_global.sto,
-        /// …_<point>_pos.sto and …_<point>_vel.sto; columns that are no coordinate are skipped.
+        /// An OpenSim AnalyzeTool setup: its MuscleAnalysis, Kinematics, BodyKinematics,
+        /// PointKinematics, ForceReporter, Actuation, StatesReporter and a JointReaction without a
+        /// forces file run as OpenSim's AnalyzeTool runs them — its time range, coordinate cutoff
+        /// (filtered and splined states, coordinates the motion lacks held at 0; or, when the
+        /// setup names a states_file, --motion is that states file), the muscles at their
+        /// default or equilibrium states, force-set files, external loads, ControlSetControllers,
+        /// each analysis's step interval and lists — writing DIR/<name>_<analysis>_<table>.sto
+        /// (Length, FiberLength, …, MomentArm_<coordinate>, Moment_<coordinate>, q, u, dudt,
+        /// pos_global, vel_global, acc_global, <point>_pos, forces, force, speed, power, states,
+        /// ReactionLoads); columns that are no coordinate are skipped.
         #[arg(long, conflicts_with_all = ["activation", "activations", "skip_unknown_columns"])]
         setup: Option<PathBuf>,
     },
@@ -237,7 +241,8 @@ pub enum Command {
     },
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
     /// InverseKinematicsTool, InverseDynamicsTool or AnalyzeTool (MuscleAnalysis, Kinematics,
-    /// BodyKinematics, PointKinematics, StaticOptimization, JointReaction) setup's model, input
+    /// BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter,
+    /// StaticOptimization, JointReaction) setup's model, input
     /// and output files (relative names from the setup's
     /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
     /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as
