@@ -378,3 +378,19 @@ fn tables_the_muscle_states_cannot_give_are_named() {
     assert!(stderr.contains("not written: StatesReporter's tables: muscle 'BRA'"), "{stderr}");
     assert!(written("walk_MuscleAnalysis_Length.sto") && !written("walk_MuscleAnalysis_FiberLength.sto") && !written("walk_StatesReporter_states.sto"));
 }
+
+/// A states file whose times do not increase is refused, naming the file and the row.
+#[test]
+fn a_states_file_is_checked_as_opensim_reads_it() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[("golden/analyze_tool/states/setup.xml", "setup.xml"), ("models/arm26.osim", "arm26.osim")]);
+    let text = std::fs::read_to_string(fixture("golden/analyze_tool/states/arm26_states.sto")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header = lines.iter().position(|l| *l == "endheader").unwrap() + 2;
+    let mut swapped = lines.clone();
+    swapped.swap(header + 3, header + 4);
+    std::fs::write(dir.join("arm26_states.sto"), swapped.join("\n")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
+    assert!(code == 2 && stderr.contains("arm26_states.sto: times must increase strictly, but row 4"), "{stderr}");
+}

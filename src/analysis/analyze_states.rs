@@ -80,10 +80,11 @@ impl AnalyzeStates {
         })
     }
 
-    /// The states of a states file `table` (read from `file`) for `multibody` and the muscles
-    /// `muscles` (name, second state's name: `fiber_length` or `normalized_tendon_force`): no
-    /// filtering, no splines; a coordinate the file lacks at its default value, a speed at 0,
-    /// each a muscle state at the muscle's default.
+    /// The states of a states file `table` (read from `file`, times increasing) for `multibody`
+    /// and the muscles `muscles` (name, second state's name: `fiber_length` or
+    /// `normalized_tendon_force`): no filtering; a coordinate the file lacks at its default
+    /// value, a speed at 0, each a muscle state at the muscle's default; u̇ the derivatives of
+    /// degree-5 GCV splines through the speeds (NaN with fewer than 6 rows).
     pub fn from_states(multibody: &Multibody, table: &StorageTable, file: &Path, muscles: &[(String, &str)]) -> Result<AnalyzeStates, StatesError> {
         if table.in_degrees() == Some(true) {
             return Err(StatesError::StatesInDegrees { file: file.into() });
@@ -112,10 +113,14 @@ impl AnalyzeStates {
         for row in &mut q {
             multibody.follow_couplers(row, &[]);
         }
+        let signal = |source| StatesError::Signal { file: file.into(), source };
+        let speeds = Series::new(table.times(), u_columns, 1).map_err(signal)?;
+        // As StaticOptimization's splines through the states: GCV splines need 6 rows.
+        let udot = if table.n_rows() >= 6 { rows(&derivatives(&speeds).map_err(signal)?) } else { vec![vec![f64::NAN; coordinates.len()]; table.n_rows()] };
         Ok(AnalyzeStates {
             times: table.times(),
-            u: rows_of(&u_columns),
-            udot: vec![vec![0.0; coordinates.len()]; table.n_rows()],
+            u: rows(&speeds),
+            udot,
             q,
             missing,
             ignored_columns: labels.iter().zip(&used).filter(|(_, used)| !**used).map(|(l, _)| l.clone()).collect(),
