@@ -21,9 +21,10 @@ pub fn analyze_dynamics(geometry: &MuscleGeometry, at: &AppliedAt) -> Result<Vec
     let multibody = &geometry.multibody;
     let mut kinematics = multibody.kinematics();
     let mut scratch = PathScratch::default();
-    let mut rows = Vec::with_capacity(at.motion.len());
-    for (row, &time) in at.motion.times.iter().enumerate() {
-        let (q, u) = (at.motion.pose(row), &at.speeds[row]);
+    let (motion, speeds) = (&at.states.motion, &at.states.speeds);
+    let mut rows = Vec::with_capacity(motion.len());
+    for (row, &time) in motion.times.iter().enumerate() {
+        let (q, u) = (motion.pose(row), &speeds[row]);
         multibody.realize(q, &mut kinematics);
         let mut applied = AppliedForces { loads: at.external.map(|e| e.at(time, &kinematics)).unwrap_or_default(), mobility: vec![0.0; q.len()] };
         for (generator, force) in at.generators.iter().zip(at.forces(row)) {

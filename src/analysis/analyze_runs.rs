@@ -1,8 +1,11 @@
 //! One AnalyzeTool run, analysis by analysis: the states formed once from the input file, each
-//! analysis's rows taken from them, the muscles' states and the model's dynamics formed for the
-//! analyses that need them, and what cannot be formed named rather than guessed.
+//! step interval's rows taken from them — with the muscles' states and the model's dynamics —
+//! formed once however many analyses record them, and what cannot be formed named rather than
+//! guessed.
 
+use std::cell::{OnceCell, RefCell};
 use std::path::Path;
+use std::rc::Rc;
 
 use super::analyze_dynamics::{analyze_dynamics, RowDynamics};
 use super::analyze_states::AnalyzeStates;
@@ -11,7 +14,7 @@ use super::body_kinematics::{body_tables, coordinate_tables, point_tables, Kinem
 use super::joint_reaction::{reaction_reports, reaction_row, reaction_table};
 use super::muscle_analysis::MuscleAnalysis;
 use super::muscle_state_tables::muscle_state_tables;
-use super::muscle_states::{muscle_states, MuscleStates, MuscleStatesError};
+use super::muscle_states::{muscle_states, MuscleStates};
 use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, AppliedAt, ReporterError};
 use super::signal::frames_in_range;
 use super::static_optimization::{generators, Generator};
@@ -19,6 +22,15 @@ use crate::io::table::StorageTable;
 use crate::mechanics::MotionState;
 use crate::model::ModelSpec;
 use crate::setup::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup};
+
+/// The rows of one step interval and what they form, each formed at most once.
+struct RowSet {
+    states: AnalyzeToolMotion,
+    /// The muscles' states, or why they are not formed.
+    muscles: OnceCell<Result<MuscleStates, String>>,
+    /// The forward dynamics at those states, or why they are not formed.
+    dynamics: OnceCell<Result<Vec<RowDynamics>, String>>,
+}
 
 /// An AnalyzeTool setup running on its model and input.
 pub(super) struct ToolRun<'a> {
@@ -30,6 +42,8 @@ pub(super) struct ToolRun<'a> {
     states: AnalyzeStates,
     /// The forces the model applies, or why they cannot be applied here.
     generators: Result<Vec<Generator>, String>,
+    /// The row sets formed so far, by step interval.
+    row_sets: RefCell<Vec<(usize, Rc<RowSet>)>>,
 }
 
 impl<'a> ToolRun<'a> {
@@ -48,44 +62,64 @@ impl<'a> ToolRun<'a> {
             Some(reason) => Err(reason),
             None => generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
         };
-        Ok(ToolRun { model, setup, file, tool_name, states, generators })
+        Ok(ToolRun { model, setup, file, tool_name, states, generators, row_sets: RefCell::new(Vec::new()) })
     }
 
-    /// The assembled states an analysis of `step_interval` records.
-    fn rows(&self, step_interval: usize) -> Result<AnalyzeToolMotion, AnalyzeToolError> {
+    /// The assembled rows an analysis of `step_interval` records (formed once per interval).
+    fn rows(&self, step_interval: usize) -> Result<Rc<RowSet>, AnalyzeToolError> {
+        if let Some((_, rows)) = self.row_sets.borrow().iter().find(|(step, _)| *step == step_interval) {
+            return Ok(Rc::clone(rows));
+        }
         let time_range = [self.setup.initial_time, self.setup.final_time];
-        analyze_tool_motion(&self.model.geometry.multibody, &self.states, self.file, time_range, step_interval)
+        let states = analyze_tool_motion(&self.model.geometry.multibody, &self.states, self.file, time_range, step_interval)?;
+        let rows = Rc::new(RowSet { states, muscles: OnceCell::new(), dynamics: OnceCell::new() });
+        self.row_sets.borrow_mut().push((step_interval, Rc::clone(&rows)));
+        Ok(rows)
     }
 
-    /// The muscles' states at `states`.
-    fn muscles(&self, states: &AnalyzeToolMotion) -> Result<MuscleStates, MuscleStatesError> {
-        muscle_states(self.model.spec, self.model.geometry, states, self.model.controls, self.setup.solve_for_equilibrium_for_auxiliary_states)
+    /// The muscles' states at `rows`, or why they are not formed.
+    fn muscles<'r>(&self, rows: &'r RowSet) -> Result<&'r MuscleStates, String> {
+        let formed = rows.muscles.get_or_init(|| {
+            let &AnalyzeModel { spec, geometry, controls, .. } = self.model;
+            muscle_states(spec, geometry, &rows.states, controls, self.setup.solve_for_equilibrium_for_auxiliary_states).map_err(|e| e.to_string())
+        });
+        formed.as_ref().map_err(Clone::clone)
+    }
+
+    /// The forces applied at `rows` with the muscles at `muscles`, or why they are not formed.
+    fn applied<'r>(&'r self, rows: &'r RowSet, muscles: &'r MuscleStates) -> Result<AppliedAt<'r>, String> {
+        let generators = self.generators.as_ref().map_err(Clone::clone)?;
+        let &AnalyzeModel { geometry, external, controls, .. } = self.model;
+        Ok(AppliedAt::new(&geometry.multibody, generators, external, controls, muscles, &rows.states))
+    }
+
+    /// The forward dynamics of `rows`, or why they are not formed.
+    fn dynamics<'r>(&self, rows: &'r RowSet) -> Result<&'r [RowDynamics], String> {
+        let formed = rows.dynamics.get_or_init(|| {
+            let muscles = self.muscles(rows)?;
+            analyze_dynamics(self.model.geometry, &self.applied(rows, muscles)?)
+        });
+        formed.as_deref().map_err(Clone::clone)
+    }
+
+    /// u̇ of each row of `rows`, or `None` with the reason noted as `what` not written.
+    fn accelerations(&self, rows: &RowSet, tables: &mut AnalyzeToolTables, what: &str) -> Option<Vec<Vec<f64>>> {
+        let formed = self.dynamics(rows).map(|rows| rows.iter().map(|r| r.udot.clone()).collect());
+        formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
+    }
+
+    /// What OpenSim warns about while forming the muscles' states of every row set, each once.
+    pub(super) fn warnings(&self) -> Vec<String> {
+        let row_sets = self.row_sets.borrow();
+        let mut warnings: Vec<String> = row_sets.iter().filter_map(|(_, rows)| rows.muscles.get()?.as_ref().ok()).flat_map(|m| m.warnings.iter().cloned()).collect();
+        warnings.sort();
+        warnings.dedup();
+        warnings
     }
 
     /// `add` of `tables` under this tool's name.
     fn add(&self, tables: &mut AnalyzeToolTables, analysis: &str, suffix: &str, table: StorageTable, states: &AnalyzeToolMotion) {
         tables.add(self.tool_name, analysis, suffix, table, states);
-    }
-
-    /// The forces at `states` and `muscles`, or why they are not formed.
-    fn with_forces<T>(&self, states: &AnalyzeToolMotion, muscles: &MuscleStates, then: impl FnOnce(&AppliedAt) -> Result<T, ReporterError>) -> Result<T, ReporterError> {
-        let generators = self.generators.as_ref().map_err(|reason| ReporterError::NotFormed(reason.clone()))?;
-        let multibody = &self.model.geometry.multibody;
-        then(&AppliedAt { multibody, generators, external: self.model.external, controls: self.model.controls, muscles, motion: &states.motion, speeds: &states.speeds })
-    }
-
-    /// The dynamics of `states`, or `None` with the reason noted as `what` not written.
-    fn dynamics(&self, states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str) -> Option<Vec<RowDynamics>> {
-        let formed = self.muscles(states).map_err(|e| ReporterError::NotFormed(e.to_string())).and_then(|muscles| {
-            tables.warnings.extend(muscles.warnings.iter().cloned());
-            self.with_forces(states, &muscles, |at| analyze_dynamics(self.model.geometry, at).map_err(ReporterError::NotFormed))
-        });
-        formed.map_err(|reason| tables.not_written.push(format!("{what}: {reason}"))).ok()
-    }
-
-    /// u̇ of each row of `states`, as [`ToolRun::dynamics`].
-    fn accelerations(&self, states: &AnalyzeToolMotion, tables: &mut AnalyzeToolTables, what: &str) -> Option<Vec<Vec<f64>>> {
-        self.dynamics(states, tables, what).map(|rows| rows.into_iter().map(|r| r.udot).collect())
     }
 
     /// An error of a kinematics analysis, naming the setup.
@@ -100,24 +134,20 @@ impl<'a> ToolRun<'a> {
             tables.not_written.push(format!("{}: replace_force_set replaces the model's muscles by the force-set files' actuators, so OpenSim's MuscleAnalysis has no muscles", analysis.name));
             return Ok(());
         }
-        let states = self.rows(analysis.step_interval)?;
+        let rows = self.rows(analysis.step_interval)?;
+        let states = &rows.states;
         let selected = MuscleAnalysis::run(geometry, &states.motion)?.setup_tables(&geometry.multibody, analysis)?;
         let arms: Vec<&StorageTable> = selected.tables.iter().filter(|t| t.name().starts_with("MomentArm_")).collect();
-        let formed = match (controls_ignored(spec, self.setup, false), self.muscles(&states)) {
-            (Some(reason), _) => Err(reason),
-            (None, Err(e)) => Err(e.to_string()),
-            (None, Ok(muscles)) => {
-                tables.warnings.extend(muscles.warnings.iter().cloned());
-                Ok(muscle_state_tables(&muscles, &states.motion.times, &selected.muscles, &arms)?)
+        let state_tables = match controls_ignored(spec, self.setup, false).map_or_else(|| self.muscles(&rows), Err) {
+            Ok(muscles) => muscle_state_tables(muscles, &states.motion.times, &selected.muscles, &arms)?,
+            Err(reason) => {
+                tables.not_written.push(format!("the MuscleAnalysis' fiber, tendon, force, power and moment tables: {reason}"));
+                Vec::new()
             }
         };
-        let state_tables = formed.unwrap_or_else(|reason| {
-            tables.not_written.push(format!("the MuscleAnalysis' fiber, tendon, force, power and moment tables: {reason}"));
-            Vec::new()
-        });
         for table in selected.tables.into_iter().chain(state_tables) {
             let suffix = table.name().to_string();
-            self.add(tables, &analysis.name, &suffix, table, &states);
+            self.add(tables, &analysis.name, &suffix, table, states);
         }
         (tables.unknown_muscles, tables.unknown_coordinates) = (selected.unknown_muscles, selected.unknown_coordinates);
         Ok(())
@@ -125,11 +155,11 @@ impl<'a> ToolRun<'a> {
 
     /// Kinematics: q, u and u̇.
     pub(super) fn kinematics(&self, analysis: &KinematicsSetup, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
-        let states = self.rows(analysis.step_interval)?;
-        let udot = self.accelerations(&states, tables, "Kinematics' accelerations (_dudt)");
-        let formed = coordinate_tables(&self.model.geometry.multibody, &states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
+        let rows = self.rows(analysis.step_interval)?;
+        let udot = self.accelerations(&rows, tables, "Kinematics' accelerations (_dudt)");
+        let formed = coordinate_tables(&self.model.geometry.multibody, &rows.states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
         for (suffix, table) in ["q", "u", "dudt"].into_iter().zip(formed) {
-            self.add(tables, &analysis.name, suffix, table, &states);
+            self.add(tables, &analysis.name, suffix, table, &rows.states);
         }
         Ok(())
     }
@@ -137,24 +167,24 @@ impl<'a> ToolRun<'a> {
     /// BodyKinematics: positions, velocities and accelerations.
     pub(super) fn body_kinematics(&self, analysis: &BodyKinematicsSetup, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
         let multibody = &self.model.geometry.multibody;
-        let states = self.rows(analysis.step_interval)?;
-        let udot = self.accelerations(&states, tables, "BodyKinematics' accelerations (_acc_…)");
+        let rows = self.rows(analysis.step_interval)?;
+        let udot = self.accelerations(&rows, tables, "BodyKinematics' accelerations (_acc_…)");
         let bodies: Vec<usize> = self.model.spec.bodies.iter().filter_map(|b| multibody.bodies.iter().position(|m| m.name == b.name)).collect();
-        let formed = body_tables(multibody, &bodies, &states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
+        let formed = body_tables(multibody, &bodies, &rows.states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
         let frame = if analysis.express_in_local_frame { "bodyLocal" } else { "global" };
         for (suffix, table) in ["pos_global".to_string(), format!("vel_{frame}"), format!("acc_{frame}")].into_iter().zip(formed) {
-            self.add(tables, &analysis.name, &suffix, table, &states);
+            self.add(tables, &analysis.name, &suffix, table, &rows.states);
         }
         Ok(())
     }
 
     /// A PointKinematics: the point's position, velocity and acceleration.
     pub(super) fn point_kinematics(&self, analysis: &PointKinematicsSetup, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
-        let states = self.rows(analysis.step_interval)?;
-        let udot = self.accelerations(&states, tables, &format!("PointKinematics {}'s accelerations (_acc)", analysis.point_name));
-        let formed = point_tables(&self.model.geometry.multibody, &states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
+        let rows = self.rows(analysis.step_interval)?;
+        let udot = self.accelerations(&rows, tables, &format!("PointKinematics {}'s accelerations (_acc)", analysis.point_name));
+        let formed = point_tables(&self.model.geometry.multibody, &rows.states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
         for (suffix, table) in ["pos", "vel", "acc"].into_iter().zip(formed) {
-            self.add(tables, &analysis.name, &format!("{}_{suffix}", analysis.point_name), table, &states);
+            self.add(tables, &analysis.name, &format!("{}_{suffix}", analysis.point_name), table, &rows.states);
         }
         Ok(())
     }
@@ -163,34 +193,41 @@ impl<'a> ToolRun<'a> {
     pub(super) fn joint_reaction(&self, analysis: &JointReactionSetup, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
         let &AnalyzeModel { spec, geometry, .. } = self.model;
         let multibody = &geometry.multibody;
-        let states = self.rows(analysis.step_interval)?;
+        let rows = self.rows(analysis.step_interval)?;
+        let states = &rows.states;
         let reports = reaction_reports(spec, multibody, &analysis.joint_names, &analysis.apply_on_bodies, &analysis.express_in_frame, &self.setup.file).map_err(Box::new)?;
-        let Some(rows) = self.dynamics(&states, tables, "the JointReaction's loads") else { return Ok(()) };
+        let dynamics = match self.dynamics(&rows) {
+            Ok(dynamics) => dynamics,
+            Err(reason) => {
+                tables.not_written.push(format!("the JointReaction's loads: {reason}"));
+                return Ok(());
+            }
+        };
         let mut kinematics = multibody.kinematics();
         let mut values = Vec::new();
-        for (row, dynamics) in rows.iter().enumerate() {
+        for (row, dynamics) in dynamics.iter().enumerate() {
             let (q, u) = (states.motion.pose(row), &states.speeds[row]);
             multibody.realize(q, &mut kinematics);
             values.push(states.motion.times[row]);
             values.extend(reaction_row(multibody, &kinematics, &MotionState { q, u, udot: &dynamics.udot }, &dynamics.loads, &reports));
         }
-        self.add(tables, &analysis.name, "ReactionLoads", reaction_table(multibody, &reports, values)?, &states);
+        self.add(tables, &analysis.name, "ReactionLoads", reaction_table(multibody, &reports, values)?, states);
         Ok(())
     }
 
     /// A reporter (`ForceReporter`, `Actuation` or `StatesReporter`).
     pub(super) fn reporter(&self, analysis: &ReporterSetup, class: &str, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
         let &AnalyzeModel { spec, geometry, .. } = self.model;
-        let states = self.rows(analysis.step_interval)?;
-        let formed = self.muscles(&states).map_err(|e| ReporterError::NotFormed(e.to_string())).and_then(|muscles| {
-            tables.warnings.extend(muscles.warnings.iter().cloned());
+        let rows = self.rows(analysis.step_interval)?;
+        let states = &rows.states;
+        let formed = self.muscles(&rows).map_err(ReporterError::NotFormed).and_then(|muscles| {
             if class == "StatesReporter" {
-                return Ok(vec![("states", states_reporter_table(spec, &geometry.multibody, &muscles, &states.motion, &states.speeds)?)]);
+                return Ok(vec![("states", states_reporter_table(spec, &geometry.multibody, muscles, &states.motion, &states.speeds)?)]);
             }
-            self.with_forces(&states, &muscles, |at| force_tables(spec, analysis, class, at))
+            force_tables(spec, analysis, class, &self.applied(&rows, muscles).map_err(ReporterError::NotFormed)?)
         });
         match formed {
-            Ok(formed) => formed.into_iter().for_each(|(suffix, t)| self.add(tables, &analysis.name, suffix, t, &states)),
+            Ok(formed) => formed.into_iter().for_each(|(suffix, t)| self.add(tables, &analysis.name, suffix, t, states)),
             Err(ReporterError::Table(e)) => return Err(e.into()),
             Err(reason) => tables.not_written.push(format!("{class}'s tables: {reason}")),
         }

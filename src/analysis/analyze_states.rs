@@ -44,7 +44,8 @@ pub struct AnalyzeStates {
     pub q: Vec<Vec<f64>>,
     pub u: Vec<Vec<f64>>,
     pub udot: Vec<Vec<f64>>,
-    /// Coordinates the file lacks and no coupler sets (held at 0, as OpenSim does).
+    /// Coordinates the file lacks and no coupler sets (held at 0 — from a states file at their
+    /// default values — as OpenSim does).
     pub missing: Vec<String>,
     /// Columns that are no coordinate (no state variable, for a states file) of the model.
     pub ignored_columns: Vec<String>,
@@ -129,7 +130,7 @@ impl AnalyzeStates {
     }
 
     /// The poses of `rows` (e.g. [`AnalyzeStates::analysed_rows`]) as a [`Motion`]; its
-    /// defaulted coordinates are those held at 0.
+    /// defaulted coordinates are those the file lacks.
     pub fn motion(&self, rows: &[usize]) -> Motion {
         let poses: Vec<Vec<f64>> = rows.iter().map(|&i| self.q[i].clone()).collect();
         Motion::from_poses(rows.iter().map(|&i| self.times[i]).collect(), &poses, self.missing.clone(), self.ignored_columns.clone())

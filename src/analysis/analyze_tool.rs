@@ -26,8 +26,9 @@ pub struct AnalyzeToolTables {
     pub files: Vec<(String, StorageTable)>,
     /// The rows analysed: count, first and last time (s), of the last analysis run.
     pub rows: (usize, f64, f64),
-    /// Coordinates the coordinates file lacks, held at 0 as OpenSim holds them.
-    pub held_at_zero: Vec<String>,
+    /// Coordinates the input lacks, held as OpenSim holds them (at 0; from a states file at their
+    /// default values).
+    pub missing_coordinates: Vec<String>,
     /// Names the MuscleAnalysis lists that the model lacks (dropped, as OpenSim drops them).
     pub unknown_muscles: Vec<String>,
     pub unknown_coordinates: Vec<String>,
@@ -78,8 +79,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
     for (analysis, class) in reporters.into_iter().filter_map(|(a, class)| a.as_ref().map(|a| (a, class))) {
         run.reporter(analysis, class, &mut tables)?;
     }
-    tables.warnings.sort();
-    tables.warnings.dedup();
+    tables.warnings = run.warnings();
     Ok(tables)
 }
 
@@ -89,7 +89,7 @@ impl AnalyzeToolTables {
         self.files.push((format!("{tool}_{analysis}_{suffix}.sto"), table));
         let times = &states.motion.times;
         self.rows = (times.len(), times.first().copied().unwrap_or(f64::NAN), times.last().copied().unwrap_or(f64::NAN));
-        self.held_at_zero.clone_from(&states.motion.defaulted);
+        self.missing_coordinates.clone_from(&states.motion.defaulted);
     }
 }
 

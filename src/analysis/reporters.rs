@@ -4,10 +4,12 @@
 //! them, every coordinate's value and speed.
 
 use super::external_loads::ExternalLoads;
+use super::analyze_tool::AnalyzeToolMotion;
 use super::muscle_states::MuscleStates;
 use super::static_optimization::Generator;
 use super::storage;
 use crate::io::table::{StorageTable, TableError};
+use crate::mechanics::muscle::MuscleState;
 use crate::mechanics::{Kinematics, Motion, MotionState, Multibody};
 use crate::model::ModelSpec;
 use crate::setup::{control, ControlSet};
@@ -24,7 +26,7 @@ pub enum ReporterError {
 
 /// The force generators (the model's muscles and actuators that apply force, ForceSet order, then
 /// those of the setup's force-set files) with the external loads, at the AnalyzeTool's rows.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct AppliedAt<'a> {
     pub multibody: &'a Multibody,
     pub generators: &'a [Generator],
@@ -32,30 +34,41 @@ pub struct AppliedAt<'a> {
     /// The controls applied (summed over the sets; an actuator without one at 0).
     pub controls: &'a [ControlSet],
     pub muscles: &'a MuscleStates,
-    pub motion: &'a Motion,
-    /// Speeds per row (rad/s or m/s, [`Multibody::coordinates`] order).
-    pub speeds: &'a [Vec<f64>],
+    /// The rows: poses, speeds (rad/s or m/s, [`Multibody::coordinates`] order).
+    pub states: &'a AnalyzeToolMotion,
+    /// Each generator's muscle among `muscles`, `None` for an actuator (found once).
+    muscle_of: Vec<Option<usize>>,
 }
 
-impl AppliedAt<'_> {
+impl<'a> AppliedAt<'a> {
+    pub fn new(multibody: &'a Multibody, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a [ControlSet], muscles: &'a MuscleStates, states: &'a AnalyzeToolMotion) -> AppliedAt<'a> {
+        let muscle_of = generators.iter().map(|g| g.muscle_path().and_then(|_| muscles.muscles.iter().position(|(_, m)| *m == g.name))).collect();
+        AppliedAt { multibody, generators, external, controls, muscles, states, muscle_of }
+    }
+
+    /// The muscle state of generator `g` at `row`; `None` for an actuator or a muscle whose state
+    /// was not evaluated.
+    fn muscle_state(&self, row: usize, g: usize) -> Option<&MuscleState> {
+        self.muscle_of[g].and_then(|k| self.muscles.states[row][k].as_ref())
+    }
+
     /// Each generator's force at `row` (N or N·m): a muscle's tendon force at its state (NaN
     /// where it was not evaluated), an actuator's actuation, control × optimal force.
     pub(super) fn forces(&self, row: usize) -> Vec<f64> {
-        let muscle = |name: &str| self.muscles.muscles.iter().position(|(_, m)| m == name);
-        let time = self.motion.times[row];
+        let time = self.states.motion.times[row];
         self.generators
             .iter()
-            .map(|g| match (g.muscle_path(), muscle(&g.name)) {
-                (Some(_), Some(k)) => self.muscles.states[row][k].map_or(f64::NAN, |s| s.report.tendon_force),
-                (Some(_), None) => f64::NAN,
-                (None, _) => control(self.controls, &g.name, time) * g.unit_force(false, 0.0, 0.0),
+            .enumerate()
+            .map(|(g, generator)| match generator.muscle_path() {
+                Some(_) => self.muscle_state(row, g).map_or(f64::NAN, |s| s.report.tendon_force),
+                None => control(self.controls, &generator.name, time) * generator.unit_force(false, 0.0, 0.0),
             })
             .collect()
     }
 
     /// The body poses of `row`.
     fn kinematics(&self, row: usize, kinematics: &mut Kinematics) {
-        self.multibody.realize(self.motion.pose(row), kinematics);
+        self.multibody.realize(self.states.motion.pose(row), kinematics);
     }
 
     /// `time` and then each generator's name.
@@ -70,11 +83,11 @@ pub fn force_reporter_table(at: &AppliedAt) -> Result<StorageTable, TableError> 
     let mut labels = at.labels();
     labels.extend(at.external.map(ExternalLoads::record_labels).unwrap_or_default());
     let mut kinematics = at.multibody.kinematics();
-    let values = rows(&at.motion.times, |row| {
+    let values = rows(&at.states.motion.times, |row| {
         let mut values = at.forces(row);
         if let Some(external) = at.external {
             at.kinematics(row, &mut kinematics);
-            values.extend(external.record_values(at.motion.times[row], &kinematics));
+            values.extend(external.record_values(at.states.motion.times[row], &kinematics));
         }
         values
     });
@@ -83,22 +96,17 @@ pub fn force_reporter_table(at: &AppliedAt) -> Result<StorageTable, TableError> 
 
 /// `Actuation`'s `force`, `speed` and `power` tables of the generators: force as
 /// [`force_reporter_table`], speed a muscle's path lengthening speed or an actuator's `getSpeed`
-/// (m/s or rad/s, OpenSim's quirks kept: [`crate::mechanics::Actuator::speed`]), power W = −F·v for a muscle (power it delivers), F·v for an actuator.
+/// (m/s or rad/s, OpenSim's quirks kept: [`crate::mechanics::Actuator::speed`]), power W = −F·v
+/// for a muscle (power it delivers), F·v for an actuator.
 pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError> {
     let mut rows_of = [Vec::new(), Vec::new(), Vec::new()];
     let zeros = vec![0.0; at.multibody.coordinates.len()];
-    for (row, &time) in at.motion.times.iter().enumerate() {
-        let motions = at.multibody.body_motions(&MotionState { q: at.motion.pose(row), u: &at.speeds[row], udot: &zeros });
+    let (motion, speeds_of) = (&at.states.motion, &at.states.speeds);
+    for (row, &time) in motion.times.iter().enumerate() {
+        let motions = at.multibody.body_motions(&MotionState { q: motion.pose(row), u: &speeds_of[row], udot: &zeros });
         let forces = at.forces(row);
-        let speeds: Vec<f64> = at
-            .generators
-            .iter()
-            .map(|g| {
-                g.actuator_speed(&motions, &at.speeds[row]).unwrap_or_else(|| {
-                    let k = at.muscles.muscles.iter().position(|(_, m)| *m == g.name);
-                    k.and_then(|k| at.muscles.states[row][k]).map_or(f64::NAN, |s| s.lengthening_speed)
-                })
-            })
+        let speeds: Vec<f64> = (at.generators.iter().enumerate())
+            .map(|(g, generator)| generator.actuator_speed(&motions, &speeds_of[row]).unwrap_or_else(|| at.muscle_state(row, g).map_or(f64::NAN, |s| s.lengthening_speed)))
             .collect();
         let powers = at.generators.iter().zip(forces.iter().zip(&speeds)).map(|(g, (f, v))| if g.muscle_path().is_some() { -f * v } else { f * v });
         let [forces_row, speeds_row, powers_row] = &mut rows_of;
@@ -114,8 +122,7 @@ pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError>
 
 /// `StatesReporter`'s `states` table: every coordinate's `value` and `speed` (rad or m, rad/s or
 /// m/s) joint by joint, then every muscle's `activation` and second state (`fiber_length` or
-/// `normalized_tendon_force`), labelled by
-/// their paths as OpenSim 4 names state variables.
+/// `normalized_tendon_force`), labelled by their paths as OpenSim 4 names state variables.
 pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &MuscleStates, motion: &Motion, speeds: &[Vec<f64>]) -> Result<StorageTable, TableError> {
     let coordinates: Vec<(String, usize)> = spec
         .joints

@@ -257,17 +257,26 @@ struct Analyses {
     others: Vec<String>,
 }
 
-/// The first `StaticOptimization`, `JointReaction`, `MuscleAnalysis`, `Kinematics`,
-/// `BodyKinematics`, `ForceReporter`, `Actuation` and `StatesReporter` that are on, every `PointKinematics` that is on, and the classes of the other
-/// analyses; `directory` resolves the forces file.
-fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
-    let Some(set) = tool.child("AnalysisSet") else { return Ok(Analyses::default()) };
-    let mut found = Analyses::default();
-    for element in tool.at(set).listed_objects(set) {
-        let analysis = tool.at(element);
-        if !analysis.boolean_or("on", true)? {
-            continue;
+/// The members of the tool's set `set` (`AnalysisSet`, `ControllerSet`) whose flag `flag` (`on`,
+/// `enabled`; default true) is set.
+fn active_members<'a>(tool: ComponentReader<'a>, set: &str, flag: &str) -> Result<Vec<ComponentReader<'a>>, SetupError> {
+    let Some(set) = tool.child(set) else { return Ok(Vec::new()) };
+    let mut active = Vec::new();
+    for member in tool.at(set).listed_objects(set).into_iter().map(|element| tool.at(element)) {
+        if member.boolean_or(flag, true)? {
+            active.push(member);
         }
+    }
+    Ok(active)
+}
+
+/// The first `StaticOptimization`, `JointReaction`, `MuscleAnalysis`, `Kinematics`,
+/// `BodyKinematics`, `ForceReporter`, `Actuation` and `StatesReporter` that are on, every
+/// `PointKinematics` that is on, and the classes of the other analyses; `directory` resolves the
+/// forces file.
+fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupError> {
+    let mut found = Analyses::default();
+    for analysis in active_members(tool, "AnalysisSet", "on")? {
         let step_interval = || checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1").map(|n| n as usize);
         let name = || name_or_empty(analysis);
         let or_all = |words: Vec<String>| if words.is_empty() { vec!["all".to_string()] } else { words };
@@ -340,24 +349,19 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
 
 /// The enabled controllers of the tool's `ControllerSet` (`directory` resolves their files).
 fn controllers(tool: ComponentReader, directory: &Path) -> Result<Vec<ControllerSetup>, SetupError> {
-    let Some(set) = tool.child("ControllerSet") else { return Ok(Vec::new()) };
-    let mut found = Vec::new();
-    for element in tool.at(set).listed_objects(set) {
-        let controller = tool.at(element);
-        if !controller.boolean_or("enabled", true)? {
-            continue;
-        }
-        let file = optional_path(controller, "controls_file", directory);
-        let mut description = controller.class().to_string();
-        for (part, pattern) in [(Some(controller.name()).filter(|n| !n.is_empty()), " {}"), (file.as_ref().map(|f| f.written.clone()), " ({})")] {
-            if let Some(part) = part {
-                description += &pattern.replace("{}", &part);
+    let controllers = active_members(tool, "ControllerSet", "enabled")?;
+    Ok(controllers
+        .into_iter()
+        .map(|controller| {
+            let (class, name) = (controller.class(), controller.name());
+            let file = optional_path(controller, "controls_file", directory);
+            let mut description = if name.is_empty() { class.to_string() } else { format!("{class} {name}") };
+            if let Some(file) = &file {
+                description += &format!(" ({})", file.written);
             }
-        }
-        let controls_file = file.filter(|_| controller.class() == "ControlSetController");
-        found.push(ControllerSetup { description, controls_file });
-    }
-    Ok(found)
+            ControllerSetup { description, controls_file: file.filter(|_| class == "ControlSetController") }
+        })
+        .collect())
 }
 
 /// The slot of reporter class `class` (`ForceReporter`, `Actuation`, else `StatesReporter`).

@@ -25,8 +25,8 @@ impl ControlLinear {
     pub fn value(&self, t: f64) -> f64 {
         let n = self.nodes.len();
         let Some(&(_, first)) = self.nodes.first() else { return f64::NAN };
-        // The last node at or before t (exact comparisons, as OpenSim's binary search).
-        let at_or_before = self.nodes.iter().rposition(|&(time, _)| time <= t);
+        // The last node at or before t (exact comparisons, OpenSim's binary search).
+        let at_or_before = self.nodes.partition_point(|&(time, _)| time <= t).checked_sub(1);
         let line = |(t1, v1): (f64, f64), (t2, v2): (f64, f64)| if t1 == t2 { v1 } else { v1 + (t - t1) * (v2 - v1) / (t2 - t1) };
         let extrapolating = !self.use_steps && self.extrapolate && n > 1;
         match at_or_before {

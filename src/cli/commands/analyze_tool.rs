@@ -47,7 +47,7 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     let (rows, first, last) = tables.rows;
     println!("AnalyzeTool: {rows} rows of {} ({first:.4}–{last:.4} s) → {} tables in {}", coordinates.display(), files.len(), output.display());
     let lists = [
-        ("coordinates the file lacks, held at 0 as OpenSim's AnalyzeTool holds them", &tables.held_at_zero),
+        ("coordinates the file lacks, held as OpenSim's AnalyzeTool holds them (at 0; from a states file at their default values)", &tables.missing_coordinates),
         ("muscle_list names no muscle of the model (dropped, as OpenSim drops them)", &tables.unknown_muscles),
         ("moment_arm_coordinate_list names no coordinate of the model (dropped, as OpenSim drops them)", &tables.unknown_coordinates),
     ];

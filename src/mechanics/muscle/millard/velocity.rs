@@ -95,10 +95,8 @@ impl Millard2012Muscle {
         check_inputs(&self.name, activation, mt_length)?;
         let a = self.clamp_activation(activation);
         let (p, norm_velocity) = if self.ignore_tendon_compliance {
-            let p = self.position(self.rigid_tendon_fiber_length(mt_length), mt_length);
-            let slack = p.tendon_length < self.tendon_slack_length - SIGNIFICANT_REAL;
-            let velocity = if slack { 0.0 } else { lengthening_speed * p.fiber.cos_alpha };
-            (p, velocity / (self.optimal_fiber_length * self.max_contraction_velocity))
+            let (p, norm_velocity, _) = self.rigid_tendon_motion(mt_length, lengthening_speed);
+            (p, norm_velocity)
         } else {
             if !(fiber_length > 0.0 && fiber_length.is_finite()) {
                 return Err(MuscleError::invalid_input(&self.name, "fiber length", fiber_length, "a positive length in m"));
