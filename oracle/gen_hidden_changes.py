@@ -1,7 +1,7 @@
 """Writes fixtures/dynamometry/hidden/hid01..hid26/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
-(dynamometry_lib.generate_subject). Per subject, numpy default_rng(31000 + k) draws it:
+(dynamometry_lib.generate_subject). Per subject, numpy default_rng(SEED + k) draws it:
 - hid01–10, one knee muscle's parameter (muscle uniform over the eight estimated ones, sign ±
   with p 0.5): L_ts by U(0.02, 0.06) in hid01–06, L_opt by U(0.05, 0.15) in hid07–08, F_max by
   U(0.10, 0.25) in hid09–10;
@@ -20,13 +20,16 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
   activation;
 - hid25–26, every measured moment offset by ±U(2, 6) N·m.
 The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23, 25), 5 (hid03–04, 08,
-10, 12, 14, 16, 18, 20, 22, 24, 26) and 10 N·m (hid05–06), noise seed 32000 + k.
+10, 12, 14, 16, 18, 20, 22, 24, 26) and 10 N·m (hid05–06), noise seed SEED + 1000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
 Usage: python3 oracle/gen_hidden_changes.py /path/to/shared
+(HIDDEN_SEED=N HIDDEN_OUT=DIR: another draw into DIR, e.g. a blind batch for `cargo xtask
+diagnose-study DIR`; the fixtures are the default, N = 31000.)
 """
 import json
+import os
 import re
 import shutil
 import sys
@@ -40,7 +43,9 @@ sys.path.insert(0, str(SHARED / "tools" / "oracle"))
 import dynamometry_generate_public as G  # noqa: E402
 import dynamometry_lib as L  # noqa: E402
 
-OUT = Path(__file__).resolve().parent.parent / "fixtures" / "dynamometry" / "hidden"
+OUT = Path(os.environ.get("HIDDEN_OUT", Path(__file__).resolve().parent.parent / "fixtures" / "dynamometry" / "hidden"))
+# draws seed base (noise seeds: base + 1000 + k); another base makes a blind batch for a study
+SEED = int(os.environ.get("HIDDEN_SEED", "31000"))
 TS, OPT, FMAX, PA = "tendon_slack_length", "optimal_fiber_length", "max_isometric_force", "pennation_angle_at_optimal"
 # subject number: (changed property, magnitude range, moment noise sd in N m)
 SUBJECTS = {1: (TS, (0.02, 0.06), 0.0), 2: (TS, (0.02, 0.06), 0.0), 3: (TS, (0.02, 0.06), 5.0),
@@ -113,7 +118,7 @@ def moved_knee_axis(scratch, offset):
 
 def hidden_change(k, magnitude):
     """(muscle, factor) of subject k."""
-    rng = np.random.default_rng(31000 + k)
+    rng = np.random.default_rng(SEED + k)
     muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]
     sign = 1.0 if rng.random() < 0.5 else -1.0
     return muscle, 1.0 + sign * float(rng.uniform(*magnitude))
@@ -125,7 +130,7 @@ def write(scratch, k, sim, sd, truth, recorded=None, pennation=None):
     sid = "hid%02d" % k
     L.generate_subject(Path(scratch) / sid, sid, sim, base_model_file=G.SCALED.name,
                        base_model_path_in_shared=G.rel_to_shared(G.SCALED), noise_sd=sd,
-                       noise_seed=32000 + k if sd > 0 else None, recorded_angle_sets=recorded,
+                       noise_seed=SEED + 1000 + k if sd > 0 else None, recorded_angle_sets=recorded,
                        extra_truth=truth, log=lambda *a: None)
     source, target = Path(scratch) / sid, OUT / sid
     shutil.rmtree(target, ignore_errors=True)
@@ -149,33 +154,33 @@ def main():
             sim = L.KneeSim(G.SCALED, overrides={muscle: {prop: base_p[muscle][prop] * factor}})
             write(scratch, k, sim, sd, {"hidden_muscle": muscle, "hidden_parameter": prop, "factor": factor})
         for k, sd in OFFSETS.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             offset = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(3.0, 8.0))
             recorded = {name: [a + offset for a in angles] for name, angles in L.TRIAL_SETS.items()}
             truth = {"hidden_coordinate": L.KNEE, "recorded_minus_true_deg": offset}
             write(scratch, k, L.KneeSim(G.SCALED), sd, truth, recorded)
         for k, sd in ACTIVATIONS.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             direction = "extension" if rng.random() < 0.5 else "flexion"
             factor = float(rng.uniform(0.80, 0.95))
             sim = ScaledAgonists(G.SCALED, L.DIRECTIONS[direction], factor)
             write(scratch, k, sim, sd, {"hidden_activation_direction": direction, "activation_factor": factor})
         for k, sd in ALL_ACTIVATIONS.items():
-            factor = float(np.random.default_rng(31000 + k).uniform(0.80, 0.95))
+            factor = float(np.random.default_rng(SEED + k).uniform(0.80, 0.95))
             sim = ScaledAgonists(G.SCALED, None, factor)
             write(scratch, k, sim, sd, {"hidden_activation_direction": "both", "activation_factor": factor})
         for k, sd in MUSCLE_ACTIVATIONS.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]
             factor = float(rng.uniform(0.70, 0.90))
             sim = ScaledAgonist(G.SCALED, muscle, factor)
             write(scratch, k, sim, sd, {"hidden_activation_muscle": muscle, "activation_factor": factor})
         for k, sd in MOMENT_OFFSETS.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             offset = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(2.0, 6.0))
             write(scratch, k, OffsetMoments(G.SCALED, offset), sd, {"hidden_moment_offset_Nm": offset})
         for k, sd in PENNATIONS.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             muscle = L.EST_MUSCLES[int(rng.integers(len(L.EST_MUSCLES)))]
             change = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.06, 0.14))
             if base_p[muscle][PA] + change < 0.0:
@@ -184,14 +189,14 @@ def main():
             truth = {"hidden_muscle": muscle, "hidden_parameter": PA, "change_rad": change}
             write(scratch, k, sim, sd, truth, pennation=muscle)
         for k, sd in AXES.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             distance, angle = float(rng.uniform(3.0, 8.0)), float(rng.uniform(0.0, 2.0 * np.pi))
             offset = [distance * np.cos(angle), distance * np.sin(angle), 0.0]
             sim = L.KneeSim(str(moved_knee_axis(scratch, [c / 1000.0 for c in offset])))
             truth = {"hidden_joint": "knee_r", "axis_offset_in_parent_mm": offset, "axis_offset_in_child_mm": offset}
             write(scratch, k, sim, sd, truth)
         for k, (group, muscles, sd) in GROUPS.items():
-            rng = np.random.default_rng(31000 + k)
+            rng = np.random.default_rng(SEED + k)
             factor = 1.0 + (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.02, 0.05))
             sim = L.KneeSim(G.SCALED, overrides={m: {TS: base_p[m][TS] * factor} for m in muscles})
             truth = {"hidden_group": group, "hidden_group_muscles": muscles, "hidden_parameter": TS, "factor": factor}

@@ -58,7 +58,7 @@ fn noise_free_subjects_name_the_hidden_cause_and_recover_it() {
             // (an axis move to 10⁻⁴ mm).
             let error = causes[0].fitted / value - 1.0;
             assert!(error.abs() < 1e-4, "{subject} {label}: {} off by {:.4} %", cause.describe(), 100.0 * error);
-            assert!(hidden_value_error(&causes[0], value, hidden_axis_offset(&truth(subject))) < 1e-4, "{subject} {label}: {:?}", causes[0]);
+            assert!(hidden_value_error(&causes[0], value, hidden_axis_offset(&truth(subject)), verdict.noise_sd) < 1e-4, "{subject} {label}: {:?}", causes[0]);
         }
     }
 }
@@ -73,7 +73,7 @@ fn noisy_subjects_are_named_where_the_effect_dwarfs_the_noise_and_never_wrongly(
             let named = match &verdict.verdict {
                 Verdict::Named(named_cause) => {
                     assert_eq!(named_cause, &cause, "{context}");
-                    assert!(hidden_value_error(&causes[0], value, hidden_axis_offset(&truth(subject))) <= 1.0, "{context}: fitted {:?} against {value}", causes[0]);
+                    assert!(hidden_value_error(&causes[0], value, hidden_axis_offset(&truth(subject)), verdict.noise_sd) <= 1.0, "{context}: fitted {:?} against {value}", causes[0]);
                     true
                 }
                 Verdict::MuscleNamed { muscle, parameters } => {

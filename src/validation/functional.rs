@@ -214,29 +214,30 @@ pub fn hidden_axis_offset(truth: &serde_json::Value) -> Option<[f64; 3]> {
 }
 
 /// How far the best candidate `best` recovers a hidden value `truth` (an axis move:
-/// `axis_offset`, mm in the parent frame) as a fraction of what noisy moments allow (≤ 1
-/// passes): L_ts 1 % (issue 6's goal), L_opt and F_max 5 % (less sensitive), α_opt 1°, a group's
-/// factor the same fractions, an axis move 2 mm (the distance between the fitted and the true
-/// offset; σ = 5 N·m on 70 trials spreads the fit of hid20's 5.4 mm move by 0.6 mm sd over 12
-/// noise draws), an angle offset 0.5°, an activation factor 0.02, a moment offset 2 N·m (σ/√n is
-/// 1.6 N·m on set5 at σ = 5 N·m). An axis cause without a fitted move or without `axis_offset`
-/// is infinitely off.
-pub fn hidden_value_error(best: &SingleCause, truth: f64, axis_offset: Option<[f64; 3]>) -> f64 {
+/// `axis_offset`, mm in the parent frame) as a fraction of what moments with noise σ =
+/// `noise_sd` (N·m) allow (≤ 1 passes): three of the fit's own standard errors
+/// ([`SingleCause::standard_error`]), and never less than L_ts 1 % (issue 6's goal), L_opt and
+/// F_max 5 % (less sensitive), α_opt 1°, a group's factor the same fractions, an axis move 2 mm
+/// (the distance between the fitted and the true offset), an angle offset 0.5°, an activation
+/// factor 0.02, a moment offset 2 N·m. An axis cause without a fitted move or without
+/// `axis_offset` is infinitely off.
+pub fn hidden_value_error(best: &SingleCause, truth: f64, axis_offset: Option<[f64; 3]>, noise_sd: f64) -> f64 {
     use crate::tuning::functional::Parameter;
-    let fitted = best.fitted;
+    let (fitted, spread) = (best.fitted, 3.0 * best.standard_error(noise_sd));
+    let off = |allowed: f64| (fitted - truth).abs() / allowed.max(spread);
     if let (Some(fitted), Some(truth)) = (&best.axis_move, axis_offset) {
-        return fitted.in_parent.iter().zip(truth).map(|(f, t)| (f - t).powi(2)).sum::<f64>().sqrt() / 2.0;
+        return fitted.in_parent.iter().zip(truth).map(|(f, t)| (f - t).powi(2)).sum::<f64>().sqrt() / spread.max(2.0);
     }
     match &best.cause {
-        Cause::Muscle { parameter: Parameter::TendonSlackLength, .. } => (fitted / truth - 1.0).abs() / 0.01,
-        Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => (fitted - truth).abs() / 1f64.to_radians(),
-        Cause::Muscle { .. } => (fitted / truth - 1.0).abs() / 0.05,
-        Cause::Group { parameter: Parameter::TendonSlackLength, .. } => (fitted - truth).abs() / 0.01,
-        Cause::Group { .. } => (fitted - truth).abs() / 0.05,
+        Cause::Muscle { parameter: Parameter::TendonSlackLength, .. } => off(0.01 * truth.abs()),
+        Cause::Muscle { parameter: Parameter::PennationAngleAtOptimal, .. } => off(1f64.to_radians()),
+        Cause::Muscle { .. } => off(0.05 * truth.abs()),
+        Cause::Group { parameter: Parameter::TendonSlackLength, .. } => off(0.01),
+        Cause::Group { .. } => off(0.05),
         Cause::AxisOffset { .. } => f64::INFINITY,
-        Cause::AngleOffset { .. } => (fitted - truth).abs() / 0.5,
-        Cause::MomentOffset => (fitted - truth).abs() / 2.0,
-        Cause::Activation { .. } | Cause::MuscleActivation { .. } => (fitted - truth).abs() / 0.02,
+        Cause::AngleOffset { .. } => off(0.5),
+        Cause::MomentOffset => off(2.0),
+        Cause::Activation { .. } | Cause::MuscleActivation { .. } => off(0.02),
     }
 }
 

@@ -1,7 +1,8 @@
 //! Project tasks: `cargo xtask validate` (conformance table against OpenSim goldens and
 //! round-trip checks; exits non-zero on any failure), `cargo xtask bench` (speed beside
-//! OpenSim) and `cargo xtask fuzz-smoke [SECONDS]`
-//! (mutated inputs into every parser for a bounded time; exits non-zero on a panic).
+//! OpenSim), `cargo xtask fuzz-smoke [SECONDS]` (mutated inputs into every parser for a bounded
+//! time; exits non-zero on a panic) and `cargo xtask diagnose-study DIR` (the diagnosis'
+//! verdicts on a blind batch of hidden changes; exits non-zero on a wrong name).
 
 mod bench;
 mod bench_analyze;
@@ -30,15 +31,21 @@ fn main() -> ExitCode {
     match arguments.first().map(String::as_str) {
         Some("validate") => validate::run(),
         Some("bench") => bench::run(),
+        Some("diagnose-study") => match arguments.get(1) {
+            Some(folder) => functional::diagnose_study(std::path::Path::new(folder)),
+            None => usage(),
+        },
         Some("fuzz-smoke") => {
             let seconds = arguments.get(1).and_then(|s| s.parse().ok()).unwrap_or(60.0);
             fuzz::run(seconds)
         }
-        _ => {
-            eprintln!("usage: cargo xtask validate | cargo xtask bench | cargo xtask fuzz-smoke [SECONDS (default 60)]");
-            ExitCode::from(2)
-        }
+        _ => usage(),
     }
+}
+
+fn usage() -> ExitCode {
+    eprintln!("usage: cargo xtask validate | cargo xtask bench | cargo xtask fuzz-smoke [SECONDS (default 60)] | cargo xtask diagnose-study DIR");
+    ExitCode::from(2)
 }
 
 /// The repository root (the parent of `xtask/`).

@@ -230,10 +230,13 @@ fn print_parameters(fit: &FunctionalFit) {
 }
 
 fn print_causes(fit: &FunctionalFit) {
-    println!("\nsingle causes (one deficiency changed alone from the initial model; RMS error left):");
+    let noise_sd = fit.cause_verdict.as_ref().map(|v| v.noise_sd);
+    let heading = if noise_sd.is_some() { " ± its standard error at the verdict's σ" } else { "" };
+    println!("\nsingle causes (one deficiency changed alone from the initial model{heading}; RMS error left):");
     for cause in fit.single_causes.iter().take(3) {
+        let spread = noise_sd.map_or(String::new(), |sd| format!(" {}", cause.cause.spread(cause.fitted, cause.standard_error(sd))));
         println!(
-            "  {:<34} {}: RMS {:.4} → {:.4} N·m{}",
+            "  {:<34} {}{spread}: RMS {:.4} → {:.4} N·m{}",
             cause.cause.describe(),
             cause.change(),
             cause.rms_before,
