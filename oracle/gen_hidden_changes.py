@@ -1,4 +1,4 @@
-"""Writes fixtures/dynamometry/hidden/hid01..hid26/: synthetic dynamometry subjects made by
+"""Writes fixtures/dynamometry/hidden/hid01..hid30/: synthetic dynamometry subjects made by
 OpenSim 4.6 from the scaled subject01 model with ONE deficiency hidden (issue 6's hidden effect
 and the diagnosis mission's candidates), as the shared oracle makes the public subjects
 (dynamometry_lib.generate_subject). Per subject, numpy default_rng(SEED + k) draws it:
@@ -18,9 +18,11 @@ and the diagnosis mission's candidates), as the shared oracle makes the public s
 - hid21–22, the agonists of every trial simulated at U(0.80, 0.95) times the recorded activation;
 - hid23–24, one agonist (uniform over the eight) simulated at U(0.70, 0.90) times its recorded
   activation;
-- hid25–26, every measured moment offset by ±U(2, 6) N·m.
-The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23, 25), 5 (hid03–04, 08,
-10, 12, 14, 16, 18, 20, 22, 24, 26) and 10 N·m (hid05–06), noise seed SEED + 1000 + k.
+- hid25–26, every measured moment offset by ±U(2, 6) N·m;
+- hid27–30, the hip (hid27–28) or the ankle (hid29–30) standing ±U(3, 8)° off the posture the
+  trials record (a dynamometer seat or foot plate misaligned).
+The moment noise is σ = 0 (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29), 5 (hid03–04,
+08, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30) and 10 N·m (hid05–06), noise seed SEED + 1000 + k.
 ground_truth.json keeps what was hidden and the true parameters; the fit never reads it
 (tests/functional_hidden.rs compares against it afterwards).
 
@@ -60,6 +62,8 @@ MOMENT_OFFSETS = {25: 0.0, 26: 5.0}
 # subject number: (group name, its muscles, moment noise sd in N m)
 PENNATIONS = {17: 0.0, 18: 5.0}
 AXES = {19: 0.0, 20: 5.0}
+# subject number: (offset coordinate, moment noise sd in N m)
+POSTURES = {27: ("hip_flexion_r", 0.0), 28: ("hip_flexion_r", 5.0), 29: ("ankle_angle_r", 0.0), 30: ("ankle_angle_r", 5.0)}
 GROUPS = {15: ("vasti", ["vas_int_r", "vas_lat_r", "vas_med_r"], 0.0), 16: ("estimated muscles", L.EST_MUSCLES, 5.0)}
 
 
@@ -101,6 +105,20 @@ class OffsetMoments(L.KneeSim):
         result = super().trial(*args, **kwargs)
         result["knee_moment_Nm"] += self.offset
         return result
+
+
+class OffsetPosture(L.KneeSim):
+    """KneeSim whose hip or ankle (`coordinate`) stands `offset` degrees below what the trials
+    record (recorded − true = offset)."""
+
+    def __init__(self, model_path, coordinate, offset):
+        super().__init__(model_path)
+        self.keyword, self.offset = {"hip_flexion_r": "hip_deg", "ankle_angle_r": "ankle_deg"}[coordinate], offset
+
+    def trial(self, *args, **kwargs):
+        recorded = kwargs.get(self.keyword, L.HIP_DEG if self.keyword == "hip_deg" else L.ANKLE_DEG)
+        kwargs[self.keyword] = recorded - self.offset
+        return super().trial(*args, **kwargs)
 
 
 def moved_knee_axis(scratch, offset):
@@ -195,6 +213,11 @@ def main():
             sim = L.KneeSim(str(moved_knee_axis(scratch, [c / 1000.0 for c in offset])))
             truth = {"hidden_joint": "knee_r", "axis_offset_in_parent_mm": offset, "axis_offset_in_child_mm": offset}
             write(scratch, k, sim, sd, truth)
+        for k, (coordinate, sd) in POSTURES.items():
+            rng = np.random.default_rng(SEED + k)
+            offset = (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(3.0, 8.0))
+            truth = {"hidden_coordinate": coordinate, "recorded_minus_true_deg": offset}
+            write(scratch, k, OffsetPosture(G.SCALED, coordinate, offset), sd, truth)
         for k, (group, muscles, sd) in GROUPS.items():
             rng = np.random.default_rng(SEED + k)
             factor = 1.0 + (1.0 if rng.random() < 0.5 else -1.0) * float(rng.uniform(0.02, 0.05))

@@ -1,12 +1,13 @@
 //! Hidden effects in OpenSim-generated data (issue 6 and the diagnosis mission, METHOD.md §8):
-//! subjects hid01–26 (`oracle/gen_hidden_changes.py`) come from the scaled subject01 model with
+//! subjects hid01–30 (`oracle/gen_hidden_changes.py`) come from the scaled subject01 model with
 //! one deficiency hidden — one knee muscle's L_ts by 2–6 % (hid01–06), L_opt by 5–15 % (07–08),
 //! F_max by 10–25 % (09–10) or pennation angle α_opt by 3.4–8° (17–18), the recorded knee angle
 //! off by 3–8° (11–12), one direction's or every trial's agonists activated at 80–95 % of the
 //! recorded level (13–14, 21–22) or one agonist at 70–90 % (23–24), a group's L_ts by one factor
-//! (15–16), the knee's axis moved by 3–8 mm (19–20), or the measured moments offset by 2–6 N·m
-//! (25–26) — noise-free (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23, 25) or with moment noise
-//! σ = 5 (hid03–04, 08, 10, 12, 14, 16, 18, 20, 22, 24, 26) and 10 N·m (hid05–06). Only
+//! (15–16), the knee's axis moved by 3–8 mm (19–20), the measured moments offset by 2–6 N·m
+//! (25–26), or the hip (27–28) or ankle (29–30) standing 3–8° off the recorded posture —
+//! noise-free (hid01–02, 07, 09, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29) or with moment noise
+//! σ = 5 (hid03–04, 08, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30) and 10 N·m (hid05–06). Only
 //! the assertions read what was hidden (ground_truth.json). The candidate causes and their
 //! verdict must name it wherever the data resolve it, recover its value, and never name
 //! another cause.
@@ -49,7 +50,7 @@ fn selections() -> [(&'static str, SetSelection); 2] {
 
 #[test]
 fn noise_free_subjects_name_the_hidden_cause_and_recover_it() {
-    for subject in ["hid01", "hid02", "hid07", "hid09", "hid11", "hid13", "hid15", "hid17", "hid19", "hid21", "hid23", "hid25"] {
+    for subject in ["hid01", "hid02", "hid07", "hid09", "hid11", "hid13", "hid15", "hid17", "hid19", "hid21", "hid23", "hid25", "hid27", "hid29"] {
         let (cause, value) = hidden(subject);
         for (label, sets) in selections() {
             let (causes, verdict) = verdict(subject, sets);
@@ -65,7 +66,7 @@ fn noise_free_subjects_name_the_hidden_cause_and_recover_it() {
 
 #[test]
 fn noisy_subjects_are_named_where_the_effect_dwarfs_the_noise_and_never_wrongly() {
-    for subject in ["hid03", "hid04", "hid05", "hid06", "hid08", "hid10", "hid12", "hid14", "hid16", "hid18", "hid20", "hid22", "hid24", "hid26"] {
+    for subject in ["hid03", "hid04", "hid05", "hid06", "hid08", "hid10", "hid12", "hid14", "hid16", "hid18", "hid20", "hid22", "hid24", "hid26", "hid28", "hid30"] {
         let (cause, value) = hidden(subject);
         for (label, sets) in selections() {
             let (causes, verdict) = verdict(subject, sets.clone());
