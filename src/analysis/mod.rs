@@ -19,6 +19,7 @@ mod muscle_states;
 mod physiological_inverse;
 mod reporters;
 mod signal;
+mod simulation;
 mod sampled_motion;
 mod splined_motion;
 mod static_optimization;
@@ -39,6 +40,7 @@ pub use analyze_tool::{analyze_tool_tables, AnalyzeModel, AnalyzeToolError, Anal
 pub use muscle_analysis::{MuscleAnalysis, SetupTables};
 pub use physiological_inverse::{physiological_inverse, Contraction, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings, MAX_LINEARISATIONS, SETTLED_STEP, SETTLED_VIOLATION};
 pub use signal::{spline, Series, SignalError};
+pub use simulation::{controls_table, initial_state, simulate_plant, state_labels, state_values, states_table, InitialSource, Plant, SimulatedState, Simulation, SimulationError};
 pub use sampled_motion::{CoordinateState, SampledMotion, SampledMotionError};
 pub use splined_motion::{SplinedMotion, SplinedMotionError};
 pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};

@@ -73,16 +73,17 @@ impl HeldMuscle<'_> {
         }
     }
 
-    /// The second state OpenSim's `equilibrateMuscles` leaves at `activation` on a path of
-    /// length `length` (m) lengthening at `speed` (m/s): Millard's static Newton iteration to its
-    /// own tolerance (so its reported numbers match), Thelen's `initMuscleState`, DeGroote's
-    /// normalized tendon force.
-    fn equilibrated(&self, activation: f64, length: f64, speed: f64) -> Result<f64, MuscleError> {
-        match &self.muscle {
-            HillMuscle::Millard(m) => Ok(m.opensim_equilibrium(activation, length)?.fiber_length),
-            HillMuscle::DeGroote(m) => m.initial_normalized_tendon_force(activation, length, speed),
-            muscle => muscle.initial_fiber_length(activation, length, speed),
-        }
+}
+
+/// The second state OpenSim's `equilibrateMuscles` leaves `muscle` in at `activation` on a path
+/// of length `length` (m) lengthening at `speed` (m/s): Millard's static Newton iteration to its
+/// own tolerance (so its reported numbers match), Thelen's `initMuscleState`, DeGroote's
+/// normalized tendon force.
+pub(super) fn equilibrated(muscle: &HillMuscle, activation: f64, length: f64, speed: f64) -> Result<f64, MuscleError> {
+    match muscle {
+        HillMuscle::Millard(m) => Ok(m.opensim_equilibrium(activation, length)?.fiber_length),
+        HillMuscle::DeGroote(m) => m.initial_normalized_tendon_force(activation, length, speed),
+        muscle => muscle.initial_fiber_length(activation, length, speed),
     }
 }
 
@@ -116,7 +117,7 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
             // A muscle without activation dynamics is activated by its control.
             let activation = start.activation.unwrap_or_else(|| control(controls, &result.muscles[k].1, time));
             let variable = match start.second {
-                Some(_) if equilibrate => match held.equilibrated(activation, length, speed) {
+                Some(_) if equilibrate => match equilibrated(&held.muscle, activation, length, speed) {
                     Ok(second) => StateVariables { second: Some(second), ..start },
                     Err(e) => {
                         warn("not equilibrated, left as it was", e);

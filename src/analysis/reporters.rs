@@ -124,12 +124,7 @@ pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError>
 /// m/s) joint by joint, then every muscle's `activation` and second state (`fiber_length` or
 /// `normalized_tendon_force`), labelled by their paths as OpenSim 4 names state variables.
 pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &MuscleStates, motion: &Motion, speeds: &[Vec<f64>]) -> Result<StorageTable, TableError> {
-    let coordinates: Vec<(String, usize)> = spec
-        .joints
-        .iter()
-        .flat_map(|j| j.coordinates.iter().map(move |c| (format!("/jointset/{}/{}", j.name, c.name), c)))
-        .filter_map(|(label, c)| multibody.coordinates.iter().position(|m| m.name == c.name).map(|i| (label, i)))
-        .collect();
+    let coordinates = coordinate_state_paths(spec, multibody);
     let mut labels = vec!["time".to_string()];
     for (label, _) in &coordinates {
         labels.extend([format!("{label}/value"), format!("{label}/speed")]);
@@ -151,6 +146,16 @@ pub fn states_reporter_table(spec: &ModelSpec, multibody: &Multibody, states: &M
         values
     });
     storage("ModelStates", labels, values)
+}
+
+/// Each coordinate's state path (`/jointset/<joint>/<coordinate>`), joint by joint as OpenSim
+/// orders state variables, with its index in [`Multibody::coordinates`].
+pub(super) fn coordinate_state_paths(spec: &ModelSpec, multibody: &Multibody) -> Vec<(String, usize)> {
+    spec.joints
+        .iter()
+        .flat_map(|j| j.coordinates.iter().map(move |c| (format!("/jointset/{}/{}", j.name, c.name), c)))
+        .filter_map(|(label, c)| multibody.coordinates.iter().position(|m| m.name == c.name).map(|i| (label, i)))
+        .collect()
 }
 
 /// Time and `row_values(row)` for each of `times`, row after row.

@@ -539,6 +539,29 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Forward simulation like OpenSim 4.6's ForwardTool, from its setup: the model's forward
+    /// dynamics integrated from the default state (assembled pose, default speeds, muscles at
+    /// their default activation and fiber length) or the setup's states_file row at or before
+    /// initial_time, muscles equilibrated when solve_for_equilibrium_for_auxiliary_states; every
+    /// muscle excited and every other actuator controlled by the setup's ControlSetControllers
+    /// (their controls add; 0 without one), through its activation and fiber dynamics; the
+    /// force-set files' actuators added, external loads applied; locked coordinates held,
+    /// couplers exact. Dormand–Prince 5(4) at integrator_error_tolerance per state, steps of at
+    /// most maximum_integrator_step_size, at most maximum_number_of_integrator_steps. Writes
+    /// DIR/<name>_states.sto (every state after every step, OpenSim's labels),
+    /// <name>_states_degrees.mot and <name>_controls.sto, and the tables of the AnalysisSet's
+    /// analyses `analyze --setup` runs, formed from those states. Ball, Free and ellipsoid
+    /// joints are refused. Exit 0 success, 1 the integration failed (nothing written), 2 error.
+    Simulate {
+        /// The model (.osim).
+        model: PathBuf,
+        /// The OpenSim ForwardTool setup.
+        #[arg(long)]
+        setup: PathBuf,
+        /// Output folder (created if needed); existing files of the same names are replaced.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Functional knee axis from a flexion–extension trial (thesis ch. 4): segment poses from
     /// the femur and tibia marker clusters, then GaL (Gamage & Lasenby) or SARA (Ehrig). Prints
     /// the axis in the lab frame of the trial's first frame and in both segment frames; with

@@ -190,6 +190,22 @@ impl Multibody {
         }
     }
 
+    /// Sets the speed of every coupler's dependent coordinate from its independent one's at
+    /// coordinates `q` (u_d = f′(q_i) u_i; chains as [`Multibody::follow_couplers`]).
+    pub fn follow_coupler_speeds(&self, q: &[f64], u: &mut [f64]) {
+        for _ in 0..self.couplers.len() {
+            let mut moved = false;
+            for coupler in &self.couplers {
+                let speed = coupler.slope(q) * u[coupler.independent];
+                moved |= speed != u[coupler.dependent];
+                u[coupler.dependent] = speed;
+            }
+            if !moved {
+                break;
+            }
+        }
+    }
+
     /// Whether a coupler makes `coordinate` its dependent one.
     pub fn is_dependent(&self, coordinate: usize) -> bool {
         self.couplers.iter().any(|k| k.dependent == coordinate)

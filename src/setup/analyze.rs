@@ -206,8 +206,14 @@ impl AnalyzeSetup {
 
     /// The object of `document` (its file names resolve against the document's directory).
     pub fn from_document(document: &OsimDocument) -> Result<AnalyzeSetup, SetupError> {
+        Self::from_tool(document, "AnalyzeTool", true)
+    }
+
+    /// The `AbstractTool` properties, controllers and analyses of `document`'s tool of `class`
+    /// (an `AnalyzeTool`, or a `ForwardTool`'s, whose `replace_force_set` defaults to false).
+    pub(super) fn from_tool(document: &OsimDocument, class: &str, replace_by_default: bool) -> Result<AnalyzeSetup, SetupError> {
         let tool = ComponentReader::new(document, document.object);
-        expect_class(tool, "AnalyzeTool")?;
+        expect_class(tool, class)?;
         let directory = directory_of(document.xml.file());
         let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, force_reporter, actuation, states_reporter, others: other_analyses } =
             analyses(tool, &directory)?;
@@ -216,7 +222,7 @@ impl AnalyzeSetup {
             name: name_or_empty(tool),
             model_file: optional_path(tool, "model_file", &directory),
             force_set_files: words(tool, "force_set_files").iter().map(|f| SetupPath::resolve(f, &directory)).collect(),
-            replace_force_set: tool.boolean_or("replace_force_set", true)?,
+            replace_force_set: tool.boolean_or("replace_force_set", replace_by_default)?,
             results_directory: results_directory_or_here(tool, &directory),
             initial_time: tool.number_or("initial_time", 0.0)?,
             final_time: tool.number_or("final_time", 1.0)?,

@@ -1,0 +1,179 @@
+//! The simulated system: the model's force generators and muscles on its multibody, and the
+//! layout of its states in the integrator's vector — [q_free, u_free, a, s]: the free
+//! coordinates' values and speeds, the activations of the muscles with activation dynamics, the
+//! second states of the muscles with compliant tendons.
+
+use super::SimulationError;
+use crate::analysis::external_loads::ExternalLoads;
+use crate::analysis::forward::{driven_muscles, DrivenMuscle};
+use crate::analysis::static_optimization::Generator;
+use crate::mechanics::{AppliedForces, Kinematics, MuscleGeometry, PathScratch};
+use crate::model::ModelSpec;
+use crate::setup::{control, ControlSet};
+
+/// One state of the simulated model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulatedState {
+    /// Coordinate values and speeds (rad or m, rad/s or m/s, [`crate::mechanics::Multibody::coordinates`] order).
+    pub q: Vec<f64>,
+    pub u: Vec<f64>,
+    /// Per muscle ([`Plant::muscles`] order): its activation (a muscle without activation
+    /// dynamics: its excitation) and second state (fiber length in m or normalized tendon
+    /// force; `None` beside a rigid tendon).
+    pub activations: Vec<f64>,
+    pub seconds: Vec<Option<f64>>,
+}
+
+/// The model as the simulation moves it.
+pub struct Plant<'a> {
+    pub spec: &'a ModelSpec,
+    pub geometry: &'a MuscleGeometry,
+    pub generators: &'a [Generator],
+    /// The muscles among the generators, with their dynamics.
+    pub muscles: Vec<DrivenMuscle>,
+    pub external: Option<&'a ExternalLoads>,
+    /// The control sets of the tool's `ControlSetController`s (their controls add up).
+    pub controls: &'a [ControlSet],
+    /// Each generator's muscle among `muscles`.
+    muscle_of: Vec<Option<usize>>,
+    /// The coordinates integrated (neither locked nor a coupler's dependent).
+    free: Vec<usize>,
+    /// The muscles with activation dynamics and with a second state.
+    with_activation: Vec<usize>,
+    with_second: Vec<usize>,
+    /// The pose the free coordinates are set into (locked coordinates keep their values).
+    held: Vec<f64>,
+}
+
+/// The buffers one evaluation of the state derivative needs.
+pub(super) struct Workspace {
+    kinematics: Kinematics,
+    scratch: PathScratch,
+}
+
+impl<'a> Plant<'a> {
+    /// The plant of `spec` (`geometry` its paths) with `generators` (the model's muscles and
+    /// actuators that apply force), `external` loads and `controls`, its locked coordinates held
+    /// at their defaults ([`Plant::hold`] moves them). Joints whose speeds are angular velocities
+    /// (Ball, Free, ellipsoid) are refused, as is a muscle we cannot simulate.
+    pub fn new(spec: &'a ModelSpec, geometry: &'a MuscleGeometry, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a [ControlSet]) -> Result<Plant<'a>, SimulationError> {
+        let multibody = &geometry.multibody;
+        if let Some(joint) = multibody.joints.iter().find(|j| j.mobilizer.angular_velocity_speeds() > 0) {
+            return Err(SimulationError::Model(format!("{}: joint {}'s speeds are angular velocities (a Ball, Free or ellipsoid joint); the forward simulation integrates q̇ = u", spec.file.display(), joint.name)));
+        }
+        let names: Vec<String> = generators.iter().filter(|g| g.muscle_path().is_some()).map(|g| g.name.clone()).collect();
+        let muscles = driven_muscles(spec, geometry, &names, false).map_err(|e| SimulationError::Model(e.to_string()))?;
+        let muscle_of = generators.iter().map(|g| muscles.iter().position(|m| m.name == g.name)).collect();
+        let free = (0..multibody.coordinates.len()).filter(|&c| !multibody.coordinates[c].locked && !multibody.is_dependent(c)).collect();
+        let with_activation = (0..muscles.len()).filter(|&k| muscles[k].activation.is_some()).collect();
+        let with_second = (0..muscles.len()).filter(|&k| !muscles[k].muscle.has_rigid_tendon()).collect();
+        let held = multibody.default_pose();
+        Ok(Plant { spec, geometry, generators, muscles, external, controls, muscle_of, free, with_activation, with_second, held })
+    }
+
+    /// Holds the locked coordinates at their values in pose `q` (e.g. the initial state's).
+    pub fn hold(&mut self, q: &[f64]) {
+        self.held = q.to_vec();
+    }
+
+    /// The excitation (control) of muscle or actuator `name` at `time` (s).
+    pub fn control(&self, name: &str, time: f64) -> f64 {
+        control(self.controls, name, time)
+    }
+
+    /// The integrator's vector of `state`.
+    pub(super) fn pack(&self, state: &SimulatedState) -> Vec<f64> {
+        let free = || self.free.iter();
+        free().map(|&c| state.q[c])
+            .chain(free().map(|&c| state.u[c]))
+            .chain(self.with_activation.iter().map(|&k| state.activations[k]))
+            .chain(self.with_second.iter().map(|&k| state.seconds[k].unwrap_or(0.0)))
+            .collect()
+    }
+
+    /// The state at `time` (s) of the integrator's vector `y`: dependents following their
+    /// couplers, a muscle without activation dynamics at its excitation.
+    pub fn unpack(&self, time: f64, y: &[f64]) -> SimulatedState {
+        let (q, u) = self.pose(y);
+        let n = self.free.len();
+        let mut activations: Vec<f64> = self.muscles.iter().map(|m| self.control(&m.name, time)).collect();
+        for (i, &k) in self.with_activation.iter().enumerate() {
+            activations[k] = y[2 * n + i];
+        }
+        let mut seconds = vec![None; self.muscles.len()];
+        for (i, &k) in self.with_second.iter().enumerate() {
+            seconds[k] = Some(y[2 * n + self.with_activation.len() + i]);
+        }
+        SimulatedState { q, u, activations, seconds }
+    }
+
+    /// Every coordinate's value and speed from `y`.
+    fn pose(&self, y: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let multibody = &self.geometry.multibody;
+        let (mut q, mut u) = (self.held.clone(), vec![0.0; self.held.len()]);
+        for (i, &c) in self.free.iter().enumerate() {
+            q[c] = y[i];
+            u[c] = y[self.free.len() + i];
+        }
+        multibody.follow_couplers(&mut q, &[]);
+        multibody.follow_coupler_speeds(&q, &mut u);
+        (q, u)
+    }
+
+    pub(super) fn workspace(&self) -> Workspace {
+        Workspace { kinematics: self.geometry.multibody.kinematics(), scratch: PathScratch::default() }
+    }
+
+    /// ẏ at `time` (s) and `y` into `dy`; an error names why it has none (a muscle's state out
+    /// of its domain, a singular mass matrix).
+    pub(super) fn derivatives(&self, time: f64, y: &[f64], dy: &mut [f64], work: &mut Workspace) -> Result<(), String> {
+        let multibody = &self.geometry.multibody;
+        let state = self.unpack(time, y);
+        let (q, u) = (&state.q, &state.u);
+        multibody.realize(q, &mut work.kinematics);
+        let mut applied = AppliedForces { loads: self.external.map(|e| e.at(time, &work.kinematics)).unwrap_or_default(), mobility: vec![0.0; q.len()] };
+        let mut rates = vec![0.0; self.muscles.len()];
+        for (g, generator) in self.generators.iter().enumerate() {
+            let force = match self.muscle_of[g] {
+                Some(k) => {
+                    let (force, rate) = self.muscle_force(k, &state, time, work)?;
+                    rates[k] = rate;
+                    force
+                }
+                None => self.control(&generator.name, time) * generator.unit_force(false, 0.0, 0.0),
+            };
+            generator.apply(self.geometry, &work.kinematics, q, &mut work.scratch, force, &mut applied);
+        }
+        let udot = multibody.accelerations(&work.kinematics, q, u, &applied.loads, &applied.mobility).map_err(|e| e.to_string())?;
+        let n = self.free.len();
+        for (i, &c) in self.free.iter().enumerate() {
+            dy[i] = u[c];
+            dy[n + i] = udot[c];
+        }
+        for (i, &k) in self.with_activation.iter().enumerate() {
+            let dynamics = self.muscles[k].activation.as_ref().expect("a muscle with activation dynamics");
+            dy[2 * n + i] = dynamics.rate(state.activations[k], self.control(&self.muscles[k].name, time));
+        }
+        for (i, &k) in self.with_second.iter().enumerate() {
+            dy[2 * n + self.with_activation.len() + i] = rates[k];
+        }
+        Ok(())
+    }
+
+    /// Muscle k's tendon force (N) at `state` and the rate of its second state (fiber velocity,
+    /// m/s, or a DeGroote muscle's df̃_T/dt, 1/s; 0 beside a rigid tendon).
+    fn muscle_force(&self, k: usize, state: &SimulatedState, time: f64, work: &mut Workspace) -> Result<(f64, f64), String> {
+        let muscle = &self.muscles[k];
+        let path = &self.geometry.paths[muscle.path];
+        let (length, speed) = path.length_and_speed(&self.geometry.multibody, &work.kinematics, &state.q, &mut work.scratch, &path.loaded, &state.u);
+        let activation = state.activations[k].clamp(0.0, 1.0);
+        let second = state.seconds[k].unwrap_or(0.0);
+        let at = muscle.muscle.state(activation, second, length, speed).map_err(|e| format!("at {time} s: {e}"))?;
+        let rate = match (state.seconds[k], muscle.tendon_force_state()) {
+            (None, _) => 0.0,
+            (Some(f), Some(degroote)) => degroote.normalized_tendon_force_rate(activation, f, length, speed),
+            (Some(_), None) => at.fiber_velocity,
+        };
+        Ok((at.report.tendon_force, rate))
+    }
+}

@@ -1,0 +1,101 @@
+//! `osim-tune simulate MODEL --setup SETUP.xml -o DIR`: OpenSim's ForwardTool — the model's
+//! forward dynamics integrated from its initial state under the setup's controllers — writing
+//! `<name>_states.sto`, `<name>_states_degrees.mot` and `<name>_controls.sto`, and the tables of
+//! the AnalysisSet's analyses formed from the simulated states.
+
+use std::path::{Path, PathBuf};
+
+use super::analyze_inputs::{actuator_files, check_analyses, external_loads_of};
+use crate::analysis::{analyze_tool_tables, controls_table, generators, initial_state, simulate_plant, states_table, AnalyzeModel, InitialSource, Plant, SimulationError};
+use crate::cli::{create_output_folders, Failure, Outcome};
+use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
+use crate::io::osim::OsimDocument;
+use crate::io::table::StorageTable;
+use crate::mechanics::MuscleGeometry;
+use crate::model::ModelSpec;
+use crate::setup::{ControlSet, ForwardSetup, SetupPath};
+
+pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
+    let setup = ForwardSetup::read(setup_file)?;
+    let tool = &setup.tool;
+    let mut runs = vec!["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"];
+    if tool.joint_reaction_from_states() {
+        runs.push("JointReaction");
+    }
+    check_analyses(tool, &runs, true)?;
+    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
+    let geometry = MuscleGeometry::new(&spec)?;
+    let mut read: Vec<PathBuf> = vec![model.to_path_buf(), setup_file.to_path_buf()];
+    let (added, replace) = actuator_files(&[], Some(tool), &mut read)?;
+    let external = external_loads_of(None, Some(tool), &geometry.multibody, &mut read)?;
+    let mut controls = Vec::new();
+    for file in tool.controllers.iter().filter_map(|c| c.controls_file.as_ref()) {
+        controls.push(ControlSet::read(&file.resolved)?);
+        read.push(file.resolved.clone());
+    }
+    if let Some(controller) = tool.controllers.iter().find(|c| c.controls_file.is_none()) {
+        return Err(format!("{}: controller {} is not applied by osim-tune (only ControlSetControllers with a controls_file)", setup_file.display(), controller.description).into());
+    }
+    let generators = generators(&spec, &geometry, &added, replace).map_err(|e| e.to_string())?;
+    let mut plant = Plant::new(&spec, &geometry, &generators, external.as_ref(), &controls)?;
+    let states_input = tool.states_file.as_ref().map(|p| read_states(p, &mut read)).transpose()?;
+    let source = match &states_input {
+        Some((table, file)) => InitialSource::File { table, file },
+        None => InitialSource::Defaults,
+    };
+    let (start, initial) = initial_state(&plant, source, tool.initial_time, tool.solve_for_equilibrium_for_auxiliary_states)?;
+    if start != tool.initial_time {
+        println!("the initial time is {start} s, the states file's row at or before {} s (OpenSim does not interpolate initial states)", tool.initial_time);
+    }
+    plant.hold(&initial.q);
+    let simulation = match simulate_plant(&plant, &initial, [start, tool.final_time], &setup.integrator) {
+        Ok(simulation) => simulation,
+        Err(error @ SimulationError::Integration { .. }) => {
+            eprintln!("error: the forward simulation failed: {error}; no output written");
+            return Ok(Outcome::NotConverged);
+        }
+        Err(error) => return Err(error.into()),
+    };
+    let name = &tool.name;
+    let states = states_table(&plant, &simulation, false)?;
+    let mut files = vec![
+        (output.join(format!("{name}_states.sto")), states.to_text()),
+        (output.join(format!("{name}_states_degrees.mot")), states_table(&plant, &simulation, true)?.to_text()),
+        (output.join(format!("{name}_controls.sto")), controls_table(&plant, &simulation)?.to_text()),
+    ];
+    if tool.has_analyze_tables() {
+        let states_file = output.join(format!("{name}_states.sto"));
+        let mut analyses = tool.clone();
+        analyses.states_file = Some(SetupPath { written: states_file.display().to_string(), resolved: states_file.clone() });
+        analyses.initial_time = start;
+        let analysed = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
+        let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses, name)?;
+        files.extend(tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())));
+        for warning in &tables.warnings {
+            eprintln!("warning: {warning}");
+        }
+    }
+    let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
+    for (path, _) in &files {
+        ensure_not_an_input(path, &inputs)?;
+    }
+    create_output_folders(files.iter().map(|(path, _)| path.as_path()))?;
+    let contents: Vec<(&Path, &[u8])> = files.iter().map(|(path, text)| (path.as_path(), text.as_bytes())).collect();
+    write_all_atomically(&contents, &inputs)?;
+    println!(
+        "ForwardTool: {start}–{} s in {} steps ({} rejected, {} evaluations) → {} files in {}",
+        tool.final_time,
+        simulation.accepted_steps,
+        simulation.rejected_steps,
+        simulation.evaluations,
+        files.len(),
+        output.display()
+    );
+    Ok(Outcome::Success)
+}
+
+/// The setup's states file, read (it joins `read`).
+fn read_states(path: &SetupPath, read: &mut Vec<PathBuf>) -> Result<(StorageTable, PathBuf), Failure> {
+    read.push(path.resolved.clone());
+    Ok((StorageTable::read(&path.resolved)?, path.resolved.clone()))
+}

@@ -1,0 +1,82 @@
+//! OpenSim 4.6's ForwardTool goldens (`fixtures/golden/forward_tool/<case>/`,
+//! `oracle/gen_forward_tool.py`): the setup run as `simulate` runs it, our states read from the
+//! integrator's dense output at the times OpenSim recorded, compared state by state; the
+//! controls compared at the same times.
+
+use std::path::{Path, PathBuf};
+
+use crate::analysis::{generators, initial_state, simulate_plant, state_labels, state_values, InitialSource, Plant};
+use crate::io::osim::OsimDocument;
+use crate::io::table::StorageTable;
+use crate::mechanics::MuscleGeometry;
+use crate::model::{read_force_set, ModelSpec};
+use crate::setup::{read_document, ControlSet, ForwardSetup};
+
+/// The ForwardTool golden cases.
+pub const FORWARD_TOOL_CASES: [&str; 2] = ["controls", "states"];
+
+/// How far our simulation is from OpenSim's.
+#[derive(Debug, Clone, Default)]
+pub struct ForwardToolComparison {
+    /// Rows compared and the largest |ours − OpenSim's| over them: coordinate values (rad or
+    /// m), speeds (rad/s or m/s), muscle activations, fiber lengths (m); and controls.
+    pub rows: usize,
+    pub value: f64,
+    pub speed: f64,
+    pub activation: f64,
+    pub fiber_length: f64,
+    pub control: f64,
+    /// Our initial time against OpenSim's (s).
+    pub start: [f64; 2],
+}
+
+/// Runs golden `case` under `root` and compares it with OpenSim's files.
+pub fn compare_forward_tool(root: &Path, case: &str) -> Result<ForwardToolComparison, String> {
+    let golden = root.join("fixtures/golden/forward_tool").join(case);
+    let text = |e: &dyn std::fmt::Display| e.to_string();
+    let setup = ForwardSetup::read(&golden.join("setup.xml")).map_err(|e| text(&e))?;
+    let tool = &setup.tool;
+    let model = root.join("fixtures/models").join(tool.model_file.as_ref().map_or("", |m| &m.written));
+    let spec = ModelSpec::read(&OsimDocument::read(&model).map_err(|e| text(&e))?).map_err(|e| text(&e))?;
+    let geometry = MuscleGeometry::new(&spec).map_err(|e| text(&e))?;
+    let mut added = Vec::new();
+    for file in &tool.force_set_files {
+        added.extend(read_force_set(&read_document(&file.resolved).map_err(|e| text(&e))?).map_err(|e| text(&e))?);
+    }
+    let controls = tool.controllers.iter().filter_map(|c| c.controls_file.as_ref()).map(|f| ControlSet::read(&f.resolved).map_err(|e| text(&e))).collect::<Result<Vec<_>, _>>()?;
+    let generators = generators(&spec, &geometry, &added, tool.replace_force_set && !added.is_empty()).map_err(|e| text(&e))?;
+    let mut plant = Plant::new(&spec, &geometry, &generators, None, &controls).map_err(|e| text(&e))?;
+    let states_input: Option<(StorageTable, PathBuf)> = match &tool.states_file {
+        Some(file) => Some((StorageTable::read(&file.resolved).map_err(|e| text(&e))?, file.resolved.clone())),
+        None => None,
+    };
+    let source = states_input.as_ref().map_or(InitialSource::Defaults, |(table, file)| InitialSource::File { table, file });
+    let (start, initial) = initial_state(&plant, source, tool.initial_time, tool.solve_for_equilibrium_for_auxiliary_states).map_err(|e| text(&e))?;
+    plant.hold(&initial.q);
+    let simulation = simulate_plant(&plant, &initial, [start, tool.final_time], &setup.integrator).map_err(|e| text(&e))?;
+    let opensim = StorageTable::read(&golden.join(format!("{}_states.sto", tool.name))).map_err(|e| text(&e))?;
+    let labels = state_labels(&plant, &initial);
+    if opensim.labels() != labels.as_slice() {
+        return Err(format!("{case}: OpenSim's state labels {:?}, ours {labels:?}", opensim.labels()));
+    }
+    let mut comparison = ForwardToolComparison { rows: opensim.n_rows(), start: [start, opensim.times()[0]], ..ForwardToolComparison::default() };
+    for row in opensim.rows() {
+        let ours = state_values(&plant, &simulation.at(&plant, row[0]));
+        for ((label, theirs), ours) in labels[1..].iter().zip(&row[1..]).zip(ours) {
+            let worst = match label.rsplit('/').next() {
+                Some("value") => &mut comparison.value,
+                Some("speed") => &mut comparison.speed,
+                Some("activation") => &mut comparison.activation,
+                _ => &mut comparison.fiber_length,
+            };
+            *worst = worst.max((ours - theirs).abs());
+        }
+    }
+    let controls_table = StorageTable::read(&golden.join(format!("{}_controls.sto", tool.name))).map_err(|e| text(&e))?;
+    for row in controls_table.rows() {
+        for (label, theirs) in controls_table.labels()[1..].iter().zip(&row[1..]) {
+            comparison.control = comparison.control.max((plant.control(label, row[0]) - theirs).abs());
+        }
+    }
+    Ok(comparison)
+}
