@@ -23,3 +23,61 @@ fn opensims_forward_simulations_are_reproduced() {
         assert!(c.control < 1e-12, "{case}: {c:?}");
     }
 }
+
+/// The `states` golden's setup, run by `run` in a folder as OpenSim's GUI leaves it, with a
+/// Kinematics analysis added: OpenSim's three files under its names, the states starting at
+/// OpenSim's initial state and the Kinematics `q` table equal to the states in degrees (the
+/// analysis reads the simulated states).
+#[test]
+fn run_simulates_a_forward_setup_and_its_analyses_read_the_states() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    let golden = fixture("golden/forward_tool/states");
+    for file in ["arm26_controls.xml", "motor_controls.xml", "initial_states.sto", "elbow_actuator.xml"] {
+        std::fs::copy(golden.join(file), dir.join(file)).unwrap();
+    }
+    std::fs::copy(fixture("models/arm26.osim"), dir.join("arm26.osim")).unwrap();
+    let setup = std::fs::read_to_string(golden.join("setup.xml")).unwrap().replace(
+        "<AnalysisSet name=\"Analyses\"><objects /></AnalysisSet>",
+        "<AnalysisSet name=\"Analyses\"><objects><Kinematics name=\"Kinematics\"><on>true</on><step_interval>1</step_interval><in_degrees>true</in_degrees></Kinematics></objects></AnalysisSet>",
+    ).replace("<results_directory>./</results_directory>", "<results_directory>out</results_directory>");
+    std::fs::write(dir.join("setup.xml"), setup).unwrap();
+    let (code, stdout, stderr) = osim_tune(&["run", dir.join("setup.xml").to_str().unwrap()]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    assert!(stdout.contains(&format!("osim-tune simulate {0}/arm26.osim --setup {0}/setup.xml -o {0}/out", dir.display())), "{stdout}");
+    let out = dir.join("out");
+    let states = StorageTable::read(&out.join("arm26_states.sto")).unwrap();
+    let opensim = StorageTable::read(&golden.join("arm26_states.sto")).unwrap();
+    assert_eq!(states.labels(), opensim.labels());
+    for (ours, theirs) in states.row(0).unwrap().iter().zip(opensim.row(0).unwrap()) {
+        assert!((ours - theirs).abs() < 1e-12, "the initial state: {ours} against OpenSim's {theirs}");
+    }
+    let degrees = StorageTable::read(&out.join("arm26_states_degrees.mot")).unwrap();
+    assert_eq!(degrees.in_degrees(), Some(true));
+    let q = StorageTable::read(&out.join("arm26_Kinematics_q.sto")).unwrap();
+    assert_eq!(q.n_rows(), states.n_rows());
+    for (coordinate, label) in [("r_shoulder_elev", "/jointset/r_shoulder/r_shoulder_elev/value"), ("r_elbow_flex", "/jointset/r_elbow/r_elbow_flex/value")] {
+        for (a, b) in q.column(coordinate).unwrap().iter().zip(degrees.column(label).unwrap()) {
+            assert!((a - b).abs() < 1e-9, "{coordinate}: Kinematics {a}° against the states' {b}°");
+        }
+    }
+    let controls = StorageTable::read(&out.join("arm26_controls.sto")).unwrap();
+    assert_eq!(controls.labels().last().map(String::as_str), Some("elbow_motor"));
+}
+
+/// What `simulate` cannot do is refused, naming it (exit 2, nothing written).
+#[test]
+fn a_forward_setup_it_cannot_simulate_is_refused() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    let golden = fixture("golden/forward_tool/controls");
+    std::fs::copy(golden.join("arm26_controls.xml"), dir.join("arm26_controls.xml")).unwrap();
+    let text = std::fs::read_to_string(golden.join("setup.xml")).unwrap();
+    let prescribed = text.replace("<ControlSetController name=\"c0\"><controls_file>arm26_controls.xml</controls_file></ControlSetController>", "<PrescribedController name=\"p\" />");
+    std::fs::write(dir.join("setup.xml"), prescribed).unwrap();
+    let model = fixture("models/arm26.osim");
+    let (code, _, stderr) = osim_tune(&["simulate", model.to_str().unwrap(), "--setup", dir.join("setup.xml").to_str().unwrap(), "-o", dir.join("out").to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("PrescribedController") && stderr.contains("not applied"), "{stderr}");
+    assert!(!dir.join("out").exists());
+}

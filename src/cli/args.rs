@@ -240,13 +240,13 @@ pub enum Command {
         marker_locations: Option<PathBuf>,
     },
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
-    /// InverseKinematicsTool, InverseDynamicsTool or AnalyzeTool (MuscleAnalysis, Kinematics,
+    /// InverseKinematicsTool, InverseDynamicsTool, AnalyzeTool (MuscleAnalysis, Kinematics,
     /// BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter,
-    /// StaticOptimization, JointReaction) setup's model, input
+    /// StaticOptimization, JointReaction) or ForwardTool (`simulate`) setup's model, input
     /// and output files (relative names from the setup's
     /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
     /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as
-    /// that command: 0 success, 1 a frame did not converge, 2 error.
+    /// that command: 0 success, 1 a frame did not converge or a simulation failed, 2 error.
     Run {
         /// The setup (.xml), OpenSim 2.x–4.x.
         setup: PathBuf,
@@ -555,7 +555,7 @@ pub enum Command {
     Simulate {
         /// The model (.osim).
         model: PathBuf,
-        /// The OpenSim ForwardTool setup.
+        /// The OpenSim ForwardTool setup (its other files relative to its folder).
         #[arg(long)]
         setup: PathBuf,
         /// Output folder (created if needed); existing files of the same names are replaced.

@@ -19,6 +19,7 @@ use osim_tune::validation::{
     compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, DynamometerCase, ForwardCase, JointReactionCase, StaticOptimizationCase, Subject01Walk,
     DYNAMOMETER_CASES, FORWARD_CASES, JOINT_REACTION_CASES,
 };
+use osim_tune::validation::{compare_forward_tool, FORWARD_TOOL_CASES};
 
 use crate::root;
 use crate::validate::Row;
@@ -43,6 +44,7 @@ pub fn rows() -> Vec<Row> {
         Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
     }
     rows.extend(FORWARD_CASES.iter().flat_map(forward));
+    rows.extend(FORWARD_TOOL_CASES.iter().flat_map(|case| forward_tool(case)));
     rows.extend(JOINT_REACTION_CASES.iter().flat_map(joint_reaction));
     rows.extend(DYNAMOMETER_CASES.iter().flat_map(dynamometer));
     rows
@@ -89,6 +91,19 @@ fn forward(case: &ForwardCase) -> Vec<Row> {
             .map(|(w, tolerance, what)| Row { what: format!("forward simulation, {}: {what}", case.case), reference: reference.into(), worst: w.error, tolerance, at: w.at.clone() })
             .collect(),
         Err(error) => vec![failed(&format!("forward simulation, {}", case.case), reference, error)],
+    }
+}
+
+/// A ForwardTool golden: our states at OpenSim's recorded times (both integrators at 1e-9 per
+/// state and step, so the bounds are the two integrations' global errors) and the controls.
+fn forward_tool(case: &str) -> Vec<Row> {
+    let reference = "OpenSim 4.6 ForwardTool (tolerance 1e-9)";
+    match compare_forward_tool(&root(), case) {
+        Ok(c) => [(c.value, 1e-6, "coordinate values (rad)"), (c.speed, 3e-5, "speeds (rad/s)"), (c.activation, 1e-6, "activations"), (c.fiber_length, 2e-7, "fiber lengths (m)"), (c.control, 1e-12, "controls"), ((c.start[0] - c.start[1]).abs(), 1e-15, "initial time (s)")]
+            .into_iter()
+            .map(|(worst, tolerance, what)| Row { what: format!("ForwardTool {case}: {what}"), reference: reference.into(), worst, tolerance, at: format!("{} rows", c.rows) })
+            .collect(),
+        Err(error) => vec![failed(&format!("ForwardTool {case}"), reference, error)],
     }
 }
 

@@ -10,10 +10,10 @@ use clap::Parser;
 
 use crate::cli::{Arguments, Failure, Outcome};
 use crate::model::ComponentReader;
-use crate::setup::{read_document, AnalyzeSetup, IdSetup, IkSetup, ScaleSetup, SetupPath};
+use crate::setup::{read_document, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, ScaleSetup, SetupPath};
 
 /// The setups `run` knows, by their root element.
-const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool> or <AnalyzeTool>";
+const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool> or <ForwardTool>";
 /// The AnalyzeTool analyses `run` runs.
 const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, StaticOptimization, JointReaction";
 
@@ -49,6 +49,7 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
         "InverseKinematicsTool" => vec![inverse_kinematics_tool(setup, &IkSetup::from_document(&document)?)?],
         "InverseDynamicsTool" => vec![inverse_dynamics_tool(setup, &IdSetup::from_document(&document)?)?],
         "AnalyzeTool" => analyze_tool(setup, &AnalyzeSetup::from_document(&document)?)?,
+        "ForwardTool" => vec![forward_tool(setup, &ForwardSetup::from_document(&document)?)?],
         other => return Err(format!("{}:{}: <{other}> is not a tool osim-tune runs; expected {TOOLS} ({ANALYSES})", setup.display(), tool.line()).into()),
     };
     let mut outcome = Outcome::Success;
@@ -168,4 +169,13 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
         Invocation::new(&[command.as_ref(), model.as_ref()]).with(&flags).with(&tail)
     };
     Ok(analyses.into_iter().filter(|(on, _, _)| *on).map(|(_, command, flags)| invocation(command, flags)).collect())
+}
+
+/// ForwardTool: `simulate MODEL --setup SETUP -o <results_directory>`.
+fn forward_tool(file: &Path, setup: &ForwardSetup) -> Result<Invocation, Failure> {
+    let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
+    if let Some(states) = &setup.tool.states_file {
+        input(file, "states_file", Some(states))?;
+    }
+    Ok(Invocation::new(&["simulate".as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tool.results_directory.resolved.as_ref()]))
 }
