@@ -93,12 +93,13 @@ def run(case, text, files):
 
 def thin(path, every=10):
     """Keeps the header and the first, every `every`-th and the last row of a table OpenSim
-    wrote (nRows updated): the fixture stays small, and each kept row is OpenSim's."""
+    wrote (nRows and a SIMM header's datarows updated): the fixture stays small, and each kept row is OpenSim's."""
     lines = path.read_text().rstrip("\n").split("\n")
     header = next(i for i, line in enumerate(lines) if line.strip() == "endheader") + 2
     rows = lines[header:]
     kept = [row for i, row in enumerate(rows) if i % every == 0 or i == len(rows) - 1]
-    head = [f"nRows={len(kept)}" if line.startswith("nRows=") else line for line in lines[:header]]
+    counts = {"nRows=": f"nRows={len(kept)}", "datarows ": f"datarows {len(kept)}"}
+    head = [next((new for key, new in counts.items() if line.startswith(key)), line) for line in lines[:header]]
     path.write_text("\n".join(head + kept) + "\n")
 
 

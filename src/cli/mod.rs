@@ -46,6 +46,19 @@ pub(crate) fn create_output_folders<'a>(files: impl IntoIterator<Item = &'a Path
     Ok(())
 }
 
+/// Writes `files` (path, text) together, each atomically, after checking that none is one of the
+/// files `read` and creating their folders; nothing is written when a check fails.
+pub(crate) fn write_files(files: &[(std::path::PathBuf, String)], read: &[std::path::PathBuf]) -> Result<(), Failure> {
+    let inputs: Vec<&Path> = read.iter().map(std::path::PathBuf::as_path).collect();
+    for (path, _) in files {
+        crate::io::atomic::ensure_not_an_input(path, &inputs)?;
+    }
+    create_output_folders(files.iter().map(|(path, _)| path.as_path()))?;
+    let contents: Vec<(&Path, &[u8])> = files.iter().map(|(path, text)| (path.as_path(), text.as_bytes())).collect();
+    crate::io::atomic::write_all_atomically(&contents, &inputs)?;
+    Ok(())
+}
+
 /// Checks the outputs `(flag, file)` a command was given (unset ones `None`): none may be an input
 /// or name the same file as another.
 pub(crate) fn check_outputs(outputs: &[(&str, Option<&Path>)], inputs: &[&Path]) -> Result<(), Failure> {

@@ -8,8 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::analyze_inputs::{actuator_files, check_analyses, external_loads_of, output_name};
 use crate::analysis::{analyze_tool_tables, AnalyzeModel};
-use crate::cli::{create_output_folders, Failure, Outcome};
-use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
+use crate::cli::{write_files, Failure, Outcome};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -37,13 +36,7 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     let analysed = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
     let tables = analyze_tool_tables(&analysed, &StorageTable::read(coordinates)?, coordinates, &setup, &name)?;
     let files: Vec<(PathBuf, String)> = tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())).collect();
-    let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
-    for (path, _) in &files {
-        ensure_not_an_input(path, &inputs)?;
-    }
-    create_output_folders(files.iter().map(|(path, _)| path.as_path()))?;
-    let contents: Vec<(&Path, &[u8])> = files.iter().map(|(path, text)| (path.as_path(), text.as_bytes())).collect();
-    write_all_atomically(&contents, &inputs)?;
+    write_files(&files, &read)?;
     let (rows, first, last) = tables.rows;
     println!("AnalyzeTool: {rows} rows of {} ({first:.4}–{last:.4} s) → {} tables in {}", coordinates.display(), files.len(), output.display());
     let lists = [

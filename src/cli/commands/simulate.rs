@@ -7,8 +7,7 @@ use std::path::{Path, PathBuf};
 
 use super::analyze_inputs::{actuator_files, check_analyses, external_loads_of};
 use crate::analysis::{analyze_tool_tables, controls_table, generators, initial_state, simulate_plant, states_table, AnalyzeModel, InitialSource, Plant, SimulationError};
-use crate::cli::{create_output_folders, Failure, Outcome};
-use crate::io::atomic::{ensure_not_an_input, write_all_atomically};
+use crate::cli::{write_files, Failure, Outcome};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -75,13 +74,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
             eprintln!("warning: {warning}");
         }
     }
-    let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
-    for (path, _) in &files {
-        ensure_not_an_input(path, &inputs)?;
-    }
-    create_output_folders(files.iter().map(|(path, _)| path.as_path()))?;
-    let contents: Vec<(&Path, &[u8])> = files.iter().map(|(path, text)| (path.as_path(), text.as_bytes())).collect();
-    write_all_atomically(&contents, &inputs)?;
+    write_files(&files, &read)?;
     println!(
         "ForwardTool: {start}–{} s in {} steps ({} rejected, {} evaluations) → {} files in {}",
         tool.final_time,
