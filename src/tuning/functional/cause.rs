@@ -135,9 +135,9 @@ pub struct SingleCause {
     /// An axis cause's fitted move.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub axis_move: Option<AxisMove>,
-    /// The fitted value's standard deviation per N·m of moment noise, in the value's unit
-    /// ([`fit_spread`]; an axis: its move's, mm, along the least certain direction); ∞ where
-    /// the moments do not fix it.
+    /// The fitted value's standard deviation per N·m of moment noise, in the value's unit (the
+    /// candidate's least-squares fit linearised at its result; an axis: its move's, mm, along the
+    /// least certain direction); ∞ where the moments do not fix it.
     pub unit_noise_sd: f64,
 }
 
