@@ -65,7 +65,8 @@ fn run_simulates_a_forward_setup_and_its_analyses_read_the_states() {
     assert_eq!(controls.labels().last().map(String::as_str), Some("elbow_motor"));
 }
 
-/// What `simulate` cannot do is refused, naming it (exit 2, nothing written).
+/// What `simulate` cannot do is refused, naming it (exit 2, nothing written): a
+/// PrescribedController, an empty time range.
 #[test]
 fn a_forward_setup_it_cannot_simulate_is_refused() {
     let folder = tempfile::tempdir().unwrap();
@@ -79,5 +80,11 @@ fn a_forward_setup_it_cannot_simulate_is_refused() {
     let (code, _, stderr) = osim_tune(&["simulate", model.to_str().unwrap(), "--setup", dir.join("setup.xml").to_str().unwrap(), "-o", dir.join("out").to_str().unwrap()]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("PrescribedController") && stderr.contains("not applied"), "{stderr}");
+    assert!(!dir.join("out").exists());
+    // An empty time range names the setup.
+    std::fs::write(dir.join("setup.xml"), text.replace("<final_time>0.3</final_time>", "<final_time>0</final_time>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["simulate", model.to_str().unwrap(), "--setup", dir.join("setup.xml").to_str().unwrap(), "-o", dir.join("out").to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("setup.xml") && stderr.contains("time range 0–0 s is empty"), "{stderr}");
     assert!(!dir.join("out").exists());
 }

@@ -93,8 +93,9 @@ impl ControlSet {
     /// The control of actuator `actuator` — named so, or `<actuator>.excitation` — at `t` (s), as
     /// `ControlSetController` finds it; `None` when the set has none.
     pub fn control(&self, actuator: &str, t: f64) -> Option<f64> {
-        let named = |name: &str| self.controls.iter().find(|c| c.name == name);
-        named(actuator).or_else(|| named(&format!("{actuator}.excitation"))).map(|c| c.value(t))
+        let exact = self.controls.iter().find(|c| c.name == actuator);
+        let excitation = || self.controls.iter().find(|c| c.name.strip_suffix(".excitation") == Some(actuator));
+        exact.or_else(excitation).map(|c| c.value(t))
     }
 }
 

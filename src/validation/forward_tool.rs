@@ -55,7 +55,7 @@ pub fn compare_forward_tool(root: &Path, case: &str) -> Result<ForwardToolCompar
     plant.hold(&initial.q);
     let simulation = simulate_plant(&plant, &initial, [start, tool.final_time], &setup.integrator).map_err(|e| text(&e))?;
     let opensim = StorageTable::read(&golden.join(format!("{}_states.sto", tool.name))).map_err(|e| text(&e))?;
-    let labels = state_labels(&plant, &initial);
+    let labels = state_labels(&plant);
     if opensim.labels() != labels.as_slice() {
         return Err(format!("{case}: OpenSim's state labels {:?}, ours {labels:?}", opensim.labels()));
     }

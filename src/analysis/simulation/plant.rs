@@ -6,9 +6,10 @@
 use super::SimulationError;
 use crate::analysis::external_loads::ExternalLoads;
 use crate::analysis::forward::{driven_muscles, DrivenMuscle};
+use crate::analysis::reporters::coordinate_state_paths;
 use crate::analysis::static_optimization::Generator;
 use crate::mechanics::{AppliedForces, Kinematics, MuscleGeometry, PathScratch};
-use crate::model::ModelSpec;
+use crate::model::{ModelSpec, SecondState};
 use crate::setup::{control, ControlSet};
 
 /// One state of the simulated model.
@@ -34,8 +35,11 @@ pub struct Plant<'a> {
     pub external: Option<&'a ExternalLoads>,
     /// The control sets of the tool's `ControlSetController`s (their controls add up).
     pub controls: &'a [ControlSet],
-    /// Each generator's muscle among `muscles`.
+    /// Each generator's muscle among `muscles`, and each muscle's generator.
     muscle_of: Vec<Option<usize>>,
+    generator_of: Vec<usize>,
+    /// The coordinates' state paths in OpenSim's order of state variables, with their indices.
+    pub(super) state_coordinates: Vec<(String, usize)>,
     /// The coordinates integrated (neither locked nor a coupler's dependent).
     free: Vec<usize>,
     /// The muscles with activation dynamics and with a second state.
@@ -63,12 +67,14 @@ impl<'a> Plant<'a> {
         }
         let names: Vec<String> = generators.iter().filter(|g| g.muscle_path().is_some()).map(|g| g.name.clone()).collect();
         let muscles = driven_muscles(spec, geometry, &names, false).map_err(|e| SimulationError::Model(e.to_string()))?;
-        let muscle_of = generators.iter().map(|g| muscles.iter().position(|m| m.name == g.name)).collect();
+        let muscle_of: Vec<Option<usize>> = generators.iter().map(|g| muscles.iter().position(|m| m.name == g.name)).collect();
+        let generator_of = (0..muscles.len()).map(|k| muscle_of.iter().position(|&m| m == Some(k)).expect("every muscle is a generator")).collect();
+        let state_coordinates = coordinate_state_paths(spec, multibody);
         let free = (0..multibody.coordinates.len()).filter(|&c| !multibody.coordinates[c].locked && !multibody.is_dependent(c)).collect();
         let with_activation = (0..muscles.len()).filter(|&k| muscles[k].activation.is_some()).collect();
         let with_second = (0..muscles.len()).filter(|&k| !muscles[k].muscle.has_rigid_tendon()).collect();
         let held = multibody.default_pose();
-        Ok(Plant { spec, geometry, generators, muscles, external, controls, muscle_of, free, with_activation, with_second, held })
+        Ok(Plant { spec, geometry, generators, muscles, external, controls, muscle_of, generator_of, state_coordinates, free, with_activation, with_second, held })
     }
 
     /// Holds the locked coordinates at their values in pose `q` (e.g. the initial state's).
@@ -79,6 +85,23 @@ impl<'a> Plant<'a> {
     /// The excitation (control) of muscle or actuator `name` at `time` (s).
     pub fn control(&self, name: &str, time: f64) -> f64 {
         control(self.controls, name, time)
+    }
+
+    /// Each generator's control at `time` (s).
+    pub fn generator_controls(&self, time: f64) -> Vec<f64> {
+        self.generators.iter().map(|g| self.control(&g.name, time)).collect()
+    }
+
+    /// The second state of muscle k (`None` beside a rigid tendon).
+    pub fn second_state(&self, k: usize) -> Option<SecondState> {
+        let muscle = &self.muscles[k];
+        if muscle.muscle.has_rigid_tendon() {
+            None
+        } else if muscle.tendon_force_state().is_some() {
+            Some(SecondState::NormalizedTendonForce)
+        } else {
+            Some(SecondState::FiberLength)
+        }
     }
 
     /// The integrator's vector of `state`.
@@ -94,9 +117,14 @@ impl<'a> Plant<'a> {
     /// The state at `time` (s) of the integrator's vector `y`: dependents following their
     /// couplers, a muscle without activation dynamics at its excitation.
     pub fn unpack(&self, time: f64, y: &[f64]) -> SimulatedState {
+        self.unpack_with(y, &self.generator_controls(time))
+    }
+
+    /// [`Plant::unpack`] with the generators' `controls` at its time.
+    fn unpack_with(&self, y: &[f64], controls: &[f64]) -> SimulatedState {
         let (q, u) = self.pose(y);
         let n = self.free.len();
-        let mut activations: Vec<f64> = self.muscles.iter().map(|m| self.control(&m.name, time)).collect();
+        let mut activations: Vec<f64> = self.generator_of.iter().map(|&g| controls[g]).collect();
         for (i, &k) in self.with_activation.iter().enumerate() {
             activations[k] = y[2 * n + i];
         }
@@ -128,7 +156,8 @@ impl<'a> Plant<'a> {
     /// of its domain, a singular mass matrix).
     pub(super) fn derivatives(&self, time: f64, y: &[f64], dy: &mut [f64], work: &mut Workspace) -> Result<(), String> {
         let multibody = &self.geometry.multibody;
-        let state = self.unpack(time, y);
+        let controls = self.generator_controls(time);
+        let state = self.unpack_with(y, &controls);
         let (q, u) = (&state.q, &state.u);
         multibody.realize(q, &mut work.kinematics);
         let mut applied = AppliedForces { loads: self.external.map(|e| e.at(time, &work.kinematics)).unwrap_or_default(), mobility: vec![0.0; q.len()] };
@@ -140,7 +169,7 @@ impl<'a> Plant<'a> {
                     rates[k] = rate;
                     force
                 }
-                None => self.control(&generator.name, time) * generator.unit_force(false, 0.0, 0.0),
+                None => controls[g] * generator.unit_force(false, 0.0, 0.0),
             };
             generator.apply(self.geometry, &work.kinematics, q, &mut work.scratch, force, &mut applied);
         }
@@ -152,7 +181,7 @@ impl<'a> Plant<'a> {
         }
         for (i, &k) in self.with_activation.iter().enumerate() {
             let dynamics = self.muscles[k].activation.as_ref().expect("a muscle with activation dynamics");
-            dy[2 * n + i] = dynamics.rate(state.activations[k], self.control(&self.muscles[k].name, time));
+            dy[2 * n + i] = dynamics.rate(state.activations[k], controls[self.generator_of[k]]);
         }
         for (i, &k) in self.with_second.iter().enumerate() {
             dy[2 * n + self.with_activation.len() + i] = rates[k];

@@ -6,7 +6,6 @@
 
 use super::plant::{Plant, SimulatedState};
 use super::Simulation;
-use crate::analysis::reporters::coordinate_state_paths;
 use crate::io::table::{StorageTable, TableError};
 use crate::model::CoordinateUnit;
 
@@ -14,31 +13,28 @@ use crate::model::CoordinateUnit;
 /// coordinates' values and speeds in degrees.
 pub fn states_table(plant: &Plant, simulation: &Simulation, in_degrees: bool) -> Result<StorageTable, TableError> {
     let multibody = &plant.geometry.multibody;
-    let coordinates = coordinate_state_paths(plant.spec, multibody);
-    let labels = state_labels(plant, &simulation.states[0]);
+    let labels = state_labels(plant);
     let values = simulation.times.iter().zip(&simulation.states).flat_map(|(time, state)| std::iter::once(*time).chain(state_values(plant, state))).collect();
     let table = StorageTable::new(plant.spec.name.as_str(), labels, values)?.with_in_degrees(false);
     if !in_degrees {
         return Ok(table);
     }
-    let rotational: Vec<String> = coordinates.iter().filter(|&&(_, c)| multibody.coordinates[c].unit == CoordinateUnit::Radian).map(|(path, _)| path.clone()).collect();
+    let rotational: Vec<String> = plant.state_coordinates.iter().filter(|&&(_, c)| multibody.coordinates[c].unit == CoordinateUnit::Radian).map(|(path, _)| path.clone()).collect();
     table.to_degrees(|label| rotational.iter().any(|path| label == format!("{path}/value") || label == format!("{path}/speed")))
 }
 
-/// `time` and the state variables' labels of `plant` (its muscles' second states as `state`
-/// has them).
-pub fn state_labels(plant: &Plant, state: &SimulatedState) -> Vec<String> {
+/// `time` and the state variables' labels of `plant`.
+pub fn state_labels(plant: &Plant) -> Vec<String> {
     let mut labels = vec!["time".to_string()];
-    for (path, _) in coordinate_state_paths(plant.spec, &plant.geometry.multibody) {
+    for (path, _) in &plant.state_coordinates {
         labels.extend([format!("{path}/value"), format!("{path}/speed")]);
     }
-    for (muscle, second) in plant.muscles.iter().zip(&state.seconds) {
+    for (k, muscle) in plant.muscles.iter().enumerate() {
         if muscle.activation.is_some() {
             labels.push(format!("/forceset/{}/activation", muscle.name));
         }
-        let spec = plant.spec.muscles().find(|f| f.name == muscle.name).and_then(|f| f.muscle.as_ref());
-        if let (Some(_), Some(spec)) = (second, spec) {
-            labels.push(format!("/forceset/{}/{}", muscle.name, spec.default_state().1.label()));
+        if let Some(second) = plant.second_state(k) {
+            labels.push(format!("/forceset/{}/{}", muscle.name, second.label()));
         }
     }
     labels
@@ -46,8 +42,7 @@ pub fn state_labels(plant: &Plant, state: &SimulatedState) -> Vec<String> {
 
 /// The state variables of `state` in [`state_labels`]' order (without time).
 pub fn state_values(plant: &Plant, state: &SimulatedState) -> Vec<f64> {
-    let coordinates = coordinate_state_paths(plant.spec, &plant.geometry.multibody);
-    let mut values: Vec<f64> = coordinates.iter().flat_map(|&(_, c)| [state.q[c], state.u[c]]).collect();
+    let mut values: Vec<f64> = plant.state_coordinates.iter().flat_map(|&(_, c)| [state.q[c], state.u[c]]).collect();
     for (k, muscle) in plant.muscles.iter().enumerate() {
         values.extend(muscle.activation.map(|_| state.activations[k]).into_iter().chain(state.seconds[k]));
     }
@@ -57,6 +52,6 @@ pub fn state_values(plant: &Plant, state: &SimulatedState) -> Vec<f64> {
 /// Each generator's control (a muscle's excitation) at every recorded time.
 pub fn controls_table(plant: &Plant, simulation: &Simulation) -> Result<StorageTable, TableError> {
     let labels = std::iter::once("time".to_string()).chain(plant.generators.iter().map(|g| g.name.clone())).collect();
-    let values = simulation.times.iter().flat_map(|&t| std::iter::once(t).chain(plant.generators.iter().map(move |g| plant.control(&g.name, t)))).collect();
+    let values = simulation.times.iter().flat_map(|&t| std::iter::once(t).chain(plant.generator_controls(t))).collect();
     Ok(StorageTable::new("Controls", labels, values)?.with_in_degrees(false))
 }

@@ -36,13 +36,14 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         return Err(format!("{}: controller {} is not applied by osim-tune (only ControlSetControllers with a controls_file)", setup_file.display(), controller.description).into());
     }
     let generators = generators(&spec, &geometry, &added, replace).map_err(|e| e.to_string())?;
-    let mut plant = Plant::new(&spec, &geometry, &generators, external.as_ref(), &controls)?;
+    let in_setup = |error: SimulationError| -> Failure { format!("{}: {error}", setup_file.display()).into() };
+    let mut plant = Plant::new(&spec, &geometry, &generators, external.as_ref(), &controls).map_err(in_setup)?;
     let states_input = tool.states_file.as_ref().map(|p| read_states(p, &mut read)).transpose()?;
     let source = match &states_input {
         Some((table, file)) => InitialSource::File { table, file },
         None => InitialSource::Defaults,
     };
-    let (start, initial) = initial_state(&plant, source, tool.initial_time, tool.solve_for_equilibrium_for_auxiliary_states)?;
+    let (start, initial) = initial_state(&plant, source, tool.initial_time, tool.solve_for_equilibrium_for_auxiliary_states).map_err(in_setup)?;
     if start != tool.initial_time {
         println!("the initial time is {start} s, the states file's row at or before {} s (OpenSim does not interpolate initial states)", tool.initial_time);
     }
@@ -53,7 +54,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
             eprintln!("error: the forward simulation failed: {error}; no output written");
             return Ok(Outcome::NotConverged);
         }
-        Err(error) => return Err(error.into()),
+        Err(error) => return Err(in_setup(error)),
     };
     let name = &tool.name;
     let states = states_table(&plant, &simulation, false)?;
