@@ -5,13 +5,20 @@ _states_degrees.mot), for `osim-tune simulate` / `run` to reproduce:
   excited by a ControlSetController's ControlSet (ControlLinear nodes, one stepped);
 * `states`: arm26 from the row of initial_states.sto (a copy of arm26_states.sto, OpenSim's own forward simulation, the
   AnalyzeTool golden's) at 0.1 s, not equilibrated, 0.1–0.3 s, with a CoordinateActuator on
-  r_elbow_flex from a force-set file driven beside the muscles by a second controller.
+  r_elbow_flex from a force-set file driven beside the muscles by a second controller;
+* `prescribed`: arm26_prescribed.osim (arm26 with a ControllerSet: a PrescribedController of
+  three muscles through a Sine, a StepFunction and a PiecewiseLinearFunction, and one of `ALL`
+  muscles through constants) from its equilibrated default, 0–0.3 s, with the setup's own
+  PrescribedController (an inline LinearFunction for /forceset/BICshort and the columns of
+  tool_controls.sto as linear GCV splines) and a point force on the hand from hand_load.xml.
 The integrator tolerance is 1e-9, so OpenSim's states are within ~1e-7 of the exact solution;
 the fixtures keep every 10th row OpenSim wrote (and the first and last).
 
-Usage: python3 oracle/gen_forward_tool.py
+Usage: python3 oracle/gen_forward_tool.py [case ...]
 """
+import os
 import shutil
+import sys
 from pathlib import Path
 
 import opensim as osim
@@ -32,12 +39,13 @@ def control_set(controls):
             f'<ControlSet name="controls"><objects>{"".join(controls)}</objects></ControlSet>\n</OpenSimDocument>\n')
 
 
-def setup(name, final, initial=0.0, equilibrate=True, controllers=(), states="", force_sets=""):
-    objects = "".join(f'<ControlSetController name="c{i}"><controls_file>{c}</controls_file></ControlSetController>' for i, c in enumerate(controllers))
+def setup(name, final, initial=0.0, equilibrate=True, controllers=(), states="", force_sets="", model="arm26.osim", objects=None, loads=""):
+    if objects is None:
+        objects = "".join(f'<ControlSetController name="c{i}"><controls_file>{c}</controls_file></ControlSetController>' for i, c in enumerate(controllers))
     return f"""<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40600">
 \t<ForwardTool name="{name}">
-\t\t<model_file>arm26.osim</model_file>
+\t\t<model_file>{model}</model_file>
 \t\t<replace_force_set>false</replace_force_set>
 \t\t<force_set_files>{force_sets}</force_set_files>
 \t\t<results_directory>./</results_directory>
@@ -51,7 +59,7 @@ def setup(name, final, initial=0.0, equilibrate=True, controllers=(), states="",
 \t\t<integrator_error_tolerance>1e-09</integrator_error_tolerance>
 \t\t<AnalysisSet name="Analyses"><objects /></AnalysisSet>
 \t\t<ControllerSet name="Controllers"><objects>{objects}</objects></ControllerSet>
-\t\t<external_loads_file />
+\t\t<external_loads_file>{loads}</external_loads_file>
 \t\t<states_file>{states}</states_file>
 \t</ForwardTool>
 </OpenSimDocument>
@@ -75,6 +83,8 @@ ELBOW_ACTUATOR = """<?xml version="1.0" encoding="UTF-8" ?>
 
 
 def run(case, text, files):
+    if sys.argv[1:] and case not in sys.argv[1:]:
+        return
     folder = OUT / case
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
@@ -82,8 +92,13 @@ def run(case, text, files):
     for name, content in files.items():
         (folder / name).write_text(content)
     (folder / "setup.xml").write_text(text)
-    tool = osim.ForwardTool(str(folder / "setup.xml"))
-    assert tool.run(), case
+    cwd = os.getcwd()
+    os.chdir(folder)  # OpenSim reads a PrescribedController's controls_file from the working directory
+    try:
+        tool = osim.ForwardTool(str(folder / "setup.xml"))
+        assert tool.run(), case
+    finally:
+        os.chdir(cwd)
     (folder / "arm26.osim").unlink()
     (folder / "opensim.log").unlink(missing_ok=True)
     for output in ["arm26_states.sto", "arm26_controls.sto", "arm26_states_degrees.mot"]:
@@ -103,6 +118,72 @@ def thin(path, every=10):
     path.write_text("\n".join(head + kept) + "\n")
 
 
+def prescribed_model():
+    """arm26 with two PrescribedControllers in its ControllerSet (4.0 file: `actuator_list`)."""
+    functions = ('<Sine><amplitude>0.2</amplitude><omega>20</omega><phase>0.3</phase><offset>0.3</offset></Sine>'
+                 '<StepFunction><transition_start_time>0.05</transition_start_time><transition_end_time>0.15</transition_end_time>'
+                 '<start_value>0.1</start_value><end_value>0.7</end_value></StepFunction>'
+                 '<PiecewiseLinearFunction><x> 0 0.1 0.3</x><y> 0.05 0.5 0.2</y></PiecewiseLinearFunction>')
+    constants = "".join(f"<Constant><value>{v}</value></Constant>" for v in [0.01, 0.02, 0.03, 0.04, 0.05, 0.06])
+    controllers = ('<ControllerSet name="controllerset"><objects>'
+                   '<PrescribedController name="p_model"><actuator_list>TRIlong BIClong BRA</actuator_list>'
+                   f'<FunctionSet name="ControlFunctions"><objects>{functions}</objects><groups /></FunctionSet></PrescribedController>'
+                   '<PrescribedController name="p_all"><actuator_list>ALL</actuator_list>'
+                   f'<FunctionSet name="ControlFunctions"><objects>{constants}</objects><groups /></FunctionSet></PrescribedController>'
+                   '</objects><groups /></ControllerSet>')
+    text = (REPO / "fixtures" / "models" / "arm26.osim").read_text()
+    empty = '<ControllerSet name="controllerset">\n\t\t\t<objects />\n\t\t\t<groups />\n\t\t</ControllerSet>'
+    assert empty in text
+    return text.replace(empty, controllers)
+
+
+TOOL_PRESCRIBED = ('<PrescribedController name="p_tool"><socket_actuators>/forceset/BICshort</socket_actuators>'
+                   '<FunctionSet name="ControlFunctions"><objects><LinearFunction><coefficients> 1.5 0.1</coefficients></LinearFunction></objects></FunctionSet>'
+                   '<controls_file>tool_controls.sto</controls_file></PrescribedController>')
+
+TOOL_CONTROLS = """tool_controls
+version=1
+nRows=4
+nColumns=3
+inDegrees=no
+endheader
+time\tTRIlat\tTRImed
+0\t0.2\t0.05
+0.1\t0.05\t0.4
+0.2\t0.6\t0.3
+0.3\t0.3\t0.1
+"""
+
+HAND_LOAD = """<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40600">
+\t<ExternalLoads name="hand_load">
+\t\t<objects>
+\t\t\t<ExternalForce name="push">
+\t\t\t\t<applied_to_body>r_ulna_radius_hand</applied_to_body>
+\t\t\t\t<force_expressed_in_body>ground</force_expressed_in_body>
+\t\t\t\t<point_expressed_in_body>r_ulna_radius_hand</point_expressed_in_body>
+\t\t\t\t<force_identifier>hand_force_v</force_identifier>
+\t\t\t\t<point_identifier>hand_force_p</point_identifier>
+\t\t\t\t<data_source_name>hand_load.mot</data_source_name>
+\t\t\t</ExternalForce>
+\t\t</objects>
+\t\t<groups />
+\t\t<datafile>hand_load.mot</datafile>
+\t</ExternalLoads>
+</OpenSimDocument>
+"""
+
+
+def hand_load_motion():
+    """A force on the hand (N, in ground) at a point of it (m, in the hand), varying smoothly."""
+    rows = []
+    for i in range(31):
+        t = i * 0.01
+        rows.append("\t".join(f"{v:.10g}" for v in [t, 8 * t, -15 + 20 * t, 3.0, 0.01, -0.2 - 0.1 * t, 0.02]))
+    labels = "time\thand_force_vx\thand_force_vy\thand_force_vz\thand_force_px\thand_force_py\thand_force_pz"
+    return f"hand_load\nversion=1\nnRows={len(rows)}\nnColumns=7\ninDegrees=no\nendheader\n{labels}\n" + "\n".join(rows) + "\n"
+
+
 def main():
     excitations = [
         control_linear("TRIlong.excitation", [(0.0, 0.05), (0.1, 0.6), (0.3, 0.1)]),
@@ -117,6 +198,8 @@ def main():
     motor = control_set([control_linear("elbow_motor", [(0.1, -2.0), (0.3, 3.0)])])
     run("states", setup("arm26", 0.3, initial=0.1, equilibrate=False, controllers=["arm26_controls.xml", "motor_controls.xml"], states="initial_states.sto", force_sets="elbow_actuator.xml"),
         {"arm26_controls.xml": control_set(excitations), "motor_controls.xml": motor, "initial_states.sto": states, "elbow_actuator.xml": ELBOW_ACTUATOR})
+    run("prescribed", setup("arm26", 0.3, model="arm26_prescribed.osim", objects=TOOL_PRESCRIBED, loads="hand_load.xml"),
+        {"arm26_prescribed.osim": prescribed_model(), "tool_controls.sto": TOOL_CONTROLS, "hand_load.xml": HAND_LOAD, "hand_load.mot": hand_load_motion()})
 
 
 if __name__ == "__main__":

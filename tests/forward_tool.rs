@@ -1,6 +1,7 @@
 //! OpenSim 4.6's ForwardTool reproduced (`oracle/gen_forward_tool.py`): arm26 from its
-//! equilibrated default state under time-varying excitations, and from a states file's row with
-//! an added CoordinateActuator under two controllers; and `simulate` / `run` writing OpenSim's
+//! equilibrated default state under time-varying excitations, from a states file's row with an
+//! added CoordinateActuator under two controllers, and under the model's and the setup's
+//! PrescribedControllers with a force on the hand; and `simulate` / `run` writing OpenSim's
 //! files.
 
 mod common;
@@ -65,8 +66,8 @@ fn run_simulates_a_forward_setup_and_its_analyses_read_the_states() {
     assert_eq!(controls.labels().last().map(String::as_str), Some("elbow_motor"));
 }
 
-/// What `simulate` cannot do is refused, naming it (exit 2, nothing written): a
-/// PrescribedController, an empty time range.
+/// What `simulate` cannot do is refused, naming it (exit 2, nothing written): a controller class
+/// it does not apply, a PrescribedController with a function too few, an empty time range.
 #[test]
 fn a_forward_setup_it_cannot_simulate_is_refused() {
     let folder = tempfile::tempdir().unwrap();
@@ -74,13 +75,19 @@ fn a_forward_setup_it_cannot_simulate_is_refused() {
     let golden = fixture("golden/forward_tool/controls");
     std::fs::copy(golden.join("arm26_controls.xml"), dir.join("arm26_controls.xml")).unwrap();
     let text = std::fs::read_to_string(golden.join("setup.xml")).unwrap();
-    let prescribed = text.replace("<ControlSetController name=\"c0\"><controls_file>arm26_controls.xml</controls_file></ControlSetController>", "<PrescribedController name=\"p\" />");
-    std::fs::write(dir.join("setup.xml"), prescribed).unwrap();
+    let controller = "<ControlSetController name=\"c0\"><controls_file>arm26_controls.xml</controls_file></ControlSetController>";
     let model = fixture("models/arm26.osim");
-    let (code, _, stderr) = osim_tune(&["simulate", model.to_str().unwrap(), "--setup", dir.join("setup.xml").to_str().unwrap(), "-o", dir.join("out").to_str().unwrap()]);
-    assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("PrescribedController") && stderr.contains("not applied"), "{stderr}");
-    assert!(!dir.join("out").exists());
+    let refusals = [
+        ("<ToyReflexController name=\"reflex\" />", ["ToyReflexController reflex", "does not apply"]),
+        ("<PrescribedController name=\"p\"><actuator_list>TRIlong BRA</actuator_list><FunctionSet name=\"ControlFunctions\"><objects><Constant><value>0.1</value></Constant></objects></FunctionSet></PrescribedController>", ["PrescribedController p", "1 control functions for 2 actuators"]),
+    ];
+    for (replacement, expected) in refusals {
+        std::fs::write(dir.join("setup.xml"), text.replace(controller, replacement)).unwrap();
+        let (code, _, stderr) = osim_tune(&["simulate", model.to_str().unwrap(), "--setup", dir.join("setup.xml").to_str().unwrap(), "-o", dir.join("out").to_str().unwrap()]);
+        assert_eq!(code, 2, "{stderr}");
+        assert!(expected.iter().all(|e| stderr.contains(e)), "{stderr}");
+        assert!(!dir.join("out").exists());
+    }
     // An empty time range names the setup.
     std::fs::write(dir.join("setup.xml"), text.replace("<final_time>0.3</final_time>", "<final_time>0</final_time>")).unwrap();
     let (code, _, stderr) = osim_tune(&["simulate", model.to_str().unwrap(), "--setup", dir.join("setup.xml").to_str().unwrap(), "-o", dir.join("out").to_str().unwrap()]);

@@ -290,3 +290,24 @@ fn the_last_4_0_development_format_reads_as_4_0_and_earlier_ones_are_refused() {
     let error = OsimDocument::parse(text.replace("Version=\"40000\"", "Version=\"30505\""), std::path::Path::new("dev.osim")).unwrap_err().to_string();
     assert!(error.contains("dev.osim:2: unsupported OpenSim document version \"30505\"") && error.contains("open and save the file in OpenSim 4"), "{error}");
 }
+
+/// The ControllerSet is read: the `prescribed` ForwardTool golden's two PrescribedControllers
+/// (4.0 `actuator_list`, `ALL`), a disabled controller left out, and a controller whose function
+/// osim-tune cannot evaluate kept as unsupported without failing the model.
+#[test]
+fn controllers_are_read() {
+    use osim_tune::model::ControllerSpec;
+    let file = common::fixture("golden/forward_tool/prescribed/arm26_prescribed.osim");
+    let text = std::fs::read_to_string(&file).unwrap();
+    let spec = ModelSpec::read(&OsimDocument::read(&file).unwrap()).unwrap();
+    let [ControllerSpec::PrescribedController(first), ControllerSpec::PrescribedController(all)] = spec.controllers.as_slice() else { panic!("{:?}", spec.controllers) };
+    assert_eq!((first.actuators.as_slice(), first.functions.len(), all.actuators.as_slice(), all.functions.len()), (&["TRIlong", "BIClong", "BRA"].map(String::from)[..], 3, &["ALL".to_string()][..], 6));
+    assert!(matches!(first.functions[0], FunctionSpec::Sine { omega: 20.0, .. }) && matches!(first.functions[1], FunctionSpec::StepFunction { start_time: 0.05, end_value: 0.7, .. }));
+    let folder = tempfile::tempdir().unwrap();
+    let edited = folder.path().join("edited.osim");
+    let disabled = text.replacen("<PrescribedController name=\"p_model\">", "<PrescribedController name=\"p_model\"><enabled>false</enabled>", 1);
+    std::fs::write(&edited, disabled.replacen("<Constant><value>0.01</value></Constant>", "<ExpressionBasedFunction><expression>x</expression></ExpressionBasedFunction>", 1)).unwrap();
+    let spec = ModelSpec::read(&OsimDocument::read(&edited).unwrap()).unwrap();
+    let [ControllerSpec::Unsupported { name, reason, .. }] = spec.controllers.as_slice() else { panic!("{:?}", spec.controllers) };
+    assert!(name == "p_all" && reason.contains("ExpressionBasedFunction"), "{reason}");
+}

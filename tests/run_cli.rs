@@ -344,25 +344,38 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert!(written.is_empty(), "{written:?}");
 }
 
-/// What the muscles' states cannot give is named, not guessed: a PrescribedController (not
-/// applied) drives Rajagopal2016's CoordinateActuators, so ForceReporter and Actuation are left out while the
-/// MuscleAnalysis and StatesReporter tables stay OpenSim's; a muscle class without mechanics here
-/// (RigidTendonMuscle) leaves only the path tables.
+/// What the muscles' states cannot give is named, not guessed: a controller osim-tune does not
+/// apply (a ToyReflexController) could drive Rajagopal2016's CoordinateActuators, so ForceReporter
+/// and Actuation are left out while the MuscleAnalysis and StatesReporter tables stay OpenSim's —
+/// a PrescribedController in its place is applied (its actuator's force is its constant control
+/// × optimal force 10 N·m); a muscle class without mechanics here (RigidTendonMuscle) leaves only
+/// the path tables.
 #[test]
 fn tables_the_muscle_states_cannot_give_are_named() {
     let folder = tempfile::tempdir().unwrap();
     let dir = folder.path();
     copy_into(dir, &[("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot"), ("golden/scale_zoo/Rajagopal2016_scaled.osim", "Rajagopal2016_scaled.osim")]);
-    let controllers = "<ControllerSet name=\"Controllers\"><objects><PrescribedController name=\"arms\"><actuator_list>shoulder_flex_r</actuator_list></PrescribedController></objects></ControllerSet>\n\t\t<coordinates_file>";
-    let setup = edited_copy(dir, "golden/analyze_tool/rajagopal/setup.xml", "setup.xml", &[("<coordinates_file>", controllers)]);
+    let with_controller = |controller: &str, file: &str| {
+        let controllers = format!("<ControllerSet name=\"Controllers\"><objects>{controller}</objects></ControllerSet>\n\t\t<coordinates_file>");
+        edited_copy(dir, "golden/analyze_tool/rajagopal/setup.xml", file, &[("<coordinates_file>", controllers.as_str())])
+    };
+    let setup = with_controller("<ToyReflexController name=\"arms\" />", "setup.xml");
     let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
     assert_eq!(code, 0, "{stderr}");
-    assert!(stderr.contains("not written: ForceReporter's tables: the ControllerSet's PrescribedController arms drives forces of the model, and osim-tune applies only ControlSetControllers"), "{stderr}");
-    assert!(stderr.contains("not written: Actuation's tables: the ControllerSet's PrescribedController arms"), "{stderr}");
-    assert!(stderr.contains("not written: Kinematics' accelerations (_dudt): the ControllerSet's PrescribedController arms"), "{stderr}");
+    assert!(stderr.contains("not written: ForceReporter's tables: controllers osim-tune does not apply (ToyReflexController arms"), "{stderr}");
+    assert!(stderr.contains("not written: Actuation's tables: controllers osim-tune does not apply"), "{stderr}");
+    assert!(stderr.contains("not written: Kinematics' accelerations (_dudt): controllers osim-tune does not apply"), "{stderr}");
     let written = |name: &str| dir.join("Results").join(name).exists();
     assert!(written("walk_StatesReporter_states.sto") && written("walk_MuscleAnalysis_TendonForce.sto"));
     assert!(!written("walk_ForceReporter_forces.sto") && !written("walk_Actuation_force.sto") && !written("walk_Kinematics_dudt.sto"));
+    let prescribed = "<PrescribedController name=\"arms\"><actuator_list>shoulder_flex_r</actuator_list><FunctionSet name=\"ControlFunctions\"><objects><Constant><value>0.5</value></Constant></objects></FunctionSet></PrescribedController>";
+    std::fs::remove_dir_all(dir.join("Results")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&with_controller(prescribed, "prescribed.xml"))]);
+    assert_eq!(code, 0, "{stderr}");
+    let forces = StorageTable::read(&dir.join("Results/walk_ForceReporter_forces.sto")).unwrap();
+    let shoulder = forces.column("shoulder_flex_r").unwrap();
+    assert!(!shoulder.is_empty() && shoulder.iter().all(|&f| f == 5.0), "{shoulder:?}");
+    assert!(forces.column("shoulder_flex_l").unwrap().iter().all(|&f| f == 0.0));
 
     // A muscle class without mechanics here (RigidTendonMuscle): its path tables only.
     let other = edited_copy(dir, "models/arm26.osim", "arm26_other.osim", &[("<Thelen2003Muscle name=\"BRA\">", "<RigidTendonMuscle name=\"BRA\">")]);

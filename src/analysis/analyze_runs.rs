@@ -58,7 +58,7 @@ impl<'a> ToolRun<'a> {
             AnalyzeStates::new(multibody, table, file, cutoff)?
         };
         frames_in_range(file, &states.times, [setup.initial_time, setup.final_time])?;
-        let generators = match controls_ignored(spec, setup, true) {
+        let generators = match controls_ignored(model, true) {
             Some(reason) => Err(reason),
             None => generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
         };
@@ -129,7 +129,7 @@ impl<'a> ToolRun<'a> {
 
     /// The MuscleAnalysis: path tables, then the muscles' state tables (or why not).
     pub(super) fn muscle_analysis(&self, analysis: &MuscleAnalysisSetup, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
-        let &AnalyzeModel { spec, geometry, replace, .. } = self.model;
+        let &AnalyzeModel { geometry, replace, .. } = self.model;
         if replace {
             tables.not_written.push(format!("{}: replace_force_set replaces the model's muscles by the force-set files' actuators, so OpenSim's MuscleAnalysis has no muscles", analysis.name));
             return Ok(());
@@ -138,7 +138,7 @@ impl<'a> ToolRun<'a> {
         let states = &rows.states;
         let selected = MuscleAnalysis::run(geometry, &states.motion)?.setup_tables(&geometry.multibody, analysis)?;
         let arms: Vec<&StorageTable> = selected.tables.iter().filter(|t| t.name().starts_with("MomentArm_")).collect();
-        let state_tables = match controls_ignored(spec, self.setup, false).map_or_else(|| self.muscles(&rows), Err) {
+        let state_tables = match controls_ignored(self.model, false).map_or_else(|| self.muscles(&rows), Err) {
             Ok(muscles) => muscle_state_tables(muscles, &states.motion.times, &selected.muscles, &arms)?,
             Err(reason) => {
                 tables.not_written.push(format!("the MuscleAnalysis' fiber, tendon, force, power and moment tables: {reason}"));
@@ -247,14 +247,14 @@ fn force_tables(spec: &ModelSpec, analysis: &ReporterSetup, class: &str, at: &Ap
     Ok(vec![("forces", force_reporter_table(at)?)])
 }
 
-/// Why a force table would not be OpenSim's: a controller of the setup that osim-tune does not
-/// apply (any but a `ControlSetController` with its file) drives a muscle without activation
-/// dynamics or, with `actuators`, a non-muscle actuator.
-fn controls_ignored(spec: &ModelSpec, setup: &AnalyzeSetup, actuators: bool) -> Option<String> {
-    let unapplied: Vec<&str> = setup.controllers.iter().filter(|c| c.controls_file.is_none()).map(|c| c.description.as_str()).collect();
+/// Why a force table would not be OpenSim's: a controller osim-tune does not apply could drive a
+/// muscle without activation dynamics or, with `actuators`, a non-muscle actuator.
+fn controls_ignored(model: &AnalyzeModel, actuators: bool) -> Option<String> {
+    let unapplied = &model.controls.unapplied;
     if unapplied.is_empty() {
         return None;
     }
-    let driven = (actuators && !spec.actuators.is_empty()) || spec.forces.iter().any(|f| f.muscle.as_ref().is_some_and(|m| m.ignore_activation_dynamics));
-    driven.then(|| format!("the ControllerSet's {} drives forces of the model, and osim-tune applies only ControlSetControllers", unapplied.join(", ")))
+    let spec = model.spec;
+    let driven = (actuators && (!spec.actuators.is_empty() || !model.added.is_empty())) || spec.forces.iter().any(|f| f.muscle.as_ref().is_some_and(|m| m.ignore_activation_dynamics));
+    driven.then(|| format!("controllers osim-tune does not apply ({}) may drive forces of the model", unapplied.join(", ")))
 }

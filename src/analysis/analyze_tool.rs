@@ -8,6 +8,7 @@
 use std::path::{Path, PathBuf};
 
 use super::analyze_runs::ToolRun;
+use super::controllers::Controllers;
 use super::analyze_states::{AnalyzeStates, GivenMuscleStates, StatesError};
 use super::body_kinematics::KinematicsError;
 use super::external_loads::ExternalLoads;
@@ -16,7 +17,7 @@ use super::signal::NoFramesInRange;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{Motion, Multibody, MuscleGeometry};
 use crate::model::{ActuatorSpec, ModelSpec};
-use crate::setup::{AnalyzeSetup, ControlSet};
+use crate::setup::AnalyzeSetup;
 use crate::solvers::{assemble, IkError};
 
 /// The tables an AnalyzeTool setup's analyses write, with what the run leaves to note.
@@ -39,8 +40,8 @@ pub struct AnalyzeToolTables {
 }
 
 /// The model an AnalyzeTool setup analyses: the model (`geometry` its paths), the actuators of
-/// its `force_set_files` (`added`, replacing the model's forces when `replace`) and its external
-/// loads.
+/// its `force_set_files` (`added`, replacing the model's forces when `replace`), its external
+/// loads and controllers.
 #[derive(Debug, Clone, Copy)]
 pub struct AnalyzeModel<'a> {
     pub spec: &'a ModelSpec,
@@ -48,8 +49,8 @@ pub struct AnalyzeModel<'a> {
     pub added: &'a [ActuatorSpec],
     pub replace: bool,
     pub external: Option<&'a ExternalLoads>,
-    /// The control sets of the setup's `ControlSetController`s, whose controls add up.
-    pub controls: &'a [ControlSet],
+    /// The model's and the setup's controllers.
+    pub controls: &'a Controllers,
 }
 
 /// The tables of `setup`'s analyses (see the module documentation) on `table` (read from

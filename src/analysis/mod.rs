@@ -6,6 +6,7 @@ mod analyze_runs;
 mod analyze_states;
 mod analyze_tool;
 mod body_kinematics;
+mod controllers;
 mod dynamometer;
 mod emg_comparison;
 mod external_loads;
@@ -26,6 +27,7 @@ mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
 pub use body_kinematics::KinematicsError;
+pub use controllers::{model_actuators, Controllers};
 pub use dynamometer::{agreement, dynamometer_analysis, isometric_contraction, plateau, Agreement, IsometricContraction, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
 pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};
@@ -40,7 +42,7 @@ pub use analyze_tool::{analyze_tool_tables, AnalyzeModel, AnalyzeToolError, Anal
 pub use muscle_analysis::{MuscleAnalysis, SetupTables};
 pub use physiological_inverse::{physiological_inverse, Contraction, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings, MAX_LINEARISATIONS, SETTLED_STEP, SETTLED_VIOLATION};
 pub use signal::{spline, Series, SignalError};
-pub use simulation::{controls_table, initial_state, simulate_plant, state_labels, state_values, states_table, InitialSource, Plant, SimulatedState, Simulation, SimulationError};
+pub use simulation::{controls_table, initial_state, ForwardModel, simulate_plant, state_labels, state_values, states_table, InitialSource, Plant, SimulatedState, Simulation, SimulationError};
 pub use sampled_motion::{CoordinateState, SampledMotion, SampledMotionError};
 pub use splined_motion::{SplinedMotion, SplinedMotionError};
 pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};

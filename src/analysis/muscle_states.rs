@@ -1,7 +1,7 @@
 //! The muscle states OpenSim's AnalyzeTool hands its analyses: those a states file gives, and
 //! what a coordinates file (or a states file) lacks filled with the model's defaults
 //! (`formStateStorage`): each muscle at its `default_activation` — a muscle without activation
-//! dynamics at its control (a `ControlSetController`'s, else 0) — and its second state at its
+//! dynamics at its control (its controllers', else 0) — and its second state at its
 //! default (`default_fiber_length` raised to the minimum, DeGroote's
 //! `default_normalized_tendon_force`) or, with `solve_for_equilibrium_for_auxiliary_states`,
 //! where `equilibrateMuscles` puts it (Thelen's speed-sharing `initMuscleState`, Millard's static
@@ -9,10 +9,10 @@
 //! moving at the pose's speeds.
 
 use super::analyze_tool::AnalyzeToolMotion;
+use super::controllers::Controllers;
 use crate::mechanics::muscle::{HillMuscle, MuscleError, MuscleState};
 use crate::mechanics::{MuscleGeometry, PathEvaluation};
 use crate::model::{ModelSpec, MuscleSpec, SecondState};
-use crate::setup::{control, ControlSet};
 
 /// One muscle's state variables as OpenSim holds them.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,7 +90,7 @@ pub(super) fn equilibrated(muscle: &HillMuscle, activation: f64, length: f64, sp
 /// The states of every muscle of `spec` (`geometry` its paths) at each pose of `states` with its
 /// speeds — those its states file gives, the others at their defaults — equilibrated when
 /// `equilibrate`; `controls` activate the muscles without activation dynamics.
-pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &AnalyzeToolMotion, controls: &[ControlSet], equilibrate: bool) -> Result<MuscleStates, MuscleStatesError> {
+pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &AnalyzeToolMotion, controls: &Controllers, equilibrate: bool) -> Result<MuscleStates, MuscleStatesError> {
     let (mut muscles, mut held) = (Vec::new(), Vec::new());
     for force in spec.muscles() {
         let not_formed = || MuscleStatesError::NotFormed { muscle: force.name.clone(), class: force.class.clone() };
@@ -115,7 +115,7 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
             let mut warn = |what: &str, e: MuscleError| result.warnings.push(format!("at {time} s: {what}: {e}"));
             let start = held.variables(row);
             // A muscle without activation dynamics is activated by its control.
-            let activation = start.activation.unwrap_or_else(|| control(controls, &result.muscles[k].1, time));
+            let activation = start.activation.unwrap_or_else(|| controls.control(&result.muscles[k].1, time));
             let variable = match start.second {
                 Some(_) if equilibrate => match equilibrated(&held.muscle, activation, length, speed) {
                     Ok(second) => StateVariables { second: Some(second), ..start },

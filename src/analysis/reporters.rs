@@ -1,8 +1,9 @@
 //! OpenSim's `ForceReporter`, `Actuation` and `StatesReporter` on the states an AnalyzeTool forms:
-//! muscles at their [`MuscleStates`], other actuators at the controls of the setup's
-//! `ControlSetController`s (zero without), the external loads as their `ExternalForce`s record
+//! muscles at their [`MuscleStates`], other actuators at the controls of the model's and the
+//! setup's controllers (zero without), the external loads as their `ExternalForce`s record
 //! them, every coordinate's value and speed.
 
+use super::controllers::Controllers;
 use super::external_loads::ExternalLoads;
 use super::analyze_tool::AnalyzeToolMotion;
 use super::muscle_states::MuscleStates;
@@ -12,7 +13,6 @@ use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::muscle::MuscleState;
 use crate::mechanics::{Kinematics, Motion, MotionState, Multibody};
 use crate::model::ModelSpec;
-use crate::setup::{control, ControlSet};
 
 /// Why a reporter's table is not formed.
 #[derive(Debug, thiserror::Error)]
@@ -32,7 +32,7 @@ pub struct AppliedAt<'a> {
     pub generators: &'a [Generator],
     pub external: Option<&'a ExternalLoads>,
     /// The controls applied (summed over the sets; an actuator without one at 0).
-    pub controls: &'a [ControlSet],
+    pub controls: &'a Controllers,
     pub muscles: &'a MuscleStates,
     /// The rows: poses, speeds (rad/s or m/s, [`Multibody::coordinates`] order).
     pub states: &'a AnalyzeToolMotion,
@@ -41,7 +41,7 @@ pub struct AppliedAt<'a> {
 }
 
 impl<'a> AppliedAt<'a> {
-    pub fn new(multibody: &'a Multibody, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a [ControlSet], muscles: &'a MuscleStates, states: &'a AnalyzeToolMotion) -> AppliedAt<'a> {
+    pub fn new(multibody: &'a Multibody, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a Controllers, muscles: &'a MuscleStates, states: &'a AnalyzeToolMotion) -> AppliedAt<'a> {
         let muscle_of = generators.iter().map(|g| g.muscle_path().and_then(|_| muscles.muscles.iter().position(|(_, m)| *m == g.name))).collect();
         AppliedAt { multibody, generators, external, controls, muscles, states, muscle_of }
     }
@@ -61,7 +61,7 @@ impl<'a> AppliedAt<'a> {
             .enumerate()
             .map(|(g, generator)| match generator.muscle_path() {
                 Some(_) => self.muscle_state(row, g).map_or(f64::NAN, |s| s.report.tendon_force),
-                None => control(self.controls, &generator.name, time) * generator.unit_force(false, 0.0, 0.0),
+                None => self.controls.control(&generator.name, time) * generator.unit_force(false, 0.0, 0.0),
             })
             .collect()
     }

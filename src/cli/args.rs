@@ -187,7 +187,8 @@ pub enum Command {
         /// forces file run as OpenSim's AnalyzeTool runs them — its time range, coordinate cutoff
         /// (filtered and splined states, coordinates the motion lacks held at 0; or, when the
         /// setup names a states_file, --motion is that states file), the muscles at their
-        /// default or equilibrium states, force-set files, external loads, ControlSetControllers,
+        /// default or equilibrium states, force-set files, external loads, the model's and the setup's
+        /// ControlSetControllers and PrescribedControllers,
         /// each analysis's step interval and lists — writing DIR/<name>_<analysis>_<table>.sto
         /// (Length, FiberLength, …, MomentArm_<coordinate>, Moment_<coordinate>, q, u, dudt,
         /// pos_global, vel_global, acc_global, <point>_pos, forces, force, speed, power, states,
@@ -543,8 +544,8 @@ pub enum Command {
     /// dynamics integrated from the default state (assembled pose, default speeds, muscles at
     /// their default activation and fiber length) or the setup's states_file row at or before
     /// initial_time, muscles equilibrated when solve_for_equilibrium_for_auxiliary_states; every
-    /// muscle excited and every other actuator controlled by the setup's ControlSetControllers
-    /// (their controls add; 0 without one), through its activation and fiber dynamics; the
+    /// muscle excited and every other actuator controlled by the model's and the setup's
+    /// ControlSetControllers and PrescribedControllers (their controls add; 0 without one), through its activation and fiber dynamics; the
     /// force-set files' actuators added, external loads applied; locked coordinates held,
     /// couplers exact. Dormand–Prince 5(4) at integrator_error_tolerance per state, steps of at
     /// most maximum_integrator_step_size, at most maximum_number_of_integrator_steps. Writes

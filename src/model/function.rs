@@ -25,6 +25,12 @@ pub enum FunctionSpec {
     PolynomialFunction { coefficients: Vec<f64> },
     /// y = scale · f(x).
     MultiplierFunction { scale: f64, function: Box<FunctionSpec> },
+    /// y = amplitude·sin(omega·x + phase) + offset (omega rad per unit of x).
+    Sine { amplitude: f64, omega: f64, phase: f64, offset: f64 },
+    /// `start_value` up to `transition_start_time`, `end_value` from `transition_end_time`, and
+    /// between them Simbody's quintic `stepUp` (10s³ − 15s⁴ + 6s⁵ of the fraction s of the way;
+    /// the times may be in either order).
+    StepFunction { start_time: f64, end_time: f64, start_value: f64, end_value: f64 },
 }
 
 impl FunctionSpec {
@@ -65,6 +71,19 @@ impl FunctionSpec {
             "MultiplierFunction" => {
                 let inner = reader.object_property("function").ok_or_else(|| reader.missing("function"))?;
                 FunctionSpec::MultiplierFunction { scale: reader.number_or("scale", 1.0)?, function: Box::new(FunctionSpec::read(inner)?) }
+            }
+            "Sine" => FunctionSpec::Sine {
+                amplitude: reader.number_or("amplitude", 1.0)?,
+                omega: reader.number_or("omega", 1.0)?,
+                phase: reader.number_or("phase", 0.0)?,
+                offset: reader.number_or("offset", 0.0)?,
+            },
+            "StepFunction" => {
+                let (start_time, end_time) = (reader.number_or("transition_start_time", 0.99)?, reader.number_or("transition_end_time", 1.01)?);
+                if end_time == start_time {
+                    return Err(reader.bad("transition_end_time", "a time other than transition_start_time", &end_time.to_string()));
+                }
+                FunctionSpec::StepFunction { start_time, end_time, start_value: reader.number_or("start_value", 0.0)?, end_value: reader.number_or("end_value", 1.0)? }
             }
             other => return Err(reader.bad("function", "a supported OpenSim function", other)),
         };

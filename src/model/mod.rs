@@ -1,11 +1,12 @@
 //! Typed view of an OpenSim model document: bodies, frames, joints, coordinates, functions,
-//! markers, forces with their paths, actuators, constraints and wrap objects, read from either
+//! markers, forces with their paths, actuators, controllers, constraints and wrap objects, read from either
 //! the 4.x or the 3.x layout into one form. Elements keep their `ElementId` where later edits
 //! need it.
 
 mod actuator;
 mod body;
 mod constraint;
+mod controller;
 mod conversion;
 mod coordinate;
 mod error;
@@ -25,6 +26,7 @@ mod wrap_object;
 pub use actuator::{read_force_set, ActuatorKind, ActuatorSpec};
 pub use body::BodySpec;
 pub use constraint::{ConstraintSpec, CouplerSpec, LinkSpec};
+pub use controller::{ControllerSpec, PrescribedControllerSpec};
 pub use coordinate::{CoordinateSpec, CoordinateUnit, MotionType};
 pub use error::{BadProperty, ModelError};
 pub use force::{ForceSpec, PathWrapSpec};

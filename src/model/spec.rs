@@ -1,12 +1,13 @@
 //! `ModelSpec`: everything a model document says, typed, in both the 4.x and the 3.x layout.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
 use super::actuator::ActuatorSpec;
 use super::body::BodySpec;
 use super::constraint::ConstraintSpec;
+use super::controller::ControllerSpec;
 use super::coordinate::CoordinateSpec;
 use super::error::ModelError;
 use super::force::{is_muscle_class, ForceSpec};
@@ -38,6 +39,9 @@ pub struct ModelSpec {
     pub actuators: Vec<ActuatorSpec>,
     pub constraints: Vec<ConstraintSpec>,
     pub wrap_objects: Vec<WrapObjectSpec>,
+    /// The enabled controllers of the `ControllerSet` (controls files resolved against the
+    /// model's directory).
+    pub controllers: Vec<ControllerSpec>,
 }
 
 /// Name OpenSim gives the ground frame.
@@ -64,6 +68,7 @@ impl ModelSpec {
             actuators: Vec::new(),
             constraints: Vec::new(),
             wrap_objects: Vec::new(),
+            controllers: Vec::new(),
         };
         for (name, element) in &body_elements {
             let body = model.at(*element);
@@ -94,6 +99,10 @@ impl ModelSpec {
         }
         for constraint in set_members(model, "ConstraintSet").into_iter().chain(component_members(model, |class| class.ends_with("Constraint"))) {
             spec.constraints.push(ConstraintSpec::read(model.at(constraint), dialect, &frames)?);
+        }
+        let directory = spec.file.parent().unwrap_or(Path::new("")).to_path_buf();
+        for controller in set_members(model, "ControllerSet").into_iter().chain(component_members(model, |class| class.ends_with("Controller"))) {
+            spec.controllers.extend(ControllerSpec::read(model.at(controller), &directory)?);
         }
         Ok(spec)
     }

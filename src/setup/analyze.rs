@@ -11,7 +11,7 @@ use super::object::{expect_class, read_document};
 use super::path::{directory_of, SetupPath};
 use super::property::{results_directory_or_here, checked_number_or, name_or_empty, optional_path, words};
 use crate::io::osim::OsimDocument;
-use crate::model::ComponentReader;
+use crate::model::{ComponentReader, ControllerSpec};
 
 /// An AnalyzeTool setup with OpenSim's defaults (`AbstractTool.cpp`, `AnalyzeTool.cpp`) for
 /// absent properties.
@@ -44,9 +44,10 @@ pub struct AnalyzeSetup {
     /// Muscles' fibers put in equilibrium at each state (`equilibrateMuscles`) rather than left
     /// at their default lengths (default false).
     pub solve_for_equilibrium_for_auxiliary_states: bool,
-    /// The enabled controllers of the tool's `ControllerSet`. (A `controls_file` outside a
-    /// controller OpenSim 4 ignores, and so does osim-tune.)
-    pub controllers: Vec<ControllerSetup>,
+    /// The enabled controllers of the tool's `ControllerSet` (files resolved against the setup's
+    /// directory). (A `controls_file` outside a controller OpenSim 4 ignores, and so does
+    /// osim-tune.)
+    pub controllers: Vec<ControllerSpec>,
     /// The `StaticOptimization` analysis, if the set has one that is on.
     pub static_optimization: Option<StaticOptimizationSetup>,
     /// The `JointReaction` analysis, if the set has one that is on.
@@ -163,15 +164,6 @@ pub struct PointKinematicsSetup {
     pub point_name: String,
     /// The body whose frame the results are expressed in; `None` for ground (`none`, the default).
     pub relative_to: Option<String>,
-}
-
-/// A controller of the tool's `ControllerSet`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ControllerSetup {
-    /// `<class> <name>` and a controls file, for messages.
-    pub description: String,
-    /// A `ControlSetController`'s `controls_file` (the only controller osim-tune applies).
-    pub controls_file: Option<SetupPath>,
 }
 
 /// A reporter analysis (`ForceReporter`, `Actuation`, `StatesReporter`).
@@ -354,20 +346,12 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
 }
 
 /// The enabled controllers of the tool's `ControllerSet` (`directory` resolves their files).
-fn controllers(tool: ComponentReader, directory: &Path) -> Result<Vec<ControllerSetup>, SetupError> {
-    let controllers = active_members(tool, "ControllerSet", "enabled")?;
-    Ok(controllers
-        .into_iter()
-        .map(|controller| {
-            let (class, name) = (controller.class(), controller.name());
-            let file = optional_path(controller, "controls_file", directory);
-            let mut description = if name.is_empty() { class.to_string() } else { format!("{class} {name}") };
-            if let Some(file) = &file {
-                description += &format!(" ({})", file.written);
-            }
-            ControllerSetup { description, controls_file: file.filter(|_| class == "ControlSetController") }
-        })
-        .collect())
+fn controllers(tool: ComponentReader, directory: &Path) -> Result<Vec<ControllerSpec>, SetupError> {
+    let mut controllers = Vec::new();
+    for controller in active_members(tool, "ControllerSet", "enabled")? {
+        controllers.extend(ControllerSpec::read(controller, directory)?);
+    }
+    Ok(controllers)
 }
 
 /// The slot of reporter class `class` (`ForceReporter`, `Actuation`, else `StatesReporter`).

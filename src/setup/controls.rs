@@ -99,12 +99,6 @@ impl ControlSet {
     }
 }
 
-/// The control of `actuator` at `time` (s) under the controllers of `controls`: the sum of theirs
-/// (`addInControls`), 0 without one.
-pub fn control(controls: &[ControlSet], actuator: &str, time: f64) -> f64 {
-    controls.iter().filter_map(|set| set.control(actuator, time)).sum()
-}
-
 #[cfg(test)]
 mod tests {
     use super::ControlLinear;

@@ -22,8 +22,8 @@ mod property;
 mod scale;
 mod time_range;
 
-pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, ControllerSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup, StaticOptimizationSetup};
-pub use controls::{control, ControlLinear, ControlSet};
+pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup, StaticOptimizationSetup};
+pub use controls::{ControlLinear, ControlSet};
 pub use error::SetupError;
 pub use object::read_document;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};

@@ -6,12 +6,12 @@
 use std::path::Path;
 
 use super::geometry::Worst;
-use crate::analysis::{analyze_tool_tables, AnalyzeModel, ExternalLoads};
+use crate::analysis::{analyze_tool_tables, model_actuators, AnalyzeModel, Controllers, ExternalLoads};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
 use crate::model::{read_force_set, ModelSpec};
-use crate::setup::{read_document, AnalyzeSetup, ControlSet};
+use crate::setup::{read_document, AnalyzeSetup};
 
 /// The golden cases: every muscle and coordinate filtered at 6 Hz; listed muscles and coordinates
 /// (with unknown names) every second row; the Kinematics and BodyKinematics of every coordinate
@@ -138,7 +138,7 @@ pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeTool
         None => None,
     };
     let replace = setup.replace_force_set && !setup.force_set_files.is_empty();
-    let controls = setup.controllers.iter().filter_map(|c| c.controls_file.as_ref()).map(|f| ControlSet::read(&input(root, case, &f.written)?).map_err(|e| e.to_string())).collect::<Result<Vec<_>, _>>()?;
+    let controls = Controllers::new(spec.controllers.iter().chain(&setup.controllers), &model_actuators(&spec, &added, replace))?;
     let model = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
     let ours = analyze_tool_tables(&model, &table, &motion_file, &setup, &setup.name).map_err(|e| e.to_string())?.files;
     let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| format!("{}: {e}", golden.join("files.txt").display()))?;

@@ -3,17 +3,14 @@
 //! integrator's dense output at the times OpenSim recorded, compared state by state; the
 //! controls compared at the same times.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::analysis::{generators, initial_state, simulate_plant, state_labels, state_values, InitialSource, Plant};
-use crate::io::osim::OsimDocument;
+use crate::analysis::{initial_state, simulate_plant, state_labels, state_values, ForwardModel, InitialSource};
 use crate::io::table::StorageTable;
-use crate::mechanics::MuscleGeometry;
-use crate::model::{read_force_set, ModelSpec};
-use crate::setup::{read_document, ControlSet, ForwardSetup};
+use crate::setup::ForwardSetup;
 
 /// The ForwardTool golden cases.
-pub const FORWARD_TOOL_CASES: [&str; 2] = ["controls", "states"];
+pub const FORWARD_TOOL_CASES: [&str; 3] = ["controls", "states", "prescribed"];
 
 /// How far our simulation is from OpenSim's.
 #[derive(Debug, Clone, Default)]
@@ -36,21 +33,12 @@ pub fn compare_forward_tool(root: &Path, case: &str) -> Result<ForwardToolCompar
     let text = |e: &dyn std::fmt::Display| e.to_string();
     let setup = ForwardSetup::read(&golden.join("setup.xml")).map_err(|e| text(&e))?;
     let tool = &setup.tool;
-    let model = root.join("fixtures/models").join(tool.model_file.as_ref().map_or("", |m| &m.written));
-    let spec = ModelSpec::read(&OsimDocument::read(&model).map_err(|e| text(&e))?).map_err(|e| text(&e))?;
-    let geometry = MuscleGeometry::new(&spec).map_err(|e| text(&e))?;
-    let mut added = Vec::new();
-    for file in &tool.force_set_files {
-        added.extend(read_force_set(&read_document(&file.resolved).map_err(|e| text(&e))?).map_err(|e| text(&e))?);
-    }
-    let controls = tool.controllers.iter().filter_map(|c| c.controls_file.as_ref()).map(|f| ControlSet::read(&f.resolved).map_err(|e| text(&e))).collect::<Result<Vec<_>, _>>()?;
-    let generators = generators(&spec, &geometry, &added, tool.replace_force_set && !added.is_empty()).map_err(|e| text(&e))?;
-    let mut plant = Plant::new(&spec, &geometry, &generators, None, &controls).map_err(|e| text(&e))?;
-    let states_input: Option<(StorageTable, PathBuf)> = match &tool.states_file {
-        Some(file) => Some((StorageTable::read(&file.resolved).map_err(|e| text(&e))?, file.resolved.clone())),
-        None => None,
-    };
-    let source = states_input.as_ref().map_or(InitialSource::Defaults, |(table, file)| InitialSource::File { table, file });
+    // The model beside the setup, else the repository's copy (the goldens share arm26).
+    let model = tool.model_file.as_ref().map(|m| m.resolved.clone()).filter(|m| m.exists());
+    let model = model.unwrap_or_else(|| root.join("fixtures/models").join(tool.model_file.as_ref().map_or("", |m| &m.written)));
+    let inputs = ForwardModel::read(&model, tool)?;
+    let mut plant = inputs.plant().map_err(|e| text(&e))?;
+    let source = inputs.states.as_ref().map_or(InitialSource::Defaults, |(table, file)| InitialSource::File { table, file });
     let (start, initial) = initial_state(&plant, source, tool.initial_time, tool.solve_for_equilibrium_for_auxiliary_states).map_err(|e| text(&e))?;
     plant.hold(&initial.q);
     let simulation = simulate_plant(&plant, &initial, [start, tool.final_time], &setup.integrator).map_err(|e| text(&e))?;

@@ -11,11 +11,13 @@
 //! integrator is Runge–Kutta–Merson); any time in between is read from its dense output.
 
 mod initial;
+mod inputs;
 mod plant;
 mod system;
 mod tables;
 
 pub use initial::{initial_state, InitialSource};
+pub use inputs::ForwardModel;
 pub use plant::{Plant, SimulatedState};
 pub use tables::{controls_table, state_labels, state_values, states_table};
 

@@ -4,13 +4,13 @@
 //! second states of the muscles with compliant tendons.
 
 use super::SimulationError;
+use crate::analysis::controllers::Controllers;
 use crate::analysis::external_loads::ExternalLoads;
 use crate::analysis::forward::{driven_muscles, DrivenMuscle};
 use crate::analysis::reporters::coordinate_state_paths;
 use crate::analysis::static_optimization::Generator;
 use crate::mechanics::{AppliedForces, Kinematics, MuscleGeometry, PathScratch};
 use crate::model::{ModelSpec, SecondState};
-use crate::setup::{control, ControlSet};
 
 /// One state of the simulated model.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,8 +33,8 @@ pub struct Plant<'a> {
     /// The muscles among the generators, with their dynamics.
     pub muscles: Vec<DrivenMuscle>,
     pub external: Option<&'a ExternalLoads>,
-    /// The control sets of the tool's `ControlSetController`s (their controls add up).
-    pub controls: &'a [ControlSet],
+    /// The model's and the tool's controllers.
+    pub controls: &'a Controllers,
     /// Each generator's muscle among `muscles`, and each muscle's generator.
     muscle_of: Vec<Option<usize>>,
     generator_of: Vec<usize>,
@@ -60,7 +60,7 @@ impl<'a> Plant<'a> {
     /// actuators that apply force), `external` loads and `controls`, its locked coordinates held
     /// at their defaults ([`Plant::hold`] moves them). Joints whose speeds are angular velocities
     /// (Ball, Free, ellipsoid) are refused, as is a muscle we cannot simulate.
-    pub fn new(spec: &'a ModelSpec, geometry: &'a MuscleGeometry, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a [ControlSet]) -> Result<Plant<'a>, SimulationError> {
+    pub fn new(spec: &'a ModelSpec, geometry: &'a MuscleGeometry, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a Controllers) -> Result<Plant<'a>, SimulationError> {
         let multibody = &geometry.multibody;
         if let Some(joint) = multibody.joints.iter().find(|j| j.mobilizer.angular_velocity_speeds() > 0) {
             return Err(SimulationError::Model(format!("{}: joint {}'s speeds are angular velocities (a Ball, Free or ellipsoid joint); the forward simulation integrates q̇ = u", spec.file.display(), joint.name)));
@@ -84,7 +84,7 @@ impl<'a> Plant<'a> {
 
     /// The excitation (control) of muscle or actuator `name` at `time` (s).
     pub fn control(&self, name: &str, time: f64) -> f64 {
-        control(self.controls, name, time)
+        self.controls.control(name, time)
     }
 
     /// Each generator's control at `time` (s).

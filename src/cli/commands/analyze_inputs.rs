@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{generators, ExternalLoads, Generator};
+use crate::analysis::{generators, model_actuators, Controllers, ExternalLoads, Generator};
 use crate::cli::{read_external_loads, Failure};
 use crate::io::osim::OsimDocument;
 use crate::mechanics::{MuscleGeometry, Multibody};
@@ -64,6 +64,14 @@ pub fn actuator_files(actuators: &[PathBuf], setup: Option<&AnalyzeSetup>, input
 pub fn external_loads_of(file: Option<&Path>, setup: Option<&AnalyzeSetup>, multibody: &Multibody, inputs: &mut Vec<PathBuf>) -> Result<Option<ExternalLoads>, Failure> {
     let file = file.map(Path::to_path_buf).or_else(|| setup.and_then(|s| s.external_loads_file.as_ref()).map(|p| p.resolved.clone()));
     file.map(|file| read_external_loads(&file, multibody, inputs)).transpose()
+}
+
+/// The controllers of the model `spec` and of `setup` over the model's actuators and those
+/// `added` (the model's replaced when `replace`); their files join `inputs`.
+pub fn controllers_of(spec: &ModelSpec, setup: &AnalyzeSetup, added: &[ActuatorSpec], replace: bool, inputs: &mut Vec<PathBuf>) -> Result<Controllers, Failure> {
+    let controllers = Controllers::new(spec.controllers.iter().chain(&setup.controllers), &model_actuators(spec, added, replace))?;
+    inputs.extend(controllers.files.iter().cloned());
+    Ok(controllers)
 }
 
 /// The `--name`, else the setup's name, else the coordinates file's stem.

@@ -6,14 +6,14 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::{actuator_files, check_analyses, external_loads_of, output_name};
+use super::analyze_inputs::{actuator_files, check_analyses, controllers_of, external_loads_of, output_name};
 use crate::analysis::{analyze_tool_tables, AnalyzeModel};
 use crate::cli::{write_files, Failure, Outcome};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
 use crate::model::ModelSpec;
-use crate::setup::{AnalyzeSetup, ControlSet};
+use crate::setup::AnalyzeSetup;
 
 pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = AnalyzeSetup::read(setup_file)?;
@@ -28,11 +28,7 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     let (added, replace) = actuator_files(&[], Some(&setup), &mut read)?;
     let external = external_loads_of(None, Some(&setup), &geometry.multibody, &mut read)?;
     let name = output_name(None, Some(&setup), coordinates);
-    let mut controls = Vec::new();
-    for file in setup.controllers.iter().filter_map(|c| c.controls_file.as_ref()) {
-        controls.push(ControlSet::read(&file.resolved)?);
-        read.push(file.resolved.clone());
-    }
+    let controls = controllers_of(&spec, &setup, &added, replace, &mut read)?;
     let analysed = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
     let tables = analyze_tool_tables(&analysed, &StorageTable::read(coordinates)?, coordinates, &setup, &name)?;
     let files: Vec<(PathBuf, String)> = tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())).collect();

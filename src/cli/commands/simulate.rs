@@ -3,16 +3,12 @@
 //! `<name>_states.sto`, `<name>_states_degrees.mot` and `<name>_controls.sto`, and the tables of
 //! the AnalysisSet's analyses formed from the simulated states.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use super::analyze_inputs::{actuator_files, check_analyses, external_loads_of};
-use crate::analysis::{analyze_tool_tables, controls_table, generators, initial_state, simulate_plant, states_table, AnalyzeModel, InitialSource, Plant, SimulationError};
+use super::analyze_inputs::check_analyses;
+use crate::analysis::{analyze_tool_tables, controls_table, initial_state, simulate_plant, states_table, ForwardModel, InitialSource, SimulationError};
 use crate::cli::{write_files, Failure, Outcome};
-use crate::io::osim::OsimDocument;
-use crate::io::table::StorageTable;
-use crate::mechanics::MuscleGeometry;
-use crate::model::ModelSpec;
-use crate::setup::{ControlSet, ForwardSetup, SetupPath};
+use crate::setup::{ForwardSetup, SetupPath};
 
 pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = ForwardSetup::read(setup_file)?;
@@ -22,24 +18,12 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         runs.push("JointReaction");
     }
     check_analyses(tool, &runs, true)?;
-    let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
-    let geometry = MuscleGeometry::new(&spec)?;
-    let mut read: Vec<PathBuf> = vec![model.to_path_buf(), setup_file.to_path_buf()];
-    let (added, replace) = actuator_files(&[], Some(tool), &mut read)?;
-    let external = external_loads_of(None, Some(tool), &geometry.multibody, &mut read)?;
-    let mut controls = Vec::new();
-    for file in tool.controllers.iter().filter_map(|c| c.controls_file.as_ref()) {
-        controls.push(ControlSet::read(&file.resolved)?);
-        read.push(file.resolved.clone());
-    }
-    if let Some(controller) = tool.controllers.iter().find(|c| c.controls_file.is_none()) {
-        return Err(format!("{}: controller {} is not applied by osim-tune (only ControlSetControllers with a controls_file)", setup_file.display(), controller.description).into());
-    }
-    let generators = generators(&spec, &geometry, &added, replace).map_err(|e| e.to_string())?;
+    let inputs = ForwardModel::read(model, tool)?;
+    let mut read = inputs.read.clone();
+    read.push(setup_file.to_path_buf());
     let in_setup = |error: SimulationError| -> Failure { format!("{}: {error}", setup_file.display()).into() };
-    let mut plant = Plant::new(&spec, &geometry, &generators, external.as_ref(), &controls).map_err(in_setup)?;
-    let states_input = tool.states_file.as_ref().map(|p| read_states(p, &mut read)).transpose()?;
-    let source = match &states_input {
+    let mut plant = inputs.plant().map_err(in_setup)?;
+    let source = match &inputs.states {
         Some((table, file)) => InitialSource::File { table, file },
         None => InitialSource::Defaults,
     };
@@ -68,8 +52,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         let mut analyses = tool.clone();
         analyses.states_file = Some(SetupPath { written: states_file.display().to_string(), resolved: states_file.clone() });
         analyses.initial_time = start;
-        let analysed = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
-        let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses, name)?;
+        let tables = analyze_tool_tables(&inputs.analysed(), &states, &states_file, &analyses, name)?;
         files.extend(tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())));
         for warning in &tables.warnings {
             eprintln!("warning: {warning}");
@@ -86,10 +69,4 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         output.display()
     );
     Ok(Outcome::Success)
-}
-
-/// The setup's states file, read (it joins `read`).
-fn read_states(path: &SetupPath, read: &mut Vec<PathBuf>) -> Result<(StorageTable, PathBuf), Failure> {
-    read.push(path.resolved.clone());
-    Ok((StorageTable::read(&path.resolved)?, path.resolved.clone()))
 }
