@@ -10,7 +10,11 @@ _states_degrees.mot), for `osim-tune simulate` / `run` to reproduce:
   three muscles through a Sine, a StepFunction and a PiecewiseLinearFunction, and one of `ALL`
   muscles through constants) from its equilibrated default, 0–0.3 s, with the setup's own
   PrescribedController (an inline LinearFunction for /forceset/BICshort and the columns of
-  tool_controls.sto as linear GCV splines) and a point force on the hand from hand_load.xml.
+  tool_controls.sto as linear GCV splines) and a point force on the hand from hand_load.xml;
+* `ball_free`: ball_free.osim (built here: a top on a BallJoint below an offset in ground and a
+  brick on a FreeJoint, both starting at angles and spinning; a CoordinateActuator on the ball's
+  second coordinate driven by the model's PrescribedController through a Sine), 0–0.5 s under
+  gravity — the angles' rates from the angular velocity, 3D rigid-body dynamics.
 The integrator tolerance is 1e-9, so OpenSim's states are within ~1e-7 of the exact solution;
 the fixtures keep every 10th row OpenSim wrote (and the first and last).
 
@@ -19,6 +23,7 @@ Usage: python3 oracle/gen_forward_tool.py [case ...]
 import os
 import shutil
 import sys
+import tempfile
 from pathlib import Path
 
 import opensim as osim
@@ -101,8 +106,10 @@ def run(case, text, files):
         os.chdir(cwd)
     (folder / "arm26.osim").unlink()
     (folder / "opensim.log").unlink(missing_ok=True)
-    for output in ["arm26_states.sto", "arm26_controls.sto", "arm26_states_degrees.mot"]:
-        thin(folder / output)
+    for output in folder.glob("*_states.sto"):
+        thin(output)
+    for output in [*folder.glob("*_controls.sto"), *folder.glob("*_states_degrees.mot")]:
+        thin(output)
     print(case, sorted(p.name for p in folder.iterdir()))
 
 
@@ -184,6 +191,39 @@ def hand_load_motion():
     return f"hand_load\nversion=1\nnRows={len(rows)}\nnColumns=7\ninDegrees=no\nendheader\n{labels}\n" + "\n".join(rows) + "\n"
 
 
+def ball_free_model(folder):
+    """The `ball_free` model, printed to `folder` (the file's text is returned)."""
+    model = osim.Model()
+    model.setName("ball_free")
+    top = osim.Body("top", 2.0, osim.Vec3(0.02, -0.3, 0.01), osim.Inertia(0.02, 0.05, 0.03, 0.001, 0.002, -0.001))
+    brick = osim.Body("brick", 1.5, osim.Vec3(0.01, 0.02, -0.01), osim.Inertia(0.01, 0.02, 0.03, 0.0, 0.001, 0.0))
+    ball = osim.BallJoint("ball", model.getGround(), osim.Vec3(0, 1, 0), osim.Vec3(0.1, 0, 0), top, osim.Vec3(0, 0, 0), osim.Vec3(0, 0, 0))
+    free = osim.FreeJoint("free", model.getGround(), osim.Vec3(0.5, 0, 0), osim.Vec3(0, 0, 0.2), brick, osim.Vec3(0, 0, 0), osim.Vec3(0, 0, 0))
+    for body, joint in [(top, ball), (brick, free)]:
+        model.addBody(body)
+        model.addJoint(joint)
+    for joint, values, speeds in [(ball, [0.3, -0.2, 0.4], [2.0, -1.0, 3.0]), (free, [0.1, 0.2, -0.3, 0.0, 1.0, 0.0], [5.0, 1.0, -2.0, 0.5, 2.0, 0.0])]:
+        for k, (value, speed) in enumerate(zip(values, speeds)):
+            coordinate = joint.upd_coordinates(k)
+            coordinate.setDefaultValue(value)
+            coordinate.setDefaultSpeedValue(speed)
+    twist = osim.CoordinateActuator("ball_coord_1")
+    twist.setName("twist")
+    twist.setOptimalForce(2.0)
+    twist.setMinControl(-10)
+    twist.setMaxControl(10)
+    model.addForce(twist)
+    controller = osim.PrescribedController()
+    controller.setName("twister")
+    controller.addActuator(twist)
+    controller.prescribeControlForActuator("twist", osim.Sine(1.5, 12.0, 0.4, 0.2))
+    model.addController(controller)
+    model.finalizeConnections()
+    path = folder / "ball_free.osim"
+    model.printToXML(str(path))
+    return path.read_text()
+
+
 def main():
     excitations = [
         control_linear("TRIlong.excitation", [(0.0, 0.05), (0.1, 0.6), (0.3, 0.1)]),
@@ -200,6 +240,9 @@ def main():
         {"arm26_controls.xml": control_set(excitations), "motor_controls.xml": motor, "initial_states.sto": states, "elbow_actuator.xml": ELBOW_ACTUATOR})
     run("prescribed", setup("arm26", 0.3, model="arm26_prescribed.osim", objects=TOOL_PRESCRIBED, loads="hand_load.xml"),
         {"arm26_prescribed.osim": prescribed_model(), "tool_controls.sto": TOOL_CONTROLS, "hand_load.xml": HAND_LOAD, "hand_load.mot": hand_load_motion()})
+    with tempfile.TemporaryDirectory() as scratch:
+        model = ball_free_model(Path(scratch))
+    run("ball_free", setup("ball_free", 0.5, equilibrate=False, model="ball_free.osim", objects=""), {"ball_free.osim": model})
 
 
 if __name__ == "__main__":

@@ -1,8 +1,8 @@
 //! OpenSim 4.6's ForwardTool reproduced (`oracle/gen_forward_tool.py`): arm26 from its
 //! equilibrated default state under time-varying excitations, from a states file's row with an
 //! added CoordinateActuator under two controllers, and under the model's and the setup's
-//! PrescribedControllers with a force on the hand; and `simulate` / `run` writing OpenSim's
-//! files.
+//! PrescribedControllers with a force on the hand; a top on a BallJoint and a brick on a
+//! FreeJoint spinning under gravity; and `simulate` / `run` writing OpenSim's files.
 
 mod common;
 

@@ -10,7 +10,7 @@ use crate::io::table::StorageTable;
 use crate::setup::ForwardSetup;
 
 /// The ForwardTool golden cases.
-pub const FORWARD_TOOL_CASES: [&str; 3] = ["controls", "states", "prescribed"];
+pub const FORWARD_TOOL_CASES: [&str; 4] = ["controls", "states", "prescribed", "ball_free"];
 
 /// How far our simulation is from OpenSim's.
 #[derive(Debug, Clone, Default)]
