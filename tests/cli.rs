@@ -71,7 +71,15 @@ fn info_shows_the_assembled_default_pose() {
     let expected = format!("rocker_angle              -0.20000000 → {:>12.8}", golden["assembled"][rocker].as_f64().unwrap());
     assert!(stdout.contains("default pose, assembled as OpenSim's initSystem does") && stdout.contains(&expected), "{expected:?} not in {stdout}");
     let (_, plain, _) = osim_tune(&["info", s(&common::fixture("models/arm26.osim"))]);
-    assert!(plain.contains("default pose: the default values"), "{plain}");
+    assert!(plain.contains("default pose: the default values") && plain.contains("controllers (0): -"), "{plain}");
+}
+
+/// `info` lists the model's controllers and what they drive.
+#[test]
+fn info_lists_the_controllers() {
+    let (code, stdout, stderr) = osim_tune(&["info", s(&common::fixture("golden/forward_tool/prescribed/arm26_prescribed.osim"))]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("controllers (2):\n  PrescribedController p_model: TRIlong BIClong BRA (3 functions)\n  PrescribedController p_all: ALL (6 functions)\n"), "{stdout}");
 }
 
 /// Writes `text` to a file, runs `set` on it and checks the failure.

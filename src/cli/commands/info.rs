@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::cli::{Failure, Outcome};
 use crate::io::osim::OsimDocument;
 use crate::mechanics::Multibody;
-use crate::model::{CoordinateSpec, ModelSpec};
+use crate::model::{ControllerSpec, CoordinateSpec, ModelSpec};
 use crate::solvers::assembled_default_pose;
 
 /// What `info` reports.
@@ -28,7 +28,17 @@ struct Summary<'a> {
     markers: Vec<&'a str>,
     constraints: Vec<ConstraintLine<'a>>,
     wrap_objects: Vec<&'a str>,
+    /// Each enabled controller: `<class> <name>`, what it drives, and why osim-tune would not
+    /// apply it.
+    controllers: Vec<ControllerLine>,
     assembly: Assembly,
+}
+
+#[derive(Serialize)]
+struct ControllerLine {
+    controller: String,
+    drives: String,
+    unsupported: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -95,8 +105,22 @@ fn summarise<'a>(spec: &'a ModelSpec, file: &Path) -> Summary<'a> {
         markers: spec.markers.iter().map(|m| m.name.as_str()).collect(),
         constraints: spec.constraints.iter().map(|c| ConstraintLine { name: &c.name, class: &c.class, enforced: c.enforced }).collect(),
         wrap_objects: spec.wrap_objects.iter().map(|w| w.name.as_str()).collect(),
+        controllers: spec.controllers.iter().map(controller_line).collect(),
         assembly: assembly(spec),
     }
+}
+
+fn controller_line(controller: &ControllerSpec) -> ControllerLine {
+    let file = |file: &Option<std::path::PathBuf>| file.as_ref().map(|f| format!("the columns of {}", f.display()));
+    let (drives, unsupported) = match controller {
+        ControllerSpec::PrescribedController(p) => {
+            let listed = (!p.actuators.is_empty()).then(|| format!("{} ({} functions)", p.actuators.join(" "), p.functions.len()));
+            (listed.into_iter().chain(file(&p.controls_file)).collect::<Vec<_>>().join(" and "), None)
+        }
+        ControllerSpec::ControlSetController { controls_file, .. } => (file(controls_file).unwrap_or_default(), None),
+        ControllerSpec::Unsupported { reason, .. } => (String::new(), Some(reason.clone())),
+    };
+    ControllerLine { controller: controller.description(), drives, unsupported }
 }
 
 fn assembly(spec: &ModelSpec) -> Assembly {
@@ -148,6 +172,13 @@ fn render(summary: &Summary) -> String {
         text += &format!("  {:<24} {}{}\n", c.name, c.class, if c.enforced { "" } else { " (not enforced)" });
     }
     text += &format!("wrap objects ({}): {}\n", summary.wrap_objects.len(), list(&summary.wrap_objects));
+    text += &format!("controllers ({}):{}\n", summary.controllers.len(), if summary.controllers.is_empty() { " -" } else { "" });
+    for c in &summary.controllers {
+        match &c.unsupported {
+            Some(reason) => text += &format!("  {} (not applied by osim-tune: {reason})\n", c.controller),
+            None => text += &format!("  {}: {}\n", c.controller, c.drives),
+        }
+    }
     text += &render_assembly(&summary.assembly);
     text
 }
