@@ -43,7 +43,10 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
 * `degroote_equilibrium`, `degroote_rigid`: the same analyses on arm26's coordinates
   (`arm26_motion.mot`), equilibrated, with compliant and with rigid tendons;
 * `states_legacy`: the same states under OpenSim 3's labels (`r_shoulder_elev`,
-  `r_shoulder_elev_u`, `TRIlong.activation`, `TRIlong.fiber_length`), equilibrated.
+  `r_shoulder_elev_u`, `TRIlong.activation`, `TRIlong.fiber_length`), equilibrated;
+* `ball_free`: the ForwardTool golden's top on a BallJoint and brick on a FreeJoint from their
+  simulated states, its CoordinateActuator driven by the model's PrescribedController (a Sine):
+  the `states` analyses (angular-velocity speeds, the actuator's control from the controller).
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
@@ -53,9 +56,10 @@ u̇, position, velocity and acceleration tables (the kinematics and points cases
 accelerations are OpenSim's forward dynamics with the muscles at their default states), every
 reporter table.
 
-    python3 oracle/gen_analyze_tool.py
+    python3 oracle/gen_analyze_tool.py [case ...]   (named cases only: their inputs as they stand)
 """
 import shutil
+import sys
 import tempfile
 from pathlib import Path
 
@@ -80,6 +84,8 @@ INPUTS = {
     "residual_controls.sto": OUT / "controls" / "residual_controls.sto",
     "arm26_states.sto": OUT / "states" / "arm26_states.sto",
     "arm26_states_legacy.sto": OUT / "states_legacy" / "arm26_states_legacy.sto",
+    "ball_free.osim": REPO / "fixtures" / "golden" / "forward_tool" / "ball_free" / "ball_free.osim",
+    "ball_free_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "ball_free" / "ball_free_states.sto",
 }
 ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interval>3</step_interval></MuscleAnalysis>
 \t\t\t\t<Kinematics name="Kinematics"><on>true</on><step_interval>3</step_interval></Kinematics>
@@ -161,10 +167,11 @@ CASES = {
     "degroote_equilibrium": dict(range=(0.2, 0.4), cutoff=-1, equilibrium=True, model="arm26_degroote.osim", analyses=ARM, coordinates="arm26_motion.mot"),
     "degroote_rigid": dict(range=(0.2, 0.4), cutoff=-1, equilibrium=True, model="arm26_degroote_rigid.osim", analyses=ARM, coordinates="arm26_motion.mot"),
     "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
+    "ball_free": dict(range=(0.0, 0.5), cutoff=-1, model="ball_free.osim", analyses=ARM, states="ball_free_states.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free")
 
 
 def kept(case, table):
@@ -264,9 +271,11 @@ def write_controls():
 
 def main():
     osim.Logger.setLevelString("error")
-    write_states()
-    write_controls()
-    for case in CASES:
+    wanted = sys.argv[1:]
+    if not wanted:
+        write_states()
+        write_controls()
+    for case in (c for c in CASES if not wanted or c in wanted):
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)
         (out / "setup.xml").write_text(setup_text(case))

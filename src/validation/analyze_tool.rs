@@ -24,15 +24,16 @@ use crate::setup::{read_document, AnalyzeSetup};
 /// static optimisation's residual actuators, and those driven by two ControlSetControllers (a
 /// ControlSet and a table); arm26 from a states file (OpenSim's forward simulation) under OpenSim
 /// 4's and OpenSim 3's labels; arm26 with DeGroote muscles from a states file, and equilibrated
-/// with compliant and rigid tendons.
-pub const ANALYZE_TOOL_CASES: [&str; 16] = [
+/// with compliant and rigid tendons; a Ball and a Free joint from simulated states, a
+/// CoordinateActuator driven by the model's PrescribedController.
+pub const ANALYZE_TOOL_CASES: [&str; 17] = [
     "all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote",
-    "degroote_equilibrium", "degroote_rigid",
+    "degroote_equilibrium", "degroote_rigid", "ball_free",
 ];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
 /// where the repository keeps them.
-pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 15] = [
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 17] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
@@ -48,6 +49,8 @@ pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 15] = [
     ("residual_controls.sto", "fixtures/golden/analyze_tool/controls/residual_controls.sto"),
     ("arm26_states.sto", "fixtures/golden/analyze_tool/states/arm26_states.sto"),
     ("arm26_states_legacy.sto", "fixtures/golden/analyze_tool/states_legacy/arm26_states_legacy.sto"),
+    ("ball_free.osim", "fixtures/golden/forward_tool/ball_free/ball_free.osim"),
+    ("ball_free_states.sto", "fixtures/golden/forward_tool/ball_free/ball_free_states.sto"),
 ];
 
 /// Where the repository at `root` keeps the input a golden setup names `written`.
