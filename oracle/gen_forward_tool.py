@@ -14,13 +14,19 @@ _states_degrees.mot), for `osim-tune simulate` / `run` to reproduce:
 * `ball_free`: ball_free.osim (built here: a top on a BallJoint below an offset in ground and a
   brick on a FreeJoint, both starting at angles and spinning; a CoordinateActuator on the ball's
   second coordinate driven by the model's PrescribedController through a Sine), 0–0.5 s under
-  gravity — the angles' rates from the angular velocity, 3D rigid-body dynamics.
-The integrator tolerance is 1e-9, so OpenSim's states are within ~1e-7 of the exact solution;
-the fixtures keep every 10th row OpenSim wrote (and the first and last).
+  gravity — the angles' rates from the angular velocity, 3D rigid-body dynamics;
+* `ellipsoid`: fixtures/models/ellipsoid_joints.osim (a scapula on a ScapulothoracicJoint, an arm
+  on an EllipsoidJoint, a Millard muscle across both) falling from its default pose, muscle
+  equilibrated, 0–0.3 s; its light bodies whirl at up to 17 rad/s, so the tolerance is 1e-12
+  (at 1e-9 two correct integrators part by 2e-4 rad) and every 100th row is kept.
+The integrator tolerance is 1e-9 (1e-12 for `ellipsoid`), so OpenSim's states are within ~1e-7 of
+the exact solution; the fixtures keep every 10th row OpenSim wrote (100th for `ellipsoid`; and the
+first and last).
 
 Usage: python3 oracle/gen_forward_tool.py [case ...]
 """
 import os
+import re
 import shutil
 import sys
 import tempfile
@@ -44,7 +50,7 @@ def control_set(controls):
             f'<ControlSet name="controls"><objects>{"".join(controls)}</objects></ControlSet>\n</OpenSimDocument>\n')
 
 
-def setup(name, final, initial=0.0, equilibrate=True, controllers=(), states="", force_sets="", model="arm26.osim", objects=None, loads=""):
+def setup(name, final, initial=0.0, equilibrate=True, controllers=(), states="", force_sets="", model="arm26.osim", objects=None, loads="", tolerance="1e-09", steps=20000):
     if objects is None:
         objects = "".join(f'<ControlSetController name="c{i}"><controls_file>{c}</controls_file></ControlSetController>' for i, c in enumerate(controllers))
     return f"""<?xml version="1.0" encoding="UTF-8" ?>
@@ -58,10 +64,10 @@ def setup(name, final, initial=0.0, equilibrate=True, controllers=(), states="",
 \t\t<initial_time>{initial}</initial_time>
 \t\t<final_time>{final}</final_time>
 \t\t<solve_for_equilibrium_for_auxiliary_states>{str(equilibrate).lower()}</solve_for_equilibrium_for_auxiliary_states>
-\t\t<maximum_number_of_integrator_steps>20000</maximum_number_of_integrator_steps>
+\t\t<maximum_number_of_integrator_steps>{steps}</maximum_number_of_integrator_steps>
 \t\t<maximum_integrator_step_size>1</maximum_integrator_step_size>
 \t\t<minimum_integrator_step_size>1e-08</minimum_integrator_step_size>
-\t\t<integrator_error_tolerance>1e-09</integrator_error_tolerance>
+\t\t<integrator_error_tolerance>{tolerance}</integrator_error_tolerance>
 \t\t<AnalysisSet name="Analyses"><objects /></AnalysisSet>
 \t\t<ControllerSet name="Controllers"><objects>{objects}</objects></ControllerSet>
 \t\t<external_loads_file>{loads}</external_loads_file>
@@ -87,13 +93,16 @@ ELBOW_ACTUATOR = """<?xml version="1.0" encoding="UTF-8" ?>
 """
 
 
-def run(case, text, files):
+def run(case, text, files, every=10):
     if sys.argv[1:] and case not in sys.argv[1:]:
         return
     folder = OUT / case
     shutil.rmtree(folder, ignore_errors=True)
     folder.mkdir(parents=True)
-    shutil.copy(REPO / "fixtures" / "models" / "arm26.osim", folder / "arm26.osim")
+    model = re.search(r"<model_file>(.*)</model_file>", text).group(1)
+    shared = REPO / "fixtures" / "models" / model
+    if model not in files:
+        shutil.copy(shared, folder / model)
     for name, content in files.items():
         (folder / name).write_text(content)
     (folder / "setup.xml").write_text(text)
@@ -104,12 +113,11 @@ def run(case, text, files):
         assert tool.run(), case
     finally:
         os.chdir(cwd)
-    (folder / "arm26.osim").unlink()
+    if model not in files:
+        (folder / model).unlink()
     (folder / "opensim.log").unlink(missing_ok=True)
-    for output in folder.glob("*_states.sto"):
-        thin(output)
-    for output in [*folder.glob("*_controls.sto"), *folder.glob("*_states_degrees.mot")]:
-        thin(output)
+    for output in [*folder.glob("*_states.sto"), *folder.glob("*_controls.sto"), *folder.glob("*_states_degrees.mot")]:
+        thin(output, every)
     print(case, sorted(p.name for p in folder.iterdir()))
 
 
@@ -243,6 +251,7 @@ def main():
     with tempfile.TemporaryDirectory() as scratch:
         model = ball_free_model(Path(scratch))
     run("ball_free", setup("ball_free", 0.5, equilibrate=False, model="ball_free.osim", objects=""), {"ball_free.osim": model})
+    run("ellipsoid", setup("ellipsoid", 0.3, model="ellipsoid_joints.osim", objects="", tolerance="1e-12", steps=200000), {}, every=100)
 
 
 if __name__ == "__main__":

@@ -551,8 +551,8 @@ pub enum Command {
     /// most maximum_integrator_step_size, at most maximum_number_of_integrator_steps. Writes
     /// DIR/<name>_states.sto (every state after every step, OpenSim's labels),
     /// <name>_states_degrees.mot and <name>_controls.sto, and the tables of the AnalysisSet's
-    /// analyses `analyze --setup` runs, formed from those states. A Ball or Free joint's angles
-    /// turn at the rates its angular velocity gives them; ellipsoid glides are refused. Exit 0 success, 1 the integration failed (nothing written), 2 error.
+    /// analyses `analyze --setup` runs, formed from those states. A Ball, Free or ellipsoid
+    /// joint's angles turn at the rates its angular velocity gives them. Exit 0 success, 1 the integration failed (nothing written), 2 error.
     Simulate {
         /// The model (.osim).
         model: PathBuf,

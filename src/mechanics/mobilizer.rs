@@ -103,24 +103,20 @@ impl Mobilizer {
         }
     }
 
-    /// The rates q̇ of the joint's coordinates `q` moving at speeds `u`: q̇ = u but for Ball
-    /// and Free rotations, whose body-fixed X-Y-Z angles turn at E(q)⁻¹ω for the angular
-    /// velocity ω in F (Simbody's `convertAngVelInParentToBodyXYZDot`; NaN at gimbal lock, the
-    /// middle angle at ±90°). `None` for the ellipsoid glides, whose map osim-tune lacks.
-    pub fn coordinate_rates(&self, q: &[f64], u: &[f64]) -> Option<Vec<f64>> {
+    /// The rates q̇ of the joint's coordinates `q` moving at speeds `u`: q̇ = u but for the
+    /// first three of Ball, Free and the ellipsoid glides, body-fixed X-Y-Z angles that turn at
+    /// E(q)⁻¹ω for the angular velocity ω in F (Simbody's `convertAngVelInParentToBodyXYZDot`;
+    /// NaN at gimbal lock, the middle angle at ±90°).
+    pub fn coordinate_rates(&self, q: &[f64], u: &[f64]) -> Vec<f64> {
         let mut rates = u.to_vec();
-        match self {
-            Mobilizer::Ball | Mobilizer::Free => {
-                let mut partials = [PartialVelocity::ZERO; 3];
-                euler_xyz_rates(q, &mut partials);
-                let e = Mat3::from_columns(&partials.map(|p| p.angular));
-                let rotation = e.lu().solve(&Vec3::new(u[0], u[1], u[2])).unwrap_or_else(|| Vec3::repeat(f64::NAN));
-                rates[..3].copy_from_slice(rotation.as_slice());
-            }
-            Mobilizer::Ellipsoid(_) | Mobilizer::Scapulothoracic(_) => return None,
-            _ => {}
+        if self.angular_velocity_speeds() == 3 {
+            let mut partials = [PartialVelocity::ZERO; 3];
+            euler_xyz_rates(q, &mut partials);
+            let e = Mat3::from_columns(&partials.map(|p| p.angular));
+            let rotation = e.lu().solve(&Vec3::new(u[0], u[1], u[2])).unwrap_or_else(|| Vec3::repeat(f64::NAN));
+            rates[..3].copy_from_slice(rotation.as_slice());
         }
-        Some(rates)
+        rates
     }
 
     /// X_FM for the joint's coordinate values `q`.
@@ -212,13 +208,13 @@ mod tests {
     use approx::assert_relative_eq;
 
     /// A Ball's angles turning at their rates q̇ turn M at the angular velocity u (in F):
-    /// R(q + hq̇)·R(q − hq̇)ᵀ's antisymmetric part is 2h[u]× to O(h³); a Free joint's
-    /// translations move at u.
+    /// R(q + hq̇)·R(q − hq̇)ᵀ's antisymmetric part is 2h[u]× to O(h³) (an ellipsoid glide's
+    /// angles likewise); a Free joint's translations move at u.
     #[test]
     fn ball_and_free_angles_turn_at_the_angular_velocity() {
         let q = [0.3, -0.7, 1.1, 0.2, -0.4, 0.5];
         let u = [2.0, -1.0, 3.0, 0.5, 2.0, -0.3];
-        let rates = Mobilizer::Free.coordinate_rates(&q, &u).unwrap();
+        let rates = Mobilizer::Free.coordinate_rates(&q, &u);
         assert_eq!(rates[3..], u[3..]);
         let h = 1e-5;
         let at = |sign: f64| body_fixed_xyz([0, 1, 2].map(|k| q[k] + sign * h * rates[k]));
@@ -226,8 +222,10 @@ mod tests {
         let turn = (product - product.transpose()) / (4.0 * h);
         let omega = Vec3::new(turn[(2, 1)], turn[(0, 2)], turn[(1, 0)]);
         assert_relative_eq!(omega, Vec3::new(u[0], u[1], u[2]), epsilon = 1e-8);
-        assert_eq!(Mobilizer::Ball.coordinate_rates(&q[..3], &u[..3]).unwrap(), rates[..3]);
-        assert_eq!(Mobilizer::Pin.coordinate_rates(&[0.4], &[1.5]).unwrap(), [1.5]);
+        assert_eq!(Mobilizer::Ball.coordinate_rates(&q[..3], &u[..3]), rates[..3]);
+        assert_eq!(Mobilizer::Pin.coordinate_rates(&[0.4], &[1.5]), [1.5]);
+        let glide = Mobilizer::Ellipsoid(Ellipsoid { radii: Vec3::new(0.03, 0.04, 0.05) });
+        assert_eq!(glide.coordinate_rates(&q[..3], &u[..3]), rates[..3]);
     }
 
     /// Central differences of X_FM along q̇ = `qdot(k)` against the analytic partial velocity

@@ -206,19 +206,17 @@ impl Multibody {
         }
     }
 
-    /// Every coordinate's rate q̇ at `q` moving at speeds `u` (q̇ = u but for Ball and Free
-    /// rotations, see [`Mobilizer::coordinate_rates`]); `Err` names a joint whose map osim-tune
-    /// lacks (the ellipsoid glides).
-    pub fn coordinate_rates(&self, q: &[f64], u: &[f64]) -> Result<Vec<f64>, String> {
+    /// Every coordinate's rate q̇ at `q` moving at speeds `u` (q̇ = u but for the angles of
+    /// Ball, Free and ellipsoid joints, see [`Mobilizer::coordinate_rates`]).
+    pub fn coordinate_rates(&self, q: &[f64], u: &[f64]) -> Vec<f64> {
         let mut rates = u.to_vec();
         for joint in self.joints.iter().filter(|j| j.mobilizer.angular_velocity_speeds() > 0) {
             let own = |values: &[f64]| joint.coordinates.iter().map(|&c| values[c]).collect::<Vec<f64>>();
-            let joint_rates = joint.mobilizer.coordinate_rates(&own(q), &own(u)).ok_or_else(|| format!("joint {}'s coordinate rates (an ellipsoid glide) are not known to osim-tune", joint.name))?;
-            for (&c, rate) in joint.coordinates.iter().zip(joint_rates) {
+            for (&c, rate) in joint.coordinates.iter().zip(joint.mobilizer.coordinate_rates(&own(q), &own(u))) {
                 rates[c] = rate;
             }
         }
-        Ok(rates)
+        rates
     }
 
     /// Whether a coupler makes `coordinate` its dependent one.

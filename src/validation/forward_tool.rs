@@ -10,7 +10,7 @@ use crate::io::table::StorageTable;
 use crate::setup::ForwardSetup;
 
 /// The ForwardTool golden cases.
-pub const FORWARD_TOOL_CASES: [&str; 4] = ["controls", "states", "prescribed", "ball_free"];
+pub const FORWARD_TOOL_CASES: [&str; 5] = ["controls", "states", "prescribed", "ball_free", "ellipsoid"];
 
 /// How far our simulation is from OpenSim's.
 #[derive(Debug, Clone, Default)]
@@ -25,6 +25,8 @@ pub struct ForwardToolComparison {
     pub control: f64,
     /// Our initial time against OpenSim's (s).
     pub start: [f64; 2],
+    /// The setup's integrator error tolerance, which both simulations held.
+    pub tolerance: f64,
 }
 
 /// Runs golden `case` under `root` and compares it with OpenSim's files.
@@ -47,7 +49,7 @@ pub fn compare_forward_tool(root: &Path, case: &str) -> Result<ForwardToolCompar
     if opensim.labels() != labels.as_slice() {
         return Err(format!("{case}: OpenSim's state labels {:?}, ours {labels:?}", opensim.labels()));
     }
-    let mut comparison = ForwardToolComparison { rows: opensim.n_rows(), start: [start, opensim.times()[0]], ..ForwardToolComparison::default() };
+    let mut comparison = ForwardToolComparison { rows: opensim.n_rows(), start: [start, opensim.times()[0]], tolerance: setup.integrator.error_tolerance, ..ForwardToolComparison::default() };
     for row in opensim.rows() {
         let ours = state_values(&plant, &simulation.at(&plant, row[0]));
         for ((label, theirs), ours) in labels[1..].iter().zip(&row[1..]).zip(ours) {

@@ -1,7 +1,7 @@
 //! OpenSim's ForwardTool: the model's forward dynamics integrated from an initial state under
 //! its controllers' controls. The states are the free coordinates' values and speeds (neither
-//! locked nor a coupler's dependent; q̇ = u, but a Ball or Free joint's angles turn at the rates
-//! its angular velocity gives them), each muscle's activation (its activation dynamics
+//! locked nor a coupler's dependent; q̇ = u, but a Ball, Free or ellipsoid joint's angles turn at
+//! the rates its angular velocity gives them), each muscle's activation (its activation dynamics
 //! driven by its excitation, the control) and second state (fiber length moving at the velocity
 //! that balances fiber and tendon, or a DeGroote muscle's normalized tendon force); u̇ is the
 //! model's forward dynamics ([`crate::mechanics::Multibody::accelerations`]) under every

@@ -58,11 +58,9 @@ pub(super) struct Workspace {
 impl<'a> Plant<'a> {
     /// The plant of `spec` (`geometry` its paths) with `generators` (the model's muscles and
     /// actuators that apply force), `external` loads and `controls`, its locked coordinates held
-    /// at their defaults ([`Plant::hold`] moves them). Ellipsoid glides (whose q̇ from u we lack)
-    /// are refused, as is a muscle we cannot simulate.
+    /// at their defaults ([`Plant::hold`] moves them). A muscle we cannot simulate is refused.
     pub fn new(spec: &'a ModelSpec, geometry: &'a MuscleGeometry, generators: &'a [Generator], external: Option<&'a ExternalLoads>, controls: &'a Controllers) -> Result<Plant<'a>, SimulationError> {
         let multibody = &geometry.multibody;
-        multibody.coordinate_rates(&multibody.default_pose(), &vec![0.0; multibody.coordinates.len()]).map_err(|e| SimulationError::Model(format!("{}: {e}", spec.file.display())))?;
         let names: Vec<String> = generators.iter().filter(|g| g.muscle_path().is_some()).map(|g| g.name.clone()).collect();
         let muscles = driven_muscles(spec, geometry, &names, false).map_err(|e| SimulationError::Model(e.to_string()))?;
         let muscle_of: Vec<Option<usize>> = generators.iter().map(|g| muscles.iter().position(|m| m.name == g.name)).collect();
@@ -172,7 +170,7 @@ impl<'a> Plant<'a> {
             generator.apply(self.geometry, &work.kinematics, q, &mut work.scratch, force, &mut applied);
         }
         let udot = multibody.accelerations(&work.kinematics, q, u, &applied.loads, &applied.mobility).map_err(|e| e.to_string())?;
-        let qdot = multibody.coordinate_rates(q, u)?;
+        let qdot = multibody.coordinate_rates(q, u);
         let n = self.free.len();
         for (i, &c) in self.free.iter().enumerate() {
             dy[i] = qdot[c];
