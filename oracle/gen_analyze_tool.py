@@ -46,7 +46,11 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
   `r_shoulder_elev_u`, `TRIlong.activation`, `TRIlong.fiber_length`), equilibrated;
 * `ball_free`: the ForwardTool golden's top on a BallJoint and brick on a FreeJoint from their
   simulated states, its CoordinateActuator driven by the model's PrescribedController (a Sine):
-  the `states` analyses (angular-velocity speeds, the actuator's control from the controller).
+  the `states` analyses (angular-velocity speeds, the actuator's control from the controller);
+* `ellipsoid`: the ForwardTool golden's ScapulothoracicJoint and EllipsoidJoint from their
+  simulated states (the Millard muscle's activation state driven below 0, which OpenSim clamps),
+  the `states` analyses — the scapulothoracic reaction on the thorax as OpenSim takes it, about
+  the child frame's origin (the weld carrying the scapula on a massless winging body).
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
@@ -86,6 +90,8 @@ INPUTS = {
     "arm26_states_legacy.sto": OUT / "states_legacy" / "arm26_states_legacy.sto",
     "ball_free.osim": REPO / "fixtures" / "golden" / "forward_tool" / "ball_free" / "ball_free.osim",
     "ball_free_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "ball_free" / "ball_free_states.sto",
+    "ellipsoid_joints.osim": REPO / "fixtures" / "models" / "ellipsoid_joints.osim",
+    "ellipsoid_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "ellipsoid" / "ellipsoid_states.sto",
 }
 ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interval>3</step_interval></MuscleAnalysis>
 \t\t\t\t<Kinematics name="Kinematics"><on>true</on><step_interval>3</step_interval></Kinematics>
@@ -168,10 +174,11 @@ CASES = {
     "degroote_rigid": dict(range=(0.2, 0.4), cutoff=-1, equilibrium=True, model="arm26_degroote_rigid.osim", analyses=ARM, coordinates="arm26_motion.mot"),
     "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
     "ball_free": dict(range=(0.0, 0.5), cutoff=-1, model="ball_free.osim", analyses=ARM, states="ball_free_states.sto"),
+    "ellipsoid": dict(range=(0.0, 0.3), cutoff=-1, model="ellipsoid_joints.osim", analyses=ARM, states="ellipsoid_states.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid")
 
 
 def kept(case, table):

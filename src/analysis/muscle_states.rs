@@ -126,7 +126,9 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
                 },
                 _ => start,
             };
-            let report = held.muscle.state(activation, variable.second.unwrap_or(0.0), length, speed);
+            // OpenSim's `getActivation` clamps the state (a forward simulation can carry it past
+            // its bounds); the muscle then holds it at its minimum activation.
+            let report = held.muscle.state(activation.clamp(0.0, 1.0), variable.second.unwrap_or(0.0), length, speed);
             reports.push(report.map_err(|e| warn("not evaluated (NaN)", e)).ok());
             variables.push(variable);
         }

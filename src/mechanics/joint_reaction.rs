@@ -6,6 +6,7 @@
 //! subtree cancel.
 
 use super::inverse_dynamics::{BodyLoad, MotionState};
+use super::mobilizer::Mobilizer;
 use super::motion_rates::TransformRates;
 use super::multibody::Multibody;
 use super::spatial::Vec3;
@@ -21,13 +22,17 @@ pub struct JointReaction {
     pub child_origin: Vec3,
     /// The joint's parent frame origin (Simbody's F), m.
     pub parent_origin: Vec3,
+    /// The point the load on the parent is taken about (m): `parent_origin`, but the child
+    /// origin for a `ScapulothoracicJoint`, whose reaction on the parent OpenSim reads from the
+    /// weld that carries the scapula on a massless winging body.
+    pub parent_moment_point: Vec3,
 }
 
 impl JointReaction {
     /// The load on the parent: the opposite force, and the opposite moment about
-    /// `parent_origin`.
+    /// `parent_moment_point`.
     pub fn on_parent(&self) -> (Vec3, Vec3) {
-        let moment = self.moment + (self.child_origin - self.parent_origin).cross(&self.force);
+        let moment = self.moment + (self.child_origin - self.parent_moment_point).cross(&self.force);
         (-self.force, -moment)
     }
 }
@@ -51,7 +56,8 @@ impl Multibody {
             .map(|(j, joint)| {
                 let (force, moment) = subtree[joint.child];
                 let (child_origin, parent_origin) = self.joint_origins(&motions, j);
-                JointReaction { force, moment: moment - child_origin.cross(&force), child_origin, parent_origin }
+                let parent_moment_point = if matches!(joint.mobilizer, Mobilizer::Scapulothoracic(_)) { child_origin } else { parent_origin };
+                JointReaction { force, moment: moment - child_origin.cross(&force), child_origin, parent_origin, parent_moment_point }
             })
             .collect()
     }
@@ -105,7 +111,7 @@ mod tests {
 
     #[test]
     fn the_parent_gets_the_opposite_load() {
-        let reaction = JointReaction { force: Vec3::new(1.0, 2.0, 3.0), moment: Vec3::new(0.1, 0.0, 0.0), child_origin: Vec3::new(0.0, 1.0, 0.0), parent_origin: Vec3::zeros() };
+        let reaction = JointReaction { force: Vec3::new(1.0, 2.0, 3.0), moment: Vec3::new(0.1, 0.0, 0.0), child_origin: Vec3::new(0.0, 1.0, 0.0), parent_origin: Vec3::zeros(), parent_moment_point: Vec3::zeros() };
         let (force, moment) = reaction.on_parent();
         assert_relative_eq!(force, -reaction.force);
         // The parent's moment about its origin: −(m + r × f) with r from F to M.

@@ -25,15 +25,16 @@ use crate::setup::{read_document, AnalyzeSetup};
 /// ControlSet and a table); arm26 from a states file (OpenSim's forward simulation) under OpenSim
 /// 4's and OpenSim 3's labels; arm26 with DeGroote muscles from a states file, and equilibrated
 /// with compliant and rigid tendons; a Ball and a Free joint from simulated states, a
-/// CoordinateActuator driven by the model's PrescribedController.
-pub const ANALYZE_TOOL_CASES: [&str; 17] = [
+/// CoordinateActuator driven by the model's PrescribedController; a Scapulothoracic and an
+/// Ellipsoid joint from simulated states (an activation state below 0).
+pub const ANALYZE_TOOL_CASES: [&str; 18] = [
     "all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote",
-    "degroote_equilibrium", "degroote_rigid", "ball_free",
+    "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid",
 ];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
 /// where the repository keeps them.
-pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 17] = [
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 19] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
@@ -51,6 +52,8 @@ pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 17] = [
     ("arm26_states_legacy.sto", "fixtures/golden/analyze_tool/states_legacy/arm26_states_legacy.sto"),
     ("ball_free.osim", "fixtures/golden/forward_tool/ball_free/ball_free.osim"),
     ("ball_free_states.sto", "fixtures/golden/forward_tool/ball_free/ball_free_states.sto"),
+    ("ellipsoid_joints.osim", "fixtures/models/ellipsoid_joints.osim"),
+    ("ellipsoid_states.sto", "fixtures/golden/forward_tool/ellipsoid/ellipsoid_states.sto"),
 ];
 
 /// Where the repository at `root` keeps the input a golden setup names `written`.
