@@ -18,7 +18,11 @@ _states_degrees.mot), for `osim-tune simulate` / `run` to reproduce:
 * `ellipsoid`: fixtures/models/ellipsoid_joints.osim (a scapula on a ScapulothoracicJoint, an arm
   on an EllipsoidJoint, a Millard muscle across both) falling from its default pose, muscle
   equilibrated, 0–0.3 s; its light bodies whirl at up to 17 rad/s, so the tolerance is 1e-12
-  (at 1e-9 two correct integrators part by 2e-4 rad) and every 100th row is kept.
+  (at 1e-9 two correct integrators part by 2e-4 rad) and every 100th row is kept;
+* `linked`: fixtures/models/linked_mechanisms.osim (a point, a constant-distance, a
+  point-on-line and a weld constraint and a coupler closing loops of Ball, Free, Pin and Slider
+  joints; Millard muscles) moving from its assembled default pose under gravity, muscles
+  equilibrated, 0–0.3 s; every 20th row kept.
 The integrator tolerance is 1e-9 (1e-12 for `ellipsoid`), so OpenSim's states are within ~1e-7 of
 the exact solution; the fixtures keep every 10th row OpenSim wrote (100th for `ellipsoid`; and the
 first and last).
@@ -252,6 +256,7 @@ def main():
         model = ball_free_model(Path(scratch))
     run("ball_free", setup("ball_free", 0.5, equilibrate=False, model="ball_free.osim", objects=""), {"ball_free.osim": model})
     run("ellipsoid", setup("ellipsoid", 0.3, model="ellipsoid_joints.osim", objects="", tolerance="1e-12", steps=200000), {}, every=100)
+    run("linked", setup("linked", 0.3, model="linked_mechanisms.osim", objects=""), {}, every=20)
 
 
 if __name__ == "__main__":

@@ -3,7 +3,8 @@
 //! added CoordinateActuator under two controllers, and under the model's and the setup's
 //! PrescribedControllers with a force on the hand; a top on a BallJoint and a brick on a
 //! FreeJoint spinning under gravity; a scapula on a ScapulothoracicJoint and an arm on an
-//! EllipsoidJoint falling; and `simulate` / `run` writing OpenSim's files.
+//! EllipsoidJoint falling; closed loops held by point, distance, point-on-line and weld
+//! constraints; and `simulate` / `run` writing OpenSim's files.
 
 mod common;
 

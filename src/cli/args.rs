@@ -545,9 +545,10 @@ pub enum Command {
     /// their default activation and fiber length) or the setup's states_file row at or before
     /// initial_time, muscles equilibrated when solve_for_equilibrium_for_auxiliary_states; every
     /// muscle excited and every other actuator controlled by the model's and the setup's
-    /// ControlSetControllers and PrescribedControllers (their controls add; 0 without one), through its activation and fiber dynamics; the
-    /// force-set files' actuators added, external loads applied; locked coordinates held,
-    /// couplers exact. Dormand–Prince 5(4) at integrator_error_tolerance per state, steps of at
+    /// ControlSetControllers and PrescribedControllers (their controls add; 0 without one),
+    /// through its activation and fiber dynamics; the force-set files' actuators added, external
+    /// loads applied; locked coordinates held, couplers exact, point, distance, point-on-line and
+    /// weld constraints held at the acceleration level (no projection of drift). Dormand–Prince 5(4) at integrator_error_tolerance per state, steps of at
     /// most maximum_integrator_step_size, at most maximum_number_of_integrator_steps. Writes
     /// DIR/<name>_states.sto (every state after every step, OpenSim's labels),
     /// <name>_states_degrees.mot and <name>_controls.sto, and the tables of the AnalysisSet's

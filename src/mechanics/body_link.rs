@@ -9,6 +9,8 @@
 //! two unit normals of the line fixed in the line body (m); Weld, the second frame's origin
 //! from the first's (m) then Simbody's ConstantOrientation errors x₁·y₂, y₁·z₂, z₁·x₂.
 
+use nalgebra::DMatrix;
+
 use super::error::MechanicsError;
 use super::kinematics::Kinematics;
 use super::multibody::{Marker, Multibody};
@@ -140,6 +142,30 @@ impl BodyLink {
                 [RateTerm { body: b1, point: p1, linear: zero, angular: axis }, RateTerm { body: b2, point: p2, linear: zero, angular: -axis }]
             }
         }
+    }
+}
+
+impl Multibody {
+    /// The links' velocity rows G at the realized pose: row r's entry for coordinate c is the
+    /// rate of link error r per unit speed of c (the links in order, each's rows in order).
+    pub fn link_jacobian(&self, kinematics: &Kinematics) -> DMatrix<f64> {
+        let n = self.coordinates.len();
+        let rows: usize = self.links.iter().map(BodyLink::rows).sum();
+        let mut g = DMatrix::zeros(rows, n);
+        let mut row = 0;
+        for link in &self.links {
+            for link_row in 0..link.rows() {
+                for term in link.rate_terms(kinematics, link_row) {
+                    for c in 0..n {
+                        let velocity = kinematics.point_partial(self, term.body, &term.point, c);
+                        let angular = if self.is_moved_by(term.body, self.coordinate_joint(c)) { kinematics.axes[c].angular } else { Vec3::zeros() };
+                        g[(row, c)] += term.linear.dot(&velocity) + term.angular.dot(&angular);
+                    }
+                }
+                row += 1;
+            }
+        }
+        g
     }
 }
 

@@ -11,7 +11,6 @@ use super::error::MechanicsError;
 use super::function::Function;
 use super::kinematics::Kinematics;
 use super::multibody::Multibody;
-use super::spatial::Vec3;
 use crate::model::{CoordinateSpec, ModelSpec};
 
 /// One enforced coupler, by coordinate index.
@@ -185,17 +184,7 @@ fn velocity_constraints(multibody: &Multibody, kinematics: &Kinematics, q: &[f64
         g[(row, c)] = 1.0;
         row += 1;
     }
-    for link in &multibody.links {
-        for link_row in 0..link.rows() {
-            for term in link.rate_terms(kinematics, link_row) {
-                for c in 0..n {
-                    let velocity = kinematics.point_partial(multibody, term.body, &term.point, c);
-                    let angular = if multibody.is_moved_by(term.body, multibody.coordinate_joint(c)) { kinematics.axes[c].angular } else { Vec3::zeros() };
-                    g[(row, c)] += term.linear.dot(&velocity) + term.angular.dot(&angular);
-                }
-            }
-            row += 1;
-        }
-    }
+    let links = multibody.link_jacobian(kinematics);
+    g.rows_mut(row, links.nrows()).copy_from(&links);
     g
 }

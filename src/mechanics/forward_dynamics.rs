@@ -5,8 +5,12 @@
 //!
 //! Both M and h come from inverse dynamics: column k of M is the generalized force of a unit
 //! u̇_k at rest without gravity, h the generalized force of zero u̇ with gravity and the applied
-//! body loads. The constraints leave u̇ = P·v + p₀ over the free speeds v, and
-//! Pᵀ(M·(P·v + p₀) + h − τ) = 0 is solved by Cholesky.
+//! body loads. The locks and couplers leave u̇ = P·v + p₀ over the free speeds v, and
+//! Pᵀ(M·(P·v + p₀) + h − τ) = 0 is solved by Cholesky. Links between bodies (point, distance,
+//! point-on-line and weld constraints) hold at the acceleration level, G·u̇ + Ġ·u = 0 with G the
+//! links' velocity rows ([`Multibody::link_jacobian`]), their forces Gᵀλ doing no work: the
+//! Schur complement S = (GP)·A⁻¹·(GP)ᵀ of A = PᵀMP gives λ (least squares where links are
+//! redundant, as Simbody tolerates). Ġ·u is G's rate along q̇ by a central difference.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -15,6 +19,14 @@ use super::kinematics::Kinematics;
 use super::multibody::Multibody;
 use super::spatial::Vec3;
 
+/// Singular values of the links' Schur complement below this fraction of its norm are
+/// redundant links' (their multipliers left at the least-squares solution).
+const LINK_RANK_TOLERANCE: f64 = 1e-12;
+
+/// The time step (s, per unit of the fastest coordinate rate) of Ġ·u's central difference:
+/// truncation ~h² and rounding ~ε/h both near 1e-10 of G·u's scale.
+const LINK_RATE_STEP: f64 = 1e-6;
+
 /// Why no accelerations were found.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ForwardDynamicsError {
@@ -22,7 +34,7 @@ pub enum ForwardDynamicsError {
     Singular,
     #[error("coordinate {0:?} is prescribed; prescribed motion is not supported")]
     Prescribed(String),
-    #[error("the model's constraints {} are enforced; only CoordinateCouplerConstraints are applied", .0.join(", "))]
+    #[error("the model's constraints {} are enforced; only CoordinateCouplerConstraints and links between bodies are applied", .0.join(", "))]
     Constraints(Vec<String>),
 }
 
@@ -55,17 +67,42 @@ impl Multibody {
         if let Some(c) = self.coordinates.iter().find(|c| c.prescribed && !c.locked) {
             return Err(ForwardDynamicsError::Prescribed(c.name.clone()));
         }
-        let refused = self.constraints_dynamics_refuses();
-        if !refused.is_empty() {
-            return Err(ForwardDynamicsError::Constraints(refused));
+        if !self.unheld_constraints.is_empty() {
+            return Err(ForwardDynamicsError::Constraints(self.unheld_constraints.clone()));
         }
         let bias = DVector::from_vec(self.inverse_dynamics_at(kinematics, &MotionState { q, u, udot: &vec![0.0; n] }, loads));
         let (projection, offset) = self.constraint_projection(q, u);
         let mass = self.mass_matrix(kinematics, q);
-        let reduced = projection.transpose() * &mass * &projection;
+        let reduced = (projection.transpose() * &mass * &projection).cholesky().ok_or(ForwardDynamicsError::Singular)?;
         let rhs = projection.transpose() * (DVector::from_column_slice(tau) - bias - &mass * &offset);
-        let free = reduced.cholesky().ok_or(ForwardDynamicsError::Singular)?.solve(&rhs);
+        let mut free = reduced.solve(&rhs);
+        if !self.links.is_empty() {
+            let g = self.link_jacobian(kinematics);
+            let links = &g * &projection;
+            let target = -(self.link_jacobian_rate(q, u) + &g * &offset);
+            let spread = reduced.solve(&links.transpose());
+            let schur = &links * &spread;
+            let rank_floor = LINK_RANK_TOLERANCE * schur.norm();
+            let multipliers = schur.svd(true, true).solve(&(&links * &free - target), rank_floor).map_err(|_| ForwardDynamicsError::Singular)?;
+            free -= spread * multipliers;
+        }
         Ok((projection * free + offset).as_slice().to_vec())
+    }
+
+    /// Ġ·u of the links at `q` moving at `u`: (G(q + hq̇) − G(q − hq̇))·u / 2h, q̇ the
+    /// coordinates' rates.
+    fn link_jacobian_rate(&self, q: &[f64], u: &[f64]) -> DVector<f64> {
+        let qdot = self.coordinate_rates(q, u);
+        let scale = qdot.iter().fold(1.0f64, |m, r| m.max(r.abs()));
+        let h = LINK_RATE_STEP / scale;
+        let mut kinematics = self.kinematics();
+        let speeds = DVector::from_column_slice(u);
+        let mut at = |sign: f64| {
+            let moved: Vec<f64> = q.iter().zip(&qdot).map(|(q, r)| q + sign * h * r).collect();
+            self.realize(&moved, &mut kinematics);
+            self.link_jacobian(&kinematics) * &speeds
+        };
+        (at(1.0) - at(-1.0)) / (2.0 * h)
     }
 
     /// u̇ = P·v + p₀: one column of P per free coordinate (neither locked nor a coupler's
@@ -181,5 +218,57 @@ mod tests {
         for (a, b) in found.iter().zip(&udot) {
             assert_relative_eq!(a, b, epsilon = 1e-9);
         }
+    }
+
+    /// With links closing loops (linked_mechanisms: point, distance, point-on-line and weld
+    /// constraints, a coupler, a Ball and two Free joints), at a pose where they hold and speeds
+    /// they allow, the accelerations keep the links' rates at zero (d/dt of G·u by a central
+    /// difference along the motion) and the constraint forces do no work: what inverse
+    /// dynamics asks for that motion (gravity only) is orthogonal to every motion the
+    /// constraints allow — d'Alembert's principle, which with the first fixes u̇.
+    #[test]
+    fn links_hold_and_do_no_work() {
+        let multibody = multibody("fixtures/models/linked_mechanisms.osim");
+        let n = multibody.coordinates.len();
+        let q = crate::solvers::assembled_default_pose(&multibody).unwrap();
+        let kinematics = realized(&multibody, &q);
+        let allowed = allowed_motions(&multibody, &kinematics, &q);
+        assert!(allowed.ncols() > 0 && allowed.ncols() + 10 < n, "{} of {n} speeds free", allowed.ncols());
+        let wiggle = DVector::from_fn(n, |c, _| 0.8 * ((c as f64) * 1.7 + 0.3).sin());
+        let u: Vec<f64> = (&allowed * (allowed.transpose() * wiggle)).as_slice().to_vec();
+        let udot = multibody.accelerations(&kinematics, &q, &u, &[], &vec![0.0; n]).unwrap();
+        let h = 1e-6;
+        let rate_at = |sign: f64| {
+            let qdot = multibody.coordinate_rates(&q, &u);
+            let moved: Vec<f64> = q.iter().zip(&qdot).map(|(q, r)| q + sign * h * r).collect();
+            let speeds = DVector::from_iterator(n, u.iter().zip(&udot).map(|(u, a)| u + sign * h * a));
+            multibody.link_jacobian(&realized(&multibody, &moved)) * speeds
+        };
+        let link_acceleration = (rate_at(1.0) - rate_at(-1.0)) / (2.0 * h);
+        assert!(link_acceleration.amax() < 1e-6, "the links' rates change at {:e}", link_acceleration.amax());
+        let demand = DVector::from_vec(multibody.inverse_dynamics(&MotionState { q: &q, u: &u, udot: &udot }, &[]));
+        let work = allowed.transpose() * &demand;
+        assert!(work.amax() < 1e-9 * demand.amax().max(1.0), "constraint forces do work {:e} (demand {:e})", work.amax(), demand.amax());
+    }
+
+    /// An orthonormal basis of the speeds the locks, couplers and links allow at `q`.
+    fn allowed_motions(multibody: &Multibody, kinematics: &Kinematics, q: &[f64]) -> DMatrix<f64> {
+        let n = multibody.coordinates.len();
+        let links = multibody.link_jacobian(kinematics);
+        let mut rows: Vec<DVector<f64>> = links.row_iter().map(|r| r.transpose()).collect();
+        for k in &multibody.couplers {
+            let mut row = DVector::zeros(n);
+            row[k.dependent] = 1.0;
+            row[k.independent] = -k.slope(q);
+            rows.push(row);
+        }
+        rows.extend((0..n).filter(|&c| multibody.coordinates[c].locked).map(|c| DVector::from_fn(n, |i, _| if i == c { 1.0 } else { 0.0 })));
+        let g = DMatrix::from_columns(&rows).transpose();
+        // The null space of G is that of GᵀG (n × n): its right singular vectors of value ~0.
+        let svd = (g.transpose() * &g).svd(false, true);
+        let v_t = svd.v_t.unwrap();
+        let floor = 1e-14 * svd.singular_values.max();
+        let free: Vec<DVector<f64>> = (0..n).filter(|&k| svd.singular_values[k] <= floor).map(|k| v_t.row(k).transpose()).collect();
+        DMatrix::from_columns(&free)
     }
 }

@@ -10,7 +10,7 @@ use crate::io::table::StorageTable;
 use crate::setup::ForwardSetup;
 
 /// The ForwardTool golden cases.
-pub const FORWARD_TOOL_CASES: [&str; 5] = ["controls", "states", "prescribed", "ball_free", "ellipsoid"];
+pub const FORWARD_TOOL_CASES: [&str; 6] = ["controls", "states", "prescribed", "ball_free", "ellipsoid", "linked"];
 
 /// How far our simulation is from OpenSim's.
 #[derive(Debug, Clone, Default)]

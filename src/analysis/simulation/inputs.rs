@@ -8,7 +8,7 @@ use super::{Plant, SimulationError};
 use crate::analysis::analyze_tool::AnalyzeModel;
 use crate::analysis::controllers::{model_actuators, Controllers};
 use crate::analysis::external_loads::ExternalLoads;
-use crate::analysis::static_optimization::{generators, Generator};
+use crate::analysis::static_optimization::{force_generators, Generator};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -55,7 +55,7 @@ impl ForwardModel {
         };
         let controls = Controllers::new(spec.controllers.iter().chain(&tool.controllers), &model_actuators(&spec, &added, replace))?;
         read.extend(controls.files.iter().cloned());
-        let generators = generators(&spec, &geometry, &added, replace).map_err(|e| text(&e))?;
+        let generators = force_generators(&spec, &geometry, &added, replace).map_err(|e| text(&e))?;
         let states = match &tool.states_file {
             Some(file) => {
                 read.push(file.resolved.clone());

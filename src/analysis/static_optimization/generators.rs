@@ -27,17 +27,25 @@ enum Kind {
     Actuator { actuator: Actuator, optimal_force: f64 },
 }
 
-/// The generators of `spec` (unless `replace`, which keeps only `added`) and of `added`; forces
-/// that apply no force are left out, and any other force is refused (we cannot apply it).
+/// The generators of `spec` (unless `replace`, which keeps only `added`) and of `added` for the
+/// inverse problems (static optimisation, joint reactions), which apply no constraint forces but
+/// couplers': a model with other enforced constraints is refused. See [`force_generators`].
 pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
     let constraints = geometry.multibody.constraints_dynamics_refuses();
     if !constraints.is_empty() {
         return Err(StaticOptimizationError::Model(format!(
-            "{}: the constraints {} are enforced; osim-tune's dynamics applies only CoordinateCouplerConstraints (disable the others, or remove them)",
+            "{}: the constraints {} are enforced; osim-tune's inverse dynamics applies only CoordinateCouplerConstraints (disable the others, or remove them)",
             spec.file.display(),
             constraints.join(", ")
         )));
     }
+    force_generators(spec, geometry, added, replace)
+}
+
+/// The generators of `spec` (unless `replace`) and of `added`, whatever the constraints (the
+/// forward dynamics enforces them); forces that apply no force are left out, and any other force
+/// is refused (we cannot apply it).
+pub fn force_generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
     let mut generators = Vec::new();
     for force in spec.forces.iter().filter(|f| !replace && f.applies_force) {
         if force.is_muscle() {

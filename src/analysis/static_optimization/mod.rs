@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::{DMatrix, DVector};
 
 pub(super) use frames::{FrameProblem, Frames};
-pub use generators::{generators, Generator};
+pub use generators::{force_generators, generators, Generator};
 
 use super::analyze_states::{AnalyzeStates, StatesError};
 use super::external_loads::ExternalLoads;
