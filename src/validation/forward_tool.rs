@@ -12,6 +12,10 @@ use crate::setup::ForwardSetup;
 /// The ForwardTool golden cases.
 pub const FORWARD_TOOL_CASES: [&str; 6] = ["controls", "states", "prescribed", "ball_free", "ellipsoid", "linked"];
 
+/// The ForwardTool goldens `cargo xtask validate` adds (slow for the tests: the
+/// thoracoscapular shoulder, 33 wrapping muscles, ~15 s).
+pub const FORWARD_TOOL_VALIDATE_CASES: [&str; 1] = ["shoulder"];
+
 /// How far our simulation is from OpenSim's.
 #[derive(Debug, Clone, Default)]
 pub struct ForwardToolComparison {

@@ -24,7 +24,7 @@ mod walk_dynamics;
 pub use analyze_tool::{compare_analyze_tool_setup, row_errors, row_tolerance, table_error, AnalyzeToolComparison, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};
 pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};
-pub use forward_tool::{compare_forward_tool, ForwardToolComparison, FORWARD_TOOL_CASES};
+pub use forward_tool::{compare_forward_tool, ForwardToolComparison, FORWARD_TOOL_CASES, FORWARD_TOOL_VALIDATE_CASES};
 pub use forward::{compare_forward, ForwardCase, ForwardComparison, FORWARD_CASES};
 pub use geometry::{compare_geometry, GeometryComparison, Worst};
 pub use golden::{GoldenError, GoldenPoses, GoldenTable};

@@ -19,7 +19,7 @@ use osim_tune::validation::{
     compare_forward, compare_inverse_dynamics, compare_static_optimization, static_optimization_cases, DynamometerCase, ForwardCase, JointReactionCase, StaticOptimizationCase, Subject01Walk,
     DYNAMOMETER_CASES, FORWARD_CASES, JOINT_REACTION_CASES,
 };
-use osim_tune::validation::{compare_forward_tool, FORWARD_TOOL_CASES};
+use osim_tune::validation::{compare_forward_tool, FORWARD_TOOL_CASES, FORWARD_TOOL_VALIDATE_CASES};
 
 use crate::root;
 use crate::validate::Row;
@@ -44,7 +44,7 @@ pub fn rows() -> Vec<Row> {
         Err(error) => rows.push(failed("subject01 walk inputs", "OpenSim 4.6 pipeline", error.to_string())),
     }
     rows.extend(FORWARD_CASES.iter().flat_map(forward));
-    rows.extend(FORWARD_TOOL_CASES.iter().flat_map(|case| forward_tool(case)));
+    rows.extend(FORWARD_TOOL_CASES.iter().chain(&FORWARD_TOOL_VALIDATE_CASES).flat_map(|case| forward_tool(case)));
     rows.extend(JOINT_REACTION_CASES.iter().flat_map(joint_reaction));
     rows.extend(DYNAMOMETER_CASES.iter().flat_map(dynamometer));
     rows

@@ -98,9 +98,6 @@ pub fn driven_muscles(spec: &ModelSpec, geometry: &MuscleGeometry, names: &[Stri
         let dynamics = ActivationDynamics::of(properties, muscle.minimum_activation());
         let activation = Some(dynamics).filter(|_| !(activations_given || properties.ignore_activation_dynamics));
         let path = geometry.path_index(&force.name).ok_or_else(|| refuse(&force.name, "no geometry path"))?;
-        if muscle.has_rigid_tendon() && geometry.paths[path].loaded.iter().any(|&c| angular_velocity_speeds(geometry, c)) {
-            return Err(refuse(&force.name, "a rigid tendon across a BallJoint, FreeJoint or ellipsoid joint: its path speed would need the joint's angular velocity, which the motion does not give"));
-        }
         driven.push(DrivenMuscle { name: force.name.clone(), muscle, activation, path });
     }
     Ok(driven)
@@ -176,6 +173,10 @@ pub fn simulate(
     let [start, end] = settings.range;
     if start.partial_cmp(&end) != Some(std::cmp::Ordering::Less) {
         return Err(ForwardError::TimeRange { asked: settings.range, motion: motion.range() });
+    }
+    if let Some(muscle) = muscles.iter().find(|m| m.muscle.has_rigid_tendon() && geometry.paths[m.path].loaded.iter().any(|&c| angular_velocity_speeds(geometry, c))) {
+        let reason = "a rigid tendon across a BallJoint, FreeJoint or ellipsoid joint: its path speed would need the joint's angular velocity, which the motion does not give";
+        return Err(ForwardError::Muscle { file: geometry.multibody.file.clone(), muscle: muscle.name.clone(), reason: reason.into() });
     }
     let initial = initial_states(geometry, muscles, motion, excitations, settings)?;
     let failure = RefCell::new(None);
