@@ -29,7 +29,8 @@ enum Kind {
 
 /// The generators of `spec` (unless `replace`, which keeps only `added`) and of `added` for the
 /// inverse problems (static optimisation, joint reactions), which apply no constraint forces but
-/// couplers': a model with other enforced constraints is refused. See [`force_generators`].
+/// couplers': a model with other enforced constraints is refused. `force_generators` skips that
+/// check (the forward dynamics enforces the links).
 pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
     let constraints = geometry.multibody.constraints_dynamics_refuses();
     if !constraints.is_empty() {
