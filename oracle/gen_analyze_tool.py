@@ -50,7 +50,11 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
 * `ellipsoid`: the ForwardTool golden's ScapulothoracicJoint and EllipsoidJoint from their
   simulated states (the Millard muscle's activation state driven below 0, which OpenSim clamps),
   the `states` analyses — the scapulothoracic reaction on the thorax as OpenSim takes it, about
-  the child frame's origin (the weld carrying the scapula on a massless winging body).
+  the child frame's origin (the weld carrying the scapula on a massless winging body);
+* `linked`: the ForwardTool golden's linked_mechanisms (point, distance, point-on-line and weld
+  constraints closing loops) from its simulated states, the `states` analyses but the
+  MuscleAnalysis (OpenSim's moment arms about a coordinate a weld holds are NaN or arbitrary):
+  the accelerations and joint reactions with the links' constraint forces.
 
 Writes fixtures/golden/analyze_tool/<case>/: setup.xml (model and motion names relative, as the
 test copies them next to it), files.txt (every file OpenSim wrote), and of its tables: Length and
@@ -92,6 +96,8 @@ INPUTS = {
     "ball_free_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "ball_free" / "ball_free_states.sto",
     "ellipsoid_joints.osim": REPO / "fixtures" / "models" / "ellipsoid_joints.osim",
     "ellipsoid_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "ellipsoid" / "ellipsoid_states.sto",
+    "linked_mechanisms.osim": REPO / "fixtures" / "models" / "linked_mechanisms.osim",
+    "linked_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "linked" / "linked_states.sto",
 }
 ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interval>3</step_interval></MuscleAnalysis>
 \t\t\t\t<Kinematics name="Kinematics"><on>true</on><step_interval>3</step_interval></Kinematics>
@@ -101,6 +107,7 @@ ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interv
 \t\t\t\t<StatesReporter name="StatesReporter"><on>true</on><step_interval>3</step_interval></StatesReporter>
 \t\t\t\t<JointReaction name="JointReaction"><on>true</on><step_interval>3</step_interval><joint_names> ALL</joint_names><apply_on_bodies> parent</apply_on_bodies><express_in_frame> ground</express_in_frame></JointReaction>
 """
+LINKED = "".join(line + "\n" for line in ARM.splitlines() if "MuscleAnalysis" not in line)
 MOTION = REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot"
 KEPT = ["Length", "MomentArm_knee_angle_r", "MomentArm_hip_flexion_r", "MomentArm_lumbar_extension", "MomentArm_pelvis_tx"]
 
@@ -175,10 +182,11 @@ CASES = {
     "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
     "ball_free": dict(range=(0.0, 0.5), cutoff=-1, model="ball_free.osim", analyses=ARM, states="ball_free_states.sto"),
     "ellipsoid": dict(range=(0.0, 0.3), cutoff=-1, model="ellipsoid_joints.osim", analyses=ARM, states="ellipsoid_states.sto"),
+    "linked": dict(range=(0.0, 0.3), cutoff=-1, model="linked_mechanisms.osim", analyses=LINKED, states="linked_states.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "linked")
 
 
 def kept(case, table):

@@ -1,7 +1,8 @@
 //! The dynamics OpenSim's AnalyzeTool realizes for its analyses' `_dudt` and `_acc` tables and
 //! a `JointReaction` without a forces file: the model's forward dynamics at each row's state —
 //! every muscle pulling with its tendon force at its state, every other actuator at its control,
-//! the external loads, gravity — with locks and couplers holding.
+//! the external loads, gravity — with locks, couplers and links between bodies holding (the
+//! links' constraint forces join the loads a joint reaction counts).
 
 use super::reporters::AppliedAt;
 use crate::mechanics::{AppliedForces, BodyLoad, MuscleGeometry, PathScratch};
@@ -11,7 +12,8 @@ use crate::mechanics::{AppliedForces, BodyLoad, MuscleGeometry, PathScratch};
 pub struct RowDynamics {
     /// u̇ (rad/s² or m/s², [`crate::mechanics::Multibody::coordinates`] order).
     pub udot: Vec<f64>,
-    /// The body loads applied (external loads, muscles' path forces, point and torque actuators).
+    /// The body loads applied (external loads, muscles' path forces, point and torque actuators)
+    /// and the links' constraint forces.
     pub loads: Vec<BodyLoad>,
 }
 
@@ -30,7 +32,8 @@ pub fn analyze_dynamics(geometry: &MuscleGeometry, at: &AppliedAt) -> Result<Vec
         for (generator, force) in at.generators.iter().zip(at.forces(row)) {
             generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut applied);
         }
-        let udot = multibody.accelerations(&kinematics, q, u, &applied.loads, &applied.mobility).map_err(|e| format!("at {time} s: {e}"))?;
+        let (udot, constraint_loads) = multibody.constrained_accelerations(&kinematics, q, u, &applied.loads, &applied.mobility).map_err(|e| format!("at {time} s: {e}"))?;
+        applied.loads.extend(constraint_loads);
         rows.push(RowDynamics { udot, loads: applied.loads });
     }
     Ok(rows)

@@ -17,7 +17,7 @@ use super::muscle_state_tables::muscle_state_tables;
 use super::muscle_states::{muscle_states, MuscleStates};
 use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, AppliedAt, ReporterError};
 use super::signal::frames_in_range;
-use super::static_optimization::{generators, Generator};
+use super::static_optimization::{force_generators, Generator};
 use crate::io::table::StorageTable;
 use crate::mechanics::MotionState;
 use crate::model::ModelSpec;
@@ -60,7 +60,7 @@ impl<'a> ToolRun<'a> {
         frames_in_range(file, &states.times, [setup.initial_time, setup.final_time])?;
         let generators = match controls_ignored(model, true) {
             Some(reason) => Err(reason),
-            None => generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
+            None => force_generators(spec, geometry, model.added, model.replace).map_err(|e| e.to_string()),
         };
         Ok(ToolRun { model, setup, file, tool_name, states, generators, row_sets: RefCell::new(Vec::new()) })
     }

@@ -9,9 +9,10 @@
 //! two unit normals of the line fixed in the line body (m); Weld, the second frame's origin
 //! from the first's (m) then Simbody's ConstantOrientation errors x₁·y₂, y₁·z₂, z₁·x₂.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 use super::error::MechanicsError;
+use super::inverse_dynamics::BodyLoad;
 use super::kinematics::Kinematics;
 use super::multibody::{Marker, Multibody};
 use super::spatial::{Mat3, Transform, Vec3};
@@ -166,6 +167,22 @@ impl Multibody {
             }
         }
         g
+    }
+
+    /// The body loads of the links' multipliers `multipliers` (one per row of
+    /// [`Multibody::link_jacobian`]): on each rate term's body, −λ·linear at its point and
+    /// −λ·angular as a torque — generalized forces −Gᵀλ.
+    pub fn link_loads(&self, kinematics: &Kinematics, multipliers: &DVector<f64>) -> Vec<BodyLoad> {
+        let mut loads = Vec::new();
+        let mut row = 0;
+        for link in &self.links {
+            for link_row in 0..link.rows() {
+                let lambda = multipliers[row];
+                loads.extend(link.rate_terms(kinematics, link_row).map(|t| BodyLoad { body: t.body, force: -lambda * t.linear, point: t.point, torque: -lambda * t.angular }));
+                row += 1;
+            }
+        }
+        loads
     }
 }
 

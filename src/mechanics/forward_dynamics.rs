@@ -62,6 +62,19 @@ impl Multibody {
     /// # Panics
     /// If a slice does not hold one value per coordinate.
     pub fn accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<Vec<f64>, ForwardDynamicsError> {
+        Ok(self.solve_accelerations(kinematics, q, u, loads, tau)?.0)
+    }
+
+    /// [`Multibody::accelerations`] with the links' constraint forces as body loads (each link
+    /// row's −λ along its rate terms: −Gᵀλ in generalized forces), which a joint reaction
+    /// counts among the loads its subtree gets.
+    pub fn constrained_accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<(Vec<f64>, Vec<BodyLoad>), ForwardDynamicsError> {
+        let (udot, multipliers) = self.solve_accelerations(kinematics, q, u, loads, tau)?;
+        Ok((udot, multipliers.map(|m| self.link_loads(kinematics, &m)).unwrap_or_default()))
+    }
+
+    /// u̇ and, with links, their multipliers λ.
+    fn solve_accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<(Vec<f64>, Option<DVector<f64>>), ForwardDynamicsError> {
         let n = self.coordinates.len();
         assert!(tau.len() == n, "one mobility force per coordinate");
         if let Some(c) = self.coordinates.iter().find(|c| c.prescribed && !c.locked) {
@@ -76,6 +89,7 @@ impl Multibody {
         let reduced = (projection.transpose() * &mass * &projection).cholesky().ok_or(ForwardDynamicsError::Singular)?;
         let rhs = projection.transpose() * (DVector::from_column_slice(tau) - bias - &mass * &offset);
         let mut free = reduced.solve(&rhs);
+        let mut link_multipliers = None;
         if !self.links.is_empty() {
             let g = self.link_jacobian(kinematics);
             let links = &g * &projection;
@@ -84,9 +98,10 @@ impl Multibody {
             let schur = &links * &spread;
             let rank_floor = LINK_RANK_TOLERANCE * schur.norm();
             let multipliers = schur.svd(true, true).solve(&(&links * &free - target), rank_floor).map_err(|_| ForwardDynamicsError::Singular)?;
-            free -= spread * multipliers;
+            free -= spread * &multipliers;
+            link_multipliers = Some(multipliers);
         }
-        Ok((projection * free + offset).as_slice().to_vec())
+        Ok(((projection * free + offset).as_slice().to_vec(), link_multipliers))
     }
 
     /// Ġ·u of the links at `q` moving at `u`: (G(q + hq̇) − G(q − hq̇))·u / 2h, q̇ the
@@ -225,7 +240,8 @@ mod tests {
     /// they allow, the accelerations keep the links' rates at zero (d/dt of G·u by a central
     /// difference along the motion) and the constraint forces do no work: what inverse
     /// dynamics asks for that motion (gravity only) is orthogonal to every motion the
-    /// constraints allow — d'Alembert's principle, which with the first fixes u̇.
+    /// constraints allow — d'Alembert's principle, which with the first fixes u̇ — and the
+    /// links' loads (their constraint forces) balance it along the unlocked, uncoupled speeds.
     #[test]
     fn links_hold_and_do_no_work() {
         let multibody = multibody("fixtures/models/linked_mechanisms.osim");
@@ -249,6 +265,13 @@ mod tests {
         let demand = DVector::from_vec(multibody.inverse_dynamics(&MotionState { q: &q, u: &u, udot: &udot }, &[]));
         let work = allowed.transpose() * &demand;
         assert!(work.amax() < 1e-9 * demand.amax().max(1.0), "constraint forces do work {:e} (demand {:e})", work.amax(), demand.amax());
+        // The links' loads supply what the motion demands beyond gravity: with them, inverse
+        // dynamics asks nothing along the speeds the locks and couplers leave free.
+        let (_, loads) = multibody.constrained_accelerations(&kinematics, &q, &u, &[], &vec![0.0; n]).unwrap();
+        let residual = DVector::from_vec(multibody.inverse_dynamics(&MotionState { q: &q, u: &u, udot: &udot }, &loads));
+        let (projection, _) = multibody.constraint_projection(&q, &u);
+        let unbalanced = projection.transpose() * residual;
+        assert!(unbalanced.amax() < 1e-8 * demand.amax().max(1.0), "the links' loads leave {:e} unbalanced (demand {:e})", unbalanced.amax(), demand.amax());
     }
 
     /// An orthonormal basis of the speeds the locks, couplers and links allow at `q`.

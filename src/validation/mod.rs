@@ -21,7 +21,7 @@ mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
 
-pub use analyze_tool::{compare_analyze_tool_setup, row_errors, row_tolerance, table_error, AnalyzeToolComparison, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};
+pub use analyze_tool::{case_tolerance, compare_analyze_tool_setup, row_errors, row_tolerance, table_error, AnalyzeToolComparison, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};
 pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};
 pub use forward_tool::{compare_forward_tool, ForwardToolComparison, FORWARD_TOOL_CASES, FORWARD_TOOL_VALIDATE_CASES};

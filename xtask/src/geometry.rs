@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::mechanics::MuscleGeometry;
 use osim_tune::model::ModelSpec;
-use osim_tune::validation::{compare_assembly, compare_geometry, compare_model_golden, compare_analyze_tool_setup, Worst, ANALYZE_TOOL_CASES, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};
+use osim_tune::validation::{case_tolerance, compare_assembly, compare_geometry, compare_model_golden, compare_analyze_tool_setup, Worst, ANALYZE_TOOL_CASES, OFF_BOUND_TOLERANCE};
 
 use crate::root;
 use crate::validate::Row;
@@ -111,7 +111,7 @@ pub fn analyze_tool_rows() -> Vec<Row> {
         let what = format!("AnalyzeTool setup '{case}': every table formed");
         match compare_analyze_tool_setup(&root(), case) {
             Ok(c) if c.missing.is_empty() && c.extra.is_empty() => {
-                rows.push(Row { what: format!("{what}, {} tables, {} values", c.tables, c.values.count), reference: reference.clone(), worst: c.values.error, tolerance: VALUE_TOLERANCE, at: c.values.at });
+                rows.push(Row { what: format!("{what}, {} tables, {} values", c.tables, c.values.count), reference: reference.clone(), worst: c.values.error, tolerance: case_tolerance(case), at: c.values.at });
                 if c.off_bound.count > 0 {
                     let what = format!("AnalyzeTool setup '{case}': {} values where OpenSim's assembly stops short of a clamped bound", c.off_bound.count);
                     rows.push(Row { what, reference, worst: c.off_bound.error, tolerance: OFF_BOUND_TOLERANCE, at: c.off_bound.at });
