@@ -52,6 +52,12 @@ impl Controllers {
         Ok(controllers)
     }
 
+    /// The controllers of the model `spec` and a tool's `tool` over the model's actuators and those
+    /// `added` by force-set files (the model's replaced when `replace`), as [`Controllers::new`].
+    pub fn of_model(spec: &ModelSpec, tool: &[ControllerSpec], added: &[ActuatorSpec], replace: bool) -> Result<Controllers, String> {
+        Controllers::new(spec.controllers.iter().chain(tool), &model_actuators(spec, added, replace))
+    }
+
     /// The control of `actuator` at `time` (s): the sum of the controllers', 0 without one.
     pub fn control(&self, actuator: &str, time: f64) -> f64 {
         self.members
@@ -66,7 +72,7 @@ impl Controllers {
 
 /// The actuators of `spec` (its muscles and scalar actuators, in the ForceSet's order; none when
 /// `replace`) and then those `added`: what a controller's `ALL` connects.
-pub fn model_actuators(spec: &ModelSpec, added: &[ActuatorSpec], replace: bool) -> Vec<String> {
+fn model_actuators(spec: &ModelSpec, added: &[ActuatorSpec], replace: bool) -> Vec<String> {
     let own = spec.forces.iter().filter(|f| !replace && (f.is_muscle() || spec.actuators.iter().any(|a| a.name == f.name)));
     own.map(|f| f.name.clone()).chain(added.iter().map(|a| a.name.clone())).collect()
 }

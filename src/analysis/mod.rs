@@ -27,7 +27,7 @@ mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
 pub use body_kinematics::KinematicsError;
-pub use controllers::{model_actuators, Controllers};
+pub use controllers::Controllers;
 pub use dynamometer::{agreement, dynamometer_analysis, isometric_contraction, plateau, Agreement, IsometricContraction, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
 pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};
 pub use external_loads::{ExternalLoads, ExternalLoadsError};

@@ -72,7 +72,15 @@ impl HeldMuscle<'_> {
             second: Some(second.unwrap_or(self.defaults.1)).filter(|_| !self.spec.ignore_tendon_compliance),
         }
     }
+}
 
+/// A muscle's default state as OpenSim forms it: (`default_activation`, the second state's
+/// kind, its default — `default_fiber_length` raised to the minimum fiber length, DeGroote's
+/// `default_normalized_tendon_force`).
+pub(super) fn default_state(spec: &MuscleSpec, muscle: &HillMuscle) -> (f64, SecondState, f64) {
+    let (activation, second, value) = spec.default_state();
+    let value = if second == SecondState::FiberLength { value.max(muscle.minimum_fiber_length()) } else { value };
+    (activation, second, value)
 }
 
 /// The second state OpenSim's `equilibrateMuscles` leaves `muscle` in at `activation` on a path
@@ -97,8 +105,7 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
         let muscle_spec = force.muscle.as_ref().ok_or_else(not_formed)?;
         let path = geometry.path_index(&force.name).ok_or_else(not_formed)?;
         let muscle = HillMuscle::from_force(force)?;
-        let (activation, second, value) = muscle_spec.default_state();
-        let value = if second == SecondState::FiberLength { value.max(muscle.minimum_fiber_length()) } else { value };
+        let (activation, second, value) = default_state(muscle_spec, &muscle);
         let given = states.muscle_states.iter().find(|(m, _)| *m == force.name).map(|(_, columns)| columns.clone()).unwrap_or_default();
         held.push(HeldMuscle { muscle, spec: muscle_spec, second, defaults: (activation, value), given });
         muscles.push((path, force.name.clone()));

@@ -6,7 +6,6 @@
 //! subtree cancel.
 
 use super::inverse_dynamics::{BodyLoad, MotionState};
-use super::mobilizer::Mobilizer;
 use super::motion_rates::TransformRates;
 use super::multibody::Multibody;
 use super::spatial::Vec3;
@@ -22,9 +21,8 @@ pub struct JointReaction {
     pub child_origin: Vec3,
     /// The joint's parent frame origin (Simbody's F), m.
     pub parent_origin: Vec3,
-    /// The point the load on the parent is taken about (m): `parent_origin`, but the child
-    /// origin for a `ScapulothoracicJoint`, whose reaction on the parent OpenSim reads from the
-    /// weld that carries the scapula on a massless winging body.
+    /// The point the load on the parent is taken about (m): `parent_origin`, or the child origin
+    /// where OpenSim reads it there ([`crate::mechanics::Mobilizer::parent_reaction_at_child_origin`]).
     pub parent_moment_point: Vec3,
 }
 
@@ -56,7 +54,7 @@ impl Multibody {
             .map(|(j, joint)| {
                 let (force, moment) = subtree[joint.child];
                 let (child_origin, parent_origin) = self.joint_origins(&motions, j);
-                let parent_moment_point = if matches!(joint.mobilizer, Mobilizer::Scapulothoracic(_)) { child_origin } else { parent_origin };
+                let parent_moment_point = if joint.mobilizer.parent_reaction_at_child_origin() { child_origin } else { parent_origin };
                 JointReaction { force, moment: moment - child_origin.cross(&force), child_origin, parent_origin, parent_moment_point }
             })
             .collect()

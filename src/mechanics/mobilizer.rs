@@ -119,6 +119,14 @@ impl Mobilizer {
         rates
     }
 
+    /// Whether OpenSim reads the joint's reaction on its parent at the child frame's origin rather
+    /// than the parent frame's: a `ScapulothoracicJoint` is an Ellipsoid and a Pin mobilizer on
+    /// massless bodies and a Weld carrying the scapula, and `calcReactionOnParentExpressedInGround`
+    /// asks the Weld, whose parent frame sits at the child frame.
+    pub fn parent_reaction_at_child_origin(&self) -> bool {
+        matches!(self, Mobilizer::Scapulothoracic(_))
+    }
+
     /// X_FM for the joint's coordinate values `q`.
     pub fn transform(&self, q: &[f64]) -> Transform {
         let (rotation, translation) = match self {

@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::geometry::Worst;
-use crate::analysis::{analyze_tool_tables, model_actuators, AnalyzeModel, Controllers, ExternalLoads};
+use crate::analysis::{analyze_tool_tables, AnalyzeModel, Controllers, ExternalLoads};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -106,9 +106,12 @@ pub const OFF_BOUND_TOLERANCE: f64 = 5e-5;
 /// the constraint forces — by ~6e-9 of their size (measured: 5.9e-6 N on 1184 N).
 pub const LINKED_TOLERANCE: f64 = 1e-5;
 
+/// Cases whose values agree to another tolerance than [`VALUE_TOLERANCE`].
+const CASE_TOLERANCES: [(&str, f64); 1] = [("linked", LINKED_TOLERANCE)];
+
 /// The tolerance of `case`'s values (rows off a bound aside).
 pub fn case_tolerance(case: &str) -> f64 {
-    if case == "linked" { LINKED_TOLERANCE } else { VALUE_TOLERANCE }
+    CASE_TOLERANCES.iter().find(|(c, _)| *c == case).map_or(VALUE_TOLERANCE, |&(_, tolerance)| tolerance)
 }
 
 /// The tolerance of `case`'s row at `time` (s).
@@ -158,7 +161,7 @@ pub fn compare_analyze_tool_setup(root: &Path, case: &str) -> Result<AnalyzeTool
         None => None,
     };
     let replace = setup.replace_force_set && !setup.force_set_files.is_empty();
-    let controls = Controllers::new(spec.controllers.iter().chain(&setup.controllers), &model_actuators(&spec, &added, replace))?;
+    let controls = Controllers::of_model(&spec, &setup.controllers, &added, replace)?;
     let model = AnalyzeModel { spec: &spec, geometry: &geometry, added: &added, replace, external: external.as_ref(), controls: &controls };
     let ours = analyze_tool_tables(&model, &table, &motion_file, &setup, &setup.name).map_err(|e| e.to_string())?.files;
     let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| format!("{}: {e}", golden.join("files.txt").display()))?;

@@ -11,7 +11,7 @@ use std::path::Path;
 use super::plant::{Plant, SimulatedState};
 use super::SimulationError;
 use crate::analysis::analyze_states::AnalyzeStates;
-use crate::analysis::muscle_states::equilibrated;
+use crate::analysis::muscle_states::{default_state, equilibrated};
 use crate::io::table::StorageTable;
 use crate::model::SecondState;
 use crate::solvers::assembled_default_pose;
@@ -62,9 +62,7 @@ pub fn initial_state(plant: &Plant, source: InitialSource, start: f64, equilibra
 /// (activation, second state's kind, its value) of `muscle` in the model's default state.
 fn muscle_defaults(plant: &Plant, muscle: &crate::analysis::forward::DrivenMuscle) -> (f64, SecondState, f64) {
     let spec = plant.spec.muscles().find(|f| f.name == muscle.name).and_then(|f| f.muscle.as_ref()).expect("a driven muscle has muscle properties");
-    let (activation, second, value) = spec.default_state();
-    let value = if second == SecondState::FiberLength { value.max(muscle.muscle.minimum_fiber_length()) } else { value };
-    (activation, second, value)
+    default_state(spec, &muscle.muscle)
 }
 
 /// Each compliant muscle's second state where OpenSim's `equilibrateMuscles` puts it at

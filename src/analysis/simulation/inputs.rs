@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::{Plant, SimulationError};
 use crate::analysis::analyze_tool::AnalyzeModel;
-use crate::analysis::controllers::{model_actuators, Controllers};
+use crate::analysis::controllers::Controllers;
 use crate::analysis::external_loads::ExternalLoads;
 use crate::analysis::static_optimization::{force_generators, Generator};
 use crate::io::osim::OsimDocument;
@@ -53,7 +53,7 @@ impl ForwardModel {
             }
             None => None,
         };
-        let controls = Controllers::new(spec.controllers.iter().chain(&tool.controllers), &model_actuators(&spec, &added, replace))?;
+        let controls = Controllers::of_model(&spec, &tool.controllers, &added, replace)?;
         read.extend(controls.files.iter().cloned());
         let generators = force_generators(&spec, &geometry, &added, replace).map_err(|e| text(&e))?;
         let states = match &tool.states_file {

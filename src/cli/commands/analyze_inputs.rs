@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{generators, model_actuators, Controllers, ExternalLoads, Generator};
+use crate::analysis::{generators, Controllers, ExternalLoads, Generator};
 use crate::cli::{read_external_loads, Failure};
 use crate::io::osim::OsimDocument;
 use crate::mechanics::{MuscleGeometry, Multibody};
@@ -69,7 +69,7 @@ pub fn external_loads_of(file: Option<&Path>, setup: Option<&AnalyzeSetup>, mult
 /// The controllers of the model `spec` and of `setup` over the model's actuators and those
 /// `added` (the model's replaced when `replace`); their files join `inputs`.
 pub fn controllers_of(spec: &ModelSpec, setup: &AnalyzeSetup, added: &[ActuatorSpec], replace: bool, inputs: &mut Vec<PathBuf>) -> Result<Controllers, Failure> {
-    let controllers = Controllers::new(spec.controllers.iter().chain(&setup.controllers), &model_actuators(spec, added, replace))?;
+    let controllers = Controllers::of_model(spec, &setup.controllers, added, replace)?;
     inputs.extend(controllers.files.iter().cloned());
     Ok(controllers)
 }
