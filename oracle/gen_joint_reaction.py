@@ -20,6 +20,8 @@ Cases (each writes fixtures/golden/joint_reaction/<case>/<case>_<analysis>_React
   reserves, 6 Hz low-pass; child in `child`, parent in `parent`.
 * `rajagopal` — rigid and elastic Millard tendons, locked coordinates, patellae coupled to the
   knees; child in ground, parent in `tibia_r` (a body named as the frame).
+* `parallelogram` — a closed loop: the crank's and rocker's tips held apart by a
+  ConstantDistanceConstraint, whose force the joints carry too; child in `child`, parent in ground.
 
 Muscles are not equilibrated (the forces file overrides every actuator, so their states do not
 matter) and tables are printed with 20 digits. The tools run in a scratch folder; only the result
@@ -64,6 +66,16 @@ CASES = {
         None,
         "ground",
         "tibia_r",
+    ),
+    "parallelogram": (
+        SO / "parallelogram" / "parallelogram.osim",
+        SO / "parallelogram" / "parallelogram_motion.mot",
+        [SO / "parallelogram" / "parallelogram_reserves.xml"],
+        (0.1, 0.9),
+        -1,
+        None,
+        "child",
+        "ground",
     ),
 }
 

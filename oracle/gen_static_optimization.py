@@ -39,6 +39,17 @@ Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
   knee_angle_*_beta is assembled onto its coupler (= knee_angle_* in radians) but its speed
   stays 0 (the speeds are splined from the unassembled zeros and assembly does not project
   them); the SO's acceleration targets cover the unconstrained coordinates only.
+* `parallelogram` — a planar parallelogram four-bar built here (`parallelogram.osim`): a crank
+  and a rocker 0.4 m long pinned to ground 0.3 m apart, their tips held 0.3 m apart by a
+  ConstantDistanceConstraint (the coupler), three Millard2012EquilibriumMuscles (ground to the
+  crank, ground to the rocker, crank to rocker), gravity −y, default pose 30°. The motion
+  (`parallelogram_motion.mot`, 0–1 s at 100 Hz, degrees: crank = rocker = 30 + 25 sin(2πt))
+  keeps the loop closed exactly, so its splined accelerations are consistent with the link.
+  Reserve CoordinateActuators on both coordinates (`parallelogram_reserves.xml`, optimal force
+  1). OpenSim tracks both coordinates' accelerations (a distance constraint constrains no
+  coordinate), its forward dynamics carrying the link's force; 0.1–0.9 s, exponent 2. (A
+  PointConstraint closing a planar loop has a redundant row normal to the plane, with which
+  OpenSim's assembler cannot move the pose off its default: every row is analysed there.)
 
 Muscles are not equilibrated (solve_for_equilibrium_for_auxiliary_states false) and tables are
 printed with 20 digits (output_precision), as in the
@@ -51,6 +62,8 @@ import tempfile
 from pathlib import Path
 
 import opensim as osim
+
+from model_parts import add_millard_muscle, write_model
 
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "static_optimization"
@@ -71,6 +84,61 @@ def arm26_motion(path):
 def arm26_reserves(path):
     forces = osim.ForceSet()
     for coordinate in ["r_shoulder_elev", "r_elbow_flex"]:
+        actuator = osim.CoordinateActuator(coordinate)
+        actuator.setName(f"reserve_{coordinate}")
+        actuator.setOptimalForce(1.0)
+        forces.cloneAndAppend(actuator)
+    forces.printToXML(str(path))
+
+
+def parallelogram_model(path):
+    """The linkage of the `parallelogram` case (see the module's doc)."""
+    model = osim.Model()
+    model.setName("parallelogram")
+    model.setGravity(osim.Vec3(0, -9.80665, 0))
+    ground = model.getGround()
+    length, spacing = 0.4, 0.3
+
+    def link(name, mass):
+        body = osim.Body(name, mass, osim.Vec3(length / 2, 0, 0), osim.Inertia(0.001, mass * length**2 / 12, mass * length**2 / 12))
+        model.addBody(body)
+        return body
+
+    crank, rocker = link("crank", 1.2), link("rocker", 0.9)
+    # Default pose 30°: the assembler tracks each row's pose from the last, and cannot leave the
+    # singular pose at 0° (the links in one line).
+    for name, at, child, coordinate in [("crank_pin", osim.Vec3(0), crank, "crank_angle"), ("rocker_pin", osim.Vec3(spacing, 0, 0), rocker, "rocker_angle")]:
+        joint = osim.PinJoint(name, ground, at, osim.Vec3(0), child, osim.Vec3(0), osim.Vec3(0))
+        joint.upd_coordinates(0).setName(coordinate)
+        joint.upd_coordinates(0).setRangeMin(-3.0)
+        joint.upd_coordinates(0).setRangeMax(3.0)
+        joint.upd_coordinates(0).setDefaultValue(math.radians(30))
+        model.addJoint(joint)
+    coupler = osim.ConstantDistanceConstraint(crank, osim.Vec3(length, 0, 0), rocker, osim.Vec3(length, 0, 0), spacing)
+    coupler.setName("coupler")
+    model.addConstraint(coupler)
+    add_millard_muscle(model, "crank_flexor", 400.0, 0.15, 0.1, 0.0,
+                       [("origin", ground, osim.Vec3(-0.1, 0.1, 0.02)), ("insertion", crank, osim.Vec3(0.2, 0.03, 0.0))])
+    add_millard_muscle(model, "rocker_flexor", 300.0, 0.15, 0.1, 0.1,
+                       [("origin", ground, osim.Vec3(0.2, 0.12, -0.02)), ("insertion", rocker, osim.Vec3(0.25, 0.03, 0.0))])
+    add_millard_muscle(model, "crank_rocker", 200.0, 0.2, 0.1, 0.0,
+                       [("origin", crank, osim.Vec3(0.1, -0.04, 0.0)), ("insertion", rocker, osim.Vec3(0.3, -0.03, 0.0))])
+    write_model(model, path)
+
+
+def parallelogram_motion(path):
+    rows = []
+    for k in range(101):
+        t = k / 100
+        crank = 30 + 25 * math.sin(2 * math.pi * t)
+        rows.append(f"{t!r}\t{crank!r}\t{crank!r}")
+    header = f"parallelogram_motion\nversion=1\nnRows={len(rows)}\nnColumns=3\ninDegrees=yes\nendheader\ntime\tcrank_angle\trocker_angle\n"
+    path.write_text(header + "\n".join(rows) + "\n")
+
+
+def parallelogram_reserves(path):
+    forces = osim.ForceSet()
+    for coordinate in ["crank_angle", "rocker_angle"]:
         actuator = osim.CoordinateActuator(coordinate)
         actuator.setName(f"reserve_{coordinate}")
         actuator.setOptimalForce(1.0)
@@ -184,7 +252,7 @@ def rajagopal_reserves(model_path, path):
     return names
 
 
-CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal"]
+CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal", "parallelogram"]
 
 
 def main(cases):
@@ -220,6 +288,13 @@ def main(cases):
         rajagopal_reserves(model, raj / "rajagopal_reserves.xml")
         run("rajagopal", model, REPO / "fixtures" / "golden" / "forward" / "rajagopal" / "motion.mot",
             [raj / "rajagopal_reserves.xml"], (0.1, 0.4), -1, 2.0)
+    if "parallelogram" in wanted:
+        folder = OUT / "parallelogram"
+        folder.mkdir(parents=True, exist_ok=True)
+        parallelogram_model(folder / "parallelogram.osim")
+        parallelogram_motion(folder / "parallelogram_motion.mot")
+        parallelogram_reserves(folder / "parallelogram_reserves.xml")
+        run("parallelogram", folder / "parallelogram.osim", folder / "parallelogram_motion.mot", [folder / "parallelogram_reserves.xml"], (0.1, 0.9), -1, 2.0)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ fn joint_reactions_match_opensim() {
         for (k, side) in ["child", "parent"].iter().enumerate() {
             let (loads, points) = (&comparison.loads[k], &comparison.points[k]);
             println!("{} on {side}: loads {:.2e} at {} ({} values), points {:.2e}", case.case, loads.error, loads.at, loads.count, points.error);
-            assert!(loads.count > 1000, "{}: only {} values compared", case.case, loads.count);
+            assert!(loads.count > 900, "{}: only {} values compared", case.case, loads.count);
             assert!(loads.error <= case.load, "{} on {side}: {:e} N or N·m at {}", case.case, loads.error, loads.at);
             assert!(points.error <= case.point, "{} on {side}: {:e} m at {}", case.case, points.error, points.at);
         }

@@ -149,13 +149,13 @@ fn a_nan_force_row_is_reported() {
     }
 }
 
-/// A model whose constraints osim-tune does not apply (here a WeldConstraint) is refused by the
-/// dynamics commands, naming the constraint; a disabled one is not in the way.
+/// A model whose constraints osim-tune does not apply (here a RollingOnSurfaceConstraint) is
+/// refused by the dynamics commands, naming the constraint; a disabled one is not in the way.
 #[test]
 fn unsupported_constraints_are_refused() {
     let folder = tempfile::tempdir().unwrap();
     let weld = |enforced: &str| {
-        format!("<objects><WeldConstraint name=\"hold\"><isEnforced>{enforced}</isEnforced><socket_frame1>/ground</socket_frame1><socket_frame2>/bodyset/r_humerus</socket_frame2></WeldConstraint></objects>")
+        format!("<objects><RollingOnSurfaceConstraint name=\"hold\"><isEnforced>{enforced}</isEnforced><socket_rolling_body>/bodyset/r_humerus</socket_rolling_body><socket_surface_body>/ground</socket_surface_body></RollingOnSurfaceConstraint></objects>")
     };
     let original = std::fs::read_to_string(path(MODEL)).unwrap();
     for (enforced, expected_code) in [("true", 2), ("false", 0)] {
@@ -168,7 +168,7 @@ fn unsupported_constraints_are_refused() {
         let (code, _, stderr) = osim_tune(&["reaction", s(&model), &path(MOTION), "--forces", &path(FORCES), "--actuators", &path(RESERVES), "--time", "0.1", "0.9", "-o", s(&out)]);
         assert_eq!(code, expected_code, "{enforced}: {stderr}");
         if expected_code == 2 {
-            assert!(stderr.contains("hold (WeldConstraint)") && stderr.contains("only CoordinateCouplerConstraints"), "{stderr}");
+            assert!(stderr.contains("hold (RollingOnSurfaceConstraint)") && stderr.contains("only CoordinateCouplerConstraints"), "{stderr}");
             assert!(!out.exists());
         }
     }

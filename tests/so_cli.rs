@@ -277,3 +277,24 @@ fn an_unsolvable_physiological_inverse_problem_exits_1_and_writes_nothing() {
     };
     assert!(largest(true) > 10.0 && largest(false) < 1.0, "pelvis {} N or N·m, joints {} N·m", largest(true), largest(false));
 }
+
+/// A closed loop (the parallelogram golden's ConstantDistanceConstraint): static optimisation
+/// runs, its forces meeting OpenSim's rows (tests/static_optimization.rs); the physiological
+/// inverse approach, which does not hold links, refuses it naming the link and writes nothing.
+#[test]
+fn a_closed_loop_is_solved_and_the_physiological_inverse_refuses_it() {
+    let folder = tempfile::tempdir().unwrap();
+    let case = "fixtures/golden/static_optimization/parallelogram";
+    let (model, motion, reserves) = (path(&format!("{case}/parallelogram.osim")), path(&format!("{case}/parallelogram_motion.mot")), path(&format!("{case}/parallelogram_reserves.xml")));
+    let compare = path(&format!("{case}/parallelogram_StaticOptimization_activation.sto"));
+    let so = folder.path().join("so");
+    let (code, stdout, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--time", "0.1", "0.9", "--compare", &compare, "--name", "loop", "-o", s(&so)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("81 frames"), "{stdout}");
+    assert!(so.join("loop_StaticOptimization_force.sto").exists());
+    let pia = folder.path().join("pia");
+    let (code, _, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--pia", "sum-of-squares", "-o", s(&pia)]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("coupler (ConstantDistanceConstraint)") && stderr.contains("physiological inverse"), "{stderr}");
+    assert!(!pia.exists() || std::fs::read_dir(&pia).unwrap().next().is_none());
+}

@@ -48,8 +48,11 @@ fn the_walk_agrees_with_opensims_static_optimization() {
 /// coupled to the knee: constrained, so not tracked, its constraint force eliminated along the
 /// knee's coupling vector; OpenSim leaves the patella's column in degrees, a `Coupled`
 /// coordinate, and its assembly puts the patella back while moving the knee within its own
-/// accuracy — we follow the speed it keeps; without that the miss was 55 N·m) and the walk with
-/// the Thelen-muscle model: OpenSim's controls meet our constraints (to each case's bound: its
+/// accuracy — we follow the speed it keeps; without that the miss was 55 N·m), Rajagopal2016, a
+/// parallelogram four-bar (a ConstantDistanceConstraint closing the loop: its force eliminated
+/// along the motion it allows, the muscles' generalized forces taken without the links'
+/// projection — with OpenSim's constrained moment arms instead the miss was 4.2 N·m) and the
+/// walk with the Thelen-muscle model: OpenSim's controls meet our constraints (to each case's bound: its
 /// IPOPT or assembly) and bounds, cost no less than ours, and its forces per unit control are ours.
 #[test]
 fn other_opensim_runs_agree() {

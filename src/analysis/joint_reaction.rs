@@ -6,7 +6,8 @@
 //! actuator exerts its force from the file (linearly interpolated, `Storage::getDataAtTime`):
 //! a muscle its tension along its path, an actuator its actuation. The accelerations are the
 //! ones these forces give (forward dynamics, as `realizeAcceleration`), not the tracked ones, so
-//! any imbalance in the forces shows in the reactions as it does in OpenSim's. Each requested
+//! any imbalance in the forces shows in the reactions as it does in OpenSim's; the forces links
+//! between bodies exert to hold their loops count among the loads. Each requested
 //! joint's load on its child (at the child frame origin) or on its parent (at the parent frame
 //! origin) is expressed in ground or in a body, with the point where it acts.
 
@@ -159,7 +160,8 @@ pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &P
         for (generator, &force) in generators.iter().zip(&forces) {
             generator.apply(geometry, &kinematics, q, &mut scratch, force, &mut applied);
         }
-        let udot = multibody.accelerations(&kinematics, q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
+        let (udot, link_loads) = multibody.constrained_accelerations(&kinematics, q, u, &applied.loads, &applied.mobility).map_err(|source| JointReactionError::Dynamics { time, source })?;
+        applied.loads.extend(link_loads);
         values.push(time);
         values.extend(reaction_row(multibody, &kinematics, &MotionState { q, u, udot: &udot }, &applied.loads, reports));
     }

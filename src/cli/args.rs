@@ -305,9 +305,10 @@ pub enum Command {
     /// Static optimisation like OpenSim 4.6's StaticOptimization (AnalyzeTool): the coordinates
     /// are filtered and differentiated as the AnalyzeTool does (a coordinate the file lacks is
     /// held at 0), and per frame the muscle activations and actuator controls a minimise Σ|a|ᵖ
-    /// (p = 2 by default) while their forces (a·F, F a muscle's active force at activation 1 with a rigid tendon, or
-    /// an actuator's optimal force) give the tracked accelerations with gravity and the external
-    /// loads, each control within its min/max_control — a convex programme solved to its optimum
+    /// (p = 2 by default) while their forces (a·F, F a muscle's active force at activation 1 with
+    /// a rigid tendon, or an actuator's optimal force) give the tracked accelerations with gravity
+    /// and the external loads (and the forces of links between bodies, which close loops), each
+    /// control within its min/max_control — a convex programme solved to its optimum
     /// (OpenSim's IPOPT stops at its convergence criterion). Writes OpenSim's
     /// <NAME>_StaticOptimization_activation.sto and _force.sto into DIR. Exit 0 success, 1 some
     /// frame has no solution (its row is NaN) or, with --pia, the problem has none (nothing
@@ -334,7 +335,8 @@ pub enum Command {
         /// The physiological inverse approach (De Groote et al. 2009) instead: every frame at once,
         /// consecutive activations bound by activation dynamics (τ_a, τ_d of each muscle), by the
         /// sum of squared controls or the largest muscle activation (min-max). Writes
-        /// <NAME>_PhysiologicalInverse_activation.sto, _force.sto and _excitation.sto.
+        /// <NAME>_PhysiologicalInverse_activation.sto, _force.sto and _excitation.sto. Models
+        /// with links between bodies are refused.
         #[arg(long, value_enum)]
         pia: Option<CriterionArgument>,
         /// With --pia: multiplies every muscle's activation and deactivation time constants.
@@ -356,9 +358,9 @@ pub enum Command {
     /// coordinates (filtered and differentiated as the AnalyzeTool does), every muscle and
     /// actuator exerts its force from the forces file (e.g. static optimisation's _force.sto,
     /// linearly interpolated), the accelerations are those the forces give with gravity and the
-    /// external loads (forward dynamics, locks and couplers enforced), and each joint's load on
-    /// its child (at the child frame origin) or parent (at the parent frame origin) is expressed
-    /// in ground or a body. Writes OpenSim's <NAME>_JointReaction_ReactionLoads.sto into DIR.
+    /// external loads (forward dynamics, locks, couplers and links between bodies enforced), and
+    /// each joint's load on its child (at the child frame origin) or parent (at the parent frame
+    /// origin) is expressed in ground or a body. Writes OpenSim's <NAME>_JointReaction_ReactionLoads.sto into DIR.
     /// Exit 0 success, 2 error.
     Reaction {
         /// The model (.osim).

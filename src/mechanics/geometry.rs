@@ -34,6 +34,9 @@ pub struct PathEvaluation {
     muscles: Vec<usize>,
     /// Moment arms about `loaded` rather than `spanned` coordinates.
     loaded: bool,
+    /// A unit tension's generalized forces with the links between bodies aside
+    /// ([`GeometryPath::unit_tension_forces`]) instead of moment arms.
+    links_aside: bool,
     /// `moment_arms[offsets[k]..offsets[k + 1]]` belong to muscle k.
     offsets: Vec<usize>,
     lengths: Vec<f64>,
@@ -48,16 +51,23 @@ impl PathEvaluation {
     /// Prepares buffers for `muscles` (indices into [`MuscleGeometry::paths`]), moment arms
     /// about the coordinates each spans.
     pub fn new(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
-        PathEvaluation::with(geometry, muscles, false)
+        PathEvaluation::with(geometry, muscles, false, false)
     }
 
     /// As [`PathEvaluation::new`], moment arms about the coordinates each path's tension loads
     /// as OpenSim applies it: the generalized forces of a unit tension.
     pub fn loading(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
-        PathEvaluation::with(geometry, muscles, true)
+        PathEvaluation::with(geometry, muscles, true, false)
     }
 
-    fn with(geometry: &MuscleGeometry, muscles: &[usize], loaded: bool) -> PathEvaluation {
+    /// As [`PathEvaluation::loading`], the "moment arms" being the generalized forces a unit
+    /// tension applies with the links between bodies aside (the same without links): what the
+    /// forward dynamics applies, the links' forces to be added.
+    pub fn applying(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
+        PathEvaluation::with(geometry, muscles, true, true)
+    }
+
+    fn with(geometry: &MuscleGeometry, muscles: &[usize], loaded: bool, links_aside: bool) -> PathEvaluation {
         let mut offsets = vec![0];
         for &m in muscles {
             let path = &geometry.paths[m];
@@ -66,6 +76,7 @@ impl PathEvaluation {
         PathEvaluation {
             muscles: muscles.to_vec(),
             loaded,
+            links_aside,
             lengths: vec![0.0; muscles.len()],
             lengthening_speeds: vec![0.0; muscles.len()],
             moment_arms: vec![0.0; offsets.last().copied().unwrap_or(0)],
@@ -89,7 +100,11 @@ impl PathEvaluation {
             let path = &geometry.paths[m];
             let out = &mut self.moment_arms[self.offsets[k]..self.offsets[k + 1]];
             let coordinates = if self.loaded { &path.loaded } else { &path.spanned };
-            self.lengths[k] = path.moment_arms(multibody, &self.kinematics, q, &mut self.scratch, coordinates, out);
+            self.lengths[k] = if self.links_aside {
+                path.unit_tension_forces(multibody, &self.kinematics, q, &mut self.scratch, coordinates, out)
+            } else {
+                path.moment_arms(multibody, &self.kinematics, q, &mut self.scratch, coordinates, out)
+            };
             if let Some(u) = u {
                 self.lengthening_speeds[k] = path.lengthening_speed(multibody, &self.kinematics, q, &self.scratch, &path.loaded, u);
             }

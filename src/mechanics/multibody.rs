@@ -137,11 +137,9 @@ impl Multibody {
         Ok(multibody)
     }
 
-    /// The enforced constraints whose forces the inverse problems (static optimisation, joint
-    /// reactions) leave out — every one but the couplers — `name (class)`: the links, then the
-    /// unheld ones. (The forward dynamics enforces the links too.)
-    pub fn constraints_dynamics_refuses(&self) -> Vec<String> {
-        self.links.iter().map(|link| format!("{} ({})", link.name, link.class)).chain(self.unheld_constraints.iter().cloned()).collect()
+    /// The links between bodies, `name (class)`.
+    pub fn link_names(&self) -> Vec<String> {
+        self.links.iter().map(|link| format!("{} ({})", link.name, link.class)).collect()
     }
 
     /// The body a frame chain hangs on and X_B,frame.

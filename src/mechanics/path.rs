@@ -306,15 +306,28 @@ impl GeometryPath {
         coordinates: &[usize],
         moment_arms: &mut [f64],
     ) -> f64 {
+        if multibody.links.is_empty() {
+            return self.unit_tension_forces(multibody, kinematics, q, scratch, coordinates, moment_arms);
+        }
         let length = self.place_with_directions(kinematics, q, scratch);
         for (&coordinate, moment_arm) in coordinates.iter().zip(moment_arms.iter_mut()) {
             *moment_arm = 0.0;
-            let mut add = |c: usize, weight: f64| *moment_arm += weight * self.generalized_force(multibody, kinematics, q, scratch, c);
-            if multibody.links.is_empty() {
-                coupling::for_each_coupling(&multibody.couplers, q, coordinate, add);
-            } else {
-                coupling::projected_coupling(multibody, kinematics, q, coordinate).weights.into_iter().for_each(|(c, weight)| add(c, weight));
+            for (c, weight) in coupling::projected_coupling(multibody, kinematics, q, coordinate).weights {
+                *moment_arm += weight * self.generalized_force(multibody, kinematics, q, scratch, c);
             }
+        }
+        length
+    }
+
+    /// The generalized forces (N·m or N per N) a unit tension applies about `coordinates`, as
+    /// [`GeometryPath::moment_arms`] finds them but with the links between bodies aside: each
+    /// summed along its couplers only, as the forward dynamics applies them (the links then
+    /// answer with their own forces). The path's length (m) is returned.
+    pub fn unit_tension_forces(&self, multibody: &Multibody, kinematics: &Kinematics, q: &[f64], scratch: &mut PathScratch, coordinates: &[usize], forces: &mut [f64]) -> f64 {
+        let length = self.place_with_directions(kinematics, q, scratch);
+        for (&coordinate, force) in coordinates.iter().zip(forces.iter_mut()) {
+            *force = 0.0;
+            coupling::for_each_coupling(&multibody.couplers, q, coordinate, |c, weight| *force += weight * self.generalized_force(multibody, kinematics, q, scratch, c));
         }
         length
     }

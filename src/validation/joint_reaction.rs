@@ -31,9 +31,9 @@ pub struct JointReactionComparison {
 }
 
 /// The cases: arm26 (wrapping Thelen muscles, reserves), leg6dof9musc (a coupler, locks), the
-/// walk (ground reactions, residual point and torque actuators, 6 Hz) and Rajagopal2016 (rigid
-/// tendons, locks, coupled patellae).
-pub const JOINT_REACTION_CASES: [JointReactionCase; 4] = [
+/// walk (ground reactions, residual point and torque actuators, 6 Hz), Rajagopal2016 (rigid
+/// tendons, locks, coupled patellae) and a parallelogram linkage (a PointConstraint's force).
+pub const JOINT_REACTION_CASES: [JointReactionCase; 5] = [
     // Found 6.6e-11 N.
     JointReactionCase { case: "arm26", frames: ["ground", "child"], load: 1e-9, point: 1e-12 },
     // OpenSim's assembly moves the knee within its accuracy while it puts the patella back (see
@@ -46,6 +46,8 @@ pub const JOINT_REACTION_CASES: [JointReactionCase; 4] = [
     // origin is 4.0e-6 m off ours, every other origin agrees to 2e-7 m (legs 1.3e-9 m). Found
     // 1.2e-4 N at the elbows, 8.4e-6 N at the hips, 2.7e-6 N at the knees.
     JointReactionCase { case: "rajagopal", frames: ["ground", "tibia_r"], load: 3e-4, point: 1e-5 },
+    // The loop's PointConstraint force among the loads.
+    JointReactionCase { case: "parallelogram", frames: ["child", "ground"], load: 1e-9, point: 1e-12 },
 ];
 
 impl JointReactionCase {

@@ -155,7 +155,8 @@ pub struct StaticOptimizationCase {
 }
 
 /// The cases: arm26 (wrapping Thelen muscles, reserves; exponents 2 and 3), leg6dof9musc (its
-/// patella coupled to the knee) and the walk with the Thelen-muscle model.
+/// patella coupled to the knee), Rajagopal2016, a parallelogram linkage (a loop closed by a
+/// PointConstraint) and the walk with the Thelen-muscle model.
 pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
     let settings = |time_range: [f64; 2], lowpass_cutoff: Option<f64>, activation_exponent: f64| StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval: 1, use_muscle_physiology: true, activation_exponent };
     let arm = |case, exponent, violation| StaticOptimizationCase {
@@ -198,6 +199,19 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             settings: settings([0.1, 0.4], None, 2.0),
             violation: 2e-4,
             unit_force: 1e-5,
+        },
+        // A closed loop: the ConstantDistanceConstraint's force eliminated along the one motion
+        // it allows. IPOPT leaves 1.1e-6 rad/s² of its constraints at 0.34 s (its log): found
+        // 6.0e-8 N·m there, 1e-13 elsewhere.
+        StaticOptimizationCase {
+            case: "parallelogram",
+            model: "fixtures/golden/static_optimization/parallelogram/parallelogram.osim",
+            coordinates: "fixtures/golden/static_optimization/parallelogram/parallelogram_motion.mot",
+            force_set: "fixtures/golden/static_optimization/parallelogram/parallelogram_reserves.xml",
+            loads: None,
+            settings: settings([0.1, 0.9], None, 2.0),
+            violation: 1e-7,
+            unit_force: 1e-12,
         },
         StaticOptimizationCase {
             case: "subject01_thelen",

@@ -115,6 +115,14 @@ pub fn physiological_inverse(
     settings: &PhysiologicalInverseSettings,
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
+    let links = geometry.multibody.link_names();
+    if !links.is_empty() {
+        return Err(StaticOptimizationError::Model(format!(
+            "{}: the constraints {} link bodies; the physiological inverse approach holds only CoordinateCouplerConstraints (static optimisation holds links)",
+            geometry.multibody.file.display(),
+            links.join(", ")
+        )));
+    }
     let states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
     let rows = solved_rows(&states, frames_settings, file)?;
     let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);

@@ -28,14 +28,14 @@ enum Kind {
 }
 
 /// The generators of `spec` (unless `replace`, which keeps only `added`) and of `added` for the
-/// inverse problems (static optimisation, joint reactions), which apply no constraint forces but
-/// couplers': a model with other enforced constraints is refused. `force_generators` skips that
-/// check (the forward dynamics enforces the links).
+/// inverse problems (static optimisation, joint reactions), which hold couplers and links between
+/// bodies: a model with other enforced constraints is refused. `force_generators` skips that
+/// check (the forward dynamics refuses them itself).
 pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
-    let constraints = geometry.multibody.constraints_dynamics_refuses();
+    let constraints = &geometry.multibody.unheld_constraints;
     if !constraints.is_empty() {
         return Err(StaticOptimizationError::Model(format!(
-            "{}: the constraints {} are enforced; osim-tune's inverse dynamics applies only CoordinateCouplerConstraints (disable the others, or remove them)",
+            "{}: the constraints {} are enforced; osim-tune's inverse problems hold only CoordinateCouplerConstraints and point, distance, point-on-line and weld constraints (disable the others, or remove them)",
             spec.file.display(),
             constraints.join(", ")
         )));
@@ -44,7 +44,7 @@ pub fn generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[Actuator
 }
 
 /// The generators of `spec` (unless `replace`) and of `added`, whatever the constraints (the
-/// forward dynamics enforces them); forces that apply no force are left out, and any other force
+/// forward dynamics refuses those it does not hold); forces that apply no force are left out, and any other force
 /// is refused (we cannot apply it).
 pub fn force_generators(spec: &ModelSpec, geometry: &MuscleGeometry, added: &[ActuatorSpec], replace: bool) -> Result<Vec<Generator>, StaticOptimizationError> {
     let mut generators = Vec::new();

@@ -7,7 +7,8 @@
 //! OpenSim constrains the forward-dynamics accelerations of the unconstrained coordinates to the
 //! tracked ones; that is the same as requiring the generalized forces to equal inverse dynamics
 //! at those accelerations along each unconstrained coordinate's coupling vector (`frames.rs`),
-//! which is what we solve:
+//! (and, with links between bodies, along each motion the links allow: their forces take up the
+//! rest), which is what we solve:
 //! for p = 2 a convex QP (clarabel, polished on its active set), else a conic programme on power
 //! cones (`solvers::minimise_power_sum`), to the optimum. OpenSim solves it with IPOPT to its
 //! convergence criterion (default 1e-4), so its controls sit within about that of ours.
@@ -77,7 +78,8 @@ pub struct StaticOptimizationResult {
     /// Force of every generator (N or N·m), then the external loads' records (`_force.sto`).
     pub forces: StorageTable,
     pub failures: Vec<FrameFailure>,
-    /// Largest |generalized force − inverse dynamics| over the solved frames, N·m or N.
+    /// Largest |generalized force − inverse dynamics| over the solved frames, N·m or N (with
+    /// links, along an orthonormal basis of the motions they allow).
     pub max_violation: f64,
     /// Coordinates the file lacks (held at 0, as OpenSim does).
     pub missing: Vec<String>,
@@ -186,7 +188,7 @@ struct Solved {
 /// frame; `other`: another solution's controls there, to judge.
 /// `bounds`: every generator's (min_control, max_control).
 fn solve(frames: &mut Frames, bounds: &(Vec<f64>, Vec<f64>), exponent: f64, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
-    let FrameProblem { matrix, rhs, unit_forces, .. } = frames.problem(state, time);
+    let FrameProblem { matrix, rhs, unit_forces, .. } = frames.problem(state, time).along_allowed_motions();
     let n = unit_forces.len();
     let (lower, upper) = bounds;
     let solved = if exponent == 2.0 {
