@@ -51,6 +51,8 @@ coordinates file, as a lab runs them from a setup: subject01's scaled model and 
   simulated states (the Millard muscle's activation state driven below 0, which OpenSim clamps),
   the `states` analyses — the scapulothoracic reaction on the thorax as OpenSim takes it, about
   the child frame's origin (the weld carrying the scapula on a massless winging body);
+* `ellipsoid_equilibrium`: the same, equilibrated — OpenSim equilibrates the muscle at the
+  clamped activation too;
 * `linked`: the ForwardTool golden's linked_mechanisms (point, distance, point-on-line and weld
   constraints closing loops) from its simulated states, the `states` analyses but the
   MuscleAnalysis (OpenSim's moment arms about a coordinate a weld holds are NaN or arbitrary):
@@ -182,11 +184,12 @@ CASES = {
     "states_legacy": dict(range=(0.05, 0.25), cutoff=-1, equilibrium=True, model="arm26.osim", analyses=ARM, states="arm26_states_legacy.sto"),
     "ball_free": dict(range=(0.0, 0.5), cutoff=-1, model="ball_free.osim", analyses=ARM, states="ball_free_states.sto"),
     "ellipsoid": dict(range=(0.0, 0.3), cutoff=-1, model="ellipsoid_joints.osim", analyses=ARM, states="ellipsoid_states.sto"),
+    "ellipsoid_equilibrium": dict(range=(0.0, 0.3), cutoff=-1, equilibrium=True, model="ellipsoid_joints.osim", analyses=ARM, states="ellipsoid_states.sto"),
     "linked": dict(range=(0.0, 0.3), cutoff=-1, model="linked_mechanisms.osim", analyses=LINKED, states="linked_states.sto"),
 }
 
 
-STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "linked")
+STATE_CASES = ("muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote", "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "ellipsoid_equilibrium", "linked")
 
 
 def kept(case, table):

@@ -121,8 +121,11 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
             let (length, speed) = (evaluation.length(k), evaluation.lengthening_speed(k));
             let mut warn = |what: &str, e: MuscleError| result.warnings.push(format!("at {time} s: {what}: {e}"));
             let start = held.variables(row);
-            // A muscle without activation dynamics is activated by its control.
-            let activation = start.activation.unwrap_or_else(|| controls.control(&result.muscles[k].1, time));
+            // A muscle without activation dynamics is activated by its control. OpenSim's
+            // `getActivation` clamps the state (a forward simulation can carry it past its
+            // bounds) for the equilibrium and the evaluation alike; the muscle then holds it at
+            // its minimum activation.
+            let activation = start.activation.unwrap_or_else(|| controls.control(&result.muscles[k].1, time)).clamp(0.0, 1.0);
             let variable = match start.second {
                 Some(_) if equilibrate => match equilibrated(&held.muscle, activation, length, speed) {
                     Ok(second) => StateVariables { second: Some(second), ..start },
@@ -133,9 +136,7 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
                 },
                 _ => start,
             };
-            // OpenSim's `getActivation` clamps the state (a forward simulation can carry it past
-            // its bounds); the muscle then holds it at its minimum activation.
-            let report = held.muscle.state(activation.clamp(0.0, 1.0), variable.second.unwrap_or(0.0), length, speed);
+            let report = held.muscle.state(activation, variable.second.unwrap_or(0.0), length, speed);
             reports.push(report.map_err(|e| warn("not evaluated (NaN)", e)).ok());
             variables.push(variable);
         }

@@ -26,11 +26,12 @@ use crate::setup::{read_document, AnalyzeSetup};
 /// 4's and OpenSim 3's labels; arm26 with DeGroote muscles from a states file, and equilibrated
 /// with compliant and rigid tendons; a Ball and a Free joint from simulated states, a
 /// CoordinateActuator driven by the model's PrescribedController; a Scapulothoracic and an
-/// Ellipsoid joint from simulated states (an activation state below 0); loops closed by point,
+/// Ellipsoid joint from simulated states (an activation state below 0), also equilibrated at the
+/// clamped activation; loops closed by point,
 /// distance, point-on-line and weld constraints from simulated states ([`case_tolerance`]).
-pub const ANALYZE_TOOL_CASES: [&str; 19] = [
+pub const ANALYZE_TOOL_CASES: [&str; 20] = [
     "all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote",
-    "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "linked",
+    "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "ellipsoid_equilibrium", "linked",
 ];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
