@@ -321,7 +321,14 @@ pub fn diagnose_study(folder: &Path) -> ExitCode {
         eprintln!("{}: no subject folders with a ground_truth.json", folder.display());
         return ExitCode::from(2);
     }
-    let spec = ModelSpec::read(&OsimDocument::read(&root().join(MODEL)).expect("the base model")).expect("the base model");
+    let model = root().join(MODEL);
+    let spec = match OsimDocument::read(&model).map_err(|e| e.to_string()).and_then(|document| ModelSpec::read(&document).map_err(|e| e.to_string())) {
+        Ok(spec) => spec,
+        Err(e) => {
+            eprintln!("the base model {}: {e}", model.display());
+            return ExitCode::from(2);
+        }
+    };
     let row = hidden_row(&spec, &subjects, &folder.display().to_string());
     println!("{}\n  worst {:.3e} (allowed {}) — {}", row.what, row.worst, row.tolerance, row.at);
     if row.worst <= row.tolerance { ExitCode::SUCCESS } else { ExitCode::FAILURE }
@@ -334,8 +341,12 @@ fn hidden_row(spec: &ModelSpec, subjects: &[PathBuf], batch: &str) -> Row {
     let (mut worst, mut worst_case, mut named, mut wrong) = (0.0f64, String::new(), Vec::new(), Vec::new());
     for folder in subjects {
         let subject = folder.file_name().map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-        let truth: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(folder.join("ground_truth.json")).expect("hidden ground truth")).expect("JSON");
-        let (cause, value) = hidden_cause(&truth).expect("a hidden cause");
+        let truth_file = folder.join("ground_truth.json");
+        let truth = std::fs::read_to_string(&truth_file).map_err(|e| e.to_string()).and_then(|text| serde_json::from_str::<serde_json::Value>(&text).map_err(|e| e.to_string()));
+        let Some((truth, (cause, value))) = truth.ok().and_then(|truth| hidden_cause(&truth).map(|hidden| (truth, hidden))) else {
+            wrong.push(format!("{subject}: {} holds no hidden cause this study knows", truth_file.display()));
+            continue;
+        };
         for (label, sets) in [("set5", SetSelection::Only(vec!["set5".into()])), ("all", SetSelection::All)] {
             let case = format!("{subject} {label}");
             let outcome = DynamometryData::read(folder, &TrialOptions { sets, ..TrialOptions::default() })
