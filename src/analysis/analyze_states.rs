@@ -9,7 +9,8 @@
 //! path, a shorter tail of it, or OpenSim 3's name — `<coordinate>`, `<coordinate>_u`,
 //! `<muscle>.activation`), a state the file lacks at its default.
 //!
-//! Each row is then assembled: a coupler's dependent coordinate is put where its constraint says,
+//! Each row is then assembled: a coupler's dependent coordinate is put where its constraint says
+//! (and, for the rows analysed, links between bodies closed: [`AnalyzeStates::assemble_links`]),
 //! its speed left as it is (OpenSim assembles positions only) — 0 when the file lacks it. A dependent coordinate whose motion
 //! type is `Coupled` (e.g. leg6dof9musc's patella) is not converted from degrees by OpenSim's
 //! degree rule, so in a file in degrees its speed is in degrees per second — as OpenSim has it,
@@ -20,6 +21,7 @@ use std::path::{Path, PathBuf};
 use super::signal::{rows_in_range, Series, SignalError};
 use crate::io::table::StorageTable;
 use crate::mechanics::{Motion, MotionError, Multibody};
+use crate::solvers::{assemble, IkError};
 
 /// Why the states cannot be formed.
 #[derive(Debug, thiserror::Error)]
@@ -30,6 +32,8 @@ pub enum StatesError {
     Signal { file: PathBuf, source: SignalError },
     #[error("{}: a states file holds coordinates in radians and meters (inDegrees=no), as OpenSim requires", file.display())]
     StatesInDegrees { file: PathBuf },
+    #[error("{}: the pose at {time} s cannot be assembled: {source}", file.display())]
+    Assembly { file: PathBuf, time: f64, source: Box<IkError> },
 }
 
 /// A muscle's state variables as a states file gives them per row: activation and the second
@@ -143,6 +147,20 @@ impl AnalyzeStates {
         let range = rows_in_range(&self.times, time_range)?;
         let (first, last) = (*range.start(), *range.end());
         Some(range.filter(|&i| i == first || i == last || i % step_interval == 0).collect())
+    }
+
+    /// With links between bodies, each pose of `rows` assembled as the AnalyzeTool assembles it
+    /// before its analyses record (`Model::assemble`): the pose nearest the row's that closes
+    /// every link ([`assemble`]); the speeds and accelerations stay the splines'. (Couplers were
+    /// followed when the states were formed; a model without links is left as it is.)
+    pub fn assemble_links(&mut self, multibody: &Multibody, rows: &[usize], file: &Path) -> Result<(), StatesError> {
+        if multibody.links.is_empty() {
+            return Ok(());
+        }
+        for &i in rows {
+            self.q[i] = assemble(multibody, &self.q[i]).map_err(|source| StatesError::Assembly { file: file.into(), time: self.times[i], source: Box::new(source) })?;
+        }
+        Ok(())
     }
 }
 

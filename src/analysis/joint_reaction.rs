@@ -139,9 +139,10 @@ pub struct ReactionProblem<'a> {
 pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &Path, reports: &[ReactionReport], settings: &JointReactionSettings) -> Result<JointReactionResult, JointReactionError> {
     let ReactionProblem { geometry, generators, forces, external } = *problem;
     let multibody = &geometry.multibody;
-    let states = AnalyzeStates::new(multibody, table, file, settings.lowpass_cutoff)?;
+    let mut states = AnalyzeStates::new(multibody, table, file, settings.lowpass_cutoff)?;
     let [start, end] = settings.time_range;
     let rows = states.analysed_rows(settings.time_range, settings.step_interval).ok_or(JointReactionError::NoFrames { file: file.into(), start, end })?;
+    states.assemble_links(multibody, &rows, file)?;
     let (columns, unused_forces) = force_columns(forces, generators)?;
     let force_times = forces.table.times();
     let mut kinematics = multibody.kinematics();

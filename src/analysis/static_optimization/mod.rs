@@ -120,8 +120,9 @@ pub fn static_optimization(
     settings: &StaticOptimizationSettings,
     reference: Option<ReferenceControls>,
 ) -> Result<StaticOptimizationResult, StaticOptimizationError> {
-    let states = AnalyzeStates::new(&geometry.multibody, table, file, settings.lowpass_cutoff)?;
+    let mut states = AnalyzeStates::new(&geometry.multibody, table, file, settings.lowpass_cutoff)?;
     let rows = solved_rows(&states, settings, file)?;
+    states.assemble_links(&geometry.multibody, &rows, file)?;
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
     let mut frames = Frames::new(geometry, generators, loads, settings.use_muscle_physiology);
     let bounds = frames.bounds();
