@@ -291,6 +291,7 @@ fn a_closed_loop_is_solved_and_the_physiological_inverse_refuses_it() {
     let (code, stdout, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--time", "0.1", "0.9", "--compare", &compare, "--name", "loop", "-o", s(&so)]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("81 frames"), "{stdout}");
+    assert!(!stderr.contains("break the links"), "the golden motion keeps its loop closed: {stderr}");
     assert!(so.join("loop_StaticOptimization_force.sto").exists());
     let pia = folder.path().join("pia");
     let (code, _, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--pia", "sum-of-squares", "-o", s(&pia)]);
@@ -311,16 +312,7 @@ fn poses_off_a_loop_are_assembled_onto_it() {
     let case = "fixtures/golden/static_optimization/parallelogram";
     let (model, motion, reserves) = (path(&format!("{case}/parallelogram.osim")), path(&format!("{case}/parallelogram_motion.mot")), path(&format!("{case}/parallelogram_reserves.xml")));
     let forces = path(&format!("{case}/parallelogram_StaticOptimization_force.sto"));
-    let text = std::fs::read_to_string(&motion).unwrap();
-    let (header, body) = text.split_at(text.find("time\t").unwrap());
-    let mut lines = body.lines();
-    let mut off = format!("{header}{}\n", lines.next().unwrap());
-    for line in lines {
-        let v: Vec<f64> = line.split('\t').map(|x| x.parse().unwrap()).collect();
-        off.push_str(&format!("{}\t{}\t{}\n", v[0], v[1] + 0.5, v[2] - 0.5));
-    }
-    let off_motion = folder.path().join("off.mot");
-    std::fs::write(&off_motion, off).unwrap();
+    let off_motion = moved_motion(&motion, folder.path(), |_| 0.5);
     let run = |command: &str, motion: &str, name: &str| {
         let out = folder.path().join(name);
         let extra: &[&str] = if command == "so" { &[] } else { &["--forces", &forces] };
@@ -339,4 +331,38 @@ fn poses_off_a_loop_are_assembled_onto_it() {
         let bound = if command == "so" { 1e-7 } else { 1e-5 };
         assert!(largest < bound, "{command}: off-loop poses give results {largest:e} away");
     }
+}
+
+/// The parallelogram's golden motion with the crank moved by +`offset(t)` degrees and the rocker
+/// by −`offset(t)`, written into `folder`.
+fn moved_motion(motion: &str, folder: &Path, offset: impl Fn(f64) -> f64) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(motion).unwrap();
+    let (header, body) = text.split_at(text.find("time\t").unwrap());
+    let mut lines = body.lines();
+    let mut moved = format!("{header}{}\n", lines.next().unwrap());
+    for line in lines {
+        let v: Vec<f64> = line.split('\t').map(|x| x.parse().unwrap()).collect();
+        moved.push_str(&format!("{}\t{}\t{}\n", v[0], v[1] + offset(v[0]), v[2] - offset(v[0])));
+    }
+    let file = folder.join("moved.mot");
+    std::fs::write(&file, moved).unwrap();
+    file
+}
+
+/// A motion whose accelerations break its loop (crank and rocker moved apart by ±2° sin 2πt:
+/// each pose assembles onto the loop, the splined accelerations do not keep it) is solved — the
+/// controls give the nearest accelerations that keep the loop — with a note saying how far the
+/// tracked ones break it: the distance's acceleration L sinθ (θ̈₁ − θ̈₃) + …, with θ̈₁ − θ̈₃ up to
+/// 4°·(2π)² ≈ 2.8 rad/s² and L sinθ up to 0.33 m, and the speeds' part (found 1.02 m/s²).
+#[test]
+fn accelerations_breaking_a_loop_are_noted() {
+    let folder = tempfile::tempdir().unwrap();
+    let case = "fixtures/golden/static_optimization/parallelogram";
+    let (model, motion, reserves) = (path(&format!("{case}/parallelogram.osim")), path(&format!("{case}/parallelogram_motion.mot")), path(&format!("{case}/parallelogram_reserves.xml")));
+    let moved = moved_motion(&motion, folder.path(), |t| 2.0 * (2.0 * std::f64::consts::PI * t).sin());
+    let (code, _, stderr) = osim_tune(&["so", &model, s(&moved), "--actuators", &reserves, "--time", "0.1", "0.9", "-o", s(&folder.path().join("out"))]);
+    assert_eq!(code, 0, "{stderr}");
+    let note = stderr.split("break the links between bodies by up to ").nth(1).unwrap_or_else(|| panic!("no note: {stderr}"));
+    let error: f64 = note.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(error > 0.5 && error < 1.5, "{error} m/s²");
 }

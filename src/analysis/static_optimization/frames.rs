@@ -42,6 +42,10 @@ pub struct FrameProblem {
     /// Rows: as `matrix`; columns: the links' velocity rows ([`Multibody::link_jacobian`]). The
     /// generalized forces of a unit multiplier (−Gᵀ along each row), N·m or N per N or N·m.
     pub link_forces: DMatrix<f64>,
+    /// The largest |G·u̇ + Ġ·u| of the tracked motion (m/s² or rad/s²; 0 without links): how far
+    /// its accelerations break the links. Forces meeting the rows give the nearest accelerations
+    /// that keep them (OpenSim's static optimisation cannot meet its constraints there).
+    pub link_acceleration_error: f64,
 }
 
 impl FrameProblem {
@@ -154,7 +158,8 @@ impl<'a> Frames<'a> {
         }
         let link_velocities = multibody.link_jacobian(self.paths.kinematics()).transpose();
         let link_forces = DMatrix::from_fn(self.rows.len(), link_velocities.ncols(), |r, l| -along(link_velocities.column(l).as_slice(), self.rows[r]));
-        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces, arms, lengths, link_forces }
+        let link_acceleration_error = if multibody.links.is_empty() { 0.0 } else { multibody.link_accelerations(self.paths.kinematics(), state.q, state.u, &udot).amax() };
+        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces, arms, lengths, link_forces, link_acceleration_error }
     }
 }
 

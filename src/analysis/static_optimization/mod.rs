@@ -81,6 +81,10 @@ pub struct StaticOptimizationResult {
     /// Largest |generalized force − inverse dynamics| over the solved frames, N·m or N (with
     /// links, along an orthonormal basis of the motions they allow).
     pub max_violation: f64,
+    /// The largest |G·u̇ + Ġ·u| of the tracked motion over the solved frames (m/s² or rad/s²; 0
+    /// without links between bodies): how far its accelerations break the links
+    /// ([`FrameProblem::link_acceleration_error`]).
+    pub link_acceleration_error: f64,
     /// Coordinates the file lacks (held at 0, as OpenSim does).
     pub missing: Vec<String>,
     pub ignored_columns: Vec<String>,
@@ -128,13 +132,14 @@ pub fn static_optimization(
     let bounds = frames.bounds();
     let mut judged = Vec::new();
     let (mut activations, mut forces) = (Vec::new(), Vec::new());
-    let (mut failures, mut max_violation) = (Vec::new(), 0.0f64);
+    let (mut failures, mut max_violation, mut link_acceleration_error) = (Vec::new(), 0.0f64, 0.0f64);
     for &i in &rows {
         let time = states.times[i];
         let state = MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] };
         let other = reference.zip(columns.as_ref()).and_then(|(r, columns)| r.table.rows().find(|row| (row[0] - time).abs() <= 1e-9).map(|row| columns.iter().map(|&c| row[c]).collect::<Vec<f64>>()));
         let solved = solve(&mut frames, &bounds, settings.activation_exponent, &state, time, other.as_deref());
         judged.extend(solved.reference);
+        link_acceleration_error = link_acceleration_error.max(solved.link_acceleration_error);
         match solved.failure {
             Some(status) => failures.push(FrameFailure { time, status }),
             None => max_violation = max_violation.max(solved.violation),
@@ -155,6 +160,7 @@ pub fn static_optimization(
         forces: StorageTable::new("ModelForces", force_labels, forces)?.with_in_degrees(false),
         failures,
         max_violation,
+        link_acceleration_error,
         missing: states.missing,
         ignored_columns: states.ignored_columns,
         reference: judged,
@@ -183,13 +189,14 @@ struct Solved {
     violation: f64,
     failure: Option<String>,
     reference: Option<ReferenceFrame>,
+    link_acceleration_error: f64,
 }
 
 /// min Σ|a|ᵖ subject to Σ aⱼ·Fⱼ·Rⱼ = τ_ID on the tracked coordinates, a within bounds, at one
 /// frame; `other`: another solution's controls there, to judge.
 /// `bounds`: every generator's (min_control, max_control).
 fn solve(frames: &mut Frames, bounds: &(Vec<f64>, Vec<f64>), exponent: f64, state: &MotionState, time: f64, other: Option<&[f64]>) -> Solved {
-    let FrameProblem { matrix, rhs, unit_forces, .. } = frames.problem(state, time).along_allowed_motions();
+    let FrameProblem { matrix, rhs, unit_forces, link_acceleration_error, .. } = frames.problem(state, time).along_allowed_motions();
     let n = unit_forces.len();
     let (lower, upper) = bounds;
     let solved = if exponent == 2.0 {
@@ -201,7 +208,7 @@ fn solve(frames: &mut Frames, bounds: &(Vec<f64>, Vec<f64>), exponent: f64, stat
     };
     let (status, x) = match solved {
         Ok(solved) => solved,
-        Err(e) => return Solved { controls: vec![f64::NAN; n], unit_forces, violation: f64::INFINITY, failure: Some(e.to_string()), reference: None },
+        Err(e) => return Solved { controls: vec![f64::NAN; n], unit_forces, violation: f64::INFINITY, failure: Some(e.to_string()), reference: None, link_acceleration_error },
     };
     let violation = |controls: &[f64]| (&matrix * DVector::from_column_slice(controls) - DVector::from_column_slice(&rhs)).amax();
     let objective = |controls: &[f64]| controls.iter().map(|a| a.abs().powf(exponent)).sum::<f64>();
@@ -214,5 +221,5 @@ fn solve(frames: &mut Frames, bounds: &(Vec<f64>, Vec<f64>), exponent: f64, stat
     });
     let failure = (!status.is_solved()).then(|| format!("{status:?}"));
     let controls = if failure.is_some() { vec![f64::NAN; n] } else { x };
-    Solved { violation: violation(&controls), controls, unit_forces, failure, reference }
+    Solved { violation: violation(&controls), controls, unit_forces, failure, reference, link_acceleration_error }
 }

@@ -15,6 +15,10 @@ use crate::mechanics::MuscleGeometry;
 use crate::tuning::functional::root_mean_square;
 use crate::setup::{AnalyzeSetup, StaticOptimizationSetup};
 
+/// Link accelerations (m/s² or rad/s²) above which the tracked motion is said to break the links:
+/// OpenSim's StaticOptimization warns above 1e-6 of its constraints.
+const LINK_ACCELERATION_NOTE: f64 = 1e-6;
+
 /// What the command line asks for besides the model and the coordinates.
 pub struct Request {
     pub setup: Option<PathBuf>,
@@ -215,6 +219,12 @@ fn report(result: &StaticOptimizationResult, coordinates: &Path, outputs: &[Path
     let (Some(first), Some(last)) = (times.first(), times.last()) else { return };
     println!("{} frames of {} ({first:.4}–{last:.4} s) → {}, {}, {}", times.len(), coordinates.display(), outputs[0].display(), outputs[1].display(), outputs[2].display());
     println!("largest |generalized force − inverse dynamics|: {:.2e}", result.max_violation);
+    if result.link_acceleration_error > LINK_ACCELERATION_NOTE {
+        eprintln!(
+            "note: the tracked accelerations break the links between bodies by up to {:.2e} m/s² or rad/s²; the controls give the nearest accelerations that keep them (OpenSim's StaticOptimization cannot meet its constraints there)",
+            result.link_acceleration_error
+        );
+    }
     if !result.missing.is_empty() {
         println!("held at 0 (not in the coordinates, as OpenSim does): {}", result.missing.join(", "));
     }
