@@ -335,8 +335,7 @@ pub enum Command {
         /// The physiological inverse approach (De Groote et al. 2009) instead: every frame at once,
         /// consecutive activations bound by activation dynamics (τ_a, τ_d of each muscle), by the
         /// sum of squared controls or the largest muscle activation (min-max). Writes
-        /// <NAME>_PhysiologicalInverse_activation.sto, _force.sto and _excitation.sto. Models
-        /// with links between bodies are refused.
+        /// <NAME>_PhysiologicalInverse_activation.sto, _force.sto and _excitation.sto.
         #[arg(long, value_enum)]
         pia: Option<CriterionArgument>,
         /// With --pia: multiplies every muscle's activation and deactivation time constants.

@@ -13,7 +13,8 @@
 //! the Hill model's static equilibrium force beside their compliant tendons (`contraction.rs`),
 //! linearised at the last solution and solved again until the linearisation holds at the
 //! solution. The rows hold exactly or, with a moment weight W, as the penalty W·Σ deviation²
-//! (thesis §3.2's bi-objective form). The criterion is the sum of squared controls over all
+//! (thesis §3.2's bi-objective form); with links between bodies they run along the motions the
+//! links allow, as static optimisation's do, and the deviations are reported per coordinate. The criterion is the sum of squared controls over all
 //! frames, or (thesis ch. 7) the largest muscle activation over the motion, with non-muscle
 //! actuators at their squared controls and ties broken by 10⁻³ times the sum of squared
 //! activations. Each solve is one sparse QP (clarabel).
@@ -115,20 +116,13 @@ pub fn physiological_inverse(
     settings: &PhysiologicalInverseSettings,
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
-    let links = geometry.multibody.link_names();
-    if !links.is_empty() {
-        return Err(StaticOptimizationError::Model(format!(
-            "{}: the constraints {} link bodies; the physiological inverse approach holds only CoordinateCouplerConstraints (static optimisation holds links)",
-            geometry.multibody.file.display(),
-            links.join(", ")
-        )));
-    }
-    let states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
+    let mut states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
     let rows = solved_rows(&states, frames_settings, file)?;
+    states.assemble_links(&geometry.multibody, &rows, file)?;
     let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);
     let problems: Vec<FrameProblem> = rows
         .iter()
-        .map(|&i| frames.problem(&MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] }, states.times[i]))
+        .map(|&i| frames.problem(&MotionState { q: &states.q[i], u: &states.u[i], udot: &states.udot[i] }, states.times[i]).along_allowed_motions())
         .collect();
     let times: Vec<f64> = rows.iter().map(|&i| states.times[i]).collect();
     let (lower, upper) = frames.bounds();
@@ -194,15 +188,19 @@ fn linearisation_error(problems: &[FrameProblem], forces: &[Vec<f64>], linear: &
     largest
 }
 
-/// R·F − inverse dynamics (N·m or N) per frame of `problems` and row, with generator forces
-/// `forces` (per frame).
+/// R·F − inverse dynamics (N·m or N) per frame of `problems` and tracked coordinate, with
+/// generator forces `forces` (per frame); with links, the part the links' forces cannot take up
+/// (the rows' deviations mapped back from the allowed motions).
 fn deviations(problems: &[FrameProblem], forces: &[Vec<f64>]) -> Vec<Vec<f64>> {
     problems
         .iter()
         .zip(forces)
         .map(|(problem, f)| {
-            let produced = &problem.arms * nalgebra::DVector::from_column_slice(f);
-            produced.iter().zip(&problem.rhs).map(|(p, d)| p - d).collect()
+            let deviation = &problem.arms * nalgebra::DVector::from_column_slice(f) - nalgebra::DVector::from_column_slice(&problem.rhs);
+            match &problem.motions {
+                Some(basis) => (basis * deviation).as_slice().to_vec(),
+                None => deviation.as_slice().to_vec(),
+            }
         })
         .collect()
 }

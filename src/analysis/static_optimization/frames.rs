@@ -46,6 +46,10 @@ pub struct FrameProblem {
     /// its accelerations break the links. Forces meeting the rows give the nearest accelerations
     /// that keep them (OpenSim's static optimisation cannot meet its constraints there).
     pub link_acceleration_error: f64,
+    /// After [`FrameProblem::along_allowed_motions`] on a model with links: the orthonormal basis
+    /// N (columns over the tracked coordinates) the rows now run along; a row vector e maps back
+    /// onto the tracked coordinates as N·e. `None` while the rows are the coordinates'.
+    pub motions: Option<DMatrix<f64>>,
 }
 
 impl FrameProblem {
@@ -64,6 +68,7 @@ impl FrameProblem {
             rhs: rhs.as_slice().to_vec(),
             arms: project(&self.arms),
             link_forces: DMatrix::zeros(basis.ncols(), 0),
+            motions: Some(basis),
             ..self
         }
     }
@@ -159,7 +164,7 @@ impl<'a> Frames<'a> {
         let link_velocities = multibody.link_jacobian(self.paths.kinematics()).transpose();
         let link_forces = DMatrix::from_fn(self.rows.len(), link_velocities.ncols(), |r, l| -along(link_velocities.column(l).as_slice(), self.rows[r]));
         let link_acceleration_error = if multibody.links.is_empty() { 0.0 } else { multibody.link_accelerations(self.paths.kinematics(), state.q, state.u, &udot).amax() };
-        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces, arms, lengths, link_forces, link_acceleration_error }
+        FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces, arms, lengths, link_forces, link_acceleration_error, motions: None }
     }
 }
 
