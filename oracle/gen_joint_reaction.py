@@ -22,6 +22,8 @@ Cases (each writes fixtures/golden/joint_reaction/<case>/<case>_<analysis>_React
   knees; child in ground, parent in `tibia_r` (a body named as the frame).
 * `parallelogram` — a closed loop: the crank's and rocker's tips held apart by a
   ConstantDistanceConstraint, whose force the joints carry too; child in `child`, parent in ground.
+* `shoulder` — the ThoracoscapularShoulderModel, its AC PointConstraint carrying the arm (the
+  scapulothoracic joint's parent side as OpenSim takes it); child in ground, parent in `parent`.
 
 Muscles are not equilibrated (the forces file overrides every actuator, so their states do not
 matter) and tables are printed with 20 digits. The tools run in a scratch folder; only the result
@@ -76,6 +78,16 @@ CASES = {
         None,
         "child",
         "ground",
+    ),
+    "shoulder": (
+        MODELS / "ThoracoscapularShoulderModel.osim",
+        SO / "shoulder" / "shoulder_motion.mot",
+        [SO / "shoulder" / "shoulder_reserves.xml"],
+        (0.1, 0.5),
+        -1,
+        None,
+        "ground",
+        "parent",
     ),
 }
 

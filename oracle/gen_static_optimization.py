@@ -50,6 +50,17 @@ Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
   coordinate), its forward dynamics carrying the link's force; 0.1–0.9 s, exponent 2. (A
   PointConstraint closing a planar loop has a redundant row normal to the plane, with which
   OpenSim's assembler cannot move the pose off its default: every row is analysed there.)
+* `shoulder` — fixtures/models/ThoracoscapularShoulderModel.osim (33 Millard muscles wrapping
+  over ellipsoids and cylinders, a ScapulothoracicJoint, the AC joint's PointConstraint closing
+  the clavicle–scapula loop, which carries the arm) along a motion written here
+  (`shoulder_motion.mot`, 0–1 s at 100 Hz, radians): the glenohumeral coordinates at their
+  defaults plus sinusoids (0.2–0.4 rad, periods 0.8–2 s), each row assembled by OpenSim
+  (`Model::assemble` at assembly accuracy 1e-12; the loop's coordinates stay at the default
+  pose: a ScapulothoracicJoint's speeds are not its coordinates' rates, which the AnalyzeTool
+  splines, so with the scapula moving OpenSim's static optimisation cannot meet its own
+  constraints). Reserve CoordinateActuators
+  (`shoulder_reserves.xml`): optimal force 1000 on the thorax's three rotations, 10 on the
+  other unlocked coordinates; exponent 2, 0.1–0.5 s.
 
 Muscles are not equilibrated (solve_for_equilibrium_for_auxiliary_states false) and tables are
 printed with 20 digits (output_precision), as in the
@@ -142,6 +153,51 @@ def parallelogram_reserves(path):
         actuator = osim.CoordinateActuator(coordinate)
         actuator.setName(f"reserve_{coordinate}")
         actuator.setOptimalForce(1.0)
+        forces.cloneAndAppend(actuator)
+    forces.printToXML(str(path))
+
+
+SHOULDER_SWINGS = {
+    # coordinate: (amplitude rad, period s, phase rad); the clavicle and scapula stay still (a
+    # ScapulothoracicJoint's speeds are not its coordinates' rates, which the AnalyzeTool's
+    # splines give: moving them, OpenSim's own static optimisation cannot meet its constraints).
+    "plane_elv": (0.3, 2.0, 0.0),
+    "shoulder_elv": (0.4, 1.6, 0.4),
+    "axial_rot": (0.2, 0.8, 0.7),
+}
+
+
+def shoulder_motion(model_path, path):
+    """Each row's pose assembled by OpenSim from the swinging coordinates' targets."""
+    model = osim.Model(str(model_path))
+    model.set_assembly_accuracy(1e-12)
+    state = model.initSystem()
+    coordinates = model.getCoordinateSet()
+    names = [coordinates.get(i).getName() for i in range(coordinates.getSize())]
+    defaults = {n: coordinates.get(n).getDefaultValue() for n in names}
+    rows = []
+    for k in range(101):
+        t = k / 100
+        for name, (amplitude, period, phase) in SHOULDER_SWINGS.items():
+            coordinates.get(name).setValue(state, defaults[name] + amplitude * math.sin(2 * math.pi * t / period + phase), False)
+        model.assemble(state)
+        rows.append("\t".join(repr(v) for v in [t] + [coordinates.get(n).getValue(state) for n in names]))
+    header = f"shoulder_motion\nversion=1\nnRows={len(rows)}\nnColumns={len(names) + 1}\ninDegrees=no\nendheader\ntime\t" + "\t".join(names) + "\n"
+    path.write_text(header + "\n".join(rows) + "\n")
+
+
+def shoulder_reserves(model_path, path):
+    model = osim.Model(str(model_path))
+    forces = osim.ForceSet()
+    coordinates = model.getCoordinateSet()
+    for i in range(coordinates.getSize()):
+        coordinate = coordinates.get(i)
+        if coordinate.get_locked():
+            continue
+        name = coordinate.getName()
+        actuator = osim.CoordinateActuator(name)
+        actuator.setName(f"reserve_{name}")
+        actuator.setOptimalForce(1000.0 if name.startswith("ground_thorax") else 10.0)
         forces.cloneAndAppend(actuator)
     forces.printToXML(str(path))
 
@@ -252,7 +308,7 @@ def rajagopal_reserves(model_path, path):
     return names
 
 
-CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal", "parallelogram"]
+CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal", "parallelogram", "shoulder"]
 
 
 def main(cases):
@@ -295,6 +351,13 @@ def main(cases):
         parallelogram_motion(folder / "parallelogram_motion.mot")
         parallelogram_reserves(folder / "parallelogram_reserves.xml")
         run("parallelogram", folder / "parallelogram.osim", folder / "parallelogram_motion.mot", [folder / "parallelogram_reserves.xml"], (0.1, 0.9), -1, 2.0)
+    if "shoulder" in wanted:
+        folder = OUT / "shoulder"
+        folder.mkdir(parents=True, exist_ok=True)
+        model = REPO / "fixtures" / "models" / "ThoracoscapularShoulderModel.osim"
+        shoulder_motion(model, folder / "shoulder_motion.mot")
+        shoulder_reserves(model, folder / "shoulder_reserves.xml")
+        run("shoulder", model, folder / "shoulder_motion.mot", [folder / "shoulder_reserves.xml"], (0.1, 0.5), -1, 2.0)
 
 
 if __name__ == "__main__":

@@ -51,8 +51,9 @@ fn the_walk_agrees_with_opensims_static_optimization() {
 /// accuracy — we follow the speed it keeps; without that the miss was 55 N·m), Rajagopal2016, a
 /// parallelogram four-bar (a ConstantDistanceConstraint closing the loop: its force eliminated
 /// along the motion it allows, the muscles' generalized forces taken without the links'
-/// projection — with OpenSim's constrained moment arms instead the miss was 4.2 N·m) and the
-/// walk with the Thelen-muscle model: OpenSim's controls meet our constraints (to each case's bound: its
+/// projection — with OpenSim's constrained moment arms instead the miss was 4.2 N·m), OpenSim's
+/// ThoracoscapularShoulderModel (its AC PointConstraint carrying the arm) and the walk with the
+/// Thelen-muscle model: OpenSim's controls meet our constraints (to each case's bound: its
 /// IPOPT or assembly) and bounds, cost no less than ours, and its forces per unit control are ours.
 #[test]
 fn other_opensim_runs_agree() {

@@ -32,8 +32,9 @@ pub struct JointReactionComparison {
 
 /// The cases: arm26 (wrapping Thelen muscles, reserves), leg6dof9musc (a coupler, locks), the
 /// walk (ground reactions, residual point and torque actuators, 6 Hz), Rajagopal2016 (rigid
-/// tendons, locks, coupled patellae) and a parallelogram linkage (a PointConstraint's force).
-pub const JOINT_REACTION_CASES: [JointReactionCase; 5] = [
+/// tendons, locks, coupled patellae), a parallelogram four-bar (a ConstantDistanceConstraint's
+/// force) and the ThoracoscapularShoulderModel (its AC PointConstraint's).
+pub const JOINT_REACTION_CASES: [JointReactionCase; 6] = [
     // Found 6.6e-11 N.
     JointReactionCase { case: "arm26", frames: ["ground", "child"], load: 1e-9, point: 1e-12 },
     // OpenSim's assembly moves the knee within its accuracy while it puts the patella back (see
@@ -48,6 +49,10 @@ pub const JOINT_REACTION_CASES: [JointReactionCase; 5] = [
     JointReactionCase { case: "rajagopal", frames: ["ground", "tibia_r"], load: 3e-4, point: 1e-5 },
     // The loop's PointConstraint force among the loads.
     JointReactionCase { case: "parallelogram", frames: ["child", "ground"], load: 1e-9, point: 1e-12 },
+    // The AC PointConstraint's force among the loads; the scapulothoracic parent side about the
+    // child frame's origin, as OpenSim takes it. Found 8.0e-9 N and 2.3e-11 m (OpenSim's
+    // assembly of each row).
+    JointReactionCase { case: "shoulder", frames: ["ground", "parent"], load: 5e-8, point: 1e-10 },
 ];
 
 impl JointReactionCase {

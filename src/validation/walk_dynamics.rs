@@ -155,8 +155,9 @@ pub struct StaticOptimizationCase {
 }
 
 /// The cases: arm26 (wrapping Thelen muscles, reserves; exponents 2 and 3), leg6dof9musc (its
-/// patella coupled to the knee), Rajagopal2016, a parallelogram linkage (a loop closed by a
-/// PointConstraint) and the walk with the Thelen-muscle model.
+/// patella coupled to the knee), Rajagopal2016, a parallelogram four-bar (a loop closed by a
+/// ConstantDistanceConstraint), the ThoracoscapularShoulderModel (its AC PointConstraint) and the
+/// walk with the Thelen-muscle model.
 pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
     let settings = |time_range: [f64; 2], lowpass_cutoff: Option<f64>, activation_exponent: f64| StaticOptimizationSettings { time_range, lowpass_cutoff, step_interval: 1, use_muscle_physiology: true, activation_exponent };
     let arm = |case, exponent, violation| StaticOptimizationCase {
@@ -212,6 +213,19 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             settings: settings([0.1, 0.9], None, 2.0),
             violation: 1e-7,
             unit_force: 1e-12,
+        },
+        // OpenSim's ThoracoscapularShoulderModel (33 Millard muscles wrapping over ellipsoids
+        // and cylinders): its AC PointConstraint carries the arm, its force eliminated along the
+        // motions the loop allows. Found 1.1e-9 N·m and 1.8e-9.
+        StaticOptimizationCase {
+            case: "shoulder",
+            model: "fixtures/models/ThoracoscapularShoulderModel.osim",
+            coordinates: "fixtures/golden/static_optimization/shoulder/shoulder_motion.mot",
+            force_set: "fixtures/golden/static_optimization/shoulder/shoulder_reserves.xml",
+            loads: None,
+            settings: settings([0.1, 0.5], None, 2.0),
+            violation: 1e-8,
+            unit_force: 1e-8,
         },
         StaticOptimizationCase {
             case: "subject01_thelen",
