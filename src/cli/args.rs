@@ -549,8 +549,10 @@ pub enum Command {
     /// ControlSetControllers and PrescribedControllers (their controls add; 0 without one),
     /// through its activation and fiber dynamics; the force-set files' actuators added, external
     /// loads applied; locked coordinates held, couplers exact, point, distance, point-on-line and
-    /// weld constraints held at the acceleration level (no projection of drift). Dormand–Prince 5(4) at integrator_error_tolerance per state, steps of at
-    /// most maximum_integrator_step_size, at most maximum_number_of_integrator_steps. Writes
+    /// weld constraints held at the acceleration level, the state projected back onto them
+    /// after a step leaving them open by more than the tolerance. Dormand–Prince 5(4) at
+    /// integrator_error_tolerance per state, steps of at most maximum_integrator_step_size, at
+    /// most maximum_number_of_integrator_steps. Writes
     /// DIR/<name>_states.sto (every state after every step, OpenSim's labels),
     /// <name>_states_degrees.mot and <name>_controls.sto, and the tables of the AnalysisSet's
     /// analyses `analyze --setup` runs, formed from those states. A Ball, Free or ellipsoid

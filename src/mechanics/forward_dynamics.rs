@@ -128,7 +128,7 @@ impl Multibody {
 
     /// u̇ = P·v + p₀: one column of P per free coordinate (neither locked nor a coupler's
     /// dependent) carrying its dependents by their slopes; p₀ the dependents' f″·q̇_i².
-    fn constraint_projection(&self, q: &[f64], u: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
+    pub(super) fn constraint_projection(&self, q: &[f64], u: &[f64]) -> (DMatrix<f64>, DVector<f64>) {
         let n = self.coordinates.len();
         let free: Vec<usize> = (0..n).filter(|&c| !self.coordinates[c].locked && !self.is_dependent(c)).collect();
         let mut projection = DMatrix::zeros(n, free.len());

@@ -9,7 +9,7 @@ use crate::analysis::external_loads::ExternalLoads;
 use crate::analysis::forward::{driven_muscles, DrivenMuscle};
 use crate::analysis::reporters::coordinate_state_paths;
 use crate::analysis::static_optimization::Generator;
-use crate::mechanics::{AppliedForces, Kinematics, MuscleGeometry, PathScratch};
+use crate::mechanics::{AppliedForces, Kinematics, MuscleGeometry, PathScratch, ProjectionError};
 use crate::model::{ModelSpec, SecondState};
 
 /// One state of the simulated model.
@@ -142,6 +142,32 @@ impl<'a> Plant<'a> {
         multibody.follow_couplers(&mut q, &[]);
         multibody.follow_coupler_speeds(&q, &mut u);
         (q, u)
+    }
+
+    /// Whether the pose or speeds of `y` have drifted off the links between bodies by more than
+    /// `tolerance` (m, m/s).
+    pub(super) fn drifted(&self, y: &[f64], tolerance: f64) -> bool {
+        let multibody = &self.geometry.multibody;
+        if multibody.links.is_empty() {
+            return false;
+        }
+        let (q, u) = self.pose(y);
+        let (position, rate) = multibody.link_drift(&q, &u);
+        position > tolerance || rate > tolerance
+    }
+
+    /// `y` with its pose and speeds projected back onto the links
+    /// ([`Multibody::project_onto_links`](crate::mechanics::Multibody::project_onto_links), to a
+    /// thousandth of `tolerance`).
+    pub(super) fn project(&self, y: &[f64], tolerance: f64) -> Result<Vec<f64>, ProjectionError> {
+        let (mut q, mut u) = self.pose(y);
+        self.geometry.multibody.project_onto_links(&mut q, &mut u, 1e-3 * tolerance)?;
+        let mut projected = y.to_vec();
+        let n = self.free.len();
+        for (i, &c) in self.free.iter().enumerate() {
+            (projected[i], projected[n + i]) = (q[c], u[c]);
+        }
+        Ok(projected)
     }
 
     pub(super) fn workspace(&self) -> Workspace {

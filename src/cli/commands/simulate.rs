@@ -60,11 +60,12 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
     }
     write_files(&files, &read)?;
     println!(
-        "ForwardTool: {start}–{} s in {} steps ({} rejected, {} evaluations) → {} files in {}",
+        "ForwardTool: {start}–{} s in {} steps ({} rejected, {} evaluations, {} projections onto the links) → {} files in {}",
         tool.final_time,
         simulation.accepted_steps,
         simulation.rejected_steps,
         simulation.evaluations,
+        simulation.projections,
         files.len(),
         output.display()
     );
