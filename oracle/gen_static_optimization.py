@@ -81,25 +81,35 @@ OUT = REPO / "fixtures" / "golden" / "static_optimization"
 SUBJECT01 = REPO / "fixtures" / "subject01"
 
 
+def write_motion(path, name, labels, rows, in_degrees):
+    """A motion file `name` with columns `labels` (time first) and `rows` (lists of numbers)."""
+    lines = ["\t".join(repr(v) for v in row) for row in rows]
+    header = f"{name}\nversion=1\nnRows={len(lines)}\nnColumns={len(labels)}\ninDegrees={'yes' if in_degrees else 'no'}\nendheader\n" + "\t".join(labels) + "\n"
+    path.write_text(header + "\n".join(lines) + "\n")
+
+
+def write_reserves(path, strengths):
+    """A ForceSet of CoordinateActuators `reserve_<coordinate>`, each with its optimal force
+    (`strengths`: coordinate → N·m or N), unbounded controls."""
+    forces = osim.ForceSet()
+    for coordinate, optimal in strengths.items():
+        actuator = osim.CoordinateActuator(coordinate)
+        actuator.setName(f"reserve_{coordinate}")
+        actuator.setOptimalForce(optimal)
+        forces.cloneAndAppend(actuator)
+    forces.printToXML(str(path))
+
+
 def arm26_motion(path):
     rows = []
     for k in range(101):
         t = k / 100
-        shoulder = 30 + 25 * math.sin(2 * math.pi * t)
-        elbow = 70 + 45 * math.sin(2 * math.pi * 1.5 * t + 0.3)
-        rows.append(f"{t!r}\t{shoulder!r}\t{elbow!r}")
-    header = f"arm26_motion\nversion=1\nnRows={len(rows)}\nnColumns=3\ninDegrees=yes\nendheader\ntime\tr_shoulder_elev\tr_elbow_flex\n"
-    path.write_text(header + "\n".join(rows) + "\n")
+        rows.append([t, 30 + 25 * math.sin(2 * math.pi * t), 70 + 45 * math.sin(2 * math.pi * 1.5 * t + 0.3)])
+    write_motion(path, "arm26_motion", ["time", "r_shoulder_elev", "r_elbow_flex"], rows, True)
 
 
 def arm26_reserves(path):
-    forces = osim.ForceSet()
-    for coordinate in ["r_shoulder_elev", "r_elbow_flex"]:
-        actuator = osim.CoordinateActuator(coordinate)
-        actuator.setName(f"reserve_{coordinate}")
-        actuator.setOptimalForce(1.0)
-        forces.cloneAndAppend(actuator)
-    forces.printToXML(str(path))
+    write_reserves(path, {"r_shoulder_elev": 1.0, "r_elbow_flex": 1.0})
 
 
 def parallelogram_model(path):
@@ -142,19 +152,12 @@ def parallelogram_motion(path):
     for k in range(101):
         t = k / 100
         crank = 30 + 25 * math.sin(2 * math.pi * t)
-        rows.append(f"{t!r}\t{crank!r}\t{crank!r}")
-    header = f"parallelogram_motion\nversion=1\nnRows={len(rows)}\nnColumns=3\ninDegrees=yes\nendheader\ntime\tcrank_angle\trocker_angle\n"
-    path.write_text(header + "\n".join(rows) + "\n")
+        rows.append([t, crank, crank])
+    write_motion(path, "parallelogram_motion", ["time", "crank_angle", "rocker_angle"], rows, True)
 
 
 def parallelogram_reserves(path):
-    forces = osim.ForceSet()
-    for coordinate in ["crank_angle", "rocker_angle"]:
-        actuator = osim.CoordinateActuator(coordinate)
-        actuator.setName(f"reserve_{coordinate}")
-        actuator.setOptimalForce(1.0)
-        forces.cloneAndAppend(actuator)
-    forces.printToXML(str(path))
+    write_reserves(path, {"crank_angle": 1.0, "rocker_angle": 1.0})
 
 
 SHOULDER_SWINGS = {
@@ -181,25 +184,16 @@ def shoulder_motion(model_path, path):
         for name, (amplitude, period, phase) in SHOULDER_SWINGS.items():
             coordinates.get(name).setValue(state, defaults[name] + amplitude * math.sin(2 * math.pi * t / period + phase), False)
         model.assemble(state)
-        rows.append("\t".join(repr(v) for v in [t] + [coordinates.get(n).getValue(state) for n in names]))
-    header = f"shoulder_motion\nversion=1\nnRows={len(rows)}\nnColumns={len(names) + 1}\ninDegrees=no\nendheader\ntime\t" + "\t".join(names) + "\n"
-    path.write_text(header + "\n".join(rows) + "\n")
+        rows.append([t] + [coordinates.get(n).getValue(state) for n in names])
+    write_motion(path, "shoulder_motion", ["time"] + names, rows, False)
 
 
 def shoulder_reserves(model_path, path):
+    """1000 N·m on the thorax's rotations, 10 on every other unlocked coordinate."""
     model = osim.Model(str(model_path))
-    forces = osim.ForceSet()
     coordinates = model.getCoordinateSet()
-    for i in range(coordinates.getSize()):
-        coordinate = coordinates.get(i)
-        if coordinate.get_locked():
-            continue
-        name = coordinate.getName()
-        actuator = osim.CoordinateActuator(name)
-        actuator.setName(f"reserve_{name}")
-        actuator.setOptimalForce(1000.0 if name.startswith("ground_thorax") else 10.0)
-        forces.cloneAndAppend(actuator)
-    forces.printToXML(str(path))
+    unlocked = [coordinates.get(i).getName() for i in range(coordinates.getSize()) if not coordinates.get(i).get_locked()]
+    write_reserves(path, {name: 1000.0 if name.startswith("ground_thorax") else 10.0 for name in unlocked})
 
 
 def leg_motion(path):
@@ -211,20 +205,13 @@ def leg_motion(path):
         hip = 20 + 30 * math.sin(2 * math.pi * t)
         knee = -45 + 35 * math.sin(2 * math.pi * t + 0.8)
         ankle = 10 * math.sin(2 * math.pi * 2 * t)
-        rows.append("\t".join(repr(v) for v in [t, 0.0, 0.0, 1.06004667, hip, knee, knee, ankle]))
-    labels = "time\tpelvis_tilt\tpelvis_tx\tpelvis_ty\thip_flexion_r\tknee_angle_r\tknee_angle_pat_r\tankle_angle_r"
-    header = f"leg_motion\nversion=1\nnRows={len(rows)}\nnColumns=8\ninDegrees=yes\nendheader\n{labels}\n"
-    path.write_text(header + "\n".join(rows) + "\n")
+        rows.append([t, 0.0, 0.0, 1.06004667, hip, knee, knee, ankle])
+    labels = ["time", "pelvis_tilt", "pelvis_tx", "pelvis_ty", "hip_flexion_r", "knee_angle_r", "knee_angle_pat_r", "ankle_angle_r"]
+    write_motion(path, "leg_motion", labels, rows, True)
 
 
 def leg_reserves(path):
-    forces = osim.ForceSet()
-    for coordinate, optimal in [("pelvis_tilt", 100.0), ("pelvis_tx", 1000.0), ("pelvis_ty", 1000.0), ("hip_flexion_r", 1.0), ("knee_angle_r", 1.0), ("ankle_angle_r", 1.0)]:
-        actuator = osim.CoordinateActuator(coordinate)
-        actuator.setName(f"reserve_{coordinate}")
-        actuator.setOptimalForce(optimal)
-        forces.cloneAndAppend(actuator)
-    forces.printToXML(str(path))
+    write_reserves(path, {"pelvis_tilt": 100.0, "pelvis_tx": 1000.0, "pelvis_ty": 1000.0, "hip_flexion_r": 1.0, "knee_angle_r": 1.0, "ankle_angle_r": 1.0})
 
 
 def analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, results):
@@ -288,23 +275,17 @@ def rajagopal_reserves(model_path, path):
         actuator = osim.CoordinateActuator.safeDownCast(model.getForceSet().get(i))
         if actuator:
             driven.add(actuator.get_coordinate())
-    forces = osim.ForceSet()
     names = []
     for i in range(model.getCoordinateSet().getSize()):
         coordinate = model.getCoordinateSet().get(i)
         name = coordinate.getName()
-        if coordinate.get_locked() or coordinate.isDependent(state) or name in driven:
-            continue
-        actuator = osim.CoordinateActuator(name)
-        actuator.setName(f"reserve_{name}")
-        actuator.setOptimalForce(1000.0 if name.startswith("pelvis_") else 1.0)
-        forces.cloneAndAppend(actuator)
-        names.append(name)
+        if not (coordinate.get_locked() or coordinate.isDependent(state) or name in driven):
+            names.append(name)
     legs = [f"{c}_{side}" for side in "rl" for c in ["hip_flexion", "hip_adduction", "hip_rotation", "knee_angle", "ankle_angle"]]
     expected = ["pelvis_tilt", "pelvis_list", "pelvis_rotation", "pelvis_tx", "pelvis_ty", "pelvis_tz"] + legs
     if sorted(names) != sorted(expected):
         raise SystemExit(f"rajagopal reserves: unexpected coordinates {names}")
-    forces.printToXML(str(path))
+    write_reserves(path, {name: 1000.0 if name.startswith("pelvis_") else 1.0 for name in names})
     return names
 
 

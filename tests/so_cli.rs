@@ -288,9 +288,8 @@ fn an_unsolvable_physiological_inverse_problem_exits_1_and_writes_nothing() {
 #[test]
 fn a_closed_loop_is_solved_by_both_optimisations() {
     let folder = tempfile::tempdir().unwrap();
-    let case = "fixtures/golden/static_optimization/parallelogram";
-    let (model, motion, reserves) = (path(&format!("{case}/parallelogram.osim")), path(&format!("{case}/parallelogram_motion.mot")), path(&format!("{case}/parallelogram_reserves.xml")));
-    let compare = path(&format!("{case}/parallelogram_StaticOptimization_activation.sto"));
+    let [model, motion, reserves] = parallelogram(["parallelogram.osim", "parallelogram_motion.mot", "parallelogram_reserves.xml"]);
+    let [compare] = parallelogram(["parallelogram_StaticOptimization_activation.sto"]);
     let so = folder.path().join("so");
     let (code, stdout, stderr) = osim_tune(&["so", &model, &motion, "--actuators", &reserves, "--time", "0.1", "0.9", "--compare", &compare, "--name", "loop", "-o", s(&so)]);
     assert_eq!(code, 0, "{stderr}");
@@ -317,9 +316,8 @@ fn a_closed_loop_is_solved_by_both_optimisations() {
 #[test]
 fn poses_off_a_loop_are_assembled_onto_it() {
     let folder = tempfile::tempdir().unwrap();
-    let case = "fixtures/golden/static_optimization/parallelogram";
-    let (model, motion, reserves) = (path(&format!("{case}/parallelogram.osim")), path(&format!("{case}/parallelogram_motion.mot")), path(&format!("{case}/parallelogram_reserves.xml")));
-    let forces = path(&format!("{case}/parallelogram_StaticOptimization_force.sto"));
+    let [model, motion, reserves] = parallelogram(["parallelogram.osim", "parallelogram_motion.mot", "parallelogram_reserves.xml"]);
+    let [forces] = parallelogram(["parallelogram_StaticOptimization_force.sto"]);
     let off_motion = moved_motion(&motion, folder.path(), |_| 0.5);
     let run = |command: &str, motion: &str, name: &str| {
         let out = folder.path().join(name);
@@ -365,12 +363,16 @@ fn moved_motion(motion: &str, folder: &Path, offset: impl Fn(f64) -> f64) -> std
 #[test]
 fn accelerations_breaking_a_loop_are_noted() {
     let folder = tempfile::tempdir().unwrap();
-    let case = "fixtures/golden/static_optimization/parallelogram";
-    let (model, motion, reserves) = (path(&format!("{case}/parallelogram.osim")), path(&format!("{case}/parallelogram_motion.mot")), path(&format!("{case}/parallelogram_reserves.xml")));
+    let [model, motion, reserves] = parallelogram(["parallelogram.osim", "parallelogram_motion.mot", "parallelogram_reserves.xml"]);
     let moved = moved_motion(&motion, folder.path(), |t| 2.0 * (2.0 * std::f64::consts::PI * t).sin());
     let (code, _, stderr) = osim_tune(&["so", &model, s(&moved), "--actuators", &reserves, "--time", "0.1", "0.9", "-o", s(&folder.path().join("out"))]);
     assert_eq!(code, 0, "{stderr}");
     let note = stderr.split("break the links between bodies by up to ").nth(1).unwrap_or_else(|| panic!("no note: {stderr}"));
     let error: f64 = note.split_whitespace().next().unwrap().parse().unwrap();
     assert!(error > 0.5 && error < 1.5, "{error} m/s²");
+}
+
+/// The parallelogram golden's `files` (fixtures/golden/static_optimization/parallelogram/).
+fn parallelogram<const N: usize>(files: [&str; N]) -> [String; N] {
+    files.map(|file| path(&format!("fixtures/golden/static_optimization/parallelogram/{file}")))
 }
