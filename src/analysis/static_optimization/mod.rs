@@ -83,7 +83,8 @@ pub struct StaticOptimizationResult {
     pub max_violation: f64,
     /// The largest |G·u̇ + Ġ·u| of the tracked motion over the solved frames (m/s² or rad/s²; 0
     /// without links between bodies): how far its accelerations break the links
-    /// ([`FrameProblem::link_acceleration_error`]).
+    /// ([`Multibody::link_accelerations`](crate::mechanics::Multibody::link_accelerations)); the
+    /// controls then give the nearest accelerations that keep them.
     pub link_acceleration_error: f64,
     /// Coordinates the file lacks (held at 0, as OpenSim does).
     pub missing: Vec<String>,
