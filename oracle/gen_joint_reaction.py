@@ -22,6 +22,8 @@ Cases (each writes fixtures/golden/joint_reaction/<case>/<case>_<analysis>_React
   knees; child in ground, parent in `tibia_r` (a body named as the frame).
 * `parallelogram` — a closed loop: the crank's and rocker's tips held apart by a
   ConstantDistanceConstraint, whose force the joints carry too; child in `child`, parent in ground.
+* `arm26_states` — arm26 from a states file (its coordinates and speeds as they are); child in
+  `parent`, parent in `child`.
 * `shoulder` — the ThoracoscapularShoulderModel, its AC PointConstraint carrying the arm (the
   scapulothoracic joint's parent side as OpenSim takes it); child in ground, parent in `parent`.
 
@@ -79,6 +81,7 @@ CASES = {
         "child",
         "ground",
     ),
+    "arm26_states": (MODELS / "arm26.osim", REPO / "fixtures" / "golden" / "analyze_tool" / "states" / "arm26_states.sto", [SO / "arm26" / "arm26_reserves.xml"], (0.05, 0.25), -1, None, "parent", "child"),
     "shoulder": (
         MODELS / "ThoracoscapularShoulderModel.osim",
         SO / "shoulder" / "shoulder_motion.mot",
@@ -90,6 +93,9 @@ CASES = {
         "parent",
     ),
 }
+
+# Cases whose input is a states file (the tool's states_file), not coordinates.
+STATES_CASES = {"arm26_states"}
 
 
 def reaction(name, forces, on, frame):
@@ -111,7 +117,7 @@ def run(case, keep=True):
     folder = OUT / case
     with tempfile.TemporaryDirectory() as scratch:
         scratch = Path(scratch)
-        tool = analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, scratch / "results")
+        tool = analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, scratch / "results", case in STATES_CASES)
         tool.getAnalysisSet().cloneAndAppend(reaction("JointReaction", forces, "child", child_frame))
         tool.getAnalysisSet().cloneAndAppend(reaction("JointReactionParent", forces, "parent", parent_frame))
         setup = scratch / "setup.xml"

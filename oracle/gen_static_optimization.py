@@ -61,6 +61,9 @@ Cases (each writes fixtures/golden/static_optimization/<case>/ with OpenSim's
   constraints). Reserve CoordinateActuators
   (`shoulder_reserves.xml`): optimal force 1000 on the thorax's three rotations, 10 on the
   other unlocked coordinates; exponent 2, 0.1–0.5 s.
+* `arm26_states` — arm26 from a `states_file` (fixtures/golden/analyze_tool/states/arm26_states.sto,
+  OpenSim's forward simulation of it: coordinates and speeds as they are, the accelerations
+  splined from the speeds), arm26's reserves, exponent 2, 0.05–0.25 s.
 
 Muscles are not equilibrated (solve_for_equilibrium_for_auxiliary_states false) and tables are
 printed with 20 digits (output_precision), as in the
@@ -214,10 +217,11 @@ def leg_reserves(path):
     write_reserves(path, {"pelvis_tilt": 100.0, "pelvis_tx": 1000.0, "pelvis_ty": 1000.0, "hip_flexion_r": 1.0, "knee_angle_r": 1.0, "ankle_angle_r": 1.0})
 
 
-def analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, results):
+def analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, results, states=False):
     """An AnalyzeTool named `case` as the goldens run it: the force-set files added (not
     replacing the model's), muscles not equilibrated, tables printed with 20 digits, results in
-    `results`; the analyses are the caller's to append."""
+    `results`, from `coordinates` (a states file with `states`); the analyses are the caller's to
+    append."""
     tool = osim.AnalyzeTool()
     tool.setName(case)
     tool.setModelFilename(str(model))
@@ -229,7 +233,10 @@ def analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads
     tool.setResultsDir(str(results))
     tool.setInitialTime(time_range[0])
     tool.setFinalTime(time_range[1])
-    tool.setCoordinatesFileName(str(coordinates))
+    if states:
+        tool.setStatesFileName(str(coordinates))
+    else:
+        tool.setCoordinatesFileName(str(coordinates))
     tool.setLowpassCutoffFrequency(cutoff)
     tool.setSolveForEquilibrium(False)
     tool.setOutputPrecision(20)
@@ -238,12 +245,13 @@ def analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads
     return tool
 
 
-def run(case, model, coordinates, force_sets, time_range, cutoff, exponent, loads=None):
+def run(case, model, coordinates, force_sets, time_range, cutoff, exponent, loads=None, states=False):
+    """With `states`, `coordinates` is a states file (the tool's states_file)."""
     folder = OUT / case
     folder.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as scratch:
         scratch = Path(scratch)
-        tool = analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, scratch / "results")
+        tool = analyze_tool(case, model, coordinates, force_sets, time_range, cutoff, loads, scratch / "results", states)
         so = osim.StaticOptimization()
         so.setName("StaticOptimization")
         so.setStartTime(time_range[0])
@@ -289,7 +297,7 @@ def rajagopal_reserves(model_path, path):
     return names
 
 
-CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal", "parallelogram", "shoulder"]
+CASES = ["arm26", "arm26_exponent3", "leg6dof9musc", "subject01_thelen", "rajagopal", "parallelogram", "shoulder", "arm26_states"]
 
 
 def main(cases):
@@ -332,6 +340,10 @@ def main(cases):
         parallelogram_motion(folder / "parallelogram_motion.mot")
         parallelogram_reserves(folder / "parallelogram_reserves.xml")
         run("parallelogram", folder / "parallelogram.osim", folder / "parallelogram_motion.mot", [folder / "parallelogram_reserves.xml"], (0.1, 0.9), -1, 2.0)
+    if "arm26_states" in wanted:
+        arm.mkdir(parents=True, exist_ok=True)
+        arm26_reserves(arm / "arm26_reserves.xml")
+        run("arm26_states", REPO / "fixtures" / "models" / "arm26.osim", REPO / "fixtures" / "golden" / "analyze_tool" / "states" / "arm26_states.sto", [arm / "arm26_reserves.xml"], (0.05, 0.25), -1, 2.0, states=True)
     if "shoulder" in wanted:
         folder = OUT / "shoulder"
         folder.mkdir(parents=True, exist_ok=True)

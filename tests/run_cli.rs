@@ -214,6 +214,42 @@ const ANALYZE_SETUP: &str = r#"<?xml version="1.0" encoding="UTF-8" ?>
 </OpenSimDocument>
 "#;
 
+/// The same setup reading a states file (OpenSim's forward simulation of arm26) instead of
+/// coordinates: static optimisation and the joint reactions take its coordinates and speeds as
+/// they are and spline the speeds for the accelerations, as OpenSim 4.6 does
+/// (`oracle/gen_static_optimization.py` and `gen_joint_reaction.py`, case `arm26_states`):
+/// OpenSim's controls meet our rows (its forces give the accelerations we track) and the reactions
+/// of OpenSim's forces are OpenSim's.
+#[test]
+fn an_analyze_setup_reads_a_states_file_for_static_optimization_and_joint_reaction() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[
+        ("models/arm26.osim", "arm26.osim"),
+        ("golden/analyze_tool/states/arm26_states.sto", "arm26_states.sto"),
+        ("golden/static_optimization/arm26/arm26_reserves.xml", "arm26_reserves.xml"),
+        ("golden/static_optimization/arm26_states/arm26_states_StaticOptimization_force.sto", "opensim_forces.sto"),
+        ("golden/static_optimization/arm26_states/arm26_states_StaticOptimization_activation.sto", "opensim_activation.sto"),
+    ]);
+    let setup = dir.join("setup.xml");
+    let text = ANALYZE_SETUP.replace("<coordinates_file>arm26_motion.mot</coordinates_file>", "<states_file>arm26_states.sto</states_file>");
+    std::fs::write(&setup, text.replace("<initial_time>0.1</initial_time>", "<initial_time>0.05</initial_time>").replace("<final_time>0.9</final_time>", "<final_time>0.25</final_time>")).unwrap();
+    let (code, stdout, stderr) = osim_tune(&["run", s(&setup)]);
+    assert_eq!(code, 0, "{stdout}{stderr}");
+    let activations = StorageTable::read(&dir.join("Results/arm26_SO_activation.sto")).unwrap();
+    let opensim = StorageTable::read(&dir.join("opensim_activation.sto")).unwrap();
+    assert_eq!((activations.labels(), activations.n_rows()), (opensim.labels(), opensim.n_rows()));
+    let (code, stdout, stderr) = osim_tune(&["so", s(&dir.join("arm26.osim")), s(&dir.join("arm26_states.sto")), "--states", "--actuators", s(&dir.join("arm26_reserves.xml")), "--time", "0.05", "0.25", "--compare", s(&dir.join("opensim_activation.sto")), "-o", s(&dir.join("flags"))]);
+    assert_eq!(code, 0, "{stderr}");
+    let miss: f64 = stdout.split("its controls miss our constraints by at most ").nth(1).and_then(|t| t.split_whitespace().next()).and_then(|v| v.parse().ok()).unwrap_or_else(|| panic!("{stdout}"));
+    assert!(miss < 1e-9, "OpenSim's controls miss our rows by {miss:e}");
+    let ours = StorageTable::read(&dir.join("Results/arm26_reactions_ReactionLoads.sto")).unwrap();
+    let golden = StorageTable::read(&fixture("golden/joint_reaction/arm26_states/arm26_states_JointReactionParent_ReactionLoads.sto")).unwrap();
+    assert_eq!((ours.labels(), ours.n_rows()), (golden.labels(), golden.n_rows()));
+    let worst = ours.values().iter().zip(golden.values()).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-9, "{worst:e}");
+}
+
 /// AnalyzeTool setups (`oracle/gen_analyze_tool.py`): a MuscleAnalysis of every muscle and
 /// coordinate with the coordinates filtered at 6 Hz, and of listed muscles (out of the model's
 /// order, one unknown) and coordinates (one unknown) every second row; Kinematics and
@@ -298,11 +334,6 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     assert_eq!(code, 2);
     assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
 
-    let states = dir.join("states.xml");
-    std::fs::write(&states, ANALYZE_SETUP.replace("<coordinates_file>arm26_motion.mot</coordinates_file>", "<states_file>arm26_states.sto</states_file>")).unwrap();
-    let (code, _, stderr) = osim_tune(&["run", s(&states)]);
-    assert_eq!(code, 2);
-    assert!(stderr.contains("states.xml: states_file \"arm26_states.sto\": osim-tune's StaticOptimization and a JointReaction with a forces_file run from coordinates_file"), "{stderr}");
     let speeds = dir.join("speeds.xml");
     std::fs::write(&speeds, ANALYZE_SETUP.replace("<coordinates_file>", "<speeds_file>u.sto</speeds_file><coordinates_file>")).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&speeds)]);

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::rc::Rc;
 
 use super::analyze_dynamics::{analyze_dynamics, RowDynamics};
-use super::analyze_states::AnalyzeStates;
+use super::analyze_states::{muscle_state_names, AnalyzeStates, MotionInput};
 use super::analyze_tool::{analyze_tool_motion, AnalyzeModel, AnalyzeToolError, AnalyzeToolMotion, AnalyzeToolTables};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::joint_reaction::{reaction_reports, reaction_row, reaction_table};
@@ -50,13 +50,9 @@ impl<'a> ToolRun<'a> {
     pub(super) fn new(model: &'a AnalyzeModel<'a>, table: &StorageTable, file: &'a Path, setup: &'a AnalyzeSetup, tool_name: &'a str) -> Result<ToolRun<'a>, AnalyzeToolError> {
         let &AnalyzeModel { spec, geometry, .. } = model;
         let multibody = &geometry.multibody;
-        let states = if setup.states_file.is_some() {
-            let muscles: Vec<(String, &str)> = spec.muscles().filter_map(|m| m.muscle.as_ref().map(|s| (m.name.clone(), s.default_state().1.label()))).collect();
-            AnalyzeStates::from_states(multibody, table, file, &muscles)?
-        } else {
-            let cutoff = Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0);
-            AnalyzeStates::new(multibody, table, file, cutoff)?
-        };
+        let muscles = muscle_state_names(spec);
+        let input = if setup.states_file.is_some() { MotionInput::States { table, muscles: &muscles } } else { MotionInput::Coordinates(table) };
+        let states = AnalyzeStates::read(multibody, input, file, Some(setup.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0))?;
         frames_in_range(file, &states.times, [setup.initial_time, setup.final_time])?;
         let generators = match controls_ignored(model, true) {
             Some(reason) => Err(reason),

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use super::signal::{rows_in_range, Series, SignalError};
 use crate::io::table::StorageTable;
 use crate::mechanics::{Motion, MotionError, Multibody};
+use crate::model::ModelSpec;
 use crate::solvers::{assemble, IkError};
 
 /// Why the states cannot be formed.
@@ -40,6 +41,22 @@ pub enum StatesError {
 /// state (fiber length in m, or normalized tendon force), each `None` when the file lacks it.
 pub type GivenMuscleStates = (String, [Option<Vec<f64>>; 2]);
 
+/// What an analysis runs along: a coordinates file's table (filtered, its speeds and
+/// accelerations splined; [`AnalyzeStates::new`]) or a states file's (its coordinates and speeds
+/// as they are, the accelerations splined from the speeds; [`AnalyzeStates::from_states`]) with
+/// each muscle's name and second state's name ([`muscle_state_names`]).
+#[derive(Debug, Clone, Copy)]
+pub enum MotionInput<'a> {
+    Coordinates(&'a StorageTable),
+    States { table: &'a StorageTable, muscles: &'a [(String, &'static str)] },
+}
+
+/// Each muscle of `spec` with the name of its second state (`fiber_length` or
+/// `normalized_tendon_force`), as a states file names them.
+pub fn muscle_state_names(spec: &ModelSpec) -> Vec<(String, &'static str)> {
+    spec.muscles().filter_map(|m| m.muscle.as_ref().map(|s| (m.name.clone(), s.default_state().1.label()))).collect()
+}
+
 /// Coordinates (rad or m), speeds and accelerations per row, [`Multibody::coordinates`] order.
 #[derive(Debug, Clone)]
 pub struct AnalyzeStates {
@@ -58,6 +75,15 @@ pub struct AnalyzeStates {
 }
 
 impl AnalyzeStates {
+    /// The states of `input` (read from `file`; a coordinates file low-pass filtered at `cutoff`
+    /// Hz, which a states file is not, as in OpenSim).
+    pub fn read(multibody: &Multibody, input: MotionInput, file: &Path, cutoff: Option<f64>) -> Result<AnalyzeStates, StatesError> {
+        match input {
+            MotionInput::Coordinates(table) => AnalyzeStates::new(multibody, table, file, cutoff),
+            MotionInput::States { table, muscles } => AnalyzeStates::from_states(multibody, table, file, muscles),
+        }
+    }
+
     /// Forms the states from `table` (read from `file`), low-pass filtered at `cutoff` Hz.
     pub fn new(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>) -> Result<AnalyzeStates, StatesError> {
         let signal = |source| StatesError::Signal { file: file.into(), source };

@@ -13,7 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_states::{AnalyzeStates, StatesError};
+use super::analyze_states::{AnalyzeStates, MotionInput, StatesError};
 use super::external_loads::ExternalLoads;
 use super::signal::linear_interpolation;
 use super::static_optimization::Generator;
@@ -135,11 +135,11 @@ pub struct ReactionProblem<'a> {
     pub external: Option<&'a ExternalLoads>,
 }
 
-/// Runs the analysis over the coordinates in `table` (read from `file`).
-pub fn joint_reactions(problem: &ReactionProblem, table: &StorageTable, file: &Path, reports: &[ReactionReport], settings: &JointReactionSettings) -> Result<JointReactionResult, JointReactionError> {
+/// Runs the analysis along `motion` (read from `file`).
+pub fn joint_reactions(problem: &ReactionProblem, motion: MotionInput, file: &Path, reports: &[ReactionReport], settings: &JointReactionSettings) -> Result<JointReactionResult, JointReactionError> {
     let ReactionProblem { geometry, generators, forces, external } = *problem;
     let multibody = &geometry.multibody;
-    let mut states = AnalyzeStates::new(multibody, table, file, settings.lowpass_cutoff)?;
+    let mut states = AnalyzeStates::read(multibody, motion, file, settings.lowpass_cutoff)?;
     let [start, end] = settings.time_range;
     let rows = states.analysed_rows(settings.time_range, settings.step_interval).ok_or(JointReactionError::NoFrames { file: file.into(), start, end })?;
     states.assemble_links(multibody, &rows, file)?;

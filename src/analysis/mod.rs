@@ -46,7 +46,7 @@ pub use simulation::{controls_table, initial_state, ForwardModel, simulate_plant
 pub use sampled_motion::{CoordinateState, SampledMotion, SampledMotionError};
 pub use splined_motion::{SplinedMotion, SplinedMotionError};
 pub use static_optimization::{generators, static_optimization, FrameFailure, Generator, ReferenceControls, ReferenceFrame, StaticOptimizationError, StaticOptimizationResult, StaticOptimizationSettings};
-pub use analyze_states::StatesError;
+pub use analyze_states::{muscle_state_names, MotionInput, StatesError};
 
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{MuscleGeometry, Multibody};

@@ -683,6 +683,11 @@ pub struct AnalyzeArgs {
     /// Analyse the first and last rows and every row whose index is a multiple of N.
     #[arg(long)]
     pub step_interval: Option<usize>,
+    /// COORDINATES is an OpenSim states file (as a setup's states_file, which implies this):
+    /// its coordinates and speeds are used as they are (not filtered), the accelerations
+    /// splined from the speeds, as OpenSim's AnalyzeTool does.
+    #[arg(long)]
+    pub states: bool,
     /// Prefix of the output files (default: the setup's name, else the coordinates file's stem).
     #[arg(long)]
     pub name: Option<String>,

@@ -7,10 +7,8 @@ use std::path::Path;
 
 use super::geometry::Worst;
 use super::walk_dynamics::{muscles_and_actuators, static_optimization_cases, StaticOptimizationCase};
-use crate::analysis::{joint_reactions, reaction_reports, ActuatorForces, ExternalLoads, JointReactionSettings, ReactionProblem};
-use crate::io::osim::OsimDocument;
+use crate::analysis::{joint_reactions, muscle_state_names, reaction_reports, ActuatorForces, ExternalLoads, JointReactionSettings, ReactionProblem};
 use crate::io::table::StorageTable;
-use crate::model::ModelSpec;
 
 /// One golden run: its static optimisation case and the frames its two analyses express the
 /// loads in (child side, parent side), with the bounds tests and validate hold it to.
@@ -34,7 +32,7 @@ pub struct JointReactionComparison {
 /// walk (ground reactions, residual point and torque actuators, 6 Hz), Rajagopal2016 (rigid
 /// tendons, locks, coupled patellae), a parallelogram four-bar (a ConstantDistanceConstraint's
 /// force) and the ThoracoscapularShoulderModel (its AC PointConstraint's).
-pub const JOINT_REACTION_CASES: [JointReactionCase; 6] = [
+pub const JOINT_REACTION_CASES: [JointReactionCase; 7] = [
     // Found 6.6e-11 N.
     JointReactionCase { case: "arm26", frames: ["ground", "child"], load: 1e-9, point: 1e-12 },
     // OpenSim's assembly moves the knee within its accuracy while it puts the patella back (see
@@ -49,6 +47,8 @@ pub const JOINT_REACTION_CASES: [JointReactionCase; 6] = [
     JointReactionCase { case: "rajagopal", frames: ["ground", "tibia_r"], load: 3e-4, point: 1e-5 },
     // The loop's PointConstraint force among the loads.
     JointReactionCase { case: "parallelogram", frames: ["child", "ground"], load: 1e-9, point: 1e-12 },
+    // From a states file: its coordinates and speeds as they are.
+    JointReactionCase { case: "arm26_states", frames: ["parent", "child"], load: 1e-9, point: 1e-12 },
     // The AC PointConstraint's force among the loads; the scapulothoracic parent side about the
     // child frame's origin, as OpenSim takes it. Found 8.0e-9 N and 2.3e-11 m (OpenSim's
     // assembly of each row).
@@ -59,20 +59,19 @@ impl JointReactionCase {
     /// Our reactions for the case against OpenSim's two tables.
     pub fn compare(&self, root: &Path) -> Result<JointReactionComparison, Box<dyn std::error::Error>> {
         let so = static_optimization_case(self.case)?;
-        let (geometry, generators) = muscles_and_actuators(&root.join(so.model), &root.join(so.force_set))?;
-        let spec = ModelSpec::read(&OsimDocument::read(&root.join(so.model))?)?;
+        let (spec, geometry, generators) = muscles_and_actuators(&root.join(so.model), &root.join(so.force_set))?;
         let loads = so.loads.map(|file| ExternalLoads::read(&root.join(file), &geometry.multibody)).transpose()?.map(|(loads, _)| loads);
         let forces_file = root.join("fixtures/golden/static_optimization").join(self.case).join(format!("{}_StaticOptimization_force.sto", self.case));
         let forces_table = StorageTable::read(&forces_file)?;
         let forces = ActuatorForces { table: &forces_table, file: &forces_file };
         let coordinates = root.join(so.coordinates);
-        let table = StorageTable::read(&coordinates)?;
+        let (table, muscles) = (StorageTable::read(&coordinates)?, muscle_state_names(&spec));
         let settings = JointReactionSettings { time_range: so.settings.time_range, lowpass_cutoff: so.settings.lowpass_cutoff, step_interval: 1 };
         let mut comparison = JointReactionComparison::default();
         for (k, (side, analysis)) in [("child", "JointReaction"), ("parent", "JointReactionParent")].into_iter().enumerate() {
             let reports = reaction_reports(&spec, &geometry.multibody, &[], &[side.to_string()], &[self.frames[k].to_string()], &forces_file)?;
             let problem = ReactionProblem { geometry: &geometry, generators: &generators, forces, external: loads.as_ref() };
-            let ours = joint_reactions(&problem, &table, &coordinates, &reports, &settings)?.loads;
+            let ours = joint_reactions(&problem, so.motion(&table, &muscles), &coordinates, &reports, &settings)?.loads;
             let golden = StorageTable::read(&root.join("fixtures/golden/joint_reaction").join(self.case).join(format!("{}_{analysis}_ReactionLoads.sto", self.case)))?;
             compare_tables(&ours, &golden, &mut comparison.loads[k], &mut comparison.points[k]);
         }

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use super::geometry::Worst;
-use crate::analysis::{generators, inverse_dynamics, named_joints, physiological_inverse, static_optimization, Contraction, Criterion, ExternalLoads, Generator, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
+use crate::analysis::{generators, inverse_dynamics, muscle_state_names, named_joints, physiological_inverse, static_optimization, Contraction, Criterion, ExternalLoads, Generator, MotionInput, PhysiologicalInverseResult, PhysiologicalInverseSettings, InverseDynamicsSettings, ReferenceControls, StaticOptimizationResult, StaticOptimizationSettings};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -48,7 +48,7 @@ pub struct WalkStaticOptimization {
 impl Subject01Walk {
     pub fn load(root: &Path) -> Result<Subject01Walk, Box<dyn std::error::Error>> {
         let fixture = |relative: &str| root.join("fixtures").join(relative);
-        let (geometry, generators) = muscles_and_actuators(&fixture("golden/scale/subject01_simbody.osim"), &fixture("subject01/gait2392_SO_Residual_Actuators.xml"))?;
+        let (_, geometry, generators) = muscles_and_actuators(&fixture("golden/scale/subject01_simbody.osim"), &fixture("subject01/gait2392_SO_Residual_Actuators.xml"))?;
         let (loads, _) = ExternalLoads::read(&fixture("subject01/subject01_walk1_grf.xml"), &geometry.multibody)?;
         let coordinates_file = fixture("golden/ik/subject01_walk1_ik.mot");
         let coordinates = StorageTable::read(&coordinates_file)?;
@@ -84,7 +84,7 @@ impl Subject01Walk {
     pub fn static_optimization(&self, activations: &StorageTable, file: &Path) -> Result<StaticOptimizationResult, Box<dyn std::error::Error>> {
         let settings = StaticOptimizationSettings { time_range: [0.5, 2.0], lowpass_cutoff: Some(6.0), step_interval: 1, use_muscle_physiology: true, activation_exponent: 2.0 };
         let reference = ReferenceControls { table: activations, file };
-        Ok(static_optimization(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), &settings, Some(reference))?)
+        Ok(static_optimization(&self.geometry, &self.generators, MotionInput::Coordinates(&self.coordinates), &self.coordinates_file, Some(&self.loads), &settings, Some(reference))?)
     }
 }
 
@@ -99,7 +99,7 @@ impl Subject01Walk {
 
     /// The physiological inverse approach on the walk with `settings`.
     pub fn physiological_inverse(&self, settings: &PhysiologicalInverseSettings) -> Result<PhysiologicalInverseResult, Box<dyn std::error::Error>> {
-        Ok(physiological_inverse(&self.geometry, &self.generators, &self.coordinates, &self.coordinates_file, Some(&self.loads), settings)?)
+        Ok(physiological_inverse(&self.geometry, &self.generators, MotionInput::Coordinates(&self.coordinates), &self.coordinates_file, Some(&self.loads), settings)?)
     }
 }
 
@@ -144,7 +144,9 @@ pub struct StaticOptimizationCase {
     pub case: &'static str,
     /// Repository-relative files.
     pub model: &'static str,
+    /// The coordinates file, or with `states` the states file.
     pub coordinates: &'static str,
+    pub states: bool,
     pub force_set: &'static str,
     pub loads: Option<&'static str>,
     pub settings: StaticOptimizationSettings,
@@ -164,6 +166,7 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
         case,
         model: "fixtures/models/arm26.osim",
         coordinates: "fixtures/golden/static_optimization/arm26/arm26_motion.mot",
+        states: false,
         force_set: "fixtures/golden/static_optimization/arm26/arm26_reserves.xml",
         loads: None,
         settings: settings([0.1, 0.9], None, exponent),
@@ -174,12 +177,22 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
         arm("arm26", 2.0, 1e-9),
         // IPOPT meets the constraints less tightly with exponent 3 (found 2.1e-7 N·m).
         arm("arm26_exponent3", 3.0, 1e-6),
+        // From a states file (OpenSim's forward simulation of arm26): its coordinates and
+        // speeds as they are, the accelerations splined from the speeds.
+        StaticOptimizationCase {
+            case: "arm26_states",
+            coordinates: "fixtures/golden/analyze_tool/states/arm26_states.sto",
+            states: true,
+            settings: settings([0.05, 0.25], None, 2.0),
+            ..arm("arm26_states", 2.0, 1e-9)
+        },
         // OpenSim's assembly moves the knee within its accuracy while it puts the patella back
         // (found 4.5e-7 N·m and 1.4e-9), see `AnalyzeStates`.
         StaticOptimizationCase {
             case: "leg6dof9musc",
             model: "fixtures/models/leg6dof9musc.osim",
             coordinates: "fixtures/golden/static_optimization/leg6dof9musc/leg_motion.mot",
+            states: false,
             force_set: "fixtures/golden/static_optimization/leg6dof9musc/leg_reserves.xml",
             loads: None,
             settings: settings([0.1, 0.9], None, 2.0),
@@ -195,6 +208,7 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             case: "rajagopal",
             model: "fixtures/models/Rajagopal2016.osim",
             coordinates: "fixtures/golden/forward/rajagopal/motion.mot",
+            states: false,
             force_set: "fixtures/golden/static_optimization/rajagopal/rajagopal_reserves.xml",
             loads: None,
             settings: settings([0.1, 0.4], None, 2.0),
@@ -208,6 +222,7 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             case: "parallelogram",
             model: "fixtures/golden/static_optimization/parallelogram/parallelogram.osim",
             coordinates: "fixtures/golden/static_optimization/parallelogram/parallelogram_motion.mot",
+            states: false,
             force_set: "fixtures/golden/static_optimization/parallelogram/parallelogram_reserves.xml",
             loads: None,
             settings: settings([0.1, 0.9], None, 2.0),
@@ -221,6 +236,7 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             case: "shoulder",
             model: "fixtures/models/ThoracoscapularShoulderModel.osim",
             coordinates: "fixtures/golden/static_optimization/shoulder/shoulder_motion.mot",
+            states: false,
             force_set: "fixtures/golden/static_optimization/shoulder/shoulder_reserves.xml",
             loads: None,
             settings: settings([0.1, 0.5], None, 2.0),
@@ -231,6 +247,7 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
             case: "subject01_thelen",
             model: "fixtures/subject01/OutputReference/subject01_simbody.osim",
             coordinates: "fixtures/golden/ik/subject01_walk1_ik.mot",
+            states: false,
             force_set: "fixtures/subject01/gait2392_SO_Residual_Actuators.xml",
             loads: Some("fixtures/subject01/subject01_walk1_grf.xml"),
             settings: settings([0.6, 0.9], Some(6.0), 2.0),
@@ -243,25 +260,36 @@ pub fn static_optimization_cases() -> Vec<StaticOptimizationCase> {
 impl StaticOptimizationCase {
     /// Our static optimisation of the case, and OpenSim's tables judged on it.
     pub fn run(&self, root: &Path) -> Result<(StaticOptimizationResult, WalkStaticOptimization), Box<dyn std::error::Error>> {
-        let (geometry, generators) = muscles_and_actuators(&root.join(self.model), &root.join(self.force_set))?;
+        let (spec, geometry, generators) = muscles_and_actuators(&root.join(self.model), &root.join(self.force_set))?;
         let loads = self.loads.map(|file| ExternalLoads::read(&root.join(file), &geometry.multibody)).transpose()?.map(|(loads, _)| loads);
         let folder = root.join("fixtures/golden/static_optimization").join(self.case);
         let table = |kind: &str| StorageTable::read(&folder.join(format!("{}_StaticOptimization_{kind}.sto", self.case)));
         let (activations, forces) = (table("activation")?, table("force")?);
         let coordinates = root.join(self.coordinates);
         let reference = ReferenceControls { table: &activations, file: &folder };
-        let result = static_optimization(&geometry, &generators, &StorageTable::read(&coordinates)?, &coordinates, loads.as_ref(), &self.settings, Some(reference))?;
+        let (input, muscles) = (StorageTable::read(&coordinates)?, muscle_state_names(&spec));
+        let result = static_optimization(&geometry, &generators, self.motion(&input, &muscles), &coordinates, loads.as_ref(), &self.settings, Some(reference))?;
         let comparison = compare_static_optimization(&result, &activations, &forces);
         Ok((result, comparison))
+    }
+
+    /// The case's input `table` as the tool reads it: a states file's or a coordinates file's
+    /// (`muscles`: [`muscle_state_names`] of the model).
+    pub fn motion<'a>(&self, table: &'a StorageTable, muscles: &'a [(String, &'static str)]) -> MotionInput<'a> {
+        if self.states {
+            MotionInput::States { table, muscles }
+        } else {
+            MotionInput::Coordinates(table)
+        }
     }
 }
 
 /// The model's geometry and its generators: its own muscles and actuators, then those of the
 /// `<ForceSet>` file `force_set`.
-pub(super) fn muscles_and_actuators(model: &Path, force_set: &Path) -> Result<(MuscleGeometry, Vec<Generator>), Box<dyn std::error::Error>> {
+pub(super) fn muscles_and_actuators(model: &Path, force_set: &Path) -> Result<(ModelSpec, MuscleGeometry, Vec<Generator>), Box<dyn std::error::Error>> {
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let actuators = read_force_set(&OsimDocument::read(force_set)?)?;
     let generators = generators(&spec, &geometry, &actuators, false)?;
-    Ok((geometry, generators))
+    Ok((spec, geometry, generators))
 }

@@ -26,7 +26,7 @@ use std::path::Path;
 
 pub use contraction::Contraction;
 
-use super::analyze_states::AnalyzeStates;
+use super::analyze_states::{AnalyzeStates, MotionInput};
 use super::external_loads::ExternalLoads;
 use super::inverse_dynamics;
 use super::static_optimization::{solved_rows, FrameProblem, Frames, Generator, StaticOptimizationError, StaticOptimizationSettings};
@@ -106,17 +106,17 @@ pub struct PhysiologicalInverseResult {
     pub iterations: usize,
 }
 
-/// Runs the physiological inverse approach over the coordinates in `table` (read from `file`).
+/// Runs the physiological inverse approach along `motion` (read from `file`).
 pub fn physiological_inverse(
     geometry: &MuscleGeometry,
     generators: &[Generator],
-    table: &StorageTable,
+    motion: MotionInput,
     file: &Path,
     loads: Option<&ExternalLoads>,
     settings: &PhysiologicalInverseSettings,
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
-    let mut states = AnalyzeStates::new(&geometry.multibody, table, file, frames_settings.lowpass_cutoff)?;
+    let mut states = AnalyzeStates::read(&geometry.multibody, motion, file, frames_settings.lowpass_cutoff)?;
     let rows = solved_rows(&states, frames_settings, file)?;
     states.assemble_links(&geometry.multibody, &rows, file)?;
     let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);

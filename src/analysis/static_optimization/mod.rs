@@ -23,7 +23,7 @@ use nalgebra::{DMatrix, DVector};
 pub(super) use frames::{FrameProblem, Frames};
 pub use generators::{force_generators, generators, Generator};
 
-use super::analyze_states::{AnalyzeStates, StatesError};
+use super::analyze_states::{AnalyzeStates, MotionInput, StatesError};
 use super::external_loads::ExternalLoads;
 use crate::io::table::{StorageTable, TableError};
 use crate::mechanics::{MotionState, MuscleGeometry};
@@ -115,17 +115,17 @@ pub struct ReferenceControls<'a> {
     pub file: &'a Path,
 }
 
-/// Runs static optimisation over the coordinates in `table` (read from `file`).
+/// Runs static optimisation along `motion` (read from `file`).
 pub fn static_optimization(
     geometry: &MuscleGeometry,
     generators: &[Generator],
-    table: &StorageTable,
+    motion: MotionInput,
     file: &Path,
     loads: Option<&ExternalLoads>,
     settings: &StaticOptimizationSettings,
     reference: Option<ReferenceControls>,
 ) -> Result<StaticOptimizationResult, StaticOptimizationError> {
-    let mut states = AnalyzeStates::new(&geometry.multibody, table, file, settings.lowpass_cutoff)?;
+    let mut states = AnalyzeStates::read(&geometry.multibody, motion, file, settings.lowpass_cutoff)?;
     let rows = solved_rows(&states, settings, file)?;
     states.assemble_links(&geometry.multibody, &rows, file)?;
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;

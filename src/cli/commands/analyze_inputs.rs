@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analysis::{generators, Controllers, ExternalLoads, Generator};
+use crate::analysis::{generators, muscle_state_names, Controllers, ExternalLoads, Generator, MotionInput};
+use crate::io::table::StorageTable;
 use crate::cli::{read_external_loads, Failure};
 use crate::io::osim::OsimDocument;
 use crate::mechanics::{MuscleGeometry, Multibody};
@@ -19,6 +20,8 @@ pub struct AnalyzeInputs {
     /// `replace_force_set`).
     pub generators: Vec<Generator>,
     pub external: Option<ExternalLoads>,
+    /// Each muscle's name and second state's name, as a states file names them.
+    pub muscle_states: Vec<(String, &'static str)>,
     /// Every file read (model, coordinates, setup, actuators, loads and their data), which no
     /// output may overwrite.
     pub files: Vec<PathBuf>,
@@ -34,7 +37,18 @@ impl AnalyzeInputs {
         let (added, replace) = actuator_files(actuators, setup, &mut files)?;
         let generators = generators(&spec, &geometry, &added, replace)?;
         let external = external_loads_of(external_loads, setup, &geometry.multibody, &mut files)?;
-        Ok(AnalyzeInputs { spec, geometry, generators, external, files })
+        let muscle_states = muscle_state_names(&spec);
+        Ok(AnalyzeInputs { spec, geometry, generators, external, muscle_states, files })
+    }
+
+    /// `table` (the input file's) as a states file when `states` (the `--states` flag) or the
+    /// setup names a states_file, else as coordinates.
+    pub fn motion<'a>(&'a self, table: &'a StorageTable, states: bool, setup: Option<&AnalyzeSetup>) -> MotionInput<'a> {
+        if states || setup.is_some_and(|s| s.states_file.is_some()) {
+            MotionInput::States { table, muscles: &self.muscle_states }
+        } else {
+            MotionInput::Coordinates(table)
+        }
     }
 
     /// [`AnalyzeInputs::files`] as paths.
@@ -100,15 +114,11 @@ pub fn lowpass_cutoff(lowpass: Option<f64>, setup: Option<&AnalyzeSetup>) -> Opt
     lowpass.or(setup.map(|s| s.lowpass_cutoff_frequency_for_coordinates).filter(|&c| c >= 0.0))
 }
 
-/// Refuses a setup whose speeds come from a speeds file or, unless `reads_states`, whose states
-/// come from a states file, and prints the setup's analyses other than `runs` (the classes the
-/// calling command runs) as not run.
-pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str], reads_states: bool) -> Result<(), Failure> {
+/// Refuses a setup whose speeds come from a speeds file, and prints the setup's analyses other
+/// than `runs` (the classes the calling command runs) as not run.
+pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str]) -> Result<(), Failure> {
     if let Some(speeds) = &setup.speeds_file {
         return Err(format!("{}: speeds_file {} is not supported; the speeds are the coordinates' spline derivatives", setup.file.display(), speeds.written).into());
-    }
-    if let (false, Some(states)) = (reads_states, &setup.states_file) {
-        return Err(format!("{}: states_file {} is not supported here; give coordinates_file (COORDINATES)", setup.file.display(), states.written).into());
     }
     let commands = [
         ("MuscleAnalysis", setup.muscle_analysis.is_some(), "analyze --setup"),

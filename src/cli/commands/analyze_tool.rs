@@ -21,7 +21,7 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     if setup.joint_reaction_from_states() {
         runs.push("JointReaction");
     }
-    check_analyses(&setup, &runs, true)?;
+    check_analyses(&setup, &runs)?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let mut read: Vec<PathBuf> = [model, coordinates, setup_file].map(Path::to_path_buf).to_vec();

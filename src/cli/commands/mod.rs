@@ -79,15 +79,15 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             forward::run(&model, &coordinates, &request)
         }
         Command::So { model, coordinates, setup, analyze, activation_exponent, compare, pia, time_constant_scale, compliant_tendons, moment_weight } => {
-            let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, name, output } = analyze;
+            let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, states, name, output } = analyze;
             let (time, pia) = (time.map(|t| [t[0], t[1]]), pia.map(Into::into));
-            let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, activation_exponent, compare, pia, time_constant_scale, compliant_tendons, moment_weight, name, output };
+            let request = so::Request { setup, external_loads, actuators, time, lowpass, step_interval, states, activation_exponent, compare, pia, time_constant_scale, compliant_tendons, moment_weight, name, output };
             so::run(&model, &coordinates, &request)
         }
         Command::Reaction { model, coordinates, forces, setup, analyze, joints, on, frames } => {
-            let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, name, output } = analyze;
+            let AnalyzeArgs { external_loads, actuators, time, lowpass, step_interval, states, name, output } = analyze;
             let time = time.map(|t| [t[0], t[1]]);
-            let request = reaction::Request { forces, setup, external_loads, actuators, time, lowpass, step_interval, joints, on, frames, name, output };
+            let request = reaction::Request { forces, setup, external_loads, actuators, time, lowpass, step_interval, states, joints, on, frames, name, output };
             reaction::run(&model, &coordinates, &request)
         }
         Command::Ik { model, trial, setup, time, weights, kalman, kalman_rates, output, errors, marker_locations } => {

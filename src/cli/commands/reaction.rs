@@ -18,6 +18,8 @@ pub struct Request {
     pub time: Option<[f64; 2]>,
     pub lowpass: Option<f64>,
     pub step_interval: Option<usize>,
+    /// The input is a states file (else a coordinates file, unless the setup names a states_file).
+    pub states: bool,
     pub joints: Vec<String>,
     pub on: Vec<String>,
     pub frames: Vec<String>,
@@ -55,7 +57,8 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let input_paths = read.file_paths();
     ensure_not_an_input(&output, &input_paths)?;
     let problem = ReactionProblem { geometry: &read.geometry, generators: &read.generators, forces: ActuatorForces { table: &forces_table, file: &forces_file }, external: read.external.as_ref() };
-    let result = joint_reactions(&problem, &StorageTable::read(coordinates)?, coordinates, &reports, &settings)?;
+    let table = StorageTable::read(coordinates)?;
+    let result = joint_reactions(&problem, read.motion(&table, request.states, setup.as_ref()), coordinates, &reports, &settings)?;
     create_output_folders([output.as_path()])?;
     write_all_atomically(&[(&output, result.loads.to_text().as_bytes())], &input_paths)?;
     let times = result.loads.times();
@@ -87,6 +90,6 @@ fn forces_file(request: &Request, analysis: Option<&JointReactionSetup>) -> Resu
 /// The setup's JointReaction, refusing what osim-tune does not do.
 fn check_setup(setup: &AnalyzeSetup) -> Result<JointReactionSetup, Failure> {
     let analysis = setup.joint_reaction.clone().ok_or_else(|| format!("{}: the AnalysisSet has no JointReaction that is on", setup.file.display()))?;
-    check_analyses(setup, &["JointReaction"], false)?;
+    check_analyses(setup, &["JointReaction"])?;
     Ok(analysis)
 }

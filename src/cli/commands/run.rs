@@ -141,9 +141,9 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
 
 /// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics, BodyKinematics,
 /// PointKinematics, reporters and a JointReaction without a forces file, `so` for its
-/// StaticOptimization, then `reaction` for a JointReaction with one, each `MODEL COORDINATES --setup SETUP -o <results_directory>` — `analyze` given
-/// the states file instead when the setup names one (the commands name the setup's other
-/// analyses, which they do not run).
+/// StaticOptimization, then `reaction` for a JointReaction with one, each `MODEL COORDINATES --setup SETUP -o <results_directory>` — given
+/// the states file instead when the setup names one, which each reads as states (the commands
+/// name the setup's other analyses, which they do not run).
 fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Failure> {
     let analyses = [(setup.has_analyze_tables(), "analyze", ["--motion"].as_slice()), (setup.static_optimization.is_some(), "so", &[]), (setup.joint_reaction.is_some() && !setup.joint_reaction_from_states(), "reaction", &[])];
     if !analyses.iter().any(|(on, _, _)| *on) {
@@ -152,10 +152,6 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
     }
     if let Some(speeds) = &setup.speeds_file {
         return Err(format!("{}: speeds_file {:?} is not supported; the speeds are the coordinates' spline derivatives", file.display(), speeds.written).into());
-    }
-    let from_forces_file = setup.joint_reaction.is_some() && !setup.joint_reaction_from_states();
-    if let (Some(states), true) = (&setup.states_file, setup.static_optimization.is_some() || from_forces_file) {
-        return Err(format!("{}: states_file {:?}: osim-tune's StaticOptimization and a JointReaction with a forces_file run from coordinates_file (the other analyses read the states)", file.display(), states.written).into());
     }
     let model = input(file, "model_file", setup.model_file.as_ref())?;
     // OpenSim reads the states file and ignores the coordinates file when both are set.

@@ -17,7 +17,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
     if tool.joint_reaction_from_states() {
         runs.push("JointReaction");
     }
-    check_analyses(tool, &runs, true)?;
+    check_analyses(tool, &runs)?;
     let inputs = ForwardModel::read(model, tool)?;
     let mut read = inputs.read.clone();
     read.push(setup_file.to_path_buf());

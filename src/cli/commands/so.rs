@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::analyze_inputs::{check_analyses, lowpass_cutoff, output_name, step_interval, time_range, AnalyzeInputs};
 use crate::analysis::{
-    physiological_inverse, static_optimization, Contraction, MAX_LINEARISATIONS, Criterion, ExternalLoads, Generator, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
+    physiological_inverse, static_optimization, Contraction, MAX_LINEARISATIONS, Criterion, ExternalLoads, Generator, MotionInput, PhysiologicalInverseSettings, ReferenceControls, StaticOptimizationError, StaticOptimizationResult,
     StaticOptimizationSettings,
 };
 use crate::cli::{create_output_folders, Failure, Outcome};
@@ -27,6 +27,8 @@ pub struct Request {
     pub time: Option<[f64; 2]>,
     pub lowpass: Option<f64>,
     pub step_interval: Option<usize>,
+    /// The input is a states file (else a coordinates file, unless the setup names a states_file).
+    pub states: bool,
     pub activation_exponent: Option<f64>,
     pub compare: Option<PathBuf>,
     /// The physiological inverse approach by this criterion instead of static optimisation.
@@ -47,7 +49,8 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let settings = settings(request, setup.as_ref(), analysis.as_ref())?;
     let name = output_name(request.name.as_deref(), setup.as_ref(), coordinates);
     let table = StorageTable::read(coordinates)?;
-    let problem = Problem { geometry: &read.geometry, generators: &read.generators, table: &table, coordinates, loads: read.external.as_ref(), inputs: &read.files };
+    let motion = read.motion(&table, request.states, setup.as_ref());
+    let problem = Problem { geometry: &read.geometry, generators: &read.generators, motion, coordinates, loads: read.external.as_ref(), inputs: &read.files };
     match request.pia {
         Some(criterion) => {
             let contraction = if request.compliant_tendons { Contraction::CompliantTendon { max_linearisations: MAX_LINEARISATIONS } } else { Contraction::RigidTendon };
@@ -67,7 +70,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
 struct Problem<'a> {
     geometry: &'a MuscleGeometry,
     generators: &'a [Generator],
-    table: &'a StorageTable,
+    motion: MotionInput<'a>,
     coordinates: &'a Path,
     loads: Option<&'a ExternalLoads>,
     inputs: &'a [PathBuf],
@@ -81,7 +84,7 @@ fn static_optimisation(problem: &Problem, request: &Request, prefix: &str, setti
     }
     let compared = request.compare.as_deref().map(StorageTable::read).transpose()?;
     let reference = compared.as_ref().zip(request.compare.as_deref()).map(|(table, file)| ReferenceControls { table, file });
-    let result = static_optimization(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, settings, reference)?;
+    let result = static_optimization(problem.geometry, problem.generators, problem.motion, problem.coordinates, problem.loads, settings, reference)?;
     create_output_folders(outputs.iter().map(PathBuf::as_path))?;
     let texts = [result.activations.to_text(), result.forces.to_text(), control_set_document(&result.activations)];
     let files: Vec<(&Path, &[u8])> = outputs.iter().zip(&texts).map(|(file, text)| (file.as_path(), text.as_bytes())).collect();
@@ -107,7 +110,7 @@ fn physiological(problem: &Problem, request: &Request, prefix: &str, settings: P
     for output in &outputs {
         ensure_not_an_input(output, &input_paths)?;
     }
-    let result = match physiological_inverse(problem.geometry, problem.generators, problem.table, problem.coordinates, problem.loads, &settings) {
+    let result = match physiological_inverse(problem.geometry, problem.generators, problem.motion, problem.coordinates, problem.loads, &settings) {
         Ok(result) => result,
         Err(error @ StaticOptimizationError::NoSolution { .. }) => {
             eprintln!("error: {error}; no output written");
@@ -194,7 +197,7 @@ fn output_file(directory: &Path, prefix: &str, kind: &str) -> PathBuf {
 fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure> {
     let file = setup.file.display();
     let analysis = setup.static_optimization.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no StaticOptimization that is on"))?;
-    check_analyses(setup, &["StaticOptimization"], false)?;
+    check_analyses(setup, &["StaticOptimization"])?;
     if !analysis.use_model_force_set {
         return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
     }
