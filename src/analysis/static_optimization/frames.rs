@@ -19,13 +19,13 @@
 
 use nalgebra::DMatrix;
 
-/// Singular values of the links' forces below this fraction of the largest are redundant links'
-/// (e.g. a point constraint's row normal to a planar loop).
-const LINK_RANK_TOLERANCE: f64 = 1e-10;
-
 use super::generators::Generator;
 use crate::analysis::external_loads::ExternalLoads;
 use crate::mechanics::{for_each_coupling, Kinematics, MotionState, Multibody, MuscleGeometry, PathEvaluation};
+
+/// Singular values of the links' forces below this fraction of the largest are redundant links'
+/// (e.g. a point constraint's row normal to a planar loop).
+const LINK_RANK_TOLERANCE: f64 = 1e-10;
 
 /// A frame's rows: `matrix` a = `rhs`, with each generator's force at control 1.
 pub struct FrameProblem {
