@@ -20,6 +20,7 @@ mod motion_rates;
 mod multibody;
 pub mod muscle;
 mod path;
+mod path_tension;
 mod spatial;
 mod wrap_cylinder;
 mod wrap_ellipsoid;
