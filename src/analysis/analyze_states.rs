@@ -42,9 +42,9 @@ pub enum StatesError {
 pub type GivenMuscleStates = (String, [Option<Vec<f64>>; 2]);
 
 /// What an analysis runs along: a coordinates file's table (filtered, its speeds and
-/// accelerations splined; [`AnalyzeStates::new`]) or a states file's (its coordinates and speeds
-/// as they are, the accelerations splined from the speeds; [`AnalyzeStates::from_states`]) with
-/// each muscle's name and second state's name ([`muscle_state_names`]).
+/// accelerations splined) or a states file's (its coordinates and speeds as they are, the
+/// accelerations splined from the speeds) with each muscle's name and second state's name
+/// ([`muscle_state_names`]).
 #[derive(Debug, Clone, Copy)]
 pub enum MotionInput<'a> {
     Coordinates(&'a StorageTable),
