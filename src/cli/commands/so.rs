@@ -198,8 +198,10 @@ fn check_setup(setup: &AnalyzeSetup) -> Result<StaticOptimizationSetup, Failure>
     let file = setup.file.display();
     let analysis = setup.static_optimization.clone().ok_or_else(|| format!("{file}: the AnalysisSet has no StaticOptimization that is on"))?;
     check_analyses(setup, &["StaticOptimization"])?;
+    // OpenSim 4.6's AnalyzeTool ends in a segmentation fault with it (tried on leg6dof9musc), so
+    // there is no behaviour of OpenSim's to follow.
     if !analysis.use_model_force_set {
-        return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported").into());
+        return Err(format!("{file}: use_model_force_set false (an actuator per coordinate) is not supported (OpenSim 4.6 itself crashes on it)").into());
     }
     Ok(analysis)
 }
