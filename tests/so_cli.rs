@@ -89,7 +89,7 @@ fn the_setup_runs_with_its_step_interval() {
 
 /// The objective Σ|a|ᵖ needs p > 1 (the setup's value is checked when it is read).
 #[test]
-fn an_activation_exponent_of_one_or_less_is_refused() {
+fn an_activation_exponent_of_one_or_less_and_use_model_force_set_false_are_refused() {
     let folder = tempfile::tempdir().unwrap();
     let setup = setup(folder.path(), "1", "0.5");
     let output = folder.path().join("out");
@@ -99,6 +99,12 @@ fn an_activation_exponent_of_one_or_less_is_refused() {
     let (code, _, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--activation-exponent", "1", "-o", s(&output)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("activation exponent 1: expected a number > 1"), "{stderr}");
+    // use_model_force_set false: OpenSim 4.6 crashes on it, so it is refused, saying why.
+    let text = std::fs::read_to_string(&setup).unwrap().replace("<activation_exponent> 0.5 </activation_exponent>", "<activation_exponent> 2 </activation_exponent>");
+    std::fs::write(&setup, text.replace("<use_model_force_set> true </use_model_force_set>", "<use_model_force_set> false </use_model_force_set>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["so", &path(MODEL), &path(IK), "--setup", s(&setup), "-o", s(&output)]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("use_model_force_set false") && stderr.contains("OpenSim 4.6 itself crashes on it"), "{stderr}");
     assert!(!output.exists());
 }
 
