@@ -29,7 +29,7 @@ impl Multibody {
     /// Every link's errors at the pose `kinematics` holds (m; a weld's orientation rows are the
     /// cosines of its axes' angles that should be right angles), links in order.
     pub fn link_errors(&self, kinematics: &Kinematics) -> Vec<f64> {
-        let mut errors = Vec::new();
+        let mut errors = Vec::with_capacity(self.links.iter().map(|link| link.rows()).sum());
         for link in &self.links {
             link.errors(kinematics, &mut errors);
         }

@@ -53,15 +53,6 @@ pub(super) fn moving_coordinates(multibody: &Multibody, map: &CoordinateMap, bod
     (0..multibody.coordinates.len()).filter(|&c| !map.is_held(c) && multibody.is_moved_by(body, multibody.coordinate_joint(c))).collect()
 }
 
-/// The errors of every link at the realized pose, link after link ([`BodyLink::errors`]).
-pub(super) fn link_errors(multibody: &Multibody, kinematics: &Kinematics) -> Vec<f64> {
-    let mut errors = Vec::with_capacity(link_rows(multibody));
-    for link in &multibody.links {
-        link.errors(kinematics, &mut errors);
-    }
-    errors
-}
-
 /// How many errors the links have.
 pub(super) fn link_rows(multibody: &Multibody) -> usize {
     multibody.links.iter().map(BodyLink::rows).sum()
@@ -137,7 +128,7 @@ impl LeastSquaresProblem for FrameObjective<'_, '_> {
             residuals[row] = root_weight * (scratch.q[c] - multibody.coordinates[c].default_value);
             row += 1;
         }
-        for (k, error) in link_errors(multibody, &scratch.kinematics).into_iter().enumerate() {
+        for (k, error) in multibody.link_errors(&scratch.kinematics).into_iter().enumerate() {
             let shift = self.links.shifts.get(k).copied().unwrap_or(0.0);
             residuals[row] = self.links.root_weight * (error + shift);
             row += 1;

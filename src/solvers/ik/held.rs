@@ -3,7 +3,7 @@
 //! error's residual √w·(e + s), the shift s = λ/w² then moving by the error.
 
 use super::coordinates::CoordinateMap;
-use super::frame::{link_errors, FrameModel, FrameObjective, LinkTerms};
+use super::frame::{FrameModel, FrameObjective, LinkTerms};
 use super::solver::IkWorkspace;
 use crate::mechanics::Vec3;
 use crate::solvers::least_squares::{LeastSquaresOptions, LeastSquaresStatus};
@@ -70,7 +70,7 @@ pub(super) fn minimize_holding_links(
             return Ok(HeldMinimum { iterations, status: report.status, cost: report.cost });
         }
         multibody.realize(q, &mut workspace.frame.kinematics);
-        let errors = link_errors(multibody, &workspace.frame.kinematics);
+        let errors = multibody.link_errors(&workspace.frame.kinematics);
         let owners = multibody.links.iter().enumerate().flat_map(|(k, link)| std::iter::repeat_n(k, link.rows()));
         let (error, link) = errors.iter().zip(owners).map(|(e, k)| (e.abs(), k)).fold((0.0, 0), |a, b| if b.0 > a.0 { b } else { a });
         let closed = error <= LINK_TOLERANCE;
