@@ -82,6 +82,19 @@ impl Multibody {
         Ok(())
     }
 
+    /// Moves `udot` onto the links' accelerations at `q` (on the links) moving at `u` (keeping
+    /// them): G·u̇ + Ġ·u = 0 by the least change of the free speeds' accelerations.
+    pub fn project_accelerations_onto_links(&self, q: &[f64], u: &[f64], udot: &mut [f64]) {
+        if self.links.is_empty() {
+            return;
+        }
+        let kinematics = self.realized(q);
+        let step = self.free_speed_step(&kinematics, q, &self.link_accelerations(&kinematics, q, u, udot));
+        for (value, change) in udot.iter_mut().zip(step.iter()) {
+            *value -= change;
+        }
+    }
+
     /// P·(GP)⁺·`rows` over every speed (the dependents' by their couplers' slopes).
     fn free_speed_step(&self, kinematics: &Kinematics, q: &[f64], rows: &DVector<f64>) -> DVector<f64> {
         let (projection, _) = self.constraint_projection(q, &vec![0.0; q.len()]);

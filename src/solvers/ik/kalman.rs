@@ -10,10 +10,16 @@
 //! spectral density is set from the cutoff f_c: S = (2πf_c)¹⁰·σ_x²·Δt with σ_x² its median
 //! per-frame variance (the inverse of W·JᵀJ), so σ itself cancels and every coordinate is
 //! smoothed to about f_c. The smoothed values are clamped to the clamped coordinates' ranges.
+//!
+//! Links between bodies held exactly (the IK's default) enter each frame's measurements as
+//! residuals a million times surer than a marker's; each smoothed pose, its speeds and its
+//! accelerations are then projected onto the links (the least change over the free speeds:
+//! [`crate::mechanics::Multibody::project_onto_links`] and
+//! [`crate::mechanics::Multibody::project_accelerations_onto_links`]).
 
 use nalgebra::{DMatrix, DVector};
 
-use super::report::{IkFrame, IkSolution};
+use super::report::IkSolution;
 use super::solver::{InverseKinematics, Linearisation};
 use crate::solvers::kalman_smoother::{derivative, information_update, mean_interval, rts_smooth, spectral_density_for_cutoff, ORDER};
 use crate::solvers::IkError;
@@ -39,6 +45,9 @@ impl KalmanIkSettings {
 const PRIOR_VARIANCE: f64 = 1e8;
 /// Relative regularisation of W·JᵀJ when inverting it for a value's variance.
 const REGULARISATION: f64 = 1e-12;
+/// The largest link error (m; a weld's orientation error) a smoothed pose keeps: each is
+/// projected onto the links, as per-frame IK holds them.
+const HELD_LINK_TOLERANCE: f64 = 1e-10;
 
 /// Kalman-smoothed kinematics: the poses with their marker errors, and the smoother's speeds and
 /// accelerations of every coordinate per frame (rad/s, rad/s² or m/s, m/s²; [`Multibody`]
@@ -60,10 +69,6 @@ impl InverseKinematics<'_> {
         if !(settings.cutoff.is_finite() && settings.cutoff > 0.0) || settings.iterations == 0 {
             return Err(IkError::Smoother { problem: format!("cutoff {} Hz and {} passes; expected a cutoff > 0 and at least one pass", settings.cutoff, settings.iterations) });
         }
-        if let Some(link) = self.model.multibody.links.first() {
-            let problem = format!("{} {} would not hold: the smoother's state moves freely (solve without --kalman)", link.class, link.name);
-            return Err(IkError::Smoother { problem });
-        }
         let frames: Vec<usize> = solution.frames.iter().map(|f| f.frame).collect();
         let times: Vec<f64> = solution.frames.iter().map(|f| f.time).collect();
         let mut workspace = self.workspace();
@@ -76,13 +81,17 @@ impl InverseKinematics<'_> {
             }
             states = smooth_pass(&linearised, &times, &variances, settings.cutoff).map_err(|k| IkError::Smoother { problem: format!("the predicted covariance at t = {} s is singular", times[k]) })?;
         }
-        let smoothed = frames
-            .iter()
-            .zip(&states)
-            .zip(&solution.frames)
-            .map(|((&frame, x), solved)| self.frame_at_free_values(frame, &x.value, &mut workspace, settings.iterations, solved.status))
-            .collect::<Result<Vec<IkFrame>, _>>()?;
-        let (speeds, accelerations) = smoothed.iter().zip(&states).map(|(frame, x)| self.rates(&frame.q, &x.rate, &x.acceleration)).unzip();
+        let multibody = self.model.multibody;
+        let (mut smoothed, mut speeds, mut accelerations) = (Vec::with_capacity(frames.len()), Vec::new(), Vec::new());
+        for (((&frame, &time), x), solved) in frames.iter().zip(&times).zip(&states).zip(&solution.frames) {
+            let mut q = self.clamped_pose(&x.value);
+            let (mut u, mut udot) = self.rates(&q, &x.rate, &x.acceleration);
+            multibody.project_onto_links(&mut q, &mut u, HELD_LINK_TOLERANCE).map_err(|e| IkError::Smoother { problem: format!("at t = {time} s: {e}") })?;
+            multibody.project_accelerations_onto_links(&q, &u, &mut udot);
+            smoothed.push(self.frame_at_pose(frame, &q, &mut workspace, settings.iterations, solved.status)?);
+            speeds.push(u);
+            accelerations.push(udot);
+        }
         Ok(SmoothedKinematics { solution: IkSolution { markers: solution.markers.clone(), coordinates: solution.coordinates.clone(), frames: smoothed }, speeds, accelerations })
     }
 }

@@ -17,6 +17,10 @@ use crate::mechanics::{Multibody, Vec3};
 use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 use crate::solvers::IkError;
 
+/// √weight (per m) of a held link's errors among a linearised frame's residuals (where the
+/// markers' are √(w/W)).
+const LINEARISED_LINK_ROOT_WEIGHT: f64 = 1e3;
+
 /// How to solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IkSettings {
@@ -238,11 +242,14 @@ impl<'m> InverseKinematics<'m> {
 
     /// Frame `frame`'s residuals and Jacobian at pose `q` over the free values
     /// ([`InverseKinematics::free_values`]), with the total weight W of its markers with data:
-    /// the residuals' variance is σ²/W for markers of weight 1 and noise σ.
+    /// the residuals' variance is σ²/W for markers of weight 1 and noise σ. Links held exactly
+    /// enter as residuals √w·e of [`LINEARISED_LINK_ROOT_WEIGHT`]: measurements a million times
+    /// surer than a marker's.
     pub(super) fn linearise(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<Linearisation, IkError> {
         let observed = self.prepare(frame, q, workspace)?;
         let total_weight = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
-        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, targets: &workspace.targets, links: self.reported_links() };
+        let links = if self.exact_links() { LinkTerms { root_weight: LINEARISED_LINK_ROOT_WEIGHT, shifts: &[] } } else { self.reported_links() };
+        let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, targets: &workspace.targets, links };
         let mut residuals = vec![0.0; objective.residual_count()];
         let mut jacobian = DMatrix::zeros(objective.residual_count(), objective.variable_count());
         objective.evaluate(&workspace.x, &mut residuals, Some(&mut jacobian));
@@ -269,14 +276,18 @@ impl<'m> InverseKinematics<'m> {
         x
     }
 
-    /// The frame's report at free values `x` (clamped to the bounds) with the objective there,
-    /// for a pose found otherwise (`iterations`, `status` say how).
-    pub(super) fn frame_at_free_values(&self, frame: usize, x: &[f64], workspace: &mut IkWorkspace, iterations: usize, status: LeastSquaresStatus) -> Result<IkFrame, IkError> {
+    /// The pose of free values `x` clamped to their bounds.
+    pub(super) fn clamped_pose(&self, x: &[f64]) -> Vec<f64> {
         let clamped: Vec<f64> = x.iter().enumerate().map(|(i, &v)| v.max(self.map.bounds.lower[i]).min(self.map.bounds.upper[i])).collect();
-        let q = self.pose_of(&clamped);
-        let objective = self.objective(frame, &q, workspace)?;
+        self.pose_of(&clamped)
+    }
+
+    /// Frame `frame`'s report at pose `q` with the objective there, for a pose found otherwise
+    /// (`iterations`, `status` say how).
+    pub(super) fn frame_at_pose(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace, iterations: usize, status: LeastSquaresStatus) -> Result<IkFrame, IkError> {
+        let objective = self.objective(frame, q, workspace)?;
         let observed = &self.observed[frame * self.model.markers.len()..(frame + 1) * self.model.markers.len()];
-        Ok(self.frame_at(frame, &q, observed, &mut workspace.frame, (objective, iterations, status)))
+        Ok(self.frame_at(frame, q, observed, &mut workspace.frame, (objective, iterations, status)))
     }
 
     /// The objective of frame `frame` at pose `q` (held coordinates taken at their values and
