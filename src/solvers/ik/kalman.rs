@@ -13,7 +13,7 @@
 //!
 //! Links between bodies held exactly (the IK's default) enter each frame's measurements as
 //! residuals a million times surer than a marker's; each smoothed pose, its speeds and its
-//! accelerations are then projected onto the links (the least change over the free speeds:
+//! accelerations are then projected onto the links (links under a finite weight stay goals) (the least change over the free speeds:
 //! [`crate::mechanics::Multibody::project_onto_links`] and
 //! [`crate::mechanics::Multibody::project_accelerations_onto_links`]).
 
@@ -86,8 +86,10 @@ impl InverseKinematics<'_> {
         for (((&frame, &time), x), solved) in frames.iter().zip(&times).zip(&states).zip(&solution.frames) {
             let mut q = self.clamped_pose(&x.value);
             let (mut u, mut udot) = self.rates(&q, &x.rate, &x.acceleration);
-            multibody.project_onto_links(&mut q, &mut u, HELD_LINK_TOLERANCE).map_err(|e| IkError::Smoother { problem: format!("at t = {time} s: {e}") })?;
-            multibody.project_accelerations_onto_links(&q, &u, &mut udot);
+            if self.exact_links() {
+                multibody.project_onto_links(&mut q, &mut u, HELD_LINK_TOLERANCE).map_err(|e| IkError::Smoother { problem: format!("at t = {time} s: {e}") })?;
+                multibody.project_accelerations_onto_links(&q, &u, &mut udot);
+            }
             smoothed.push(self.frame_at_pose(frame, &q, &mut workspace, settings.iterations, solved.status)?);
             speeds.push(u);
             accelerations.push(udot);

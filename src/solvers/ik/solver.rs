@@ -221,7 +221,7 @@ impl<'m> InverseKinematics<'m> {
     }
 
     /// Whether links are held exactly (there are some, and the weight is infinite).
-    fn exact_links(&self) -> bool {
+    pub(super) fn exact_links(&self) -> bool {
         !self.model.multibody.links.is_empty() && self.settings.constraint_weight == ConstraintWeight::Infinite
     }
 
