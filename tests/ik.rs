@@ -181,6 +181,15 @@ fn synthetic_trial(multibody: &Multibody, poses: &[Vec<f64>]) -> MarkerTable {
     MarkerTable::new(TrcHeader::new(100.0, LengthUnit::Meters), names, times, positions).unwrap()
 }
 
+/// `exact` with Gaussian noise of `sd` (m) on every coordinate of every marker (seeded).
+fn with_noise(exact: &MarkerTable, sd: f64, seed: u64) -> MarkerTable {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    let (noise, mut rng) = (Normal::new(0.0, sd).unwrap(), rand::rngs::StdRng::seed_from_u64(seed));
+    let positions = (0..exact.n_frames()).flat_map(|f| (0..exact.marker_names().len()).map(move |m| (f, m))).map(|(f, m)| exact.position(f, m).map(|p| p.map(|v| v + noise.sample(&mut rng)))).collect();
+    MarkerTable::new(exact.header().clone(), exact.marker_names().to_vec(), exact.times().to_vec(), positions).unwrap()
+}
+
 /// The default pose moved by a few tenths of a radian (or centimetres) per coordinate.
 fn shifted_pose(multibody: &Multibody, amount: f64) -> Vec<f64> {
     multibody
@@ -614,14 +623,10 @@ fn kalman_smoothing_keeps_a_quartic_motion() {
 /// neighbouring frames).
 #[test]
 fn kalman_smoothing_reduces_marker_noise() {
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, Normal};
     let wave = |c: usize, t: f64| 0.15 * (2.0 * std::f64::consts::PI * t + c as f64).sin();
     let (multibody, poses) = kalman_case(101, wave);
     let exact = synthetic_trial(&multibody, &poses);
-    let (noise, mut rng) = (Normal::new(0.0, 0.003).unwrap(), rand::rngs::StdRng::seed_from_u64(7));
-    let positions = (0..exact.n_frames()).flat_map(|f| (0..exact.marker_names().len()).map(move |m| (f, m))).map(|(f, m)| exact.position(f, m).map(|p| p.map(|v| v + noise.sample(&mut rng)))).collect();
-    let trial = MarkerTable::new(exact.header().clone(), exact.marker_names().to_vec(), exact.times().to_vec(), positions).unwrap();
+    let trial = with_noise(&exact, 0.003, 7);
     let ik = InverseKinematics::new(&multibody, &trial, "noisy.trc".as_ref(), &IkTasks::every_marker(), IkSettings::default()).unwrap();
     let solved = ik.solve(None).unwrap();
     let smoothed = ik.smooth(&solved, &KalmanIkSettings::with_cutoff(6.0)).unwrap().solution;
@@ -644,8 +649,6 @@ fn kalman_smoothing_reduces_marker_noise() {
 #[test]
 fn kalman_smoothing_holds_closed_loops() {
     use osim_tune::solvers::assemble;
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, Normal};
     let case = IkCase::linked_mechanisms(&common::root());
     let multibody = Multibody::new(&ModelSpec::read(&OsimDocument::read(&case.model).unwrap()).unwrap()).unwrap();
     let rest = assemble(&multibody, &multibody.default_pose()).unwrap();
@@ -657,9 +660,7 @@ fn kalman_smoothing_holds_closed_loops() {
         })
         .collect();
     let exact = synthetic_trial(&multibody, &poses);
-    let (noise, mut rng) = (Normal::new(0.0, 0.001).unwrap(), rand::rngs::StdRng::seed_from_u64(11));
-    let positions = (0..exact.n_frames()).flat_map(|f| (0..exact.marker_names().len()).map(move |m| (f, m))).map(|(f, m)| exact.position(f, m).map(|p| p.map(|v| v + noise.sample(&mut rng)))).collect();
-    let trial = MarkerTable::new(exact.header().clone(), exact.marker_names().to_vec(), exact.times().to_vec(), positions).unwrap();
+    let trial = with_noise(&exact, 0.001, 11);
     let ik = InverseKinematics::new(&multibody, &trial, "swaying.trc".as_ref(), &IkTasks::every_marker(), IkSettings::default()).unwrap();
     let solved = ik.solve(None).unwrap();
     let smoothed = ik.smooth(&solved, &KalmanIkSettings::with_cutoff(6.0)).unwrap();
