@@ -221,8 +221,9 @@ pub enum Command {
         weights: Vec<String>,
         /// Kalman-smooth the kinematics over the whole trial at about this cutoff (Hz), as the
         /// thesis computes joint kinematics (De Groote et al. 2008): the markers through the
-        /// model with their weights, each coordinate's 4th derivative constant up to noise. Not
-        /// OpenSim's IK.
+        /// model with their weights, each coordinate's 4th derivative constant up to noise; links
+        /// between bodies held (the smoothed poses, speeds and accelerations projected onto
+        /// them). Not OpenSim's IK.
         #[arg(long)]
         kalman: Option<f64>,
         /// With --kalman: also write the smoother's speeds and accelerations of every coordinate
