@@ -10,7 +10,7 @@
 //! `<muscle>.activation`), a state the file lacks at its default.
 //!
 //! Each row is then assembled: a coupler's dependent coordinate is put where its constraint says
-//! (and, for the rows analysed, links between bodies closed: [`AnalyzeStates::assemble_links`]),
+//! (and, for the rows analysed, links between bodies closed: [`AnalyzeStates::assembled_rows`]),
 //! its speed left as it is (OpenSim assembles positions only) — 0 when the file lacks it. A dependent coordinate whose motion
 //! type is `Coupled` (e.g. leg6dof9musc's patella) is not converted from degrees by OpenSim's
 //! degree rule, so in a file in degrees its speed is in degrees per second — as OpenSim has it,
@@ -175,18 +175,20 @@ impl AnalyzeStates {
         Some(range.filter(|&i| i == first || i == last || i % step_interval == 0).collect())
     }
 
-    /// With links between bodies, each pose of `rows` assembled as the AnalyzeTool assembles it
-    /// before its analyses record (`Model::assemble`): the pose nearest the row's that closes
-    /// every link ([`assemble`]); the speeds and accelerations stay the splines'. (Couplers were
-    /// followed when the states were formed; a model without links is left as it is.)
-    pub fn assemble_links(&mut self, multibody: &Multibody, rows: &[usize], file: &Path) -> Result<(), StatesError> {
-        if multibody.links.is_empty() {
-            return Ok(());
+    /// [`AnalyzeStates::analysed_rows`] with, where the model has links between bodies, each
+    /// of those poses assembled as the AnalyzeTool assembles it before its analyses record
+    /// (`Model::assemble`): the pose nearest the row's that closes every link ([`assemble`]);
+    /// the speeds and accelerations stay the splines'. (Couplers were followed when the states
+    /// were formed; a model without links is left as it is.) `Ok(None)` when the range misses
+    /// the times.
+    pub fn assembled_rows(&mut self, multibody: &Multibody, time_range: [f64; 2], step_interval: usize, file: &Path) -> Result<Option<Vec<usize>>, StatesError> {
+        let Some(rows) = self.analysed_rows(time_range, step_interval) else { return Ok(None) };
+        if !multibody.links.is_empty() {
+            for &i in &rows {
+                self.q[i] = assemble(multibody, &self.q[i]).map_err(|source| StatesError::Assembly { file: file.into(), time: self.times[i], source: Box::new(source) })?;
+            }
         }
-        for &i in rows {
-            self.q[i] = assemble(multibody, &self.q[i]).map_err(|source| StatesError::Assembly { file: file.into(), time: self.times[i], source: Box::new(source) })?;
-        }
-        Ok(())
+        Ok(Some(rows))
     }
 }
 

@@ -141,8 +141,7 @@ pub fn joint_reactions(problem: &ReactionProblem, motion: MotionInput, file: &Pa
     let multibody = &geometry.multibody;
     let mut states = AnalyzeStates::read(multibody, motion, file, settings.lowpass_cutoff)?;
     let [start, end] = settings.time_range;
-    let rows = states.analysed_rows(settings.time_range, settings.step_interval).ok_or(JointReactionError::NoFrames { file: file.into(), start, end })?;
-    states.assemble_links(multibody, &rows, file)?;
+    let rows = states.assembled_rows(multibody, settings.time_range, settings.step_interval, file)?.ok_or(JointReactionError::NoFrames { file: file.into(), start, end })?;
     let (columns, unused_forces) = force_columns(forces, generators)?;
     let force_times = forces.table.times();
     let mut kinematics = multibody.kinematics();

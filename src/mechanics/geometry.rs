@@ -27,16 +27,30 @@ impl MuscleGeometry {
     }
 }
 
+/// What a [`PathEvaluation`]'s "moment arms" are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Arms {
+    /// Moment arms about the coordinates each path spans ([`GeometryPath::spanned`]).
+    Spanned,
+    /// Moment arms about the coordinates its tension loads ([`GeometryPath::loaded`]).
+    Loaded,
+    /// About those, a unit tension's generalized forces with the links between bodies aside
+    /// ([`GeometryPath::unit_tension_forces`]).
+    Applied,
+}
+
+impl Arms {
+    fn coordinates(self, path: &GeometryPath) -> &[usize] {
+        if self == Arms::Spanned { &path.spanned } else { &path.loaded }
+    }
+}
+
 /// Lengths and moment arms of chosen muscles, about the coordinates each path spans
 /// ([`GeometryPath::spanned`]) or loads ([`GeometryPath::loaded`]).
 #[derive(Debug, Clone)]
 pub struct PathEvaluation {
     muscles: Vec<usize>,
-    /// Moment arms about `loaded` rather than `spanned` coordinates.
-    loaded: bool,
-    /// A unit tension's generalized forces with the links between bodies aside
-    /// ([`GeometryPath::unit_tension_forces`]) instead of moment arms.
-    links_aside: bool,
+    arms: Arms,
     /// `moment_arms[offsets[k]..offsets[k + 1]]` belong to muscle k.
     offsets: Vec<usize>,
     lengths: Vec<f64>,
@@ -51,32 +65,31 @@ impl PathEvaluation {
     /// Prepares buffers for `muscles` (indices into [`MuscleGeometry::paths`]), moment arms
     /// about the coordinates each spans.
     pub fn new(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
-        PathEvaluation::with(geometry, muscles, false, false)
+        PathEvaluation::with(geometry, muscles, Arms::Spanned)
     }
 
     /// As [`PathEvaluation::new`], moment arms about the coordinates each path's tension loads
     /// as OpenSim applies it: the generalized forces of a unit tension.
     pub fn loading(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
-        PathEvaluation::with(geometry, muscles, true, false)
+        PathEvaluation::with(geometry, muscles, Arms::Loaded)
     }
 
     /// As [`PathEvaluation::loading`], the "moment arms" being the generalized forces a unit
     /// tension applies with the links between bodies aside (the same without links): what the
     /// forward dynamics applies, the links' forces to be added.
     pub fn applying(geometry: &MuscleGeometry, muscles: &[usize]) -> PathEvaluation {
-        PathEvaluation::with(geometry, muscles, true, true)
+        PathEvaluation::with(geometry, muscles, Arms::Applied)
     }
 
-    fn with(geometry: &MuscleGeometry, muscles: &[usize], loaded: bool, links_aside: bool) -> PathEvaluation {
+    fn with(geometry: &MuscleGeometry, muscles: &[usize], arms: Arms) -> PathEvaluation {
         let mut offsets = vec![0];
         for &m in muscles {
             let path = &geometry.paths[m];
-            offsets.push(offsets.last().copied().unwrap_or(0) + if loaded { path.loaded.len() } else { path.spanned.len() });
+            offsets.push(offsets.last().copied().unwrap_or(0) + arms.coordinates(path).len());
         }
         PathEvaluation {
             muscles: muscles.to_vec(),
-            loaded,
-            links_aside,
+            arms,
             lengths: vec![0.0; muscles.len()],
             lengthening_speeds: vec![0.0; muscles.len()],
             moment_arms: vec![0.0; offsets.last().copied().unwrap_or(0)],
@@ -99,8 +112,8 @@ impl PathEvaluation {
         for (k, &m) in self.muscles.iter().enumerate() {
             let path = &geometry.paths[m];
             let out = &mut self.moment_arms[self.offsets[k]..self.offsets[k + 1]];
-            let coordinates = if self.loaded { &path.loaded } else { &path.spanned };
-            self.lengths[k] = if self.links_aside {
+            let coordinates = self.arms.coordinates(path);
+            self.lengths[k] = if self.arms == Arms::Applied {
                 path.unit_tension_forces(multibody, &self.kinematics, q, &mut self.scratch, coordinates, out)
             } else {
                 path.moment_arms(multibody, &self.kinematics, q, &mut self.scratch, coordinates, out)
@@ -119,7 +132,7 @@ impl PathEvaluation {
     /// The coordinates the k-th chosen muscle's moment arms are about.
     pub fn coordinates<'g>(&self, geometry: &'g MuscleGeometry, k: usize) -> &'g [usize] {
         let path = &geometry.paths[self.muscles[k]];
-        if self.loaded { &path.loaded } else { &path.spanned }
+        self.arms.coordinates(path)
     }
 
     /// Length (m) of the k-th chosen muscle at the last pose.

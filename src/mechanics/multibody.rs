@@ -137,11 +137,6 @@ impl Multibody {
         Ok(multibody)
     }
 
-    /// The links between bodies, `name (class)`.
-    pub fn link_names(&self) -> Vec<String> {
-        self.links.iter().map(|link| format!("{} ({})", link.name, link.class)).collect()
-    }
-
     /// The body a frame chain hangs on and X_B,frame.
     pub fn attach(&self, frame: &FrameChain, component: &str) -> Result<(usize, Transform), MechanicsError> {
         let body = self.body_index(&frame.body).ok_or_else(|| MechanicsError::Invalid {

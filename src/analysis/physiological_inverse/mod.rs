@@ -117,8 +117,7 @@ pub fn physiological_inverse(
 ) -> Result<PhysiologicalInverseResult, StaticOptimizationError> {
     let frames_settings = &settings.frames;
     let mut states = AnalyzeStates::read(&geometry.multibody, motion, file, frames_settings.lowpass_cutoff)?;
-    let rows = solved_rows(&states, frames_settings, file)?;
-    states.assemble_links(&geometry.multibody, &rows, file)?;
+    let rows = solved_rows(&mut states, &geometry.multibody, frames_settings, file)?;
     let mut frames = Frames::new(geometry, generators, loads, frames_settings.use_muscle_physiology);
     let problems: Vec<FrameProblem> = rows
         .iter()

@@ -26,7 +26,7 @@ pub use generators::{force_generators, generators, Generator};
 use super::analyze_states::{AnalyzeStates, MotionInput, StatesError};
 use super::external_loads::ExternalLoads;
 use crate::io::table::{StorageTable, TableError};
-use crate::mechanics::{MotionState, MuscleGeometry};
+use crate::mechanics::{MotionState, Multibody, MuscleGeometry};
 use crate::solvers::minimise_power_sum;
 use crate::solvers::qp::{DenseQp, QpSettings};
 
@@ -126,8 +126,7 @@ pub fn static_optimization(
     reference: Option<ReferenceControls>,
 ) -> Result<StaticOptimizationResult, StaticOptimizationError> {
     let mut states = AnalyzeStates::read(&geometry.multibody, motion, file, settings.lowpass_cutoff)?;
-    let rows = solved_rows(&states, settings, file)?;
-    states.assemble_links(&geometry.multibody, &rows, file)?;
+    let rows = solved_rows(&mut states, &geometry.multibody, settings, file)?;
     let columns = reference.map(|r| reference_columns(r, generators)).transpose()?;
     let mut frames = Frames::new(geometry, generators, loads, settings.use_muscle_physiology);
     let bounds = frames.bounds();
@@ -168,10 +167,11 @@ pub fn static_optimization(
     })
 }
 
-/// The rows the AnalyzeTool solves in `settings.time_range` ([`AnalyzeStates::analysed_rows`]).
-pub(in crate::analysis) fn solved_rows(states: &AnalyzeStates, settings: &StaticOptimizationSettings, file: &Path) -> Result<Vec<usize>, StaticOptimizationError> {
+/// The rows the AnalyzeTool solves in `settings.time_range`, their poses assembled onto the
+/// links between bodies ([`AnalyzeStates::assembled_rows`]).
+pub(in crate::analysis) fn solved_rows(states: &mut AnalyzeStates, multibody: &Multibody, settings: &StaticOptimizationSettings, file: &Path) -> Result<Vec<usize>, StaticOptimizationError> {
     let [start, end] = settings.time_range;
-    states.analysed_rows(settings.time_range, settings.step_interval).ok_or(StaticOptimizationError::NoFrames { file: file.into(), start, end })
+    states.assembled_rows(multibody, settings.time_range, settings.step_interval, file)?.ok_or(StaticOptimizationError::NoFrames { file: file.into(), start, end })
 }
 
 /// The column of each generator in the reference table; a missing one is an error.

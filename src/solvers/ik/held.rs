@@ -8,9 +8,10 @@ use super::solver::IkWorkspace;
 use crate::mechanics::Vec3;
 use crate::solvers::least_squares::{LeastSquaresOptions, LeastSquaresStatus};
 
-/// √weight (per m) of the links' augmented-Lagrangian residuals: large against the
-/// markers' √(w/W) so that a few rounds close them.
-const LINK_ROOT_WEIGHT: f64 = 1e3;
+/// √weight (per m) of the links' augmented-Lagrangian residuals (and of a Kalman frame's
+/// linearised link residuals): large against the markers' √(w/W) so that a few rounds close
+/// them.
+pub(super) const LINK_ROOT_WEIGHT: f64 = 1e3;
 /// The largest link error (m; rad for a weld's orientation) a solution may keep: Simbody
 /// assembles to far less than OpenSim's IK accuracy.
 const LINK_TOLERANCE: f64 = 1e-10;

@@ -12,10 +12,11 @@
 //! smoothed to about f_c. The smoothed values are clamped to the clamped coordinates' ranges.
 //!
 //! Links between bodies held exactly (the IK's default) enter each frame's measurements as
-//! residuals a million times surer than a marker's; each smoothed pose, its speeds and its
-//! accelerations are then projected onto the links (links under a finite weight stay goals) (the least change over the free speeds:
-//! [`crate::mechanics::Multibody::project_onto_links`] and
-//! [`crate::mechanics::Multibody::project_accelerations_onto_links`]).
+//! residuals a million times surer than a marker's, and each smoothed pose, its speeds and its
+//! accelerations are then projected onto the links, the least change over the free speeds
+//! ([`crate::mechanics::Multibody::project_onto_links`],
+//! [`crate::mechanics::Multibody::project_accelerations_onto_links`]); links under a finite
+//! weight stay goals.
 
 use nalgebra::{DMatrix, DVector};
 

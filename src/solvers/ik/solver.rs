@@ -9,17 +9,13 @@ use nalgebra::{DMatrix, DVector};
 use super::assembly::assembled_default_pose;
 use super::coordinates::{ConstraintWeight, CoordinateMap};
 use super::frame::{link_rows, moving_coordinates, FrameModel, FrameObjective, FrameScratch, LinkTerms};
-use super::held::minimize_holding_links;
+use super::held::{minimize_holding_links, LINK_ROOT_WEIGHT};
 use super::report::{IkFrame, IkSolution, MarkerErrors};
 use super::tasks::{resolve_coordinates, resolve_markers, IgnoredMarkerTask, IkTasks};
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Multibody, Vec3};
 use crate::solvers::least_squares::{LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresStatus};
 use crate::solvers::IkError;
-
-/// √weight (per m) of a held link's errors among a linearised frame's residuals (where the
-/// markers' are √(w/W)).
-const LINEARISED_LINK_ROOT_WEIGHT: f64 = 1e3;
 
 /// How to solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -243,12 +239,12 @@ impl<'m> InverseKinematics<'m> {
     /// Frame `frame`'s residuals and Jacobian at pose `q` over the free values
     /// ([`InverseKinematics::free_values`]), with the total weight W of its markers with data:
     /// the residuals' variance is σ²/W for markers of weight 1 and noise σ. Links held exactly
-    /// enter as residuals √w·e of [`LINEARISED_LINK_ROOT_WEIGHT`]: measurements a million times
-    /// surer than a marker's.
+    /// enter as residuals √w·e of the augmented Lagrangian's first √weight (`LINK_ROOT_WEIGHT`,
+    /// 1e3 per m): measurements a million times surer than a marker's.
     pub(super) fn linearise(&self, frame: usize, q: &[f64], workspace: &mut IkWorkspace) -> Result<Linearisation, IkError> {
         let observed = self.prepare(frame, q, workspace)?;
         let total_weight = self.model.markers.iter().zip(observed).filter(|(_, o)| o.is_some()).map(|(m, _)| m.weight).sum();
-        let links = if self.exact_links() { LinkTerms { root_weight: LINEARISED_LINK_ROOT_WEIGHT, shifts: &[] } } else { self.reported_links() };
+        let links = if self.exact_links() { LinkTerms { root_weight: LINK_ROOT_WEIGHT, shifts: &[] } } else { self.reported_links() };
         let mut objective = FrameObjective { model: &self.model, map: &self.map, scratch: &mut workspace.frame, observed, scales: &workspace.scales, targets: &workspace.targets, links };
         let mut residuals = vec![0.0; objective.residual_count()];
         let mut jacobian = DMatrix::zeros(objective.residual_count(), objective.variable_count());
