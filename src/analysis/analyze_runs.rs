@@ -11,6 +11,7 @@ use super::analyze_dynamics::{analyze_dynamics, RowDynamics};
 use super::analyze_states::{muscle_state_names, AnalyzeStates, MotionInput};
 use super::analyze_tool::{analyze_tool_motion, AnalyzeModel, AnalyzeToolError, AnalyzeToolMotion, AnalyzeToolTables};
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
+use super::induced_accelerations::induced_acceleration_tables;
 use super::joint_reaction::{reaction_reports, reaction_row, reaction_table};
 use super::muscle_analysis::MuscleAnalysis;
 use super::muscle_state_tables::muscle_state_tables;
@@ -21,7 +22,7 @@ use super::static_optimization::{force_generators, Generator};
 use crate::io::table::StorageTable;
 use crate::mechanics::MotionState;
 use crate::model::ModelSpec;
-use crate::setup::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup};
+use crate::setup::{AnalyzeSetup, BodyKinematicsSetup, InducedAccelerationsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup};
 
 /// The rows of one step interval and what they form, each formed at most once.
 struct RowSet {
@@ -165,10 +166,31 @@ impl<'a> ToolRun<'a> {
         let multibody = &self.model.geometry.multibody;
         let rows = self.rows(analysis.step_interval)?;
         let udot = self.accelerations(&rows, tables, "BodyKinematics' accelerations (_acc_…)");
-        let bodies: Vec<usize> = self.model.spec.bodies.iter().filter_map(|b| multibody.bodies.iter().position(|m| m.name == b.name)).collect();
-        let formed = body_tables(multibody, &bodies, &rows.states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
+        let formed = body_tables(multibody, &self.body_set(), &rows.states, analysis, udot.as_deref()).map_err(|e| self.in_setup(e))?;
         let frame = if analysis.express_in_local_frame { "bodyLocal" } else { "global" };
         for (suffix, table) in ["pos_global".to_string(), format!("vel_{frame}"), format!("acc_{frame}")].into_iter().zip(formed) {
+            self.add(tables, &analysis.name, &suffix, table, &rows.states);
+        }
+        Ok(())
+    }
+
+    /// The model's BodySet as [`crate::mechanics::Multibody::bodies`] indices, in its order.
+    fn body_set(&self) -> Vec<usize> {
+        let multibody = &self.model.geometry.multibody;
+        self.model.spec.bodies.iter().filter_map(|b| multibody.bodies.iter().position(|m| m.name == b.name)).collect()
+    }
+
+    /// InducedAccelerations: each contributor's accelerations (and the reactions they induce).
+    pub(super) fn induced_accelerations(&self, analysis: &InducedAccelerationsSetup, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
+        let rows = self.rows(analysis.step_interval)?;
+        let at = match self.muscles(&rows).and_then(|muscles| self.applied(&rows, muscles)) {
+            Ok(at) => at,
+            Err(reason) => {
+                tables.not_written.push(format!("the InducedAccelerations' tables: {reason}"));
+                return Ok(());
+            }
+        };
+        for (suffix, table) in induced_acceleration_tables(self.model.geometry, &at, analysis, &self.body_set(), &self.setup.file)? {
             self.add(tables, &analysis.name, &suffix, table, &rows.states);
         }
         Ok(())

@@ -3,7 +3,7 @@
 //! speeds; the muscles at their default or equilibrium states, [`super::muscle_states`]; the
 //! accelerations they give, [`super::analyze_dynamics`]) and the tables its
 //! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`,
-//! `Actuation` and `StatesReporter` write, by file name.
+//! `Actuation`, `StatesReporter` and `InducedAccelerations` write, by file name.
 
 use std::path::{Path, PathBuf};
 
@@ -12,6 +12,7 @@ use super::controllers::Controllers;
 use super::analyze_states::{AnalyzeStates, GivenMuscleStates, StatesError};
 use super::body_kinematics::KinematicsError;
 use super::external_loads::ExternalLoads;
+use super::induced_accelerations::InducedAccelerationsError;
 use super::joint_reaction::JointReactionError;
 use super::signal::NoFramesInRange;
 use crate::io::table::{StorageTable, TableError};
@@ -76,6 +77,9 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
     if let Some(analysis) = setup.joint_reaction.as_ref().filter(|a| a.forces_file.is_none()) {
         run.joint_reaction(analysis, &mut tables)?;
     }
+    if let Some(analysis) = &setup.induced_accelerations {
+        run.induced_accelerations(analysis, &mut tables)?;
+    }
     let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter")];
     for (analysis, class) in reporters.into_iter().filter_map(|(a, class)| a.as_ref().map(|a| (a, class))) {
         run.reporter(analysis, class, &mut tables)?;
@@ -97,7 +101,7 @@ impl AnalyzeToolTables {
 /// Why an AnalyzeTool setup's tables cannot be formed.
 #[derive(Debug, thiserror::Error)]
 pub enum AnalyzeToolError {
-    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter or JointReaction without a forces file that is on", file.display())]
+    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations or JointReaction without a forces file that is on", file.display())]
     NothingToRun { file: PathBuf },
     #[error(transparent)]
     States(#[from] StatesError),
@@ -111,6 +115,8 @@ pub enum AnalyzeToolError {
     Table(#[from] TableError),
     #[error(transparent)]
     Reaction(#[from] Box<JointReactionError>),
+    #[error(transparent)]
+    InducedAccelerations(#[from] InducedAccelerationsError),
 }
 
 /// The states OpenSim's `AnalyzeTool` hands an analysis: the poses (each assembled) and the

@@ -78,6 +78,11 @@ impl ExternalLoads {
         self.forces.iter().map(|f| f.at(time, kinematics)).collect()
     }
 
+    /// The body each force is applied to ([`Multibody::bodies`] indices), in the file's order.
+    pub fn applied_bodies(&self) -> Vec<usize> {
+        self.forces.iter().map(|f| f.body).collect()
+    }
+
     /// Whether some force is applied to `body` ([`Multibody::bodies`] index).
     pub fn loads_body(&self, body: usize) -> bool {
         self.forces.iter().any(|f| f.body == body)

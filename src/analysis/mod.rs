@@ -12,6 +12,7 @@ mod emg_comparison;
 mod external_loads;
 mod forward;
 mod fiber_analysis;
+mod induced_accelerations;
 mod inverse_dynamics;
 mod joint_reaction;
 mod muscle_analysis;
@@ -36,6 +37,7 @@ pub use forward::{
     Trajectory,
 };
 pub use fiber_analysis::{hill_muscles, FiberAnalysis, FiberAnalysisError};
+pub use induced_accelerations::InducedAccelerationsError;
 pub use inverse_dynamics::{inverse_dynamics, InverseDynamicsError, InverseDynamicsResult, InverseDynamicsSettings};
 pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, JointReactionError, JointReactionResult, JointReactionSettings, ReactionProblem, ReactionReport, ReactionSide};
 pub use analyze_tool::{analyze_tool_tables, AnalyzeModel, AnalyzeToolError, AnalyzeToolTables};

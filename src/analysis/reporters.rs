@@ -48,7 +48,7 @@ impl<'a> AppliedAt<'a> {
 
     /// The muscle state of generator `g` at `row`; `None` for an actuator or a muscle whose state
     /// was not evaluated.
-    fn muscle_state(&self, row: usize, g: usize) -> Option<&MuscleState> {
+    pub(super) fn muscle_state(&self, row: usize, g: usize) -> Option<&MuscleState> {
         self.muscle_of[g].and_then(|k| self.muscles.states[row][k].as_ref())
     }
 

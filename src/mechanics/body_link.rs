@@ -7,7 +7,9 @@
 //! Errors: Point, the second point from the first (m, ground, three rows); Distance, their
 //! distance minus the constant (m); PointOnLine, the follower point from the line point along
 //! two unit normals of the line fixed in the line body (m); Weld, the second frame's origin
-//! from the first's (m) then Simbody's ConstantOrientation errors x₁·y₂, y₁·z₂, z₁·x₂.
+//! from the first's (m) then Simbody's ConstantOrientation errors x₁·y₂, y₁·z₂, z₁·x₂; a
+//! contact's rows ([`ContactRow`]), the second point from the first along a direction fixed in
+//! the first body (m) or the cosine between two axes, one fixed in each body.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -39,6 +41,19 @@ enum LinkKind {
     PointOnLine([Vec3; 2]),
     /// Each weld frame's orientation in its body.
     Weld([Mat3; 2]),
+    Contact(Vec<ContactRow>),
+}
+
+/// One row of a contact placed for an instant (OpenSim's induced accelerations replace an
+/// external force by a contact at its point): on a fixed surface, Simbody's PointInPlane and
+/// NoSlip1D are a point's acceleration along a direction, and ConstantAngle a spin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactRow {
+    /// The second point moves with the first along this unit vector, fixed in the first body.
+    Along(Vec3),
+    /// The cosine of the angle between `base` (a unit vector fixed in the first body) and
+    /// `follower` (fixed in the second) stays.
+    Spin { base: Vec3, follower: Vec3 },
 }
 
 /// One body's share of an error's rate: `linear·v(point) + angular·ω(body)`.
@@ -82,13 +97,24 @@ impl BodyLink {
         Ok(BodyLink { name: spec.name.clone(), class: spec.class.clone(), ends, kind })
     }
 
+    /// Simbody's Ball named `name` between the points `ends` (a `PointConstraint`).
+    pub fn point(name: &str, class: &str, ends: [Marker; 2]) -> BodyLink {
+        BodyLink { name: name.to_string(), class: class.to_string(), ends, kind: LinkKind::Point }
+    }
+
+    /// A contact named `name` between the points `ends` holding `rows`.
+    pub fn contact(name: &str, class: &str, ends: [Marker; 2], rows: Vec<ContactRow>) -> BodyLink {
+        BodyLink { name: name.to_string(), class: class.to_string(), ends, kind: LinkKind::Contact(rows) }
+    }
+
     /// How many errors the link has (its constraint equations).
     pub fn rows(&self) -> usize {
-        match self.kind {
+        match &self.kind {
             LinkKind::Point => 3,
             LinkKind::Distance(_) => 1,
             LinkKind::PointOnLine(_) => 2,
             LinkKind::Weld(_) => 6,
+            LinkKind::Contact(rows) => rows.len(),
         }
     }
 
@@ -118,6 +144,13 @@ impl BodyLink {
                 let [a, b] = self.weld_axes(kinematics, rotations);
                 errors.extend(ORIENTATION_PAIRS.iter().map(|&(i, j)| a.column(i).dot(&b.column(j))));
             }
+            LinkKind::Contact(rows) => {
+                let [r1, r2] = [0, 1].map(|k| kinematics.bodies[self.ends[k].body].rotation);
+                errors.extend(rows.iter().map(|row| match row {
+                    ContactRow::Along(direction) => (r1 * direction).dot(&gap),
+                    ContactRow::Spin { base, follower } => (r1 * base).dot(&(r2 * follower)),
+                }));
+            }
         }
     }
 
@@ -141,6 +174,19 @@ impl BodyLink {
                 let (i, j) = ORIENTATION_PAIRS[row - 3];
                 let axis = a.column(i).cross(&b.column(j));
                 [RateTerm { body: b1, point: p1, linear: zero, angular: axis }, RateTerm { body: b2, point: p2, linear: zero, angular: -axis }]
+            }
+            LinkKind::Contact(rows) => {
+                let [r1, r2] = [b1, b2].map(|b| kinematics.bodies[b].rotation);
+                match rows[row] {
+                    ContactRow::Along(direction) => {
+                        let along = r1 * direction;
+                        translation(along, along.cross(&(p2 - p1)))
+                    }
+                    ContactRow::Spin { base, follower } => {
+                        let axis = (r1 * base).cross(&(r2 * follower));
+                        [RateTerm { body: b1, point: p1, linear: zero, angular: axis }, RateTerm { body: b2, point: p2, linear: zero, angular: -axis }]
+                    }
+                }
             }
         }
     }

@@ -73,6 +73,13 @@ impl Multibody {
         Ok((udot, multipliers.map(|m| self.link_loads(kinematics, &m)).unwrap_or_default()))
     }
 
+    /// [`Multibody::accelerations`] with the links' multipliers λ, one per row of
+    /// [`Multibody::link_jacobian`] (Simbody's sign: the links apply −Gᵀλ; none without links).
+    pub fn accelerations_with_multipliers(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<(Vec<f64>, DVector<f64>), ForwardDynamicsError> {
+        let (udot, multipliers) = self.solve_accelerations(kinematics, q, u, loads, tau)?;
+        Ok((udot, multipliers.unwrap_or_else(|| DVector::zeros(0))))
+    }
+
     /// u̇ and, with links, their multipliers λ.
     fn solve_accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<(Vec<f64>, Option<DVector<f64>>), ForwardDynamicsError> {
         let n = self.coordinates.len();

@@ -43,7 +43,7 @@ pub use mobilizer::{Mobilizer, PartialVelocity, TransformAxis};
 pub use mobilizer_surface::{Ellipsoid, Scapulothoracic};
 pub use motion::{Motion, MotionError};
 pub use motion_rates::TransformRates;
-pub use body_link::{BodyLink, RateTerm};
+pub use body_link::{BodyLink, ContactRow, RateTerm};
 pub use multibody::{Body, Joint, Marker, Multibody, GROUND_INDEX};
 pub use path::{GeometryPath, PathScratch};
 pub use spatial::{body_fixed_xyz, body_fixed_xyz_angles, rotation_about, Mat3, Transform, Vec3};

@@ -1,12 +1,13 @@
 //! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction`,
-//! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`, `Actuation` and
-//! `StatesReporter` analyses, typed.
+//! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`, `Actuation`,
+//! `StatesReporter` and `InducedAccelerations` analyses, typed.
 
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
 use super::error::SetupError;
+use super::induced_accelerations::InducedAccelerationsSetup;
 use super::object::{expect_class, read_document};
 use super::path::{directory_of, SetupPath};
 use super::property::{results_directory_or_here, checked_number_or, name_or_empty, optional_path, words};
@@ -65,6 +66,8 @@ pub struct AnalyzeSetup {
     pub force_reporter: Option<ReporterSetup>,
     pub actuation: Option<ReporterSetup>,
     pub states_reporter: Option<ReporterSetup>,
+    /// The `InducedAccelerations` analysis, if the set has one that is on.
+    pub induced_accelerations: Option<InducedAccelerationsSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
     pub other_analyses: Vec<String>,
 }
@@ -187,7 +190,7 @@ impl AnalyzeSetup {
     /// JointReaction with a forces file).
     pub fn has_analyze_tables(&self) -> bool {
         let reporters = [&self.force_reporter, &self.actuation, &self.states_reporter];
-        self.muscle_analysis.is_some() || self.kinematics.is_some() || self.body_kinematics.is_some() || !self.point_kinematics.is_empty() || reporters.iter().any(|r| r.is_some()) || self.joint_reaction_from_states()
+        self.muscle_analysis.is_some() || self.induced_accelerations.is_some() || self.kinematics.is_some() || self.body_kinematics.is_some() || !self.point_kinematics.is_empty() || reporters.iter().any(|r| r.is_some()) || self.joint_reaction_from_states()
     }
 
     /// Whether the JointReaction is on without a forces file: its forces are then the model's at
@@ -207,7 +210,7 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, class)?;
         let directory = directory_of(document.xml.file());
-        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, force_reporter, actuation, states_reporter, others: other_analyses } =
+        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, force_reporter, actuation, states_reporter, induced_accelerations, others: other_analyses } =
             analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
@@ -234,6 +237,7 @@ impl AnalyzeSetup {
             force_reporter,
             actuation,
             states_reporter,
+            induced_accelerations,
             other_analyses,
         })
     }
@@ -251,6 +255,7 @@ struct Analyses {
     force_reporter: Option<ReporterSetup>,
     actuation: Option<ReporterSetup>,
     states_reporter: Option<ReporterSetup>,
+    induced_accelerations: Option<InducedAccelerationsSetup>,
     /// Classes of the others (and of a second analysis of a class already read).
     others: Vec<String>,
 }
@@ -339,6 +344,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                 let include_constraint_forces = analysis.class() == "ForceReporter" && analysis.boolean_or("include_constraint_forces", false)?;
                 *reporter(&mut found, analysis.class()) = Some(ReporterSetup { name: name(), step_interval: step_interval()?, include_constraint_forces });
             }
+            "InducedAccelerations" if found.induced_accelerations.is_none() => found.induced_accelerations = Some(InducedAccelerationsSetup::read(analysis)?),
             class => found.others.push(class.to_string()),
         }
     }

@@ -3,7 +3,7 @@
 //! actuators of added force-set files), each with its control bounds, its generalized forces per
 //! unit control in a state and the loads a force of it applies.
 
-use crate::mechanics::muscle::{HillMuscle, MuscleError};
+use crate::mechanics::muscle::{HillMuscle, MuscleError, MuscleState};
 use crate::mechanics::{Actuator, AppliedForces, Kinematics, MechanicsError, MuscleGeometry, PathEvaluation, PathScratch, TransformRates};
 use crate::model::{ActuatorSpec, ModelSpec, MuscleModelSpec};
 
@@ -110,6 +110,15 @@ impl Generator {
             Kind::Muscle { muscle, .. } => Ok(muscle.equilibrium(control, length)?.tendon_force),
             Kind::Actuator { optimal_force, .. } => Ok(control * optimal_force),
         }
+    }
+
+    /// A muscle's tendon force (N) at its state `state` with its path at rest, as OpenSim's
+    /// induced accelerations apply it: a rigid tendon's fiber then at rest too, a compliant
+    /// tendon's force unchanged (it depends on the lengths only); an actuator's 0.
+    pub fn force_at_rest(&self, state: &MuscleState) -> f64 {
+        let Kind::Muscle { muscle, .. } = &self.kind else { return 0.0 };
+        let report = &state.report;
+        muscle.rigid_tendon_state(report.activation, report.mt_length, 0.0).map_or(report.tendon_force, |(_, force)| force)
     }
 
     /// A muscle's activation and deactivation time constants τ_a, τ_d (s).
