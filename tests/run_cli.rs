@@ -339,11 +339,11 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let (code, _, stderr) = osim_tune(&["run", s(&speeds)]);
     assert!(code == 2 && stderr.contains("speeds.xml: speeds_file \"u.sto\" is not supported"), "{stderr}");
 
-    let induced = dir.join("induced.xml");
-    std::fs::write(&induced, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<InducedAccelerations name="IAA"><on>true</on></InducedAccelerations>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
-    let (code, _, stderr) = osim_tune(&["run", s(&induced)]);
+    let probes = dir.join("probes.xml");
+    std::fs::write(&probes, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<ProbeReporter name="probes"><on>true</on></ProbeReporter>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&probes)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("induced.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, StaticOptimization, JointReaction; others on: InducedAccelerations)"), "{stderr}");
+    assert!(stderr.contains("probes.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations, StaticOptimization, JointReaction; others on: ProbeReporter)"), "{stderr}");
 
     let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
     let (code, _, stderr) = osim_tune(&["info", s(&ik)]);
@@ -438,3 +438,69 @@ fn a_states_file_is_checked_as_opensim_reads_it() {
     let (code, _, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
     assert!(code == 2 && stderr.contains("arm26_states.sto: times must increase strictly, but row 4"), "{stderr}");
 }
+
+/// The induced accelerations add up: with the same contacts held, the dynamics is linear in
+/// the forces, so `total` is the sum of every actuator's, gravity's and the speeds' (the Thelen
+/// muscles' tendon forces do not change with the speeds); OpenSim's `PointConstraint` contacts
+/// are noted as held at the setup's points.
+#[test]
+fn induced_accelerations_add_up_to_the_total() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[("golden/analyze_tool/induced_rolling/setup.xml", "setup.xml"), ("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot")]);
+    for (name, source) in ANALYZE_TOOL_INPUTS {
+        std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join(source), dir.join(name)).unwrap();
+    }
+    let (code, _, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
+    assert_eq!(code, 0, "{stderr}");
+    for table in ["knee_angle_r", "pelvis_tx", "center_of_mass", "pelvis"] {
+        let induced = StorageTable::read(&dir.join(format!("Results/walk_InducedAccelerations_{table}.sto"))).unwrap();
+        let components = if table == "pelvis" { 6 } else if table == "center_of_mass" { 3 } else { 1 };
+        for row in induced.rows() {
+            let largest = row[1..].iter().fold(1.0f64, |m, v| m.max(v.abs()));
+            for k in 0..components {
+                let sum: f64 = row[1 + components..].iter().skip(k).step_by(components).sum();
+                assert!((sum - row[1 + k]).abs() < 1e-9 * largest, "{table} at {} s: total {} against the sum {sum}", row[0], row[1 + k]);
+            }
+        }
+    }
+    let setup = edited_copy(dir, "golden/analyze_tool/induced_potentials/setup.xml", "points.xml", &[]);
+    let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("note: InducedAccelerations: PointConstraint left_foot holds calcn_l's point (0.0000, 0.0000, 0.0000) m at ground's point (0.0000, 0.0000, 0.0000) m, as OpenSim 4.6 holds it"), "{stderr}");
+}
+
+/// Contacts that cannot replace the external forces are refused naming the setup's line and
+/// what is wrong, and nothing is written: fewer constraints than forces, a constraint on another
+/// body than its force's, a WeldConstraint (OpenSim 4.6 fails on it there), a rolling surface
+/// other than ground, a coordinate the model lacks.
+#[test]
+fn induced_accelerations_refuse_contacts_that_cannot_replace_the_forces() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[("golden/ik/subject01_walk1_ik.mot", "subject01_walk1_ik.mot")]);
+    for (name, source) in ANALYZE_TOOL_INPUTS {
+        std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join(source), dir.join(name)).unwrap();
+    }
+    let left = "\t\t\t\t\t\t\t<PointConstraint name=\"left_foot\">\n\t\t\t\t\t\t\t\t<isEnforced>false</isEnforced>\n\t\t\t\t\t\t\t\t<body_1>ground</body_1>\n\t\t\t\t\t\t\t\t<body_2>calcn_l</body_2>\n\t\t\t\t\t\t\t</PointConstraint>\n";
+    let cases: [(&str, &str, &str, &str); 5] = [
+        ("golden/analyze_tool/induced_potentials/setup.xml", left, "", "the ConstraintSet has 1 constraints for 2 external forces"),
+        ("golden/analyze_tool/induced_potentials/setup.xml", "<body_2>calcn_l</body_2>", "<body_2>toes_l</body_2>", "left_foot holds toes_l, but the external force it replaces is applied to calcn_l"),
+        ("golden/analyze_tool/induced_potentials/setup.xml", "<PointConstraint name=\"left_foot\">", "<WeldConstraint name=\"left_foot\">", "left_foot: a WeldConstraint cannot replace an external force here"),
+        ("golden/analyze_tool/induced_rolling/setup.xml", "<rolling_body>calcn_l</rolling_body>\n\t\t\t\t\t\t\t\t<surface_body>ground</surface_body>", "<rolling_body>calcn_l</rolling_body>\n\t\t\t\t\t\t\t\t<surface_body>pelvis</surface_body>", "left_foot: the surface_body must be ground"),
+        ("golden/analyze_tool/induced_rolling/setup.xml", "knee_angle_r ankle_angle_r", "knee_angle_r no_such_coordinate", "InducedAccelerations names coordinate \"no_such_coordinate\", which the model does not have"),
+    ];
+    for (k, (from, old, new, message)) in cases.into_iter().enumerate() {
+        let setup = edited_copy(dir, from, &format!("bad{k}.xml"), &[(old, new)]);
+        if new.starts_with("<WeldConstraint") {
+            let text = std::fs::read_to_string(&setup).unwrap();
+            let at = text.rfind("</PointConstraint>").unwrap();
+            std::fs::write(&setup, format!("{}</WeldConstraint>{}", &text[..at], &text[at + "</PointConstraint>".len()..])).unwrap();
+        }
+        let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
+        assert_eq!(code, 2, "{message}: {stderr}");
+        assert!(stderr.contains(&format!("bad{k}.xml")) && stderr.contains(message), "{message}: {stderr}");
+        assert!(!dir.join("Results").exists(), "{message}");
+    }
+}
+

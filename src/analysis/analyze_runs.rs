@@ -190,8 +190,14 @@ impl<'a> ToolRun<'a> {
                 return Ok(());
             }
         };
-        for (suffix, table) in induced_acceleration_tables(self.model.geometry, &at, analysis, &self.body_set(), &self.setup.file)? {
+        let formed = induced_acceleration_tables(self.model.geometry, &at, analysis, &self.body_set(), &self.setup.file)?;
+        for (suffix, table) in formed.tables {
             self.add(tables, &analysis.name, &suffix, table, &rows.states);
+        }
+        tables.notes.extend(formed.notes);
+        let idle: Vec<&str> = self.model.spec.forces.iter().filter(|f| !f.applies_force && (f.is_muscle() || self.model.spec.actuators.iter().any(|a| a.name == f.name))).map(|f| f.name.as_str()).collect();
+        if !idle.is_empty() {
+            tables.notes.push(format!("InducedAccelerations: the actuators {} apply no force and are no contributors here (OpenSim lists them and switches them on)", idle.join(", ")));
         }
         Ok(())
     }

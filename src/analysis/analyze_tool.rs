@@ -38,6 +38,8 @@ pub struct AnalyzeToolTables {
     pub not_written: Vec<String>,
     /// What OpenSim warns about while forming the muscles' states (each once).
     pub warnings: Vec<String>,
+    /// Where an analysis follows OpenSim rather than what its setup may mean.
+    pub notes: Vec<String>,
 }
 
 /// The model an AnalyzeTool setup analyses: the model (`geometry` its paths), the actuators of

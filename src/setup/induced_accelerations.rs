@@ -114,3 +114,47 @@ impl ContactConstraintSetup {
         Ok(ContactConstraintSetup { name: constraint.name(), line: constraint.line(), contact })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::setup::AnalyzeSetup;
+
+    fn read(analysis: &str) -> Result<InducedAccelerationsSetup, SetupError> {
+        let xml = format!(r#"<OpenSimDocument Version="40000"><AnalyzeTool name="walk"><AnalysisSet><objects>{analysis}</objects></AnalysisSet></AnalyzeTool></OpenSimDocument>"#);
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("setup.xml");
+        std::fs::write(&file, xml).unwrap();
+        Ok(AnalyzeSetup::read(&file)?.induced_accelerations.expect("read"))
+    }
+
+    #[test]
+    fn defaults_are_opensims() {
+        let setup = read("<InducedAccelerations><on>true</on></InducedAccelerations>").unwrap();
+        assert_eq!((setup.name.as_str(), setup.step_interval, setup.force_threshold), ("", 1, 6.0));
+        assert!(setup.coordinate_names.is_empty() && setup.constraints.is_empty());
+        assert_eq!(setup.body_names, ["center_of_mass"]);
+        assert!(setup.in_degrees && !setup.compute_potentials_only && !setup.report_constraint_reactions);
+    }
+
+    #[test]
+    fn contacts_are_read_by_opensim_3_names_and_4_sockets() {
+        let setup = read(
+            r#"<InducedAccelerations name="IAA"><body_names> </body_names><ConstraintSet><objects>
+            <RollingOnSurfaceConstraint name="r"><rolling_body>calcn_r</rolling_body><surface_body>ground</surface_body><surface_normal>0 2 0</surface_normal></RollingOnSurfaceConstraint>
+            <PointConstraint name="p"><socket_body_1>/ground</socket_body_1><socket_body_2>/bodyset/calcn_l</socket_body_2><location_body_2>0.1 0 0</location_body_2></PointConstraint>
+            <WeldConstraint name="w"/></objects></ConstraintSet><force_threshold>20</force_threshold></InducedAccelerations>"#,
+        )
+        .unwrap();
+        assert!(setup.body_names.is_empty());
+        assert_eq!(setup.force_threshold, 20.0);
+        let rolling = ContactSetup::Rolling { rolling_body: "calcn_r".into(), surface_body: "ground".into(), surface_normal: [0.0, 1.0, 0.0], friction_coefficient: 0.5, contact_radius: 0.01 };
+        let point = ContactSetup::Point { body_1: "ground".into(), body_2: "calcn_l".into(), locations: [[0.0; 3], [0.1, 0.0, 0.0]] };
+        let contacts: Vec<&ContactSetup> = setup.constraints.iter().map(|c| &c.contact).collect();
+        assert_eq!(contacts, [&rolling, &point, &ContactSetup::Other { class: "WeldConstraint".into() }]);
+        let missing = read(r#"<InducedAccelerations><ConstraintSet><objects><PointConstraint name="p"><body_1>ground</body_1></PointConstraint></objects></ConstraintSet></InducedAccelerations>"#);
+        assert!(missing.unwrap_err().to_string().contains("body_2"));
+        let flat = read(r#"<InducedAccelerations><ConstraintSet><objects><RollingOnSurfaceConstraint name="r"><rolling_body>a</rolling_body><surface_body>ground</surface_body><surface_normal>0 0 0</surface_normal></RollingOnSurfaceConstraint></objects></ConstraintSet></InducedAccelerations>"#);
+        assert!(flat.unwrap_err().to_string().contains("a non-zero direction"));
+    }
+}

@@ -136,6 +136,13 @@ impl Contact {
         }
     }
 
+    /// A point contact's note that it holds the setup's points, not the force's.
+    pub fn fixed_points_note(&self, multibody: &Multibody) -> Option<String> {
+        let Kind::Point(locations) = &self.kind else { return None };
+        let [first, second] = [0, 1].map(|k| format!("{}'s point ({:.4}, {:.4}, {:.4}) m", multibody.bodies[self.bodies[k]].name, locations[k].x, locations[k].y, locations[k].z));
+        Some(format!("InducedAccelerations: PointConstraint {} holds {second} at {first}, as OpenSim 4.6 holds it, not at the external force's point", self.name))
+    }
+
     /// The labels of [`Contact::record`]: `<name>_<body>_F{x,y,z}` then `_M{x,y,z}` per body.
     pub fn record_labels(&self, multibody: &Multibody) -> Vec<String> {
         let mut labels = Vec::new();
@@ -144,5 +151,32 @@ impl Contact {
             labels.extend(["Fx", "Fy", "Fz", "Mx", "My", "Mz"].map(|axis| format!("{prefix}_{axis}")));
         }
         labels
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rolling(friction: f64, radius: f64) -> Contact {
+        Contact { name: "foot".into(), bodies: [0, 1], kind: Kind::Rolling { normal: Vec3::y(), friction, radius } }
+    }
+
+    /// OpenSim's conditions: nothing without a pushing normal force (−λ₀ > 0); no slip while
+    /// |(λ₂, λ₃)| ≤ μN; no spin then too while λ₁ ≤ rμN (signed).
+    #[test]
+    fn rolling_rows_follow_the_unilateral_conditions() {
+        let contact = rolling(0.5, 0.01);
+        let all = [true; ROLLING_ROWS];
+        assert_eq!(contact.rows_kept(&all, &[-100.0, 0.4, 30.0, 40.0]), [true, true, true, true]);
+        assert_eq!(contact.rows_kept(&all, &[-100.0, 0.6, 30.0, 40.0]), [true, false, true, true]);
+        assert_eq!(contact.rows_kept(&all, &[-100.0, -5.0, 30.0, 40.0]), [true, true, true, true]);
+        assert_eq!(contact.rows_kept(&all, &[-100.0, 0.0, 30.0, 41.0]), [true, false, false, false]);
+        assert_eq!(contact.rows_kept(&all, &[100.0, 0.0, 0.0, 0.0]), [false; ROLLING_ROWS]);
+        // Rows not held give no multiplier: a contact without its spin row keeps the order.
+        assert_eq!(contact.rows_kept(&[true, false, true, true], &[-100.0, 30.0, 40.0]), [true, true, true, true]);
+        assert_eq!(contact.rows_kept(&[false; ROLLING_ROWS], &[]), [false; ROLLING_ROWS]);
+        let point = Contact { name: "p".into(), bodies: [0, 1], kind: Kind::Point([Vec3::zeros(); 2]) };
+        assert_eq!(point.rows_kept(&all, &[1.0, 2.0, 3.0]), [true; ROLLING_ROWS]);
     }
 }

@@ -48,9 +48,9 @@ enum Contributor {
     Velocity,
 }
 
-/// The tables (`<file suffix>`, table) of `setup` at `at`'s rows on `geometry`'s model, whose
-/// BodySet is `bodies` ([`Multibody::bodies`] indices); `file` is the setup, for messages.
-pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &PathBuf) -> Result<Vec<(String, StorageTable)>, InducedAccelerationsError> {
+/// The tables of `setup` at `at`'s rows on `geometry`'s model, whose BodySet is `bodies`
+/// ([`Multibody::bodies`] indices); `file` is the setup, for messages.
+pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &PathBuf) -> Result<InducedAccelerationTables, InducedAccelerationsError> {
     let multibody = &geometry.multibody;
     let coordinates = reported_coordinates(multibody, setup, file)?;
     let (recorded, center_of_mass) = reported_bodies(multibody, setup, bodies, file)?;
@@ -67,7 +67,17 @@ pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, se
     for row in 0..at.states.motion.len() {
         run.row(row, &coordinates, &recorded, &mut recorder)?;
     }
-    recorder.tables(multibody, &run, &coordinates, &recorded, center_of_mass)
+    let notes = contacts.iter().filter_map(|c| c.fixed_points_note(multibody)).collect();
+    Ok(InducedAccelerationTables { tables: recorder.tables(multibody, &run, &coordinates, &recorded, center_of_mass)?, notes })
+}
+
+/// The analysis' tables and what to tell about them.
+#[derive(Debug, Clone)]
+pub struct InducedAccelerationTables {
+    /// (file suffix, table): each coordinate's, each body's, the mass center's, the reactions'.
+    pub tables: Vec<(String, StorageTable)>,
+    /// Where we hold contacts as OpenSim does rather than as the setup may mean.
+    pub notes: Vec<String>,
 }
 
 /// The coordinates reported: the listed ones, or every one when the first is `All` (any case).

@@ -1,12 +1,12 @@
 //! `osim-tune analyze MODEL --motion COORDINATES --setup SETUP.xml -o DIR`: OpenSim's AnalyzeTool
 //! running its `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`,
-//! `ForceReporter`, `Actuation` and `StatesReporter` — the setup's time range, cutoff, muscle
+//! `ForceReporter`, `Actuation`, `StatesReporter` and `InducedAccelerations` — the setup's time range, cutoff, muscle
 //! equilibrium, and each analysis's step interval and lists — writing their tables under
 //! OpenSim's names (`<name>_<analysis name>_Length.sto`, `…_q.sto`, `…_forces.sto`, …).
 
 use std::path::{Path, PathBuf};
 
-use super::analyze_inputs::{actuator_files, check_analyses, controllers_of, external_loads_of, output_name};
+use super::analyze_inputs::{actuator_files, analyze_tool_analyses, check_analyses, controllers_of, external_loads_of, output_name};
 use crate::analysis::{analyze_tool_tables, AnalyzeModel};
 use crate::cli::{write_files, Failure, Outcome};
 use crate::io::osim::OsimDocument;
@@ -17,11 +17,7 @@ use crate::setup::AnalyzeSetup;
 
 pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = AnalyzeSetup::read(setup_file)?;
-    let mut runs = vec!["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"];
-    if setup.joint_reaction_from_states() {
-        runs.push("JointReaction");
-    }
-    check_analyses(&setup, &runs)?;
+    check_analyses(&setup, &analyze_tool_analyses(&setup))?;
     let spec = ModelSpec::read(&OsimDocument::read(model)?)?;
     let geometry = MuscleGeometry::new(&spec)?;
     let mut read: Vec<PathBuf> = [model, coordinates, setup_file].map(Path::to_path_buf).to_vec();
@@ -45,6 +41,9 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     }
     for table in &tables.not_written {
         eprintln!("note: not written: {table}");
+    }
+    for note in &tables.notes {
+        eprintln!("note: {note}");
     }
     for warning in &tables.warnings {
         eprintln!("warning: {warning}");

@@ -15,7 +15,7 @@ use crate::setup::{read_document, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, 
 /// The setups `run` knows, by their root element.
 const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool> or <ForwardTool>";
 /// The AnalyzeTool analyses `run` runs.
-const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, StaticOptimization, JointReaction";
+const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations, StaticOptimization, JointReaction";
 
 /// One osim-tune command line: its words after the program name.
 struct Invocation(Vec<OsString>);
@@ -140,7 +140,7 @@ fn inverse_dynamics_tool(file: &Path, setup: &IdSetup) -> Result<Invocation, Fai
 }
 
 /// AnalyzeTool: `analyze --motion` for its MuscleAnalysis, Kinematics, BodyKinematics,
-/// PointKinematics, reporters and a JointReaction without a forces file, `so` for its
+/// PointKinematics, reporters, InducedAccelerations and a JointReaction without a forces file, `so` for its
 /// StaticOptimization, then `reaction` for a JointReaction with one, each `MODEL COORDINATES --setup SETUP -o <results_directory>` — given
 /// the states file instead when the setup names one, which each reads as states (the commands
 /// name the setup's other analyses, which they do not run).

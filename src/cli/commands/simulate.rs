@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use super::analyze_inputs::check_analyses;
+use super::analyze_inputs::{analyze_tool_analyses, check_analyses};
 use crate::analysis::{analyze_tool_tables, controls_table, initial_state, simulate_plant, states_table, ForwardModel, InitialSource, SimulationError};
 use crate::cli::{write_files, Failure, Outcome};
 use crate::setup::{ForwardSetup, SetupPath};
@@ -13,11 +13,7 @@ use crate::setup::{ForwardSetup, SetupPath};
 pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let setup = ForwardSetup::read(setup_file)?;
     let tool = &setup.tool;
-    let mut runs = vec!["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter"];
-    if tool.joint_reaction_from_states() {
-        runs.push("JointReaction");
-    }
-    check_analyses(tool, &runs)?;
+    check_analyses(tool, &analyze_tool_analyses(tool))?;
     let inputs = ForwardModel::read(model, tool)?;
     let mut read = inputs.read.clone();
     read.push(setup_file.to_path_buf());
@@ -56,6 +52,9 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         files.extend(tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())));
         for warning in &tables.warnings {
             eprintln!("warning: {warning}");
+        }
+        for note in &tables.notes {
+            eprintln!("note: {note}");
         }
     }
     write_files(&files, &read)?;
