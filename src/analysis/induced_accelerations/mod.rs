@@ -130,17 +130,18 @@ impl Run<'_> {
         let loads = self.at.external.map(|e| e.at(time, &kinematics)).unwrap_or_default();
         let mut placed: Placed = loads.iter().map(|load| (load.force.norm() > self.setup.force_threshold).then_some((load.point, [true; ROLLING_ROWS]))).collect();
         let forces = self.at.forces(row);
+        let mut contacted = multibody.clone();
         recorder.start(time);
         for (_, contributor) in self.contributors {
             let (speeds, applied, gravity) = self.applied(row, *contributor, &forces, &kinematics, u);
-            let mut solved = self.solve(&kinematics, &placed, q, &speeds, &applied, gravity).map_err(|source| self.failed(time, *contributor, source))?;
+            let mut solved = self.solve(&mut contacted, &kinematics, &placed, q, &speeds, &applied, gravity).map_err(|source| self.failed(time, *contributor, source))?;
             if *contributor == Contributor::Total {
                 for k in 0..self.contacts.len() {
                     let Some((_, held)) = placed[k] else { continue };
                     let kept = self.contacts[k].rows_kept(&held, solved.contact_multipliers(k));
                     if kept != held {
                         placed[k] = placed[k].map(|(point, _)| (point, kept));
-                        solved = self.solve(&kinematics, &placed, q, &speeds, &applied, gravity).map_err(|source| self.failed(time, *contributor, source))?;
+                        solved = self.solve(&mut contacted, &kinematics, &placed, q, &speeds, &applied, gravity).map_err(|source| self.failed(time, *contributor, source))?;
                     }
                 }
             }
@@ -182,13 +183,14 @@ impl Run<'_> {
         }
     }
 
-    /// The accelerations with the contacts `placed` holding (gravity on or off).
-    fn solve(&self, kinematics: &Kinematics, placed: &Placed, q: &[f64], u: &[f64], applied: &AppliedForces, gravity: bool) -> Result<Solved, ForwardDynamicsError> {
-        let mut multibody = self.geometry.multibody.clone();
-        if !gravity {
-            multibody.gravity = Vec3::zeros();
-        }
-        let mut first_row = multibody.links.iter().map(BodyLink::rows).sum::<usize>();
+    /// The accelerations with the contacts `placed` holding (gravity on or off), solved on
+    /// `contacted`, the model to which the contacts are added as links after its own.
+    #[allow(clippy::too_many_arguments)]
+    fn solve(&self, contacted: &mut Multibody, kinematics: &Kinematics, placed: &Placed, q: &[f64], u: &[f64], applied: &AppliedForces, gravity: bool) -> Result<Solved, ForwardDynamicsError> {
+        let own = &self.geometry.multibody;
+        contacted.gravity = if gravity { own.gravity } else { Vec3::zeros() };
+        contacted.links.truncate(own.links.len());
+        let mut first_row = own.links.iter().map(BodyLink::rows).sum::<usize>();
         let mut contact_rows = Vec::new();
         let mut links = Vec::new();
         for (contact, placement) in self.contacts.iter().zip(placed) {
@@ -198,8 +200,8 @@ impl Run<'_> {
             first_row += rows;
             links.push(link);
         }
-        multibody.links.extend(links.iter().flatten().cloned());
-        let (udot, multipliers) = multibody.accelerations_with_multipliers(kinematics, q, u, &applied.loads, &applied.mobility)?;
+        contacted.links.extend(links.iter().flatten().cloned());
+        let (udot, multipliers) = contacted.accelerations_with_multipliers(kinematics, q, u, &applied.loads, &applied.mobility)?;
         Ok(Solved { udot, multipliers, contact_rows, links })
     }
 }
