@@ -297,20 +297,26 @@ def main():
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)
         (out / "setup.xml").write_text(setup_text(case))
-        with tempfile.TemporaryDirectory() as work:
-            work = Path(work)
-            for name, source in INPUTS.items():
-                shutil.copy(source, work / name)
-            shutil.copy(MOTION, work / "subject01_walk1_ik.mot")
-            shutil.copy(out / "setup.xml", work / "setup.xml")
-            run_in(work, osim.AnalyzeTool, "setup.xml")
-            written = sorted(p.name for p in (work / "Results").iterdir())
-            (out / "files.txt").write_text("\n".join(written) + "\n")
-            for name in written:
-                table = name.removeprefix("walk_").split("_", 1)[1].removesuffix(".sto")  # an unnamed analysis: "_NONAME_pos"
-                if kept(case, table):
-                    shutil.copy(work / "Results" / name, out / name)
+        # An unnamed analysis' files: "walk__NONAME_pos.sto".
+        run_setup(out, lambda name: kept(case, name.removeprefix("walk_").split("_", 1)[1].removesuffix(".sto")))
         print(case, "written", sorted(p.name for p in out.iterdir()))
+
+
+def run_setup(out, keep):
+    """Runs OpenSim's AnalyzeTool on `out`/setup.xml in a folder holding every input, writes the
+    names of the files it wrote to `out`/files.txt and copies those `keep(name)` accepts."""
+    with tempfile.TemporaryDirectory() as work:
+        work = Path(work)
+        for name, source in INPUTS.items():
+            shutil.copy(source, work / name)
+        shutil.copy(MOTION, work / "subject01_walk1_ik.mot")
+        shutil.copy(out / "setup.xml", work / "setup.xml")
+        run_in(work, osim.AnalyzeTool, "setup.xml")
+        written = sorted(p.name for p in (work / "Results").iterdir())
+        (out / "files.txt").write_text("\n".join(written) + "\n")
+        for name in written:
+            if keep(name):
+                shutil.copy(work / "Results" / name, out / name)
 
 
 if __name__ == "__main__":

@@ -20,17 +20,10 @@ table.
 
     python3 oracle/gen_induced_accelerations.py [case ...]
 """
-import shutil
 import sys
-import tempfile
-from pathlib import Path
 
 import opensim as osim
-from gen_analyze_tool import INPUTS, MOTION
-from tool_run import run_in
-
-REPO = Path(__file__).resolve().parent.parent
-OUT = REPO / "fixtures" / "golden" / "analyze_tool"
+from gen_analyze_tool import OUT, run_setup
 
 ROLLING = """\t\t\t\t\t\t\t<RollingOnSurfaceConstraint name="{name}">
 \t\t\t\t\t\t\t\t<isEnforced>false</isEnforced>
@@ -101,17 +94,7 @@ def main():
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)
         (out / "setup.xml").write_text(setup_text(CASES[case]))
-        with tempfile.TemporaryDirectory() as work:
-            work = Path(work)
-            for name in ("subject01_simbody.osim", "gait2392_SO_Residual_Actuators.xml", "subject01_walk1_grf.xml", "subject01_walk1_grf.mot"):
-                shutil.copy(INPUTS[name], work / name)
-            shutil.copy(MOTION, work / "subject01_walk1_ik.mot")
-            shutil.copy(out / "setup.xml", work / "setup.xml")
-            run_in(work, osim.AnalyzeTool, "setup.xml")
-            written = sorted(p.name for p in (work / "Results").iterdir())
-            (out / "files.txt").write_text("\n".join(written) + "\n")
-            for name in written:
-                shutil.copy(work / "Results" / name, out / name)
+        run_setup(out, lambda name: True)
         print(case, "written", sorted(p.name for p in out.iterdir()))
 
 
