@@ -8,7 +8,7 @@
 //! `location_body_2`, as OpenSim 4.6 holds it: its contact-point update sets only properties,
 //! which the system built before never reads.
 
-use std::path::PathBuf;
+use std::path::Path;
 
 use nalgebra::DVector;
 
@@ -44,8 +44,8 @@ impl Contact {
     /// The constraints of `setups` (from the setup `file`) on `multibody`, the k-th replacing the
     /// force applied to `applied[k]`: as many as forces, each on its force's body (and a rolling
     /// one on ground).
-    pub fn compile(setups: &[ContactConstraintSetup], multibody: &Multibody, applied: &[usize], file: &PathBuf) -> Result<Vec<Contact>, InducedAccelerationsError> {
-        let problem = |setup: Option<&ContactConstraintSetup>, problem: String| InducedAccelerationsError::Contact { file: file.clone(), line: setup.map_or(0, |s| s.line), problem };
+    pub fn compile(setups: &[ContactConstraintSetup], multibody: &Multibody, applied: &[usize], file: &Path) -> Result<Vec<Contact>, InducedAccelerationsError> {
+        let problem = |setup: Option<&ContactConstraintSetup>, problem: String| InducedAccelerationsError::Contact { file: file.into(), line: setup.map_or(0, |s| s.line), problem };
         if setups.len() != applied.len() {
             return Err(problem(setups.first(), format!("the ConstraintSet has {} constraints for {} external forces; InducedAccelerations replaces each force by one constraint, in order", setups.len(), applied.len())));
         }

@@ -13,7 +13,7 @@
 
 mod contacts;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use nalgebra::DVector;
 
@@ -50,7 +50,7 @@ enum Contributor {
 
 /// The tables of `setup` at `at`'s rows on `geometry`'s model, whose BodySet is `bodies`
 /// ([`Multibody::bodies`] indices); `file` is the setup, for messages.
-pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &PathBuf) -> Result<InducedAccelerationTables, InducedAccelerationsError> {
+pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &Path) -> Result<InducedAccelerationTables, InducedAccelerationsError> {
     let multibody = &geometry.multibody;
     let coordinates = reported_coordinates(multibody, setup, file)?;
     let (recorded, center_of_mass) = reported_bodies(multibody, setup, bodies, file)?;
@@ -81,17 +81,17 @@ pub struct InducedAccelerationTables {
 }
 
 /// The coordinates reported: the listed ones, or every one when the first is `All` (any case).
-fn reported_coordinates(multibody: &Multibody, setup: &InducedAccelerationsSetup, file: &PathBuf) -> Result<Vec<usize>, InducedAccelerationsError> {
+fn reported_coordinates(multibody: &Multibody, setup: &InducedAccelerationsSetup, file: &Path) -> Result<Vec<usize>, InducedAccelerationsError> {
     if setup.coordinate_names.first().is_some_and(|n| n.eq_ignore_ascii_case("all")) {
         return Ok((0..multibody.coordinates.len()).collect());
     }
-    let unknown = |name: &String| InducedAccelerationsError::Unknown { file: file.clone(), what: "coordinate", name: name.clone() };
+    let unknown = |name: &String| InducedAccelerationsError::Unknown { file: file.into(), what: "coordinate", name: name.clone() };
     setup.coordinate_names.iter().map(|name| multibody.coordinate_index(name).ok_or_else(|| unknown(name))).collect()
 }
 
 /// The bodies reported and whether the mass center is: every body of the BodySet when the first
 /// is `All` (any case; the mass center then not), else the listed ones and `center_of_mass`.
-fn reported_bodies(multibody: &Multibody, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &PathBuf) -> Result<(Vec<usize>, bool), InducedAccelerationsError> {
+fn reported_bodies(multibody: &Multibody, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &Path) -> Result<(Vec<usize>, bool), InducedAccelerationsError> {
     if setup.body_names.first().is_some_and(|n| n.eq_ignore_ascii_case("all")) {
         return Ok((bodies.to_vec(), false));
     }
@@ -101,7 +101,7 @@ fn reported_bodies(multibody: &Multibody, setup: &InducedAccelerationsSetup, bod
             center_of_mass = true;
         } else {
             let body = bodies.iter().copied().find(|&b| &multibody.bodies[b].name == name);
-            recorded.push(body.ok_or_else(|| InducedAccelerationsError::Unknown { file: file.clone(), what: "body", name: name.clone() })?);
+            recorded.push(body.ok_or_else(|| InducedAccelerationsError::Unknown { file: file.into(), what: "body", name: name.clone() })?);
         }
     }
     Ok((recorded, center_of_mass))
