@@ -100,6 +100,7 @@ INPUTS = {
     "ellipsoid_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "ellipsoid" / "ellipsoid_states.sto",
     "linked_mechanisms.osim": REPO / "fixtures" / "models" / "linked_mechanisms.osim",
     "linked_states.sto": REPO / "fixtures" / "golden" / "forward_tool" / "linked" / "linked_states.sto",
+    "arm26_probes.osim": REPO / "fixtures" / "models" / "arm26_probes.osim",
 }
 ARM = """\t\t\t\t<MuscleAnalysis name="MuscleAnalysis"><on>true</on><step_interval>3</step_interval></MuscleAnalysis>
 \t\t\t\t<Kinematics name="Kinematics"><on>true</on><step_interval>3</step_interval></Kinematics>

@@ -339,11 +339,11 @@ fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let (code, _, stderr) = osim_tune(&["run", s(&speeds)]);
     assert!(code == 2 && stderr.contains("speeds.xml: speeds_file \"u.sto\" is not supported"), "{stderr}");
 
-    let probes = dir.join("probes.xml");
-    std::fs::write(&probes, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<ProbeReporter name="probes"><on>true</on></ProbeReporter>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
-    let (code, _, stderr) = osim_tune(&["run", s(&probes)]);
+    let outputs = dir.join("outputs.xml");
+    std::fs::write(&outputs, ANALYZE_SETUP.replace(r#"<StaticOptimization name="SO"><on>true</on></StaticOptimization>"#, r#"<OutputReporter name="outputs"><on>true</on></OutputReporter>"#).replace("<on>true</on>\n                    <forces_file>", "<on>false</on>\n                    <forces_file>")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&outputs)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("probes.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations, StaticOptimization, JointReaction; others on: ProbeReporter)"), "{stderr}");
+    assert!(stderr.contains("outputs.xml: the AnalysisSet has no analysis osim-tune runs that is on (MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction; others on: OutputReporter)"), "{stderr}");
 
     let ik = edited_copy(dir, "subject01/subject01_Setup_IK.xml", "ik.xml", &[]);
     let (code, _, stderr) = osim_tune(&["info", s(&ik)]);
@@ -504,3 +504,26 @@ fn induced_accelerations_refuse_contacts_that_cannot_replace_the_forces() {
     }
 }
 
+
+/// A probe OpenSim disables (a muscle the model lacks) is noted and reports nothing; a probe the
+/// AnalyzeTool cannot report (an `integrate` operation: it holds no probe states) leaves the
+/// ProbeReporter's table out, named; the other analyses are written.
+#[test]
+fn probes_that_cannot_be_reported_are_named() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    copy_into(dir, &[("golden/analyze_tool/probes/setup.xml", "setup.xml"), ("golden/analyze_tool/states/arm26_states.sto", "arm26_states.sto")]);
+    edited_copy(dir, "models/arm26_probes.osim", "arm26_probes.osim", &[("<Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameter name=\"TRIlat\">", "<Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameter name=\"no_such_muscle\">")]);
+    let (code, _, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("note: ProbeReporter: probe metabolics is disabled, as OpenSim disables it: the model has no muscle no_such_muscle"), "{stderr}");
+    let probes = StorageTable::read(&dir.join("Results/walk_ProbeReporter_probes.sto")).unwrap();
+    assert_eq!(probes.labels(), ["time", "tuned_TOTAL"]);
+    edited_copy(dir, "models/arm26_probes.osim", "arm26_probes.osim", &[("<Umberger2010MuscleMetabolicsProbe name=\"tuned\">", "<Umberger2010MuscleMetabolicsProbe name=\"tuned\"><probe_operation>integrate</probe_operation>")]);
+    let setup = edited_copy(dir, "golden/analyze_tool/probes/setup.xml", "kinematics.xml", &[("<ProbeReporter name=\"ProbeReporter\">", "<Kinematics name=\"Kinematics\"><on>true</on></Kinematics><ProbeReporter name=\"ProbeReporter\">")]);
+    std::fs::remove_dir_all(dir.join("Results")).unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&setup)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("not written: ProbeReporter's tables: probe tuned's probe_operation \"integrate\""), "{stderr}");
+    assert!(dir.join("Results/walk_Kinematics_q.sto").exists() && !dir.join("Results/walk_ProbeReporter_probes.sto").exists());
+}

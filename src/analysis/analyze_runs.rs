@@ -13,6 +13,7 @@ use super::analyze_tool::{analyze_tool_motion, AnalyzeModel, AnalyzeToolError, A
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::induced_accelerations::induced_acceleration_tables;
 use super::joint_reaction::{reaction_reports, reaction_row, reaction_table};
+use super::metabolics::probe_table;
 use super::muscle_analysis::MuscleAnalysis;
 use super::muscle_state_tables::muscle_state_tables;
 use super::muscle_states::{muscle_states, MuscleStates};
@@ -239,16 +240,15 @@ impl<'a> ToolRun<'a> {
         Ok(())
     }
 
-    /// A reporter (`ForceReporter`, `Actuation` or `StatesReporter`).
+    /// A reporter (`ForceReporter`, `Actuation`, `StatesReporter` or `ProbeReporter`).
     pub(super) fn reporter(&self, analysis: &ReporterSetup, class: &str, tables: &mut AnalyzeToolTables) -> Result<(), AnalyzeToolError> {
         let &AnalyzeModel { spec, geometry, .. } = self.model;
         let rows = self.rows(analysis.step_interval)?;
         let states = &rows.states;
-        let formed = self.muscles(&rows).map_err(ReporterError::NotFormed).and_then(|muscles| {
-            if class == "StatesReporter" {
-                return Ok(vec![("states", states_reporter_table(spec, &geometry.multibody, muscles, &states.motion, &states.speeds)?)]);
-            }
-            force_tables(spec, analysis, class, &self.applied(&rows, muscles).map_err(ReporterError::NotFormed)?)
+        let formed = self.muscles(&rows).map_err(ReporterError::NotFormed).and_then(|muscles| match class {
+            "StatesReporter" => Ok(vec![("states", states_reporter_table(spec, &geometry.multibody, muscles, &states.motion, &states.speeds)?)]),
+            "ProbeReporter" => Ok(vec![("probes", probe_table(spec, &self.applied(&rows, muscles).map_err(ReporterError::NotFormed)?, &mut tables.notes)?)]),
+            _ => force_tables(spec, analysis, class, &self.applied(&rows, muscles).map_err(ReporterError::NotFormed)?),
         });
         match formed {
             Ok(formed) => formed.into_iter().for_each(|(suffix, t)| self.add(tables, &analysis.name, suffix, t, states)),

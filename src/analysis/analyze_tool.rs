@@ -3,7 +3,7 @@
 //! speeds; the muscles at their default or equilibrium states, [`super::muscle_states`]; the
 //! accelerations they give, [`super::analyze_dynamics`]) and the tables its
 //! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`,
-//! `Actuation`, `StatesReporter` and `InducedAccelerations` write, by file name.
+//! `Actuation`, `StatesReporter`, `ProbeReporter` and `InducedAccelerations` write, by file name.
 
 use std::path::{Path, PathBuf};
 
@@ -82,7 +82,7 @@ pub fn analyze_tool_tables(model: &AnalyzeModel, table: &StorageTable, file: &Pa
     if let Some(analysis) = &setup.induced_accelerations {
         run.induced_accelerations(analysis, &mut tables)?;
     }
-    let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter")];
+    let reporters = [(&setup.force_reporter, "ForceReporter"), (&setup.actuation, "Actuation"), (&setup.states_reporter, "StatesReporter"), (&setup.probe_reporter, "ProbeReporter")];
     for (analysis, class) in reporters.into_iter().filter_map(|(a, class)| a.as_ref().map(|a| (a, class))) {
         run.reporter(analysis, class, &mut tables)?;
     }
@@ -103,7 +103,7 @@ impl AnalyzeToolTables {
 /// Why an AnalyzeTool setup's tables cannot be formed.
 #[derive(Debug, thiserror::Error)]
 pub enum AnalyzeToolError {
-    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations or JointReaction without a forces file that is on", file.display())]
+    #[error("{}: the AnalysisSet has no MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, ProbeReporter, InducedAccelerations or JointReaction without a forces file that is on", file.display())]
     NothingToRun { file: PathBuf },
     #[error(transparent)]
     States(#[from] StatesError),

@@ -15,6 +15,7 @@ mod fiber_analysis;
 mod induced_accelerations;
 mod inverse_dynamics;
 mod joint_reaction;
+mod metabolics;
 mod muscle_analysis;
 mod muscle_state_tables;
 mod muscle_states;

@@ -18,6 +18,7 @@ mod marker;
 mod muscle;
 mod orientation;
 mod path_point;
+mod probe;
 mod reader;
 mod spec;
 mod station_frame;
@@ -41,5 +42,6 @@ pub use muscle::{
 };
 pub use reader::ComponentReader;
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
+pub use probe::{MetabolicMuscleSpec, ProbeSpec, UmbergerProbeSpec};
 pub use spec::{ModelSpec, GROUND};
 pub use wrap_object::{WrapObjectSpec, WrapShape};

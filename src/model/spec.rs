@@ -14,6 +14,7 @@ use super::force::{is_muscle_class, ForceSpec};
 use super::frame::FrameIndex;
 use super::joint::JointSpec;
 use super::marker::MarkerSpec;
+use super::probe::ProbeSpec;
 use super::reader::ComponentReader;
 use super::wrap_object::WrapObjectSpec;
 use crate::io::osim::{Dialect, OsimDocument};
@@ -42,6 +43,8 @@ pub struct ModelSpec {
     /// The enabled controllers of the `ControllerSet` (controls files resolved against the
     /// model's directory).
     pub controllers: Vec<ControllerSpec>,
+    /// The `ProbeSet`'s probes.
+    pub probes: Vec<ProbeSpec>,
 }
 
 /// Name OpenSim gives the ground frame.
@@ -69,6 +72,7 @@ impl ModelSpec {
             constraints: Vec::new(),
             wrap_objects: Vec::new(),
             controllers: Vec::new(),
+            probes: Vec::new(),
         };
         for (name, element) in &body_elements {
             let body = model.at(*element);
@@ -103,6 +107,9 @@ impl ModelSpec {
         let directory = spec.file.parent().unwrap_or(Path::new("")).to_path_buf();
         for controller in set_members(model, "ControllerSet").into_iter().chain(component_members(model, |class| class.ends_with("Controller"))) {
             spec.controllers.extend(ControllerSpec::read(model.at(controller), &directory)?);
+        }
+        for probe in set_members(model, "ProbeSet") {
+            spec.probes.push(ProbeSpec::read(model.at(probe))?);
         }
         Ok(spec)
     }

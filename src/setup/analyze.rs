@@ -1,6 +1,6 @@
 //! `AnalyzeSetup`: an `<AnalyzeTool>` setup file with `StaticOptimization`, `JointReaction`,
 //! `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`, `ForceReporter`, `Actuation`,
-//! `StatesReporter` and `InducedAccelerations` analyses, typed.
+//! `StatesReporter`, `ProbeReporter` and `InducedAccelerations` analyses, typed.
 
 use std::path::{Path, PathBuf};
 
@@ -66,6 +66,8 @@ pub struct AnalyzeSetup {
     pub force_reporter: Option<ReporterSetup>,
     pub actuation: Option<ReporterSetup>,
     pub states_reporter: Option<ReporterSetup>,
+    /// The `ProbeReporter`, if the set has one that is on.
+    pub probe_reporter: Option<ReporterSetup>,
     /// The `InducedAccelerations` analysis, if the set has one that is on.
     pub induced_accelerations: Option<InducedAccelerationsSetup>,
     /// Classes of the other analyses in the set (not run by osim-tune).
@@ -169,7 +171,7 @@ pub struct PointKinematicsSetup {
     pub relative_to: Option<String>,
 }
 
-/// A reporter analysis (`ForceReporter`, `Actuation`, `StatesReporter`).
+/// A reporter analysis (`ForceReporter`, `Actuation`, `StatesReporter`, `ProbeReporter`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ReporterSetup {
     /// The analysis's name, in its output files' names (empty when the element has none).
@@ -189,7 +191,7 @@ impl AnalyzeSetup {
     /// Whether an analysis `analyze --setup` runs is on (all but StaticOptimization and a
     /// JointReaction with a forces file).
     pub fn has_analyze_tables(&self) -> bool {
-        let reporters = [&self.force_reporter, &self.actuation, &self.states_reporter];
+        let reporters = [&self.force_reporter, &self.actuation, &self.states_reporter, &self.probe_reporter];
         self.muscle_analysis.is_some() || self.induced_accelerations.is_some() || self.kinematics.is_some() || self.body_kinematics.is_some() || !self.point_kinematics.is_empty() || reporters.iter().any(|r| r.is_some()) || self.joint_reaction_from_states()
     }
 
@@ -210,7 +212,7 @@ impl AnalyzeSetup {
         let tool = ComponentReader::new(document, document.object);
         expect_class(tool, class)?;
         let directory = directory_of(document.xml.file());
-        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, force_reporter, actuation, states_reporter, induced_accelerations, others: other_analyses } =
+        let Analyses { static_optimization, joint_reaction, muscle_analysis, kinematics, body_kinematics, point_kinematics, force_reporter, actuation, states_reporter, probe_reporter, induced_accelerations, others: other_analyses } =
             analyses(tool, &directory)?;
         Ok(AnalyzeSetup {
             file: document.xml.file().into(),
@@ -237,6 +239,7 @@ impl AnalyzeSetup {
             force_reporter,
             actuation,
             states_reporter,
+            probe_reporter,
             induced_accelerations,
             other_analyses,
         })
@@ -255,6 +258,7 @@ struct Analyses {
     force_reporter: Option<ReporterSetup>,
     actuation: Option<ReporterSetup>,
     states_reporter: Option<ReporterSetup>,
+    probe_reporter: Option<ReporterSetup>,
     induced_accelerations: Option<InducedAccelerationsSetup>,
     /// Classes of the others (and of a second analysis of a class already read).
     others: Vec<String>,
@@ -340,7 +344,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                     relative_to,
                 });
             }
-            "ForceReporter" | "Actuation" | "StatesReporter" if reporter(&mut found, analysis.class()).is_none() => {
+            "ForceReporter" | "Actuation" | "StatesReporter" | "ProbeReporter" if reporter(&mut found, analysis.class()).is_none() => {
                 let include_constraint_forces = analysis.class() == "ForceReporter" && analysis.boolean_or("include_constraint_forces", false)?;
                 *reporter(&mut found, analysis.class()) = Some(ReporterSetup { name: name(), step_interval: step_interval()?, include_constraint_forces });
             }
@@ -360,11 +364,13 @@ fn controllers(tool: ComponentReader, directory: &Path) -> Result<Vec<Controller
     Ok(controllers)
 }
 
-/// The slot of reporter class `class` (`ForceReporter`, `Actuation`, else `StatesReporter`).
+/// The slot of reporter class `class` (`ForceReporter`, `Actuation`, `ProbeReporter`, else
+/// `StatesReporter`).
 fn reporter<'a>(found: &'a mut Analyses, class: &str) -> &'a mut Option<ReporterSetup> {
     match class {
         "ForceReporter" => &mut found.force_reporter,
         "Actuation" => &mut found.actuation,
+        "ProbeReporter" => &mut found.probe_reporter,
         _ => &mut found.states_reporter,
     }
 }
@@ -411,7 +417,7 @@ mod tests {
         let xml = r#"<OpenSimDocument Version="40000"><AnalyzeTool name="walk"><AnalysisSet><objects>
             <MuscleAnalysis name="a"><on>true</on><step_interval>3</step_interval><muscle_list> vas_lat_r rect_fem_r</muscle_list>
             <moment_arm_coordinate_list>knee_angle_r</moment_arm_coordinate_list><compute_moments>false</compute_moments></MuscleAnalysis>
-            <Kinematics name="k"><on>true</on><coordinates>knee_angle_r</coordinates><in_degrees>false</in_degrees></Kinematics><BodyKinematics/><Actuation/><ProbeReporter/>
+            <Kinematics name="k"><on>true</on><coordinates>knee_angle_r</coordinates><in_degrees>false</in_degrees></Kinematics><BodyKinematics/><Actuation/><OutputReporter/>
             </objects></AnalysisSet></AnalyzeTool></OpenSimDocument>"#;
         let folder = tempfile::tempdir().unwrap();
         let file = folder.path().join("setup.xml");
@@ -426,7 +432,7 @@ mod tests {
         // Unnamed, as OpenSim reads it: its files are `walk__Length.sto`.
         assert_eq!((analysis.name.as_str(), analysis.step_interval, analysis.compute_moments), ("", 1, true));
         assert_eq!((analysis.muscle_list, analysis.moment_arm_coordinate_list), (vec!["all".to_string()], vec!["all".to_string()]));
-        assert_eq!(setup.other_analyses, ["ProbeReporter"]);
+        assert_eq!(setup.other_analyses, ["OutputReporter"]);
         assert_eq!(setup.actuation.map(|a| (a.name, a.step_interval)), Some((String::new(), 1)));
         let kinematics = setup.kinematics.unwrap();
         assert_eq!((kinematics.name.as_str(), kinematics.coordinates, kinematics.in_degrees), ("k", vec!["knee_angle_r".to_string()], false));

@@ -29,14 +29,14 @@ use crate::setup::{read_document, AnalyzeSetup};
 /// Ellipsoid joint from simulated states (an activation state below 0), also equilibrated at the
 /// clamped activation; loops closed by point,
 /// distance, point-on-line and weld constraints from simulated states ([`case_tolerance`]).
-pub const ANALYZE_TOOL_CASES: [&str; 22] = [
+pub const ANALYZE_TOOL_CASES: [&str; 23] = [
     "all", "listed", "kinematics", "kinematics_listed", "points", "muscle_states", "equilibrium", "millard", "rajagopal", "loads", "controls", "states", "states_legacy", "degroote",
-    "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "ellipsoid_equilibrium", "linked", "induced_rolling", "induced_potentials",
+    "degroote_equilibrium", "degroote_rigid", "ball_free", "ellipsoid", "ellipsoid_equilibrium", "linked", "induced_rolling", "induced_potentials", "probes",
 ];
 
 /// The files the golden setups name (models, force set, external loads and their data), with
 /// where the repository keeps them.
-pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 21] = [
+pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 22] = [
     ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
     ("gait2392_millard2012muscle.osim", "models/gait2392_millard2012muscle.osim"),
     ("Rajagopal2016_scaled.osim", "fixtures/golden/scale_zoo/Rajagopal2016_scaled.osim"),
@@ -58,6 +58,7 @@ pub const ANALYZE_TOOL_INPUTS: [(&str, &str); 21] = [
     ("ellipsoid_states.sto", "fixtures/golden/forward_tool/ellipsoid/ellipsoid_states.sto"),
     ("linked_mechanisms.osim", "fixtures/models/linked_mechanisms.osim"),
     ("linked_states.sto", "fixtures/golden/forward_tool/linked/linked_states.sto"),
+    ("arm26_probes.osim", "fixtures/models/arm26_probes.osim"),
 ];
 
 /// Where the repository at `root` keeps the input a golden setup names `written`.

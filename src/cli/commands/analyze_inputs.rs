@@ -116,7 +116,7 @@ pub fn lowpass_cutoff(lowpass: Option<f64>, setup: Option<&AnalyzeSetup>) -> Opt
 
 /// The analyses of `setup` that `analyze --setup` (and `simulate`, on its states) runs.
 pub fn analyze_tool_analyses(setup: &AnalyzeSetup) -> Vec<&'static str> {
-    let mut runs = vec!["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter", "InducedAccelerations"];
+    let mut runs = vec!["MuscleAnalysis", "Kinematics", "BodyKinematics", "PointKinematics", "ForceReporter", "Actuation", "StatesReporter", "ProbeReporter", "InducedAccelerations"];
     if setup.joint_reaction_from_states() {
         runs.push("JointReaction");
     }
@@ -137,6 +137,7 @@ pub fn check_analyses(setup: &AnalyzeSetup, runs: &[&str]) -> Result<(), Failure
         ("ForceReporter", setup.force_reporter.is_some(), "analyze --setup"),
         ("Actuation", setup.actuation.is_some(), "analyze --setup"),
         ("StatesReporter", setup.states_reporter.is_some(), "analyze --setup"),
+        ("ProbeReporter", setup.probe_reporter.is_some(), "analyze --setup"),
         ("InducedAccelerations", setup.induced_accelerations.is_some(), "analyze --setup"),
         ("StaticOptimization", setup.static_optimization.is_some(), "so"),
         ("JointReaction", setup.joint_reaction.is_some() && !setup.joint_reaction_from_states(), "reaction"),

@@ -15,7 +15,7 @@ use crate::setup::{read_document, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, 
 /// The setups `run` knows, by their root element.
 const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool> or <ForwardTool>";
 /// The AnalyzeTool analyses `run` runs.
-const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations, StaticOptimization, JointReaction";
+const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction";
 
 /// One osim-tune command line: its words after the program name.
 struct Invocation(Vec<OsString>);

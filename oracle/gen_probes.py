@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""OpenSim 4.6's ProbeReporter of Umberger2010MuscleMetabolicsProbes in an AnalyzeTool: arm26 with
+three probes (fixtures/models/arm26_probes.osim, written here) from the states of OpenSim's forward
+simulation of arm26 (the `states` AnalyzeTool golden's), the muscles excited by a setup
+PrescribedController (sines about their activations, so that excitation is above activation in
+some rows and below in others):
+
+* `metabolics`: every muscle (slow-twitch ratios 0.3–0.8), OpenSim's defaults otherwise, per
+  muscle and basal rates reported;
+* `tuned`: three muscles (one with a provided mass), the Bhargava recruitment model, negative
+  mechanical work, the minimum heat rate and the non-negative total off, aerobic factor 1.2,
+  basal exponent 0.8, effort scaling 0.9, gain 2, the total only;
+* `idle`: disabled (ProbeReporter skips it).
+
+Writes fixtures/golden/analyze_tool/probes/ (the AnalyzeTool tests run it with the other cases):
+setup.xml, files.txt and every table.
+
+    python3 oracle/gen_probes.py
+"""
+from pathlib import Path
+
+import opensim as osim
+from gen_analyze_tool import OUT, run_setup
+
+REPO = Path(__file__).resolve().parent.parent
+MUSCLES = ["TRIlong", "TRIlat", "TRImed", "BIClong", "BICshort", "BRA"]
+EXCITATIONS = "".join(f"<Sine><amplitude>0.3</amplitude><omega>{15 + 4 * k}</omega><phase>{0.5 * k}</phase><offset>0.2</offset></Sine>" for k in range(len(MUSCLES)))
+SETUP = f"""<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40600">
+\t<AnalyzeTool name="walk">
+\t\t<model_file>arm26_probes.osim</model_file>
+\t\t<results_directory>Results</results_directory>
+\t\t<initial_time>0.05</initial_time>
+\t\t<final_time>0.25</final_time>
+\t\t<AnalysisSet name="Analyses">
+\t\t\t<objects>
+\t\t\t\t<ProbeReporter name="ProbeReporter"><on>true</on><step_interval>2</step_interval></ProbeReporter>
+\t\t\t</objects>
+\t\t</AnalysisSet>
+\t\t<ControllerSet name="Controllers"><objects><PrescribedController name="excite"><actuator_list>{" ".join(MUSCLES)}</actuator_list><FunctionSet name="ControlFunctions"><objects>{EXCITATIONS}</objects></FunctionSet></PrescribedController></objects></ControllerSet>
+\t\t<states_file>arm26_states.sto</states_file>
+\t\t<lowpass_cutoff_frequency_for_coordinates>-1</lowpass_cutoff_frequency_for_coordinates>
+\t</AnalyzeTool>
+</OpenSimDocument>
+"""
+
+
+def probe_model():
+    """arm26 with the three probes, as OpenSim prints it."""
+    model = osim.Model(str(REPO / "fixtures" / "models" / "arm26.osim"))
+    metabolics = osim.Umberger2010MuscleMetabolicsProbe(True, True, True, True)
+    metabolics.setName("metabolics")
+    metabolics.set_report_total_metabolics_only(False)
+    for k, muscle in enumerate(MUSCLES):
+        metabolics.addMuscle(muscle, 0.3 + 0.1 * k)
+    model.addProbe(metabolics)
+    tuned = osim.Umberger2010MuscleMetabolicsProbe(True, True, True, True)
+    tuned.setName("tuned")
+    for name, value in [("use_Bhargava_recruitment_model", False), ("include_negative_mechanical_work", False), ("enforce_minimum_heat_rate_per_muscle", False),
+                        ("forbid_negative_total_power", False), ("aerobic_factor", 1.2), ("basal_exponent", 0.8), ("muscle_effort_scaling_factor", 0.9), ("gain", 2.0)]:
+        getattr(tuned, f"set_{name}")(value)
+    tuned.addMuscle("TRIlong", 0.5)
+    tuned.addMuscle("BIClong", 0.6, 0.25)
+    tuned.addMuscle("BRA", 0.4)
+    model.addProbe(tuned)
+    idle = osim.Umberger2010MuscleMetabolicsProbe(True, True, True, True)
+    idle.setName("idle")
+    idle.addMuscle("BRA", 0.5)
+    idle.set_enabled(False)
+    model.addProbe(idle)
+    model.finalizeConnections()
+    model.printToXML(str(REPO / "fixtures" / "models" / "arm26_probes.osim"))
+
+
+def main():
+    osim.Logger.setLevelString("error")
+    probe_model()
+    out = OUT / "probes"
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "setup.xml").write_text(SETUP)
+    run_setup(out, lambda name: True)
+    print("probes written", sorted(p.name for p in out.iterdir()))
+
+
+if __name__ == "__main__":
+    main()
