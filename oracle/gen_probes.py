@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""OpenSim 4.6's ProbeReporter of Umberger2010MuscleMetabolicsProbes in an AnalyzeTool: arm26 with
-three probes (fixtures/models/arm26_probes.osim, written here) from the states of OpenSim's forward
+"""OpenSim 4.6's ProbeReporter of Umberger2010 and Bhargava2004 MuscleMetabolicsProbes in an
+AnalyzeTool: arm26 with five probes (fixtures/models/arm26_probes.osim, written here) from the states of OpenSim's forward
 simulation of arm26 (the `states` AnalyzeTool golden's), the muscles excited by a setup
 PrescribedController (sines about their activations, so that excitation is above activation in
 some rows and below in others):
@@ -10,7 +10,13 @@ some rows and below in others):
 * `tuned`: three muscles (one with a provided mass), the Bhargava recruitment model, negative
   mechanical work, the minimum heat rate and the non-negative total off, aerobic factor 1.2,
   basal exponent 0.8, effort scaling 0.9, gain 2, the total only;
-* `idle`: disabled (ProbeReporter skips it).
+* `idle`: disabled (ProbeReporter skips it);
+* `bhargava`: a Bhargava2004MuscleMetabolicsProbe of every muscle (BRA with its own twitch
+  constants), OpenSim's defaults otherwise, per muscle and basal rates reported;
+* `bhargava_tuned`: two muscles (one with a provided mass), the force-dependent shortening
+  constant, another fiber-length dependence of the maintenance rate, negative mechanical work, the
+  minimum heat rate and the non-negative total off, the maintenance rate off, basal coefficient
+  1.1, effort scaling 1.1, the total only.
 
 Writes fixtures/golden/analyze_tool/probes/ (the AnalyzeTool tests run it with the other cases):
 setup.xml, files.txt and every table.
@@ -68,6 +74,25 @@ def probe_model():
     idle.addMuscle("BRA", 0.5)
     idle.set_enabled(False)
     model.addProbe(idle)
+    bhargava = osim.Bhargava2004MuscleMetabolicsProbe(True, True, True, True, True)
+    bhargava.setName("bhargava")
+    bhargava.set_report_total_metabolics_only(False)
+    for k, muscle in enumerate(MUSCLES[:-1]):
+        bhargava.addMuscle(muscle, 0.3 + 0.1 * k, 40.0, 133.0, 74.0, 111.0)
+    bhargava.addMuscle("BRA", 0.6, 35.0, 120.0, 80.0, 100.0)
+    model.addProbe(bhargava)
+    tuned = osim.Bhargava2004MuscleMetabolicsProbe(True, False, True, True, True)
+    tuned.setName("bhargava_tuned")
+    for name, value in [("use_force_dependent_shortening_prop_constant", True), ("include_negative_mechanical_work", False), ("enforce_minimum_heat_rate_per_muscle", False),
+                        ("forbid_negative_total_power", False), ("basal_coefficient", 1.1), ("muscle_effort_scaling_factor", 1.1)]:
+        getattr(tuned, f"set_{name}")(value)
+    curve = osim.PiecewiseLinearFunction()
+    for x, y in [(0.0, 0.4), (0.8, 0.6), (1.2, 1.0), (2.0, 0.2)]:
+        curve.addPoint(x, y)
+    tuned.set_normalized_fiber_length_dependence_on_maintenance_rate(curve)
+    tuned.addMuscle("TRIlat", 0.5, 40.0, 133.0, 74.0, 111.0)
+    tuned.addMuscle("BICshort", 0.4, 40.0, 133.0, 74.0, 111.0, 0.3)
+    model.addProbe(tuned)
     model.finalizeConnections()
     model.printToXML(str(REPO / "fixtures" / "models" / "arm26_probes.osim"))
 

@@ -1,14 +1,15 @@
-//! OpenSim's `ProbeReporter` of the model's `Umberger2010MuscleMetabolicsProbe`s on the states an
-//! AnalyzeTool forms: each muscle's metabolic power (W) from its activation, excitation (the
-//! controllers' control), fiber length, velocity and active force, as
-//! `Umberger2010MuscleMetabolicsProbe::computeProbeInputs` computes it (Umberger 2010, with
-//! OpenSim's options: Bhargava's recruitment, negative work, the non-negative total, the 1 W/kg
-//! floor), the basal rate of the whole model's mass, their total, times the probe's gain.
+//! OpenSim's `ProbeReporter` of the model's muscle metabolics probes on the states an AnalyzeTool
+//! forms: each muscle's metabolic power (W) from its activation, excitation (the controllers'
+//! control), fiber length, velocity and forces, as `computeProbeInputs` computes it — Umberger
+//! (2010) or Bhargava et al. (2004), with OpenSim's options (recruitment, negative work, the
+//! non-negative total, the 1 W/kg floor) — the basal rate of the whole model's mass, their total,
+//! times the probe's gain.
 
 use super::reporters::{AppliedAt, ReporterError};
 use crate::io::table::StorageTable;
 use crate::mechanics::muscle::MuscleState;
-use crate::model::{ModelSpec, MuscleSpec, ProbeSpec, UmbergerProbeSpec};
+use crate::mechanics::Function;
+use crate::model::{MetabolicModel, MetabolicsProbeSpec, ModelSpec, MuscleSpec, ProbeSpec};
 
 /// Shortening heat of slow-twitch fibers, at most (W/kg; Umberger 2003).
 const MAX_SHORTENING_RATE: f64 = 100.0;
@@ -22,6 +23,8 @@ struct MetabolicMuscle<'a> {
     /// kg.
     mass: f64,
     ratio_slow_twitch_fibers: f64,
+    /// Bhargava's activation (slow, fast) and maintenance (slow, fast) constants, W/kg.
+    twitch_constants: [f64; 4],
 }
 
 /// A muscle's state as the probe reads it.
@@ -30,6 +33,7 @@ struct MuscleInputs {
     excitation: f64,
     /// N, along the fiber.
     active_fiber_force: f64,
+    passive_fiber_force: f64,
     normalized_fiber_length: f64,
     /// m/s, lengthening positive.
     fiber_velocity: f64,
@@ -49,45 +53,45 @@ pub fn probe_table(spec: &ModelSpec, at: &AppliedAt, notes: &mut Vec<String>) ->
         if !probe.enabled {
             continue;
         }
-        let Some(umberger) = &probe.umberger else {
-            return Err(ReporterError::NotFormed(format!("probe {} is a {}; osim-tune's ProbeReporter reports Umberger2010MuscleMetabolicsProbes", probe.name, probe.class)));
+        let Some(metabolics) = &probe.metabolics else {
+            return Err(ReporterError::NotFormed(format!("probe {} is a {}; osim-tune's ProbeReporter reports Umberger2010 and Bhargava2004 MuscleMetabolicsProbes", probe.name, probe.class)));
         };
         if probe.operation != "value" {
             return Err(ReporterError::NotFormed(format!("probe {}'s probe_operation {:?}: the AnalyzeTool holds no probe states to {} (only `value` is reported)", probe.name, probe.operation, probe.operation)));
         }
-        match metabolic_muscles(spec, at, umberger) {
-            Ok(muscles) => probes.push((probe, umberger, muscles)),
+        match metabolic_muscles(spec, at, metabolics) {
+            Ok(muscles) => probes.push((probe, metabolics, muscles)),
             Err(missing) => notes.push(format!("ProbeReporter: probe {} is disabled, as OpenSim disables it: the model has no muscle {missing}", probe.name)),
         }
     }
     let mut labels = vec!["time".to_string()];
-    for (probe, umberger, _) in &probes {
+    for (probe, metabolics, _) in &probes {
         labels.push(format!("{}_TOTAL", probe.name));
-        if !umberger.report_total_metabolics_only {
+        if !metabolics.report_total_metabolics_only {
             labels.push(format!("{}_BASAL", probe.name));
-            labels.extend(umberger.muscles.iter().map(|m| format!("{}_{}", probe.name, m.name)));
+            labels.extend(metabolics.muscles.iter().map(|m| format!("{}_{}", probe.name, m.name)));
         }
     }
     let mut values = Vec::new();
     for (row, &time) in at.states.motion.times.iter().enumerate() {
         values.push(time);
-        for (probe, umberger, muscles) in &probes {
+        for (probe, metabolics, muscles) in &probes {
             let inputs = muscles.iter().map(|m| at.muscles.states[row][m.state].as_ref().map(|s| inputs(s, at.controls.control(m.name, time)))).collect::<Vec<_>>();
-            values.extend(umberger_outputs(probe, umberger, muscles, &inputs, body_mass));
+            values.extend(probe_outputs(probe, metabolics, muscles, &inputs, body_mass));
         }
     }
     Ok(StorageTable::new("ModelProbes", labels, values)?.with_in_degrees(false))
 }
 
 /// The probe's muscles on the model, or the name of one it lacks.
-fn metabolic_muscles<'a>(spec: &'a ModelSpec, at: &AppliedAt, umberger: &'a UmbergerProbeSpec) -> Result<Vec<MetabolicMuscle<'a>>, String> {
+fn metabolic_muscles<'a>(spec: &'a ModelSpec, at: &AppliedAt, metabolics: &'a MetabolicsProbeSpec) -> Result<Vec<MetabolicMuscle<'a>>, String> {
     let mut muscles = Vec::new();
-    for parameters in &umberger.muscles {
+    for parameters in &metabolics.muscles {
         let muscle = spec.muscles().find(|m| m.name == parameters.name).and_then(|m| m.muscle.as_ref());
         let state = at.muscles.muscles.iter().position(|(_, name)| *name == parameters.name);
         let (Some(muscle), Some(state)) = (muscle, state) else { return Err(parameters.name.clone()) };
         let mass = parameters.provided_muscle_mass.unwrap_or(muscle.max_isometric_force / parameters.specific_tension * parameters.density * muscle.optimal_fiber_length);
-        muscles.push(MetabolicMuscle { state, name: &parameters.name, spec: muscle, mass, ratio_slow_twitch_fibers: parameters.ratio_slow_twitch_fibers });
+        muscles.push(MetabolicMuscle { state, name: &parameters.name, spec: muscle, mass, ratio_slow_twitch_fibers: parameters.ratio_slow_twitch_fibers, twitch_constants: parameters.twitch_constants });
     }
     Ok(muscles)
 }
@@ -99,6 +103,7 @@ fn inputs(state: &MuscleState, excitation: f64) -> MuscleInputs {
         activation: report.activation,
         excitation,
         active_fiber_force: report.active_fiber_force,
+        passive_fiber_force: report.passive_fiber_force,
         normalized_fiber_length: report.normalized_fiber_length,
         fiber_velocity: state.fiber_velocity,
         active_force_length_multiplier: report.active_force_length_multiplier,
@@ -107,21 +112,30 @@ fn inputs(state: &MuscleState, excitation: f64) -> MuscleInputs {
 
 /// The probe's outputs at one row (W): total, then unless only the total is reported the basal
 /// rate and each muscle's power (NaN where a muscle's state is not formed).
-fn umberger_outputs(probe: &ProbeSpec, umberger: &UmbergerProbeSpec, muscles: &[MetabolicMuscle], inputs: &[Option<MuscleInputs>], body_mass: f64) -> Vec<f64> {
-    let basal = if umberger.basal_rate_on { umberger.basal_coefficient * body_mass.powf(umberger.basal_exponent) } else { 0.0 };
-    let powers: Vec<f64> = muscles.iter().zip(inputs).map(|(m, i)| i.as_ref().map_or(f64::NAN, |i| muscle_power(umberger, m, i))).collect();
+fn probe_outputs(probe: &ProbeSpec, metabolics: &MetabolicsProbeSpec, muscles: &[MetabolicMuscle], inputs: &[Option<MuscleInputs>], body_mass: f64) -> Vec<f64> {
+    let basal = if metabolics.basal_rate_on { metabolics.basal_coefficient * body_mass.powf(metabolics.basal_exponent) } else { 0.0 };
+    let fiber_length_dependence = match &metabolics.model {
+        MetabolicModel::Bhargava2004 { fiber_length_dependence, .. } => Some(Function::new(fiber_length_dependence)),
+        MetabolicModel::Umberger2010 { .. } => None,
+    };
+    let power = |m: &MetabolicMuscle, i: &MuscleInputs| match &fiber_length_dependence {
+        Some(dependence) => bhargava_power(metabolics, dependence, m, i),
+        None => umberger_power(metabolics, m, i),
+    };
+    let powers: Vec<f64> = muscles.iter().zip(inputs).map(|(m, i)| i.as_ref().map_or(f64::NAN, |i| power(m, i))).collect();
     let mut outputs = vec![basal + powers.iter().sum::<f64>()];
-    if !umberger.report_total_metabolics_only {
+    if !metabolics.report_total_metabolics_only {
         outputs.push(basal);
         outputs.extend(&powers);
     }
     outputs.iter().map(|v| probe.gain * v).collect()
 }
 
-/// One muscle's metabolic power (W): activation and maintenance heat, shortening heat and
-/// mechanical work rate (W/kg) times its mass.
-fn muscle_power(umberger: &UmbergerProbeSpec, muscle: &MetabolicMuscle, inputs: &MuscleInputs) -> f64 {
-    let u = umberger;
+/// One muscle's metabolic power by Umberger (2010) (W): activation and maintenance heat,
+/// shortening heat and mechanical work rate (W/kg) times its mass.
+fn umberger_power(metabolics: &MetabolicsProbeSpec, muscle: &MetabolicMuscle, inputs: &MuscleInputs) -> f64 {
+    let u = metabolics;
+    let MetabolicModel::Umberger2010 { activation_maintenance_rate_on, aerobic_factor, use_bhargava_recruitment_model } = u.model else { return f64::NAN };
     let effort = u.muscle_effort_scaling_factor;
     let (activation, excitation) = (effort * inputs.activation, effort * inputs.excitation);
     let active_force = (effort * inputs.active_fiber_force).max(0.0);
@@ -129,13 +143,13 @@ fn muscle_power(umberger: &UmbergerProbeSpec, muscle: &MetabolicMuscle, inputs: 
     let normalized_velocity = velocity / muscle.spec.optimal_fiber_length;
     let f_iso = inputs.active_force_length_multiplier;
     let a = if excitation > activation { excitation } else { (excitation + activation) / 2.0 };
-    let slow = slow_twitch_share(u, muscle.ratio_slow_twitch_fibers, excitation);
+    let slow = if use_bhargava_recruitment_model { recruited_slow_share(muscle.ratio_slow_twitch_fibers, excitation) } else { muscle.ratio_slow_twitch_fibers };
     let forbid = u.forbid_negative_total_power;
     let mut maintenance = 0.0;
-    if forbid || u.activation_maintenance_rate_on {
+    if forbid || activation_maintenance_rate_on {
         let unscaled = 128.0 * (1.0 - slow) + 25.0;
         let lengthened = if length <= 1.0 { unscaled } else { 0.4 * unscaled + 0.6 * unscaled * f_iso };
-        maintenance = u.aerobic_factor * a.powf(0.6) * lengthened;
+        maintenance = aerobic_factor * a.powf(0.6) * lengthened;
     }
     let mut shortening = 0.0;
     if forbid || u.shortening_rate_on {
@@ -144,10 +158,10 @@ fn muscle_power(umberger: &UmbergerProbeSpec, muscle: &MetabolicMuscle, inputs: 
         shortening = if normalized_velocity <= 0.0 {
             let slow_rate = (-alpha_slow * normalized_velocity).min(MAX_SHORTENING_RATE);
             let fast_rate = alpha_fast * normalized_velocity * (1.0 - slow);
-            u.aerobic_factor * a.powi(2) * (slow_rate * slow - fast_rate)
+            aerobic_factor * a.powi(2) * (slow_rate * slow - fast_rate)
         } else {
             let factor = if u.include_negative_mechanical_work { 4.0 } else { 0.3 };
-            u.aerobic_factor * a * factor * alpha_slow * normalized_velocity
+            aerobic_factor * a * factor * alpha_slow * normalized_velocity
         };
         if length > 1.0 {
             shortening *= f_iso;
@@ -162,20 +176,59 @@ fn muscle_power(umberger: &UmbergerProbeSpec, muscle: &MetabolicMuscle, inputs: 
         shortening -= maintenance + shortening + work;
     }
     let mut heat = maintenance + shortening;
-    let both = u.activation_maintenance_rate_on && u.shortening_rate_on;
+    let both = activation_maintenance_rate_on && u.shortening_rate_on;
     if u.enforce_minimum_heat_rate_per_muscle && both && heat < 1.0 {
         heat = 1.0;
     }
-    let rates = [(both, heat), (!both && u.activation_maintenance_rate_on, maintenance), (!both && u.shortening_rate_on, shortening), (u.mechanical_work_rate_on, work)];
+    let rates = [(both, heat), (!both && activation_maintenance_rate_on, maintenance), (!both && u.shortening_rate_on, shortening), (u.mechanical_work_rate_on, work)];
     rates.iter().filter(|(on, _)| *on).map(|(_, rate)| rate).sum::<f64>() * muscle.mass
 }
 
-/// The slow-twitch share: the muscle's ratio, or with Bhargava's recruitment model the share of
-/// the slow fibers' recruitment r·sin(πu/2) in all (1 at zero excitation).
-fn slow_twitch_share(umberger: &UmbergerProbeSpec, ratio: f64, excitation: f64) -> f64 {
-    if !umberger.use_bhargava_recruitment_model {
-        return ratio;
+/// One muscle's metabolic power by Bhargava et al. (2004) (W): activation, maintenance (scaled by
+/// `dependence` of the normalized fiber length) and shortening heat, and mechanical work rate.
+fn bhargava_power(metabolics: &MetabolicsProbeSpec, dependence: &Function, muscle: &MetabolicMuscle, inputs: &MuscleInputs) -> f64 {
+    let b = metabolics;
+    let MetabolicModel::Bhargava2004 { activation_rate_on, maintenance_rate_on, use_force_dependent_shortening_prop_constant, .. } = b.model else { return f64::NAN };
+    let effort = b.muscle_effort_scaling_factor;
+    let (activation, excitation) = (effort * inputs.activation, effort * inputs.excitation);
+    let active_force = effort * inputs.active_fiber_force;
+    let total_force = active_force + inputs.passive_fiber_force;
+    let velocity = inputs.fiber_velocity;
+    let angle = std::f64::consts::FRAC_PI_2 * excitation;
+    let ratio = muscle.ratio_slow_twitch_fibers;
+    let (slow, fast) = (ratio * angle.sin(), (1.0 - ratio) * (1.0 - angle.cos()));
+    let isometric_force = activation * inputs.active_force_length_multiplier * muscle.spec.max_isometric_force;
+    let [activation_slow, activation_fast, maintenance_slow, maintenance_fast] = muscle.twitch_constants;
+    let forbid = b.forbid_negative_total_power;
+    let activation_heat = if forbid || activation_rate_on { muscle.mass * (activation_slow * slow + activation_fast * fast) } else { 0.0 };
+    let maintenance = if forbid || maintenance_rate_on { muscle.mass * dependence.value(inputs.normalized_fiber_length) * (maintenance_slow * slow + maintenance_fast * fast) } else { 0.0 };
+    let mut shortening = 0.0;
+    if forbid || b.shortening_rate_on {
+        let alpha = match (use_force_dependent_shortening_prop_constant, velocity <= 0.0) {
+            (true, true) => 0.16 * isometric_force + 0.18 * total_force,
+            (true, false) => 0.157 * total_force,
+            (false, true) => 0.25 * total_force,
+            (false, false) => 0.0,
+        };
+        shortening = -alpha * velocity;
     }
+    let counted = b.include_negative_mechanical_work || velocity <= 0.0;
+    let work = if (forbid || b.mechanical_work_rate_on) && counted { -active_force * velocity } else { 0.0 };
+    if forbid && activation_heat + maintenance + shortening + work < 0.0 {
+        shortening -= activation_heat + maintenance + shortening + work;
+    }
+    let all = activation_rate_on && maintenance_rate_on && b.shortening_rate_on;
+    let mut heat = activation_heat + maintenance + shortening;
+    if b.enforce_minimum_heat_rate_per_muscle && all && heat < muscle.mass {
+        heat = muscle.mass;
+    }
+    let rates = [(all, heat), (!all && activation_rate_on, activation_heat), (!all && maintenance_rate_on, maintenance), (!all && b.shortening_rate_on, shortening), (b.mechanical_work_rate_on, work)];
+    rates.iter().filter(|(on, _)| *on).map(|(_, rate)| rate).sum()
+}
+
+/// Bhargava's slow-twitch share of the recruitment at excitation u: r·sin(πu/2) against
+/// (1 − r)·(1 − cos(πu/2)) (1 at zero excitation).
+fn recruited_slow_share(ratio: f64, excitation: f64) -> f64 {
     if excitation == 0.0 {
         return 1.0;
     }

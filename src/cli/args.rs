@@ -183,7 +183,8 @@ pub enum Command {
         #[arg(long)]
         activations: Option<PathBuf>,
         /// An OpenSim AnalyzeTool setup: its MuscleAnalysis, Kinematics, BodyKinematics,
-        /// PointKinematics, ForceReporter, Actuation, StatesReporter, InducedAccelerations (the
+        /// PointKinematics, ForceReporter, Actuation, StatesReporter, ProbeReporter (muscle
+        /// metabolics probes), InducedAccelerations (the
         /// external forces replaced by its rolling or point contacts) and a JointReaction without
         /// a forces file run as OpenSim's AnalyzeTool runs them — its time range, coordinate cutoff
         /// (filtered and splined states, coordinates the motion lacks held at 0; or, when the
@@ -245,7 +246,7 @@ pub enum Command {
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
     /// InverseKinematicsTool, InverseDynamicsTool, AnalyzeTool (MuscleAnalysis, Kinematics,
     /// BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter,
-    /// InducedAccelerations, StaticOptimization, JointReaction) or ForwardTool (`simulate`) setup's model, input
+    /// ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction) or ForwardTool (`simulate`) setup's model, input
     /// and output files (relative names from the setup's
     /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
     /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as

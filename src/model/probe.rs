@@ -1,10 +1,12 @@
-//! The model's `ProbeSet`: `Umberger2010MuscleMetabolicsProbe`s read in full (OpenSim's defaults
-//! for absent properties; one with a parameter out of range disabled, as OpenSim disables it),
-//! other probe classes by name.
+//! The model's `ProbeSet`: `Umberger2010MuscleMetabolicsProbe`s and
+//! `Bhargava2004MuscleMetabolicsProbe`s read in full (OpenSim's defaults for absent properties;
+//! one with a parameter out of range disabled, as OpenSim disables it), other probe classes by
+//! name.
 
 use serde::Serialize;
 
 use super::error::ModelError;
+use super::function::FunctionSpec;
 use super::reader::ComponentReader;
 
 /// A probe of the model.
@@ -18,32 +20,27 @@ pub struct ProbeSpec {
     pub operation: String,
     /// The factor on every output (default 1).
     pub gain: f64,
-    /// The metabolics model, `None` for another class.
-    pub umberger: Option<UmbergerProbeSpec>,
+    /// A metabolics probe's model, `None` for another class.
+    pub metabolics: Option<MetabolicsProbeSpec>,
     /// Why OpenSim disables the probe (a parameter out of range), which then reports nothing.
     pub invalid: Option<String>,
 }
 
-/// An `Umberger2010MuscleMetabolicsProbe`'s switches and coefficients (Umberger 2010; OpenSim's
-/// defaults in brackets).
+/// A muscle metabolics probe (OpenSim's defaults in brackets).
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct UmbergerProbeSpec {
+pub struct MetabolicsProbeSpec {
+    pub model: MetabolicModel,
     /// [true] each.
-    pub activation_maintenance_rate_on: bool,
     pub shortening_rate_on: bool,
     pub basal_rate_on: bool,
     pub mechanical_work_rate_on: bool,
     /// A muscle's heat rate is at least 1 W/kg [true].
     pub enforce_minimum_heat_rate_per_muscle: bool,
-    /// [1.5], aerobic activities.
-    pub aerobic_factor: f64,
-    /// W/kg^exponent of body mass [1.2] and the exponent [1].
+    /// W per kg^exponent of the model's mass [1.2] and the exponent [1].
     pub basal_coefficient: f64,
     pub basal_exponent: f64,
     /// Scales activation, excitation and active fiber force [1].
     pub muscle_effort_scaling_factor: f64,
-    /// The slow-twitch share from the excitation (Bhargava et al. 2004) [true].
-    pub use_bhargava_recruitment_model: bool,
     /// Lengthening's negative work counts [true].
     pub include_negative_mechanical_work: bool,
     /// The shortening heat raised to keep a muscle's total ≥ 0 [true].
@@ -51,6 +48,18 @@ pub struct UmbergerProbeSpec {
     /// Only the total, not the basal rate and each muscle's [true].
     pub report_total_metabolics_only: bool,
     pub muscles: Vec<MetabolicMuscleSpec>,
+}
+
+/// What differs between the metabolics models.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum MetabolicModel {
+    /// Umberger (2010): activation and maintenance heat together [on], `aerobic_factor` [1.5],
+    /// the slow-twitch share from the excitation (Bhargava's recruitment) [true].
+    Umberger2010 { activation_maintenance_rate_on: bool, aerobic_factor: f64, use_bhargava_recruitment_model: bool },
+    /// Bhargava et al. (2004): activation and maintenance heat apart [on], the maintenance rate's
+    /// dependence on the normalized fiber length [piecewise linear through (0, 0.5), (0.5, 0.5),
+    /// (1, 1), (1.5, 0), (2, 0)], the shortening heat's constant scaled by force [false].
+    Bhargava2004 { activation_rate_on: bool, maintenance_rate_on: bool, fiber_length_dependence: FunctionSpec, use_force_dependent_shortening_prop_constant: bool },
 }
 
 /// One muscle's metabolic parameters.
@@ -66,16 +75,22 @@ pub struct MetabolicMuscleSpec {
     pub ratio_slow_twitch_fibers: f64,
     /// kg, when given (`use_provided_muscle_mass`); else F_max / specific tension · density · L_opt.
     pub provided_muscle_mass: Option<f64>,
+    /// Bhargava's activation constants of slow and fast twitch fibers [40, 133] and maintenance
+    /// constants [74, 111] (W/kg).
+    pub twitch_constants: [f64; 4],
 }
+
+/// The classes read in full, with the prefix of their muscle parameter set.
+const METABOLICS_CLASSES: [&str; 2] = ["Umberger2010MuscleMetabolicsProbe", "Bhargava2004MuscleMetabolicsProbe"];
 
 impl ProbeSpec {
     pub fn read(reader: ComponentReader) -> Result<ProbeSpec, ModelError> {
-        let (umberger, invalid) = match reader.class() {
-            "Umberger2010MuscleMetabolicsProbe" => match UmbergerProbeSpec::read(reader) {
-                Ok(umberger) => (Some(umberger), None),
+        let (metabolics, invalid) = match METABOLICS_CLASSES.contains(&reader.class()) {
+            true => match MetabolicsProbeSpec::read(reader) {
+                Ok(metabolics) => (Some(metabolics), None),
                 Err(error) => (None, Some(error.to_string())),
             },
-            _ => (None, None),
+            false => (None, None),
         };
         Ok(ProbeSpec {
             name: reader.name(),
@@ -83,32 +98,49 @@ impl ProbeSpec {
             enabled: reader.boolean_or("enabled", true)? && !reader.boolean_or("isDisabled", false)? && invalid.is_none(),
             operation: reader.optional_text("probe_operation").filter(|o| !o.is_empty()).unwrap_or_else(|| "value".into()),
             gain: reader.number_or("gain", 1.0)?,
-            umberger,
+            metabolics,
             invalid,
         })
     }
 }
 
-impl UmbergerProbeSpec {
-    fn read(reader: ComponentReader) -> Result<UmbergerProbeSpec, ModelError> {
+impl MetabolicsProbeSpec {
+    fn read(reader: ComponentReader) -> Result<MetabolicsProbeSpec, ModelError> {
         let flag = |property: &str| reader.boolean_or(property, true);
+        let bhargava = reader.class().starts_with("Bhargava");
+        let model = if bhargava {
+            let fiber_length_dependence = match reader.object_property("normalized_fiber_length_dependence_on_maintenance_rate") {
+                Some(function) => FunctionSpec::read(function)?,
+                None => FunctionSpec::PiecewiseLinearFunction { x: vec![0.0, 0.5, 1.0, 1.5, 2.0], y: vec![0.5, 0.5, 1.0, 0.0, 0.0] },
+            };
+            MetabolicModel::Bhargava2004 {
+                activation_rate_on: flag("activation_rate_on")?,
+                maintenance_rate_on: flag("maintenance_rate_on")?,
+                fiber_length_dependence,
+                use_force_dependent_shortening_prop_constant: reader.boolean_or("use_force_dependent_shortening_prop_constant", false)?,
+            }
+        } else {
+            MetabolicModel::Umberger2010 {
+                activation_maintenance_rate_on: flag("activation_maintenance_rate_on")?,
+                aerobic_factor: reader.number_or("aerobic_factor", 1.5)?,
+                use_bhargava_recruitment_model: flag("use_Bhargava_recruitment_model")?,
+            }
+        };
         let mut muscles = Vec::new();
-        if let Some(set) = reader.child("Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameterSet") {
+        if let Some(set) = reader.child(&format!("{}_MetabolicMuscleParameterSet", reader.class())) {
             for element in reader.listed_objects(set) {
                 muscles.push(MetabolicMuscleSpec::read(reader.at(element))?);
             }
         }
-        Ok(UmbergerProbeSpec {
-            activation_maintenance_rate_on: flag("activation_maintenance_rate_on")?,
+        Ok(MetabolicsProbeSpec {
+            model,
             shortening_rate_on: flag("shortening_rate_on")?,
             basal_rate_on: flag("basal_rate_on")?,
             mechanical_work_rate_on: flag("mechanical_work_rate_on")?,
             enforce_minimum_heat_rate_per_muscle: flag("enforce_minimum_heat_rate_per_muscle")?,
-            aerobic_factor: reader.number_or("aerobic_factor", 1.5)?,
             basal_coefficient: reader.number_or("basal_coefficient", 1.2)?,
             basal_exponent: reader.number_or("basal_exponent", 1.0)?,
             muscle_effort_scaling_factor: reader.number_or("muscle_effort_scaling_factor", 1.0)?,
-            use_bhargava_recruitment_model: flag("use_Bhargava_recruitment_model")?,
             include_negative_mechanical_work: flag("include_negative_mechanical_work")?,
             forbid_negative_total_power: flag("forbid_negative_total_power")?,
             report_total_metabolics_only: flag("report_total_metabolics_only")?,
@@ -132,12 +164,50 @@ impl MetabolicMuscleSpec {
             return Err(reader.bad("ratio_slow_twitch_fibers", "a ratio between 0 and 1", &ratio.to_string()));
         }
         let provided = if reader.boolean_or("use_provided_muscle_mass", false)? { Some(positive("provided_muscle_mass", f64::NAN, "kg")?) } else { None };
+        let constants = [("activation_constant_slow_twitch", 40.0), ("activation_constant_fast_twitch", 133.0), ("maintenance_constant_slow_twitch", 74.0), ("maintenance_constant_fast_twitch", 111.0)];
+        let mut twitch_constants = [0.0; 4];
+        for (value, (property, default)) in twitch_constants.iter_mut().zip(constants) {
+            *value = reader.number_or(property, default)?;
+        }
         Ok(MetabolicMuscleSpec {
             name: reader.name(),
             specific_tension: positive("specific_tension", 0.25e6, "Pa")?,
             density: positive("density", 1059.7, "kg/m³")?,
             ratio_slow_twitch_fibers: ratio,
             provided_muscle_mass: provided,
+            twitch_constants,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::io::osim::OsimDocument;
+    use crate::model::ModelSpec;
+
+    fn probes(set: &str) -> Vec<super::ProbeSpec> {
+        let text = format!(r#"<OpenSimDocument Version="40000"><Model name="m"><ProbeSet><objects>{set}</objects></ProbeSet></Model></OpenSimDocument>"#);
+        ModelSpec::read(&OsimDocument::parse(text, Path::new("m.osim")).unwrap()).unwrap().probes
+    }
+
+    /// OpenSim disables a metabolics probe with a parameter out of range (and reports nothing of
+    /// it) rather than failing the model; other classes are kept by name.
+    #[test]
+    fn a_probe_out_of_range_is_disabled_and_others_are_named() {
+        let read = probes(
+            r#"<Umberger2010MuscleMetabolicsProbe name="u"><Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameterSet><objects>
+               <Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameter name="soleus_r"><ratio_slow_twitch_fibers>1.5</ratio_slow_twitch_fibers></Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameter>
+               </objects></Umberger2010MuscleMetabolicsProbe_MetabolicMuscleParameterSet></Umberger2010MuscleMetabolicsProbe>
+               <Bhargava2004MuscleMetabolicsProbe name="b"><probe_operation>integrate</probe_operation><gain>2</gain></Bhargava2004MuscleMetabolicsProbe>
+               <JointInternalPowerProbe name="j"/>"#,
+        );
+        assert!(!read[0].enabled && read[0].invalid.as_deref().is_some_and(|r| r.contains("ratio_slow_twitch_fibers")), "{:?}", read[0]);
+        assert!(read[1].enabled && read[1].operation == "integrate" && read[1].gain == 2.0);
+        let bhargava = read[1].metabolics.as_ref().unwrap();
+        assert!(bhargava.report_total_metabolics_only && bhargava.muscles.is_empty());
+        assert!(matches!(&bhargava.model, super::MetabolicModel::Bhargava2004 { use_force_dependent_shortening_prop_constant: false, .. }));
+        assert!(read[2].enabled && read[2].metabolics.is_none() && read[2].class == "JointInternalPowerProbe");
     }
 }

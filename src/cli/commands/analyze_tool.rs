@@ -1,6 +1,6 @@
 //! `osim-tune analyze MODEL --motion COORDINATES --setup SETUP.xml -o DIR`: OpenSim's AnalyzeTool
 //! running its `MuscleAnalysis`, `Kinematics`, `BodyKinematics`, `PointKinematics`,
-//! `ForceReporter`, `Actuation`, `StatesReporter` and `InducedAccelerations` — the setup's time range, cutoff, muscle
+//! `ForceReporter`, `Actuation`, `StatesReporter`, `ProbeReporter` and `InducedAccelerations` — the setup's time range, cutoff, muscle
 //! equilibrium, and each analysis's step interval and lists — writing their tables under
 //! OpenSim's names (`<name>_<analysis name>_Length.sto`, `…_q.sto`, `…_forces.sto`, …).
 
