@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """OpenSim 4.6's ProbeReporter of Umberger2010 and Bhargava2004 MuscleMetabolicsProbes in an
-AnalyzeTool: arm26 with five probes (fixtures/models/arm26_probes.osim, written here) from the states of OpenSim's forward
+AnalyzeTool, and its actuator force and power probes: arm26 with nine probes (fixtures/models/arm26_probes.osim, written here) from the states of OpenSim's forward
 simulation of arm26 (the `states` AnalyzeTool golden's), the muscles excited by a setup
 PrescribedController (sines about their activations, so that excitation is above activation in
 some rows and below in others):
@@ -16,7 +16,10 @@ some rows and below in others):
 * `bhargava_tuned`: two muscles (one with a provided mass), the force-dependent shortening
   constant, another fiber-length dependence of the maintenance rate, negative mechanical work, the
   minimum heat rate and the non-negative total off, the maintenance rate off, basal coefficient
-  1.1, effort scaling 1.1, the total only.
+  1.1, effort scaling 1.1, the total only;
+* `forces`: an ActuatorForceProbe of all actuators; `forces_squared`: of three, squared and
+  summed; `powers`: an ActuatorPowerProbe of two; `powers_cubed`: of all, cubed and summed
+  (OpenSim 4.6 cannot read a MuscleActiveFiberPowerProbe from a file: it is not registered).
 
 Writes fixtures/golden/analyze_tool/probes/ (the AnalyzeTool tests run it with the other cases):
 setup.xml, files.txt and every table.
@@ -93,8 +96,23 @@ def probe_model():
     tuned.addMuscle("TRIlat", 0.5, 40.0, 133.0, 74.0, 111.0)
     tuned.addMuscle("BICshort", 0.4, 40.0, 133.0, 74.0, 111.0, 0.3)
     model.addProbe(tuned)
+    for probe, name, actuators, summed, exponent in [(osim.ActuatorForceProbe, "forces", ["all"], False, 1.0), (osim.ActuatorForceProbe, "forces_squared", ["TRIlong", "BIClong", "BRA"], True, 2.0),
+                                                     (osim.ActuatorPowerProbe, "powers", ["TRIlat", "BICshort"], False, 1.0), (osim.ActuatorPowerProbe, "powers_cubed", ["ALL"], True, 3.0)]:
+        names = osim.ArrayStr()
+        for actuator in actuators:
+            names.append(actuator)
+        added = probe(names, summed, exponent)
+        added.setName(name)
+        model.addProbe(added)
     model.finalizeConnections()
-    model.printToXML(str(REPO / "fixtures" / "models" / "arm26_probes.osim"))
+    file = REPO / "fixtures" / "models" / "arm26_probes.osim"
+    model.printToXML(str(file))
+    # OpenSim prints `all` spelled out; the file keeps it, as a lab writes it.
+    text = file.read_text()
+    spelled = '<ActuatorForceProbe name="forces">'
+    at = text.index(spelled)
+    listed = "<actuator_names>TRIlong TRIlat TRImed BIClong BICshort BRA</actuator_names>"
+    file.write_text(text[:at] + text[at:].replace(listed, "<actuator_names>all</actuator_names>", 1))
 
 
 def main():

@@ -13,8 +13,8 @@ use super::analyze_tool::{analyze_tool_motion, AnalyzeModel, AnalyzeToolError, A
 use super::body_kinematics::{body_tables, coordinate_tables, point_tables, KinematicsError};
 use super::induced_accelerations::induced_acceleration_tables;
 use super::joint_reaction::{reaction_reports, reaction_row, reaction_table};
-use super::metabolics::probe_table;
 use super::muscle_analysis::MuscleAnalysis;
+use super::probes::probe_table;
 use super::muscle_state_tables::muscle_state_tables;
 use super::muscle_states::{muscle_states, MuscleStates};
 use super::reporters::{actuation_tables, force_reporter_table, states_reporter_table, AppliedAt, ReporterError};

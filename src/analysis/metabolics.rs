@@ -1,15 +1,13 @@
-//! OpenSim's `ProbeReporter` of the model's muscle metabolics probes on the states an AnalyzeTool
-//! forms: each muscle's metabolic power (W) from its activation, excitation (the controllers'
-//! control), fiber length, velocity and forces, as `computeProbeInputs` computes it — Umberger
-//! (2010) or Bhargava et al. (2004), with OpenSim's options (recruitment, negative work, the
-//! non-negative total, the 1 W/kg floor) — the basal rate of the whole model's mass, their total,
-//! times the probe's gain.
+//! OpenSim's muscle metabolics probes on the states an AnalyzeTool forms: each muscle's metabolic
+//! power (W) from its activation, excitation (the controllers' control), fiber length, velocity
+//! and forces, as `computeProbeInputs` computes it — Umberger (2010) or Bhargava et al. (2004),
+//! with OpenSim's options (recruitment, negative work, the non-negative total, the 1 W/kg floor)
+//! — the basal rate of the whole model's mass and their total.
 
-use super::reporters::{AppliedAt, ReporterError};
-use crate::io::table::StorageTable;
+use super::reporters::AppliedAt;
 use crate::mechanics::muscle::MuscleState;
 use crate::mechanics::Function;
-use crate::model::{MetabolicModel, MetabolicsProbeSpec, ModelSpec, MuscleSpec, ProbeSpec};
+use crate::model::{MetabolicModel, MetabolicsProbeSpec, ModelSpec, MuscleSpec};
 
 /// Shortening heat of slow-twitch fibers, at most (W/kg; Umberger 2003).
 const MAX_SHORTENING_RATE: f64 = 100.0;
@@ -40,47 +38,61 @@ struct MuscleInputs {
     active_force_length_multiplier: f64,
 }
 
-/// The `probes` table: per enabled probe its outputs (`<probe>_TOTAL`, then unless
-/// `report_total_metabolics_only` `_BASAL` and `_<muscle>`), in the ProbeSet's order; `notes`
-/// gets the probes OpenSim disables (reporting nothing).
-pub fn probe_table(spec: &ModelSpec, at: &AppliedAt, notes: &mut Vec<String>) -> Result<StorageTable, ReporterError> {
-    let body_mass: f64 = spec.bodies.iter().map(|b| b.mass).sum();
-    let mut probes = Vec::new();
-    for probe in &spec.probes {
-        if let Some(reason) = &probe.invalid {
-            notes.push(format!("ProbeReporter: probe {} is disabled, as OpenSim disables it: {reason}", probe.name));
-        }
-        if !probe.enabled {
-            continue;
-        }
-        let Some(metabolics) = &probe.metabolics else {
-            return Err(ReporterError::NotFormed(format!("probe {} is a {}; osim-tune's ProbeReporter reports Umberger2010 and Bhargava2004 MuscleMetabolicsProbes", probe.name, probe.class)));
+/// A metabolics probe on the model's muscles.
+pub(super) struct MetabolicsProbe<'a> {
+    spec: &'a MetabolicsProbeSpec,
+    muscles: Vec<MetabolicMuscle<'a>>,
+    /// Bhargava's maintenance-rate dependence on the normalized fiber length.
+    fiber_length_dependence: Option<Function>,
+    /// The model's mass, kg.
+    body_mass: f64,
+}
+
+impl<'a> MetabolicsProbe<'a> {
+    /// The probe `spec` of `model` at `at`'s muscle states, or the name of a muscle the model lacks
+    /// (OpenSim then disables the probe).
+    pub fn new(model: &'a ModelSpec, at: &AppliedAt, spec: &'a MetabolicsProbeSpec) -> Result<MetabolicsProbe<'a>, String> {
+        let fiber_length_dependence = match &spec.model {
+            MetabolicModel::Bhargava2004 { fiber_length_dependence, .. } => Some(Function::new(fiber_length_dependence)),
+            MetabolicModel::Umberger2010 { .. } => None,
         };
-        if probe.operation != "value" {
-            return Err(ReporterError::NotFormed(format!("probe {}'s probe_operation {:?}: the AnalyzeTool holds no probe states to {} (only `value` is reported)", probe.name, probe.operation, probe.operation)));
-        }
-        match metabolic_muscles(spec, at, metabolics) {
-            Ok(muscles) => probes.push((probe, metabolics, muscles)),
-            Err(missing) => notes.push(format!("ProbeReporter: probe {} is disabled, as OpenSim disables it: the model has no muscle {missing}", probe.name)),
-        }
+        let body_mass = model.bodies.iter().map(|b| b.mass).sum();
+        Ok(MetabolicsProbe { spec, muscles: metabolic_muscles(model, at, spec)?, fiber_length_dependence, body_mass })
     }
-    let mut labels = vec!["time".to_string()];
-    for (probe, metabolics, _) in &probes {
-        labels.push(format!("{}_TOTAL", probe.name));
-        if !metabolics.report_total_metabolics_only {
-            labels.push(format!("{}_BASAL", probe.name));
-            labels.extend(metabolics.muscles.iter().map(|m| format!("{}_{}", probe.name, m.name)));
+
+    /// Its output labels: `<probe>_TOTAL`, then unless `report_total_metabolics_only` `_BASAL`
+    /// and `_<muscle>`.
+    pub fn labels(&self, probe: &str) -> Vec<String> {
+        let mut labels = vec![format!("{probe}_TOTAL")];
+        if !self.spec.report_total_metabolics_only {
+            labels.push(format!("{probe}_BASAL"));
+            labels.extend(self.spec.muscles.iter().map(|m| format!("{probe}_{}", m.name)));
         }
+        labels
     }
-    let mut values = Vec::new();
-    for (row, &time) in at.states.motion.times.iter().enumerate() {
-        values.push(time);
-        for (probe, metabolics, muscles) in &probes {
-            let inputs = muscles.iter().map(|m| at.muscles.states[row][m.state].as_ref().map(|s| inputs(s, at.controls.control(m.name, time)))).collect::<Vec<_>>();
-            values.extend(probe_outputs(probe, metabolics, muscles, &inputs, body_mass));
+
+    /// Its outputs at `at`'s row `row` (W): total, then the basal rate and each muscle's power
+    /// (NaN where a muscle's state is not formed).
+    pub fn outputs(&self, at: &AppliedAt, row: usize) -> Vec<f64> {
+        let spec = self.spec;
+        let time = at.states.motion.times[row];
+        let basal = if spec.basal_rate_on { spec.basal_coefficient * self.body_mass.powf(spec.basal_exponent) } else { 0.0 };
+        let power = |m: &MetabolicMuscle| {
+            let Some(state) = at.muscles.states[row][m.state].as_ref() else { return f64::NAN };
+            let inputs = inputs(state, at.controls.control(m.name, time));
+            match &self.fiber_length_dependence {
+                Some(dependence) => bhargava_power(spec, dependence, m, &inputs),
+                None => umberger_power(spec, m, &inputs),
+            }
+        };
+        let powers: Vec<f64> = self.muscles.iter().map(power).collect();
+        let mut outputs = vec![basal + powers.iter().sum::<f64>()];
+        if !spec.report_total_metabolics_only {
+            outputs.push(basal);
+            outputs.extend(powers);
         }
+        outputs
     }
-    Ok(StorageTable::new("ModelProbes", labels, values)?.with_in_degrees(false))
 }
 
 /// The probe's muscles on the model, or the name of one it lacks.
@@ -108,27 +120,6 @@ fn inputs(state: &MuscleState, excitation: f64) -> MuscleInputs {
         fiber_velocity: state.fiber_velocity,
         active_force_length_multiplier: report.active_force_length_multiplier,
     }
-}
-
-/// The probe's outputs at one row (W): total, then unless only the total is reported the basal
-/// rate and each muscle's power (NaN where a muscle's state is not formed).
-fn probe_outputs(probe: &ProbeSpec, metabolics: &MetabolicsProbeSpec, muscles: &[MetabolicMuscle], inputs: &[Option<MuscleInputs>], body_mass: f64) -> Vec<f64> {
-    let basal = if metabolics.basal_rate_on { metabolics.basal_coefficient * body_mass.powf(metabolics.basal_exponent) } else { 0.0 };
-    let fiber_length_dependence = match &metabolics.model {
-        MetabolicModel::Bhargava2004 { fiber_length_dependence, .. } => Some(Function::new(fiber_length_dependence)),
-        MetabolicModel::Umberger2010 { .. } => None,
-    };
-    let power = |m: &MetabolicMuscle, i: &MuscleInputs| match &fiber_length_dependence {
-        Some(dependence) => bhargava_power(metabolics, dependence, m, i),
-        None => umberger_power(metabolics, m, i),
-    };
-    let powers: Vec<f64> = muscles.iter().zip(inputs).map(|(m, i)| i.as_ref().map_or(f64::NAN, |i| power(m, i))).collect();
-    let mut outputs = vec![basal + powers.iter().sum::<f64>()];
-    if !metabolics.report_total_metabolics_only {
-        outputs.push(basal);
-        outputs.extend(&powers);
-    }
-    outputs.iter().map(|v| probe.gain * v).collect()
 }
 
 /// One muscle's metabolic power by Umberger (2010) (W): activation and maintenance heat,

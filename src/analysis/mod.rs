@@ -20,6 +20,7 @@ mod muscle_analysis;
 mod muscle_state_tables;
 mod muscle_states;
 mod physiological_inverse;
+mod probes;
 mod reporters;
 mod signal;
 mod simulation;

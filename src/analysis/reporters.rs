@@ -94,23 +94,36 @@ pub fn force_reporter_table(at: &AppliedAt) -> Result<StorageTable, TableError> 
     storage("ModelForces", labels, values)
 }
 
-/// `Actuation`'s `force`, `speed` and `power` tables of the generators: force as
-/// [`force_reporter_table`], speed a muscle's path lengthening speed or an actuator's `getSpeed`
-/// (m/s or rad/s, OpenSim's quirks kept: [`crate::mechanics::Actuator::speed`]), power W = −F·v
-/// for a muscle (power it delivers), F·v for an actuator.
-pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError> {
-    let mut rows_of = [Vec::new(), Vec::new(), Vec::new()];
+/// One row's actuation of the generators (`getActuation`, `getSpeed`, `getPower`).
+pub(super) struct ActuationRow {
+    /// As [`AppliedAt::forces`], N or N·m.
+    pub forces: Vec<f64>,
+    /// A muscle's path lengthening speed or an actuator's `getSpeed` (m/s or rad/s, OpenSim's
+    /// quirks kept: [`crate::mechanics::Actuator::speed`]).
+    pub speeds: Vec<f64>,
+    /// W: −F·v for a muscle (the power it delivers), F·v for an actuator.
+    pub powers: Vec<f64>,
+}
+
+/// The generators' actuation at `row`.
+pub(super) fn actuation_row(at: &AppliedAt, row: usize) -> ActuationRow {
     let zeros = vec![0.0; at.multibody.coordinates.len()];
     let (motion, speeds_of) = (&at.states.motion, &at.states.speeds);
-    for (row, &time) in motion.times.iter().enumerate() {
-        let motions = at.multibody.body_motions(&MotionState { q: motion.pose(row), u: &speeds_of[row], udot: &zeros });
-        let forces = at.forces(row);
-        let speeds: Vec<f64> = (at.generators.iter().enumerate())
-            .map(|(g, generator)| generator.actuator_speed(&motions, &speeds_of[row]).unwrap_or_else(|| at.muscle_state(row, g).map_or(f64::NAN, |s| s.lengthening_speed)))
-            .collect();
-        let powers = at.generators.iter().zip(forces.iter().zip(&speeds)).map(|(g, (f, v))| if g.muscle_path().is_some() { -f * v } else { f * v });
-        let [forces_row, speeds_row, powers_row] = &mut rows_of;
-        for (out, values) in [(forces_row, forces.clone()), (speeds_row, speeds.clone()), (powers_row, powers.collect())] {
+    let motions = at.multibody.body_motions(&MotionState { q: motion.pose(row), u: &speeds_of[row], udot: &zeros });
+    let forces = at.forces(row);
+    let speeds: Vec<f64> = (at.generators.iter().enumerate())
+        .map(|(g, generator)| generator.actuator_speed(&motions, &speeds_of[row]).unwrap_or_else(|| at.muscle_state(row, g).map_or(f64::NAN, |s| s.lengthening_speed)))
+        .collect();
+    let powers = at.generators.iter().zip(forces.iter().zip(&speeds)).map(|(g, (f, v))| if g.muscle_path().is_some() { -f * v } else { f * v }).collect();
+    ActuationRow { forces, speeds, powers }
+}
+
+/// `Actuation`'s `force`, `speed` and `power` tables of the generators ([`ActuationRow`]).
+pub fn actuation_tables(at: &AppliedAt) -> Result<[StorageTable; 3], TableError> {
+    let mut rows_of = [Vec::new(), Vec::new(), Vec::new()];
+    for (row, &time) in at.states.motion.times.iter().enumerate() {
+        let ActuationRow { forces, speeds, powers } = actuation_row(at, row);
+        for (out, values) in rows_of.iter_mut().zip([forces, speeds, powers]) {
             out.push(time);
             out.extend(values);
         }

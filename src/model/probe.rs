@@ -1,7 +1,7 @@
-//! The model's `ProbeSet`: `Umberger2010MuscleMetabolicsProbe`s and
-//! `Bhargava2004MuscleMetabolicsProbe`s read in full (OpenSim's defaults for absent properties;
-//! one with a parameter out of range disabled, as OpenSim disables it), other probe classes by
-//! name.
+//! The model's `ProbeSet`: `Umberger2010MuscleMetabolicsProbe`s,
+//! `Bhargava2004MuscleMetabolicsProbe`s, `ActuatorForceProbe`s and `ActuatorPowerProbe`s read in
+//! full (OpenSim's defaults for absent properties; a metabolics probe with a parameter out of
+//! range disabled, as OpenSim disables it), other probe classes by name.
 
 use serde::Serialize;
 
@@ -20,10 +20,30 @@ pub struct ProbeSpec {
     pub operation: String,
     /// The factor on every output (default 1).
     pub gain: f64,
-    /// A metabolics probe's model, `None` for another class.
-    pub metabolics: Option<MetabolicsProbeSpec>,
+    pub kind: ProbeKind,
     /// Why OpenSim disables the probe (a parameter out of range), which then reports nothing.
     pub invalid: Option<String>,
+}
+
+/// What a probe measures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum ProbeKind {
+    Metabolics(MetabolicsProbeSpec),
+    /// `ActuatorForceProbe`s and `ActuatorPowerProbe`s: each listed actuator's actuation or power
+    /// to `exponent` [1], or their sum (`sum_forces_together`, `sum_powers_together` [false]);
+    /// `all` (any case, first) for every actuator.
+    Actuators { quantity: ActuatorQuantity, actuators: Vec<String>, summed: bool, exponent: f64 },
+    /// A class not read.
+    Other,
+}
+
+/// What an actuator probe reads of each actuator.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub enum ActuatorQuantity {
+    /// `getActuation`, N or N·m.
+    Force,
+    /// `getPower`, W.
+    Power,
 }
 
 /// A muscle metabolics probe (OpenSim's defaults in brackets).
@@ -85,12 +105,19 @@ const METABOLICS_CLASSES: [&str; 2] = ["Umberger2010MuscleMetabolicsProbe", "Bha
 
 impl ProbeSpec {
     pub fn read(reader: ComponentReader) -> Result<ProbeSpec, ModelError> {
-        let (metabolics, invalid) = match METABOLICS_CLASSES.contains(&reader.class()) {
-            true => match MetabolicsProbeSpec::read(reader) {
-                Ok(metabolics) => (Some(metabolics), None),
-                Err(error) => (None, Some(error.to_string())),
+        let words = |property: &str| reader.optional_text(property).unwrap_or_default().split_whitespace().map(String::from).collect();
+        let (kind, invalid) = match reader.class() {
+            class if METABOLICS_CLASSES.contains(&class) => match MetabolicsProbeSpec::read(reader) {
+                Ok(metabolics) => (ProbeKind::Metabolics(metabolics), None),
+                Err(error) => (ProbeKind::Other, Some(error.to_string())),
             },
-            false => (None, None),
+            "ActuatorForceProbe" => {
+                (ProbeKind::Actuators { quantity: ActuatorQuantity::Force, actuators: words("actuator_names"), summed: reader.boolean_or("sum_forces_together", false)?, exponent: reader.number_or("exponent", 1.0)? }, None)
+            }
+            "ActuatorPowerProbe" => {
+                (ProbeKind::Actuators { quantity: ActuatorQuantity::Power, actuators: words("actuator_names"), summed: reader.boolean_or("sum_powers_together", false)?, exponent: reader.number_or("exponent", 1.0)? }, None)
+            }
+            _ => (ProbeKind::Other, None),
         };
         Ok(ProbeSpec {
             name: reader.name(),
@@ -98,7 +125,7 @@ impl ProbeSpec {
             enabled: reader.boolean_or("enabled", true)? && !reader.boolean_or("isDisabled", false)? && invalid.is_none(),
             operation: reader.optional_text("probe_operation").filter(|o| !o.is_empty()).unwrap_or_else(|| "value".into()),
             gain: reader.number_or("gain", 1.0)?,
-            metabolics,
+            kind,
             invalid,
         })
     }
@@ -205,9 +232,9 @@ mod tests {
         );
         assert!(!read[0].enabled && read[0].invalid.as_deref().is_some_and(|r| r.contains("ratio_slow_twitch_fibers")), "{:?}", read[0]);
         assert!(read[1].enabled && read[1].operation == "integrate" && read[1].gain == 2.0);
-        let bhargava = read[1].metabolics.as_ref().unwrap();
+        let super::ProbeKind::Metabolics(bhargava) = &read[1].kind else { panic!("{:?}", read[1]) };
         assert!(bhargava.report_total_metabolics_only && bhargava.muscles.is_empty());
         assert!(matches!(&bhargava.model, super::MetabolicModel::Bhargava2004 { use_force_dependent_shortening_prop_constant: false, .. }));
-        assert!(read[2].enabled && read[2].metabolics.is_none() && read[2].class == "JointInternalPowerProbe");
+        assert!(read[2].enabled && read[2].kind == super::ProbeKind::Other && read[2].class == "JointInternalPowerProbe");
     }
 }
