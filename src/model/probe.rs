@@ -30,7 +30,8 @@ pub struct ProbeSpec {
 pub enum ProbeKind {
     Metabolics(MetabolicsProbeSpec),
     /// `ActuatorForceProbe`s and `ActuatorPowerProbe`s: each listed actuator's actuation or power
-    /// to `exponent` [1], or their sum (`sum_forces_together`, `sum_powers_together` [false]);
+    /// to `exponent` (default 1), or their sum (`sum_forces_together`, `sum_powers_together`,
+    /// default false);
     /// `all` (any case, first) for every actuator.
     Actuators { quantity: ActuatorQuantity, actuators: Vec<String>, summed: bool, exponent: f64 },
     /// A class not read.
@@ -46,26 +47,26 @@ pub enum ActuatorQuantity {
     Power,
 }
 
-/// A muscle metabolics probe (OpenSim's defaults in brackets).
+/// A muscle metabolics probe, with OpenSim's defaults.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct MetabolicsProbeSpec {
     pub model: MetabolicModel,
-    /// [true] each.
+    /// Heat of shortening, basal rate and mechanical work rate counted (default true each).
     pub shortening_rate_on: bool,
     pub basal_rate_on: bool,
     pub mechanical_work_rate_on: bool,
-    /// A muscle's heat rate is at least 1 W/kg [true].
+    /// A muscle's heat rate is at least 1 W/kg (default true).
     pub enforce_minimum_heat_rate_per_muscle: bool,
-    /// W per kg^exponent of the model's mass [1.2] and the exponent [1].
+    /// W per kg^exponent of the model's mass (default 1.2) and the exponent (default 1).
     pub basal_coefficient: f64,
     pub basal_exponent: f64,
-    /// Scales activation, excitation and active fiber force [1].
+    /// Scales activation, excitation and active fiber force (default 1).
     pub muscle_effort_scaling_factor: f64,
-    /// Lengthening's negative work counts [true].
+    /// Lengthening's negative work counts (default true).
     pub include_negative_mechanical_work: bool,
-    /// The shortening heat raised to keep a muscle's total ≥ 0 [true].
+    /// The shortening heat raised to keep a muscle's total ≥ 0 (default true).
     pub forbid_negative_total_power: bool,
-    /// Only the total, not the basal rate and each muscle's [true].
+    /// Only the total, not the basal rate and each muscle's (default true).
     pub report_total_metabolics_only: bool,
     pub muscles: Vec<MetabolicMuscleSpec>,
 }
@@ -73,12 +74,12 @@ pub struct MetabolicsProbeSpec {
 /// What differs between the metabolics models.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum MetabolicModel {
-    /// Umberger (2010): activation and maintenance heat together [on], `aerobic_factor` [1.5],
-    /// the slow-twitch share from the excitation (Bhargava's recruitment) [true].
+    /// Umberger (2010): activation and maintenance heat together (default on), `aerobic_factor` (default 1.5),
+    /// the slow-twitch share from the excitation (Bhargava's recruitment) (default true).
     Umberger2010 { activation_maintenance_rate_on: bool, aerobic_factor: f64, use_bhargava_recruitment_model: bool },
-    /// Bhargava et al. (2004): activation and maintenance heat apart [on], the maintenance rate's
-    /// dependence on the normalized fiber length [piecewise linear through (0, 0.5), (0.5, 0.5),
-    /// (1, 1), (1.5, 0), (2, 0)], the shortening heat's constant scaled by force [false].
+    /// Bhargava et al. (2004): activation and maintenance heat apart (default on), the maintenance rate's
+    /// dependence on the normalized fiber length (default piecewise linear through (0, 0.5),
+    /// (0.5, 0.5), (1, 1), (1.5, 0), (2, 0)), the shortening heat's constant scaled by force (default false).
     Bhargava2004 { activation_rate_on: bool, maintenance_rate_on: bool, fiber_length_dependence: FunctionSpec, use_force_dependent_shortening_prop_constant: bool },
 }
 
@@ -87,16 +88,16 @@ pub enum MetabolicModel {
 pub struct MetabolicMuscleSpec {
     /// The muscle's name.
     pub name: String,
-    /// Pa [0.25e6].
+    /// Pa (default 0.25e6).
     pub specific_tension: f64,
-    /// kg/m³ [1059.7].
+    /// kg/m³ (default 1059.7).
     pub density: f64,
-    /// [0.5].
+    /// (default 0.5).
     pub ratio_slow_twitch_fibers: f64,
     /// kg, when given (`use_provided_muscle_mass`); else F_max / specific tension · density · L_opt.
     pub provided_muscle_mass: Option<f64>,
-    /// Bhargava's activation constants of slow and fast twitch fibers [40, 133] and maintenance
-    /// constants [74, 111] (W/kg).
+    /// Bhargava's activation constants of slow and fast twitch fibers (default 40, 133) and maintenance
+    /// constants (default 74, 111) (W/kg).
     pub twitch_constants: [f64; 4],
 }
 
