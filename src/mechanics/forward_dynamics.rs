@@ -114,7 +114,12 @@ impl Multibody {
     /// The links' accelerations G·u̇ + Ġ·u (m/s², or rad/s² for a weld's orientation rows; 0
     /// where a motion keeps them closed) at the pose `kinematics` holds (realized at `q`).
     pub fn link_accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], udot: &[f64]) -> DVector<f64> {
-        self.link_jacobian(kinematics) * DVector::from_column_slice(udot) + self.link_jacobian_rate(q, u)
+        self.link_accelerations_along(&self.link_jacobian(kinematics), q, u, udot)
+    }
+
+    /// [`Multibody::link_accelerations`] with the links' velocity rows `jacobian` at `q` given.
+    pub fn link_accelerations_along(&self, jacobian: &DMatrix<f64>, q: &[f64], u: &[f64], udot: &[f64]) -> DVector<f64> {
+        jacobian * DVector::from_column_slice(udot) + self.link_jacobian_rate(q, u)
     }
 
     /// Ġ·u of the links at `q` moving at `u`: (G(q + hq̇) − G(q − hq̇))·u / 2h, q̇ the

@@ -161,9 +161,10 @@ impl<'a> Frames<'a> {
         for (mut column, unit) in matrix.column_iter_mut().zip(&unit_forces) {
             column *= *unit;
         }
-        let link_velocities = multibody.link_jacobian(self.paths.kinematics()).transpose();
+        let link_rows = multibody.link_jacobian(self.paths.kinematics());
+        let link_velocities = link_rows.transpose();
         let link_forces = DMatrix::from_fn(self.rows.len(), link_velocities.ncols(), |r, l| -along(link_velocities.column(l).as_slice(), self.rows[r]));
-        let link_acceleration_error = if multibody.links.is_empty() { 0.0 } else { multibody.link_accelerations(self.paths.kinematics(), state.q, state.u, &udot).amax() };
+        let link_acceleration_error = if multibody.links.is_empty() { 0.0 } else { multibody.link_accelerations_along(&link_rows, state.q, state.u, &udot).amax() };
         FrameProblem { matrix, rhs: self.rows.iter().map(|&c| along(&demand, c)).collect(), unit_forces, arms, lengths, link_forces, link_acceleration_error, motions: None }
     }
 }
