@@ -71,7 +71,9 @@ fn info_shows_the_assembled_default_pose() {
     let expected = format!("rocker_angle              -0.20000000 → {:>12.8}", golden["assembled"][rocker].as_f64().unwrap());
     assert!(stdout.contains("default pose, assembled as OpenSim's initSystem does") && stdout.contains(&expected), "{expected:?} not in {stdout}");
     let (_, plain, _) = osim_tune(&["info", s(&common::fixture("models/arm26.osim"))]);
-    assert!(plain.contains("default pose: the default values") && plain.contains("controllers (0): -"), "{plain}");
+    assert!(plain.contains("default pose: the default values") && plain.contains("controllers (0): -") && plain.contains("probes (0): -"), "{plain}");
+    let (_, probes, _) = osim_tune(&["info", s(&common::fixture("models/arm26_probes.osim"))]);
+    assert!(probes.contains("probes (9):\n  metabolics               Umberger2010MuscleMetabolicsProbe\n") && probes.contains("  idle                     Umberger2010MuscleMetabolicsProbe (disabled)\n"), "{probes}");
 }
 
 /// `info` lists the model's controllers and what they drive.

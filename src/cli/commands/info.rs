@@ -31,7 +31,17 @@ struct Summary<'a> {
     /// Each enabled controller: `<class> <name>`, what it drives, and why osim-tune would not
     /// apply it.
     controllers: Vec<ControllerLine>,
+    /// The ProbeSet's probes, and whether they report (`enabled`, else why not).
+    probes: Vec<ProbeLine<'a>>,
     assembly: Assembly,
+}
+
+#[derive(Serialize)]
+struct ProbeLine<'a> {
+    name: &'a str,
+    class: &'a str,
+    enabled: bool,
+    invalid: Option<&'a str>,
 }
 
 #[derive(Serialize)]
@@ -106,6 +116,7 @@ fn summarise<'a>(spec: &'a ModelSpec, file: &Path) -> Summary<'a> {
         constraints: spec.constraints.iter().map(|c| ConstraintLine { name: &c.name, class: &c.class, enforced: c.enforced }).collect(),
         wrap_objects: spec.wrap_objects.iter().map(|w| w.name.as_str()).collect(),
         controllers: spec.controllers.iter().map(controller_line).collect(),
+        probes: spec.probes.iter().map(|p| ProbeLine { name: &p.name, class: &p.class, enabled: p.enabled, invalid: p.invalid.as_deref() }).collect(),
         assembly: assembly(spec),
     }
 }
@@ -178,6 +189,15 @@ fn render(summary: &Summary) -> String {
             Some(reason) => text += &format!("  {} (not applied by osim-tune: {reason})\n", c.controller),
             None => text += &format!("  {}: {}\n", c.controller, c.drives),
         }
+    }
+    text += &format!("probes ({}):{}\n", summary.probes.len(), if summary.probes.is_empty() { " -" } else { "" });
+    for p in &summary.probes {
+        let state = match (p.enabled, p.invalid) {
+            (true, _) => String::new(),
+            (false, Some(reason)) => format!(" (disabled: {reason})"),
+            (false, None) => " (disabled)".into(),
+        };
+        text += &format!("  {:<24} {}{state}\n", p.name, p.class);
     }
     text += &render_assembly(&summary.assembly);
     text
