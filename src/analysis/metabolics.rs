@@ -185,9 +185,7 @@ fn bhargava_power(metabolics: &MetabolicsProbeSpec, dependence: &Function, muscl
     let active_force = effort * inputs.active_fiber_force;
     let total_force = active_force + inputs.passive_fiber_force;
     let velocity = inputs.fiber_velocity;
-    let angle = std::f64::consts::FRAC_PI_2 * excitation;
-    let ratio = muscle.ratio_slow_twitch_fibers;
-    let (slow, fast) = (ratio * angle.sin(), (1.0 - ratio) * (1.0 - angle.cos()));
+    let (slow, fast) = recruitment(muscle.ratio_slow_twitch_fibers, excitation);
     let isometric_force = activation * inputs.active_force_length_multiplier * muscle.spec.max_isometric_force;
     let [activation_slow, activation_fast, maintenance_slow, maintenance_fast] = muscle.twitch_constants;
     let forbid = b.forbid_negative_total_power;
@@ -217,13 +215,18 @@ fn bhargava_power(metabolics: &MetabolicsProbeSpec, dependence: &Function, muscl
     rates.iter().filter(|(on, _)| *on).map(|(_, rate)| rate).sum()
 }
 
-/// Bhargava's slow-twitch share of the recruitment at excitation u: r·sin(πu/2) against
-/// (1 − r)·(1 − cos(πu/2)) (1 at zero excitation).
+/// Bhargava's slow-twitch share of the recruitment at excitation u (1 at zero excitation).
 fn recruited_slow_share(ratio: f64, excitation: f64) -> f64 {
     if excitation == 0.0 {
         return 1.0;
     }
-    let angle = std::f64::consts::FRAC_PI_2 * excitation;
-    let (slow, fast) = (ratio * angle.sin(), (1.0 - ratio) * (1.0 - angle.cos()));
+    let (slow, fast) = recruitment(ratio, excitation);
     slow / (slow + fast)
+}
+
+/// The slow and fast twitch fibers' recruitment at excitation u (Bhargava et al. 2004):
+/// r·sin(πu/2) and (1 − r)·(1 − cos(πu/2)), r the slow-twitch ratio.
+fn recruitment(ratio: f64, excitation: f64) -> (f64, f64) {
+    let angle = std::f64::consts::FRAC_PI_2 * excitation;
+    (ratio * angle.sin(), (1.0 - ratio) * (1.0 - angle.cos()))
 }
