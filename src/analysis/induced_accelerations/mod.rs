@@ -53,7 +53,7 @@ enum Contributor {
 pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, setup: &InducedAccelerationsSetup, bodies: &[usize], file: &Path) -> Result<InducedAccelerationTables, InducedAccelerationsError> {
     let multibody = &geometry.multibody;
     let coordinates = reported_coordinates(multibody, setup, file)?;
-    let (recorded, center_of_mass) = reported_bodies(multibody, setup, bodies, file)?;
+    let (bodies, center_of_mass) = reported_bodies(multibody, setup, bodies, file)?;
     let applied = at.external.map(|e| e.applied_bodies()).unwrap_or_default();
     let contacts = Contact::compile(&setup.constraints, multibody, &applied, file)?;
     let mut contributors: Vec<(String, Contributor)> = Vec::new();
@@ -62,13 +62,13 @@ pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, se
     }
     contributors.extend(at.generators.iter().enumerate().map(|(g, generator)| (generator.name.clone(), Contributor::Generator(g))));
     contributors.extend([("gravity".into(), Contributor::Gravity), ("velocity".into(), Contributor::Velocity)]);
-    let mut recorder = Recorder::new(coordinates.len(), recorded.len());
+    let mut recorder = Recorder::new(coordinates, bodies, center_of_mass);
     let run = Run { geometry, at, setup, contacts: &contacts, contributors: &contributors };
     for row in 0..at.states.motion.len() {
-        run.row(row, &coordinates, &recorded, &mut recorder)?;
+        run.row(row, &mut recorder)?;
     }
     let notes = contacts.iter().filter_map(|c| c.fixed_points_note(multibody)).collect();
-    Ok(InducedAccelerationTables { tables: recorder.tables(multibody, &run, &coordinates, &recorded, center_of_mass)?, notes })
+    Ok(InducedAccelerationTables { tables: recorder.tables(&run)?, notes })
 }
 
 /// The analysis' tables and what to tell about them.
@@ -122,7 +122,7 @@ type Placed = Vec<Option<(Vec3, RowsHeld)>>;
 
 impl Run<'_> {
     /// Solves and records every contributor at `row`.
-    fn row(&self, row: usize, coordinates: &[usize], recorded: &[usize], recorder: &mut Recorder) -> Result<(), InducedAccelerationsError> {
+    fn row(&self, row: usize, recorder: &mut Recorder) -> Result<(), InducedAccelerationsError> {
         let multibody = &self.geometry.multibody;
         let (time, q, u) = (self.at.states.motion.times[row], self.at.states.motion.pose(row), &self.at.states.speeds[row]);
         let mut kinematics = multibody.kinematics();
@@ -145,7 +145,7 @@ impl Run<'_> {
                     }
                 }
             }
-            recorder.record(multibody, &kinematics, &solved, q, &speeds, coordinates, recorded, self.setup.in_degrees, self.contacts);
+            recorder.record(self, &kinematics, &solved, q, &speeds);
         }
         Ok(())
     }
@@ -225,6 +225,8 @@ impl Solved {
 
 /// The tables' rows as they are recorded.
 struct Recorder {
+    /// The coordinates and bodies reported ([`Multibody`] indices), and whether the mass center is.
+    reported: (Vec<usize>, Vec<usize>, bool),
     /// One row-major value list per coordinate, per body, for the mass center, for the reactions.
     coordinates: Vec<Vec<f64>>,
     bodies: Vec<Vec<f64>>,
@@ -233,8 +235,9 @@ struct Recorder {
 }
 
 impl Recorder {
-    fn new(coordinates: usize, bodies: usize) -> Recorder {
-        Recorder { coordinates: vec![Vec::new(); coordinates], bodies: vec![Vec::new(); bodies], center_of_mass: Vec::new(), reactions: Vec::new() }
+    fn new(coordinates: Vec<usize>, bodies: Vec<usize>, center_of_mass: bool) -> Recorder {
+        let values = (vec![Vec::new(); coordinates.len()], vec![Vec::new(); bodies.len()]);
+        Recorder { reported: (coordinates, bodies, center_of_mass), coordinates: values.0, bodies: values.1, center_of_mass: Vec::new(), reactions: Vec::new() }
     }
 
     /// Starts a row at `time` (s).
@@ -244,24 +247,25 @@ impl Recorder {
         }
     }
 
-    /// Appends one contributor's values: each coordinate's u̇, each body's mass center and
-    /// angular acceleration, the mass center's, the contacts' reactions.
-    #[allow(clippy::too_many_arguments)]
-    fn record(&mut self, multibody: &Multibody, kinematics: &Kinematics, solved: &Solved, q: &[f64], u: &[f64], coordinates: &[usize], bodies: &[usize], in_degrees: bool, contacts: &[Contact]) {
-        let angle = if in_degrees { 1f64.to_degrees() } else { 1.0 };
-        for (values, &c) in self.coordinates.iter_mut().zip(coordinates) {
+    /// Appends one contributor's values, solved at the pose `kinematics` holds (`q`) with speeds
+    /// `u`: each coordinate's u̇, each body's mass center and angular acceleration, the mass
+    /// center's, the contacts' reactions.
+    fn record(&mut self, run: &Run, kinematics: &Kinematics, solved: &Solved, q: &[f64], u: &[f64]) {
+        let multibody = &run.geometry.multibody;
+        let angle = if run.setup.in_degrees { 1f64.to_degrees() } else { 1.0 };
+        for (values, &c) in self.coordinates.iter_mut().zip(&self.reported.0) {
             values.push(solved.udot[c] * angle);
         }
         let motions = multibody.body_motions(&MotionState { q, u, udot: &solved.udot });
         let center = |b: usize| motions[b].point_acceleration(&multibody.bodies[b].mass_center);
-        for (values, &b) in self.bodies.iter_mut().zip(bodies) {
+        for (values, &b) in self.bodies.iter_mut().zip(&self.reported.1) {
             values.extend(center(b).iter());
             values.extend(motions[b].angular_acceleration().iter().map(|a| a * angle));
         }
         let mass: f64 = multibody.bodies.iter().map(|b| b.mass).sum();
         let weighted: Vec3 = (0..multibody.bodies.len()).map(|b| multibody.bodies[b].mass * center(b)).sum::<Vec3>() / mass;
         self.center_of_mass.extend(weighted.iter());
-        for (k, contact) in contacts.iter().enumerate() {
+        for (k, contact) in run.contacts.iter().enumerate() {
             match &solved.links[k] {
                 Some(link) => contact.record(link, kinematics, &DVector::from_column_slice(solved.contact_multipliers(k)), &mut self.reactions),
                 None => self.reactions.extend([0.0; 12]),
@@ -271,7 +275,9 @@ impl Recorder {
 
     /// The tables, named by their file suffixes: each coordinate's, each body's, the mass
     /// center's (if reported), the reactions' (if reported).
-    fn tables(self, multibody: &Multibody, run: &Run, coordinates: &[usize], bodies: &[usize], center_of_mass: bool) -> Result<Vec<(String, StorageTable)>, InducedAccelerationsError> {
+    fn tables(self, run: &Run) -> Result<Vec<(String, StorageTable)>, InducedAccelerationsError> {
+        let multibody = &run.geometry.multibody;
+        let (coordinates, bodies, center_of_mass) = &self.reported;
         let names: Vec<&str> = run.contributors.iter().map(|(name, _)| name.as_str()).collect();
         let labels = |suffixes: &[&str]| -> Vec<String> { std::iter::once("time".to_string()).chain(names.iter().flat_map(|n| suffixes.iter().map(move |s| format!("{n}{s}")))).collect() };
         let mut tables = Vec::new();
@@ -283,7 +289,7 @@ impl Recorder {
             let name = &multibody.bodies[b].name;
             tables.push((name.clone(), StorageTable::new(name, labels(&["_X", "_Y", "_Z", "_Ox", "_Oy", "_Oz"]), values)?.with_in_degrees(false)));
         }
-        if center_of_mass {
+        if *center_of_mass {
             tables.push((CENTER_OF_MASS.into(), StorageTable::new(CENTER_OF_MASS, labels(&["_X", "_Y", "_Z"]), self.center_of_mass)?.with_in_degrees(false)));
         }
         if run.setup.report_constraint_reactions {
