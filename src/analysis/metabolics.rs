@@ -7,7 +7,7 @@
 use super::reporters::AppliedAt;
 use crate::mechanics::muscle::MuscleState;
 use crate::mechanics::Function;
-use crate::model::{MetabolicModel, MetabolicsProbeSpec, ModelSpec, MuscleSpec};
+use crate::model::{BhargavaRates, MetabolicModel, MetabolicsProbeSpec, ModelSpec, MuscleSpec, UmbergerRates};
 
 /// Shortening heat of slow-twitch fibers, at most (W/kg; Umberger 2003).
 const MAX_SHORTENING_RATE: f64 = 100.0;
@@ -25,39 +25,31 @@ struct MetabolicMuscle<'a> {
     twitch_constants: [f64; 4],
 }
 
-/// A muscle's state as the probe reads it.
-struct MuscleInputs {
-    activation: f64,
-    excitation: f64,
-    /// N, along the fiber.
-    active_fiber_force: f64,
-    passive_fiber_force: f64,
-    normalized_fiber_length: f64,
-    /// m/s, lengthening positive.
-    fiber_velocity: f64,
-    active_force_length_multiplier: f64,
-}
-
 /// A metabolics probe on the model's muscles.
 pub(super) struct MetabolicsProbe<'a> {
     spec: &'a MetabolicsProbeSpec,
     muscles: Vec<MetabolicMuscle<'a>>,
-    /// Bhargava's maintenance-rate dependence on the normalized fiber length.
-    fiber_length_dependence: Option<Function>,
+    rates: Rates<'a>,
     /// The model's mass, kg.
     body_mass: f64,
+}
+
+/// The probe's model, Bhargava's with its fiber-length dependence compiled.
+enum Rates<'a> {
+    Umberger(&'a UmbergerRates),
+    Bhargava(&'a BhargavaRates, Function),
 }
 
 impl<'a> MetabolicsProbe<'a> {
     /// The probe `spec` of `model` at `at`'s muscle states, or the name of a muscle the model lacks
     /// (OpenSim then disables the probe).
     pub fn new(model: &'a ModelSpec, at: &AppliedAt, spec: &'a MetabolicsProbeSpec) -> Result<MetabolicsProbe<'a>, String> {
-        let fiber_length_dependence = match &spec.model {
-            MetabolicModel::Bhargava2004 { fiber_length_dependence, .. } => Some(Function::new(fiber_length_dependence)),
-            MetabolicModel::Umberger2010 { .. } => None,
+        let rates = match &spec.model {
+            MetabolicModel::Umberger2010(rates) => Rates::Umberger(rates),
+            MetabolicModel::Bhargava2004(rates) => Rates::Bhargava(rates, Function::new(&rates.fiber_length_dependence)),
         };
         let body_mass = model.bodies.iter().map(|b| b.mass).sum();
-        Ok(MetabolicsProbe { spec, muscles: metabolic_muscles(model, at, spec)?, fiber_length_dependence, body_mass })
+        Ok(MetabolicsProbe { spec, muscles: metabolic_muscles(model, at, spec)?, rates, body_mass })
     }
 
     /// Its output labels: `<probe>_TOTAL`, then unless `report_total_metabolics_only` `_BASAL`
@@ -79,10 +71,10 @@ impl<'a> MetabolicsProbe<'a> {
         let basal = if spec.basal_rate_on { spec.basal_coefficient * self.body_mass.powf(spec.basal_exponent) } else { 0.0 };
         let power = |m: &MetabolicMuscle| {
             let Some(state) = at.muscles.states[row][m.state].as_ref() else { return f64::NAN };
-            let inputs = inputs(state, at.controls.control(m.name, time));
-            match &self.fiber_length_dependence {
-                Some(dependence) => bhargava_power(spec, dependence, m, &inputs),
-                None => umberger_power(spec, m, &inputs),
+            let excitation = at.controls.control(m.name, time);
+            match &self.rates {
+                Rates::Umberger(rates) => umberger_power(spec, rates, m, state, excitation),
+                Rates::Bhargava(rates, dependence) => bhargava_power(spec, rates, dependence, m, state, excitation),
             }
         };
         let powers: Vec<f64> = self.muscles.iter().map(power).collect();
@@ -108,31 +100,19 @@ fn metabolic_muscles<'a>(spec: &'a ModelSpec, at: &AppliedAt, metabolics: &'a Me
     Ok(muscles)
 }
 
-/// What the probe reads of a muscle at `state` with control `excitation`.
-fn inputs(state: &MuscleState, excitation: f64) -> MuscleInputs {
-    let report = &state.report;
-    MuscleInputs {
-        activation: report.activation,
-        excitation,
-        active_fiber_force: report.active_fiber_force,
-        passive_fiber_force: report.passive_fiber_force,
-        normalized_fiber_length: report.normalized_fiber_length,
-        fiber_velocity: state.fiber_velocity,
-        active_force_length_multiplier: report.active_force_length_multiplier,
-    }
-}
-
-/// One muscle's metabolic power by Umberger (2010) (W): activation and maintenance heat,
-/// shortening heat and mechanical work rate (W/kg) times its mass.
-fn umberger_power(metabolics: &MetabolicsProbeSpec, muscle: &MetabolicMuscle, inputs: &MuscleInputs) -> f64 {
+/// One muscle's metabolic power by Umberger (2010) (W) at `state` with control `excitation`:
+/// activation and maintenance heat, shortening heat and mechanical work rate (W/kg) times its
+/// mass.
+fn umberger_power(metabolics: &MetabolicsProbeSpec, rates: &UmbergerRates, muscle: &MetabolicMuscle, state: &MuscleState, excitation: f64) -> f64 {
     let u = metabolics;
-    let MetabolicModel::Umberger2010 { activation_maintenance_rate_on, aerobic_factor, use_bhargava_recruitment_model } = u.model else { return f64::NAN };
+    let &UmbergerRates { activation_maintenance_rate_on, aerobic_factor, use_bhargava_recruitment_model } = rates;
+    let report = &state.report;
     let effort = u.muscle_effort_scaling_factor;
-    let (activation, excitation) = (effort * inputs.activation, effort * inputs.excitation);
-    let active_force = (effort * inputs.active_fiber_force).max(0.0);
-    let (length, velocity) = (inputs.normalized_fiber_length, inputs.fiber_velocity);
+    let (activation, excitation) = (effort * report.activation, effort * excitation);
+    let active_force = (effort * report.active_fiber_force).max(0.0);
+    let (length, velocity) = (report.normalized_fiber_length, state.fiber_velocity);
     let normalized_velocity = velocity / muscle.spec.optimal_fiber_length;
-    let f_iso = inputs.active_force_length_multiplier;
+    let f_iso = report.active_force_length_multiplier;
     let a = if excitation > activation { excitation } else { (excitation + activation) / 2.0 };
     let slow = if use_bhargava_recruitment_model { recruited_slow_share(muscle.ratio_slow_twitch_fibers, excitation) } else { muscle.ratio_slow_twitch_fibers };
     let forbid = u.forbid_negative_total_power;
@@ -175,22 +155,24 @@ fn umberger_power(metabolics: &MetabolicsProbeSpec, muscle: &MetabolicMuscle, in
     rates.iter().filter(|(on, _)| *on).map(|(_, rate)| rate).sum::<f64>() * muscle.mass
 }
 
-/// One muscle's metabolic power by Bhargava et al. (2004) (W): activation, maintenance (scaled by
-/// `dependence` of the normalized fiber length) and shortening heat, and mechanical work rate.
-fn bhargava_power(metabolics: &MetabolicsProbeSpec, dependence: &Function, muscle: &MetabolicMuscle, inputs: &MuscleInputs) -> f64 {
+/// One muscle's metabolic power by Bhargava et al. (2004) (W) at `state` with control
+/// `excitation`: activation, maintenance (scaled by `dependence` of the normalized fiber length)
+/// and shortening heat, and mechanical work rate.
+fn bhargava_power(metabolics: &MetabolicsProbeSpec, rates: &BhargavaRates, dependence: &Function, muscle: &MetabolicMuscle, state: &MuscleState, excitation: f64) -> f64 {
     let b = metabolics;
-    let MetabolicModel::Bhargava2004 { activation_rate_on, maintenance_rate_on, use_force_dependent_shortening_prop_constant, .. } = b.model else { return f64::NAN };
+    let &BhargavaRates { activation_rate_on, maintenance_rate_on, use_force_dependent_shortening_prop_constant, .. } = rates;
+    let report = &state.report;
     let effort = b.muscle_effort_scaling_factor;
-    let (activation, excitation) = (effort * inputs.activation, effort * inputs.excitation);
-    let active_force = effort * inputs.active_fiber_force;
-    let total_force = active_force + inputs.passive_fiber_force;
-    let velocity = inputs.fiber_velocity;
+    let (activation, excitation) = (effort * report.activation, effort * excitation);
+    let active_force = effort * report.active_fiber_force;
+    let total_force = active_force + report.passive_fiber_force;
+    let velocity = state.fiber_velocity;
     let (slow, fast) = recruitment(muscle.ratio_slow_twitch_fibers, excitation);
-    let isometric_force = activation * inputs.active_force_length_multiplier * muscle.spec.max_isometric_force;
+    let isometric_force = activation * report.active_force_length_multiplier * muscle.spec.max_isometric_force;
     let [activation_slow, activation_fast, maintenance_slow, maintenance_fast] = muscle.twitch_constants;
     let forbid = b.forbid_negative_total_power;
     let activation_heat = if forbid || activation_rate_on { muscle.mass * (activation_slow * slow + activation_fast * fast) } else { 0.0 };
-    let maintenance = if forbid || maintenance_rate_on { muscle.mass * dependence.value(inputs.normalized_fiber_length) * (maintenance_slow * slow + maintenance_fast * fast) } else { 0.0 };
+    let maintenance = if forbid || maintenance_rate_on { muscle.mass * dependence.value(report.normalized_fiber_length) * (maintenance_slow * slow + maintenance_fast * fast) } else { 0.0 };
     let mut shortening = 0.0;
     if forbid || b.shortening_rate_on {
         let alpha = match (use_force_dependent_shortening_prop_constant, velocity <= 0.0) {

@@ -42,11 +42,13 @@ pub fn probe_table(spec: &ModelSpec, at: &AppliedAt, notes: &mut Vec<String>) ->
     let mut values = Vec::new();
     for (row, &time) in at.states.motion.times.iter().enumerate() {
         values.push(time);
-        let actuation = actuation_row(at, row);
+        // The actuation is formed once per row, and only for an actuator probe.
+        let mut actuation = None;
         for (probe, reported) in &probes {
             let outputs = match reported {
                 Reported::Metabolics(metabolics) => metabolics.outputs(at, row),
                 Reported::Actuators { generators, quantity, summed, exponent } => {
+                    let actuation = actuation.get_or_insert_with(|| actuation_row(at, row));
                     let read = if *quantity == ActuatorQuantity::Force { &actuation.forces } else { &actuation.powers };
                     let each = generators.iter().map(|&g| read[g].powf(*exponent));
                     if *summed { vec![each.sum()] } else { each.collect() }

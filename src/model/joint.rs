@@ -138,7 +138,7 @@ fn read_spatial_transform(reader: ComponentReader) -> Result<Vec<TransformAxisSp
         let axis = reader.at(element);
         spatial_transform.push(TransformAxisSpec {
             name: axis.name(),
-            coordinates: axis.optional_text("coordinates").unwrap_or_default().split_whitespace().map(String::from).collect(),
+            coordinates: axis.words("coordinates"),
             axis: axis.vec3_or("axis", [1.0, 0.0, 0.0])?,
             function: axis.object_property("function").map(FunctionSpec::read).transpose()?,
         });

@@ -42,6 +42,6 @@ pub use muscle::{
 };
 pub use reader::ComponentReader;
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
-pub use probe::{ActuatorQuantity, MetabolicModel, MetabolicMuscleSpec, MetabolicsProbeSpec, ProbeKind, ProbeSpec};
+pub use probe::{ActuatorQuantity, BhargavaRates, MetabolicModel, MetabolicMuscleSpec, MetabolicsProbeSpec, ProbeKind, ProbeSpec, UmbergerRates};
 pub use spec::{ModelSpec, GROUND};
 pub use wrap_object::{WrapObjectSpec, WrapShape};

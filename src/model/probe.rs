@@ -74,13 +74,32 @@ pub struct MetabolicsProbeSpec {
 /// What differs between the metabolics models.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub enum MetabolicModel {
-    /// Umberger (2010): activation and maintenance heat together (default on), `aerobic_factor` (default 1.5),
-    /// the slow-twitch share from the excitation (Bhargava's recruitment) (default true).
-    Umberger2010 { activation_maintenance_rate_on: bool, aerobic_factor: f64, use_bhargava_recruitment_model: bool },
-    /// Bhargava et al. (2004): activation and maintenance heat apart (default on), the maintenance rate's
-    /// dependence on the normalized fiber length (default piecewise linear through (0, 0.5),
-    /// (0.5, 0.5), (1, 1), (1.5, 0), (2, 0)), the shortening heat's constant scaled by force (default false).
-    Bhargava2004 { activation_rate_on: bool, maintenance_rate_on: bool, fiber_length_dependence: FunctionSpec, use_force_dependent_shortening_prop_constant: bool },
+    Umberger2010(UmbergerRates),
+    Bhargava2004(BhargavaRates),
+}
+
+/// Umberger (2010)'s switches and coefficients.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct UmbergerRates {
+    /// Activation and maintenance heat, together (default on).
+    pub activation_maintenance_rate_on: bool,
+    /// Default 1.5, aerobic activities.
+    pub aerobic_factor: f64,
+    /// The slow-twitch share from the excitation, Bhargava's recruitment (default true).
+    pub use_bhargava_recruitment_model: bool,
+}
+
+/// Bhargava et al. (2004)'s switches and the maintenance rate's fiber-length dependence.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BhargavaRates {
+    /// Activation and maintenance heat, apart (default on each).
+    pub activation_rate_on: bool,
+    pub maintenance_rate_on: bool,
+    /// Of the normalized fiber length (default piecewise linear through (0, 0.5), (0.5, 0.5),
+    /// (1, 1), (1.5, 0), (2, 0)).
+    pub fiber_length_dependence: FunctionSpec,
+    /// The shortening heat's constant scaled by force (default false).
+    pub use_force_dependent_shortening_prop_constant: bool,
 }
 
 /// One muscle's metabolic parameters.
@@ -106,17 +125,16 @@ const METABOLICS_CLASSES: [&str; 2] = ["Umberger2010MuscleMetabolicsProbe", "Bha
 
 impl ProbeSpec {
     pub fn read(reader: ComponentReader) -> Result<ProbeSpec, ModelError> {
-        let words = |property: &str| reader.optional_text(property).unwrap_or_default().split_whitespace().map(String::from).collect();
         let (kind, invalid) = match reader.class() {
             class if METABOLICS_CLASSES.contains(&class) => match MetabolicsProbeSpec::read(reader) {
                 Ok(metabolics) => (ProbeKind::Metabolics(metabolics), None),
                 Err(error) => (ProbeKind::Other, Some(error.to_string())),
             },
             "ActuatorForceProbe" => {
-                (ProbeKind::Actuators { quantity: ActuatorQuantity::Force, actuators: words("actuator_names"), summed: reader.boolean_or("sum_forces_together", false)?, exponent: reader.number_or("exponent", 1.0)? }, None)
+                (ProbeKind::Actuators { quantity: ActuatorQuantity::Force, actuators: reader.words("actuator_names"), summed: reader.boolean_or("sum_forces_together", false)?, exponent: reader.number_or("exponent", 1.0)? }, None)
             }
             "ActuatorPowerProbe" => {
-                (ProbeKind::Actuators { quantity: ActuatorQuantity::Power, actuators: words("actuator_names"), summed: reader.boolean_or("sum_powers_together", false)?, exponent: reader.number_or("exponent", 1.0)? }, None)
+                (ProbeKind::Actuators { quantity: ActuatorQuantity::Power, actuators: reader.words("actuator_names"), summed: reader.boolean_or("sum_powers_together", false)?, exponent: reader.number_or("exponent", 1.0)? }, None)
             }
             _ => (ProbeKind::Other, None),
         };
@@ -141,18 +159,18 @@ impl MetabolicsProbeSpec {
                 Some(function) => FunctionSpec::read(function)?,
                 None => FunctionSpec::PiecewiseLinearFunction { x: vec![0.0, 0.5, 1.0, 1.5, 2.0], y: vec![0.5, 0.5, 1.0, 0.0, 0.0] },
             };
-            MetabolicModel::Bhargava2004 {
+            MetabolicModel::Bhargava2004(BhargavaRates {
                 activation_rate_on: flag("activation_rate_on")?,
                 maintenance_rate_on: flag("maintenance_rate_on")?,
                 fiber_length_dependence,
                 use_force_dependent_shortening_prop_constant: reader.boolean_or("use_force_dependent_shortening_prop_constant", false)?,
-            }
+            })
         } else {
-            MetabolicModel::Umberger2010 {
+            MetabolicModel::Umberger2010(UmbergerRates {
                 activation_maintenance_rate_on: flag("activation_maintenance_rate_on")?,
                 aerobic_factor: reader.number_or("aerobic_factor", 1.5)?,
                 use_bhargava_recruitment_model: flag("use_Bhargava_recruitment_model")?,
-            }
+            })
         };
         let mut muscles = Vec::new();
         if let Some(set) = reader.child(&format!("{}_MetabolicMuscleParameterSet", reader.class())) {
@@ -235,7 +253,7 @@ mod tests {
         assert!(read[1].enabled && read[1].operation == "integrate" && read[1].gain == 2.0);
         let super::ProbeKind::Metabolics(bhargava) = &read[1].kind else { panic!("{:?}", read[1]) };
         assert!(bhargava.report_total_metabolics_only && bhargava.muscles.is_empty());
-        assert!(matches!(&bhargava.model, super::MetabolicModel::Bhargava2004 { use_force_dependent_shortening_prop_constant: false, .. }));
+        assert!(matches!(&bhargava.model, super::MetabolicModel::Bhargava2004(rates) if !rates.use_force_dependent_shortening_prop_constant));
         assert!(read[2].enabled && read[2].kind == super::ProbeKind::Other && read[2].class == "JointInternalPowerProbe");
     }
 }

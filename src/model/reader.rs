@@ -53,6 +53,11 @@ impl<'a> ComponentReader<'a> {
         self.document.xml.text(id).map(|t| t.trim().to_string())
     }
 
+    /// The whitespace-separated words of a string-array property; empty when absent.
+    pub fn words(&self, property: &str) -> Vec<String> {
+        self.optional_text(property).unwrap_or_default().split_whitespace().map(String::from).collect()
+    }
+
     /// Text of a required value property, trimmed.
     pub fn text(&self, property: &str) -> Result<String, ModelError> {
         self.optional_text(property).ok_or_else(|| self.missing(property))

@@ -10,7 +10,7 @@ use super::error::SetupError;
 use super::induced_accelerations::InducedAccelerationsSetup;
 use super::object::{expect_class, read_document};
 use super::path::{directory_of, SetupPath};
-use super::property::{results_directory_or_here, checked_number_or, name_or_empty, optional_path, words};
+use super::property::{results_directory_or_here, checked_number_or, name_or_empty, optional_path};
 use crate::io::osim::OsimDocument;
 use crate::model::{ComponentReader, ControllerSpec};
 
@@ -218,7 +218,7 @@ impl AnalyzeSetup {
             file: document.xml.file().into(),
             name: name_or_empty(tool),
             model_file: optional_path(tool, "model_file", &directory),
-            force_set_files: words(tool, "force_set_files").iter().map(|f| SetupPath::resolve(f, &directory)).collect(),
+            force_set_files: tool.words("force_set_files").iter().map(|f| SetupPath::resolve(f, &directory)).collect(),
             replace_force_set: tool.boolean_or("replace_force_set", replace_by_default)?,
             results_directory: results_directory_or_here(tool, &directory),
             initial_time: tool.number_or("initial_time", 0.0)?,
@@ -302,17 +302,17 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                     name: name(),
                     step_interval: step_interval()?,
                     forces_file: optional_path(analysis, "forces_file", directory),
-                    joint_names: words(analysis, "joint_names"),
-                    apply_on_bodies: words(analysis, "apply_on_bodies"),
-                    express_in_frame: words(analysis, "express_in_frame"),
+                    joint_names: analysis.words("joint_names"),
+                    apply_on_bodies: analysis.words("apply_on_bodies"),
+                    express_in_frame: analysis.words("express_in_frame"),
                 });
             }
             "MuscleAnalysis" if found.muscle_analysis.is_none() => {
                 found.muscle_analysis = Some(MuscleAnalysisSetup {
                     name: name(),
                     step_interval: step_interval()?,
-                    muscle_list: or_all(words(analysis, "muscle_list")),
-                    moment_arm_coordinate_list: or_all(words(analysis, "moment_arm_coordinate_list")),
+                    muscle_list: or_all(analysis.words("muscle_list")),
+                    moment_arm_coordinate_list: or_all(analysis.words("moment_arm_coordinate_list")),
                     compute_moments: analysis.boolean_or("compute_moments", true)?,
                 });
             }
@@ -320,7 +320,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                 found.kinematics = Some(KinematicsSetup {
                     name: name(),
                     step_interval: step_interval()?,
-                    coordinates: or_all(words(analysis, "coordinates")),
+                    coordinates: or_all(analysis.words("coordinates")),
                     in_degrees: analysis.boolean_or("in_degrees", true)?,
                 });
             }
@@ -328,7 +328,7 @@ fn analyses(tool: ComponentReader, directory: &Path) -> Result<Analyses, SetupEr
                 found.body_kinematics = Some(BodyKinematicsSetup {
                     name: name(),
                     step_interval: step_interval()?,
-                    bodies: or_all(words(analysis, "bodies")),
+                    bodies: or_all(analysis.words("bodies")),
                     express_in_local_frame: analysis.boolean_or("express_results_in_body_local_frame", false)?,
                     in_degrees: analysis.boolean_or("in_degrees", true)?,
                 });

@@ -5,7 +5,7 @@
 use serde::Serialize;
 
 use super::error::SetupError;
-use super::property::{checked_number_or, name_or_empty, words};
+use super::property::{checked_number_or, name_or_empty};
 use crate::model::ComponentReader;
 
 /// OpenSim's `InducedAccelerations` properties.
@@ -63,7 +63,7 @@ pub enum ContactSetup {
 impl InducedAccelerationsSetup {
     /// The analysis `analysis` (an `InducedAccelerations` element).
     pub(super) fn read(analysis: ComponentReader) -> Result<InducedAccelerationsSetup, SetupError> {
-        let bodies = words(analysis, "body_names");
+        let bodies = analysis.words("body_names");
         let constraints = match analysis.child("ConstraintSet") {
             Some(set) => analysis.at(set).listed_objects(set).into_iter().map(|element| ContactConstraintSetup::read(analysis.at(element))).collect::<Result<_, _>>()?,
             None => Vec::new(),
@@ -71,7 +71,7 @@ impl InducedAccelerationsSetup {
         Ok(InducedAccelerationsSetup {
             name: name_or_empty(analysis),
             step_interval: checked_number_or(analysis, "step_interval", 1.0, |n| n >= 1.0 && n.fract() == 0.0, "a whole number ≥ 1")? as usize,
-            coordinate_names: words(analysis, "coordinate_names"),
+            coordinate_names: analysis.words("coordinate_names"),
             body_names: if analysis.child("body_names").is_some() { bodies } else { vec!["center_of_mass".into()] },
             constraints,
             force_threshold: checked_number_or(analysis, "force_threshold", 6.0, |f| f >= 0.0, "a force ≥ 0 (N)")?,

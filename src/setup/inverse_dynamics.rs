@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::error::SetupError;
 use super::object::{expect_class, read_document};
 use super::path::{directory_of, SetupPath};
-use super::property::{results_directory_or_here, name_or_empty, optional_path, words};
+use super::property::{results_directory_or_here, name_or_empty, optional_path};
 use super::time_range::TimeRange;
 use crate::io::osim::OsimDocument;
 use crate::model::ComponentReader;
@@ -59,11 +59,11 @@ impl IdSetup {
             coordinates_file: optional_path(tool, "coordinates_file", &directory),
             external_loads_file: optional_path(tool, "external_loads_file", &directory),
             time_range: TimeRange::read_or(tool, TimeRange { start: f64::NEG_INFINITY, end: f64::INFINITY })?,
-            forces_to_exclude: words(tool, "forces_to_exclude"),
+            forces_to_exclude: tool.words("forces_to_exclude"),
             lowpass_cutoff_frequency_for_coordinates: tool.number_or("lowpass_cutoff_frequency_for_coordinates", -1.0)?,
             output_gen_force_file: output,
             results_directory: results_directory_or_here(tool, &directory),
-            joints_to_report_body_forces: words(tool, "joints_to_report_body_forces"),
+            joints_to_report_body_forces: tool.words("joints_to_report_body_forces"),
             output_body_forces_file: tool.optional_text("output_body_forces_file").filter(|f| !f.is_empty()).unwrap_or_else(|| "body_forces_at_joints.sto".into()),
         })
     }

@@ -6,7 +6,7 @@ use serde::Serialize;
 
 use super::error::SetupError;
 use super::object::{read_object, set_members};
-use super::property::{name_or_empty, required_name, words};
+use super::property::{name_or_empty, required_name};
 use crate::model::ComponentReader;
 
 /// One measurement of a `MeasurementSet`.
@@ -52,7 +52,7 @@ impl Measurement {
 
 /// A `<MarkerPair>`'s `markers`: exactly two names.
 fn read_marker_pair(pair: ComponentReader) -> Result<[String; 2], SetupError> {
-    match <[String; 2]>::try_from(words(pair, "markers")) {
+    match <[String; 2]>::try_from(pair.words("markers")) {
         Ok(names) => Ok(names),
         Err(_) => Err(pair.bad("markers", "exactly two marker names", &pair.optional_text("markers").unwrap_or_default()).into()),
     }
@@ -61,7 +61,7 @@ fn read_marker_pair(pair: ComponentReader) -> Result<[String; 2], SetupError> {
 impl BodyScale {
     fn read(body_scale: ComponentReader) -> Result<BodyScale, SetupError> {
         let mut axes = [false; 3];
-        for axis in words(body_scale, "axes") {
+        for axis in body_scale.words("axes") {
             let Some(index) = ["X", "Y", "Z"].iter().position(|name| axis.eq_ignore_ascii_case(name)) else {
                 let text = body_scale.optional_text("axes").unwrap_or_default();
                 return Err(body_scale.bad("axes", "axis names X, Y or Z", &text).into());

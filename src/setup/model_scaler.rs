@@ -8,7 +8,7 @@ use super::error::SetupError;
 use super::measurement::Measurement;
 use super::object::{read_object, set_members};
 use super::path::SetupPath;
-use super::property::{optional_path, words};
+use super::property::optional_path;
 use super::time_range::TimeRange;
 use crate::model::ComponentReader;
 
@@ -85,7 +85,7 @@ fn read_scaling_order(scaler: ComponentReader) -> Result<Vec<ScalingStep>, Setup
         "manualScale" => Ok(ScalingStep::ManualScale),
         _ => Err(SetupError::from(scaler.bad("scaling_order", "the words measurements and/or manualScale", &word))),
     };
-    words(scaler, "scaling_order").into_iter().map(step).collect()
+    scaler.words("scaling_order").into_iter().map(step).collect()
 }
 
 impl ManualScale {

@@ -24,12 +24,6 @@ pub fn results_directory_or_here(reader: ComponentReader, directory: &Path) -> S
     SetupPath::resolve(&written, directory)
 }
 
-/// The whitespace-separated words of a string-array property; empty when absent.
-pub fn words(reader: ComponentReader, property: &str) -> Vec<String> {
-    let text = reader.optional_text(property).unwrap_or_default();
-    text.split_whitespace().map(str::to_string).collect()
-}
-
 /// A number that must satisfy `valid` (described by `expected`), `default` when absent.
 pub fn checked_number_or(
     reader: ComponentReader,

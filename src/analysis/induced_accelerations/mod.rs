@@ -62,10 +62,12 @@ pub fn induced_acceleration_tables(geometry: &MuscleGeometry, at: &AppliedAt, se
     }
     contributors.extend(at.generators.iter().enumerate().map(|(g, generator)| (generator.name.clone(), Contributor::Generator(g))));
     contributors.extend([("gravity".into(), Contributor::Gravity), ("velocity".into(), Contributor::Velocity)]);
-    let mut recorder = Recorder::new(coordinates, bodies, center_of_mass);
+    let mut recorder = Recorder::new(multibody, coordinates, bodies, center_of_mass);
     let run = Run { geometry, at, setup, contacts: &contacts, contributors: &contributors };
+    let mut contacted = multibody.clone();
+    let mut scratch = PathScratch::default();
     for row in 0..at.states.motion.len() {
-        run.row(row, &mut recorder)?;
+        run.row(row, &mut contacted, &mut scratch, &mut recorder)?;
     }
     let notes = contacts.iter().filter_map(|c| c.fixed_points_note(multibody)).collect();
     Ok(InducedAccelerationTables { tables: recorder.tables(&run)?, notes })
@@ -121,8 +123,9 @@ struct Run<'a> {
 type Placed = Vec<Option<(Vec3, RowsHeld)>>;
 
 impl Run<'_> {
-    /// Solves and records every contributor at `row`.
-    fn row(&self, row: usize, recorder: &mut Recorder) -> Result<(), InducedAccelerationsError> {
+    /// Solves and records every contributor at `row` on `contacted` (a copy of the model whose
+    /// links the contacts join, [`Run::solve`]).
+    fn row(&self, row: usize, contacted: &mut Multibody, scratch: &mut PathScratch, recorder: &mut Recorder) -> Result<(), InducedAccelerationsError> {
         let multibody = &self.geometry.multibody;
         let (time, q, u) = (self.at.states.motion.times[row], self.at.states.motion.pose(row), &self.at.states.speeds[row]);
         let mut kinematics = multibody.kinematics();
@@ -130,18 +133,18 @@ impl Run<'_> {
         let loads = self.at.external.map(|e| e.at(time, &kinematics)).unwrap_or_default();
         let mut placed: Placed = loads.iter().map(|load| (load.force.norm() > self.setup.force_threshold).then_some((load.point, [true; ROLLING_ROWS]))).collect();
         let forces = self.at.forces(row);
-        let mut contacted = multibody.clone();
         recorder.start(time);
-        for (_, contributor) in self.contributors {
-            let (speeds, applied, gravity) = self.applied(row, *contributor, &forces, &kinematics, u);
-            let mut solved = self.solve(&mut contacted, &kinematics, &placed, q, &speeds, &applied, gravity).map_err(|source| self.failed(time, *contributor, source))?;
+        for (name, contributor) in self.contributors {
+            let failed = |source| InducedAccelerationsError::Dynamics { time, contributor: name.clone(), source };
+            let (speeds, applied, gravity) = self.applied(row, *contributor, &forces, &kinematics, u, scratch);
+            let mut solved = self.solve(contacted, &kinematics, &placed, q, &speeds, &applied, gravity).map_err(failed)?;
             if *contributor == Contributor::Total {
                 for k in 0..self.contacts.len() {
                     let Some((_, held)) = placed[k] else { continue };
                     let kept = self.contacts[k].rows_kept(&held, solved.contact_multipliers(k));
                     if kept != held {
                         placed[k] = placed[k].map(|(point, _)| (point, kept));
-                        solved = self.solve(&mut contacted, &kinematics, &placed, q, &speeds, &applied, gravity).map_err(|source| self.failed(time, *contributor, source))?;
+                        solved = self.solve(contacted, &kinematics, &placed, q, &speeds, &applied, gravity).map_err(failed)?;
                     }
                 }
             }
@@ -150,19 +153,13 @@ impl Run<'_> {
         Ok(())
     }
 
-    fn failed(&self, time: f64, contributor: Contributor, source: ForwardDynamicsError) -> InducedAccelerationsError {
-        let name = self.contributors.iter().find(|(_, c)| *c == contributor).map_or(String::new(), |(n, _)| n.clone());
-        InducedAccelerationsError::Dynamics { time, contributor: name, source }
-    }
-
     /// What `contributor` applies at `row` (each generator's force `forces` at the state): the
     /// speeds, the forces and whether gravity pulls.
-    fn applied(&self, row: usize, contributor: Contributor, forces: &[f64], kinematics: &Kinematics, u: &[f64]) -> (Vec<f64>, AppliedForces, bool) {
+    fn applied(&self, row: usize, contributor: Contributor, forces: &[f64], kinematics: &Kinematics, u: &[f64], scratch: &mut PathScratch) -> (Vec<f64>, AppliedForces, bool) {
         let n = u.len();
         let mut applied = AppliedForces::new(n);
-        let mut scratch = PathScratch::default();
         let q = self.at.states.motion.pose(row);
-        let mut apply = |g: usize, force: f64| self.at.generators[g].apply(self.geometry, kinematics, q, &mut scratch, force, &mut applied);
+        let mut apply = |g: usize, force: f64| self.at.generators[g].apply(self.geometry, kinematics, q, scratch, force, &mut applied);
         match contributor {
             Contributor::Total => {
                 forces.iter().enumerate().for_each(|(g, &force)| apply(g, force));
@@ -227,6 +224,8 @@ impl Solved {
 struct Recorder {
     /// The coordinates and bodies reported ([`Multibody`] indices), and whether the mass center is.
     reported: (Vec<usize>, Vec<usize>, bool),
+    /// The model's mass, kg.
+    mass: f64,
     /// One row-major value list per coordinate, per body, for the mass center, for the reactions.
     coordinates: Vec<Vec<f64>>,
     bodies: Vec<Vec<f64>>,
@@ -235,9 +234,10 @@ struct Recorder {
 }
 
 impl Recorder {
-    fn new(coordinates: Vec<usize>, bodies: Vec<usize>, center_of_mass: bool) -> Recorder {
+    fn new(multibody: &Multibody, coordinates: Vec<usize>, bodies: Vec<usize>, center_of_mass: bool) -> Recorder {
         let values = (vec![Vec::new(); coordinates.len()], vec![Vec::new(); bodies.len()]);
-        Recorder { reported: (coordinates, bodies, center_of_mass), coordinates: values.0, bodies: values.1, center_of_mass: Vec::new(), reactions: Vec::new() }
+        let mass = multibody.bodies.iter().map(|b| b.mass).sum();
+        Recorder { reported: (coordinates, bodies, center_of_mass), mass, coordinates: values.0, bodies: values.1, center_of_mass: Vec::new(), reactions: Vec::new() }
     }
 
     /// Starts a row at `time` (s).
@@ -262,8 +262,7 @@ impl Recorder {
             values.extend(center(b).iter());
             values.extend(motions[b].angular_acceleration().iter().map(|a| a * angle));
         }
-        let mass: f64 = multibody.bodies.iter().map(|b| b.mass).sum();
-        let weighted: Vec3 = (0..multibody.bodies.len()).map(|b| multibody.bodies[b].mass * center(b)).sum::<Vec3>() / mass;
+        let weighted: Vec3 = (0..multibody.bodies.len()).map(|b| multibody.bodies[b].mass * center(b)).sum::<Vec3>() / self.mass;
         self.center_of_mass.extend(weighted.iter());
         for (k, contact) in run.contacts.iter().enumerate() {
             match &solved.links[k] {
