@@ -86,6 +86,12 @@ impl AnalyzeStates {
 
     /// Forms the states from `table` (read from `file`), low-pass filtered at `cutoff` Hz.
     pub fn new(multibody: &Multibody, table: &StorageTable, file: &Path, cutoff: Option<f64>) -> Result<AnalyzeStates, StatesError> {
+        Self::processed(multibody, table, file, |q| q.filtered(cutoff))
+    }
+
+    /// Forms the states from `table` (read from `file`), its coordinates (rad or m, one column per
+    /// model coordinate) passed through `process` (padding, filtering) before they are splined.
+    pub fn processed(multibody: &Multibody, table: &StorageTable, file: &Path, process: impl FnOnce(Series) -> Result<Series, SignalError>) -> Result<AnalyzeStates, StatesError> {
         let signal = |source| StatesError::Signal { file: file.into(), source };
         let motion = Motion::from_table(table, file, multibody, true)?;
         let absent: Vec<usize> = (0..multibody.coordinates.len()).filter(|&c| motion.defaulted.contains(&multibody.coordinates[c].name)).collect();
@@ -93,7 +99,7 @@ impl AnalyzeStates {
         let columns = (0..multibody.coordinates.len())
             .map(|c| (0..motion.len()).map(|i| if absent.contains(&c) { 0.0 } else { motion.pose(i)[c] }).collect())
             .collect();
-        let q = Series::new(motion.times.clone(), columns, 6).and_then(|s| s.filtered(cutoff)).map_err(signal)?;
+        let q = Series::new(motion.times.clone(), columns, 6).and_then(process).map_err(signal)?;
         let u = derivatives(&q).map_err(signal)?;
         let udot = derivatives(&u).map_err(signal)?;
         let mut q_rows = rows(&q);

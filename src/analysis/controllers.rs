@@ -58,6 +58,11 @@ impl Controllers {
         Controllers::new(spec.controllers.iter().chain(tool), &model_actuators(spec, added, replace))
     }
 
+    /// One `ControlSetController` applying `set`.
+    pub fn from_control_set(set: ControlSet) -> Controllers {
+        Controllers { members: vec![Member::ControlSet(set)], ..Controllers::default() }
+    }
+
     /// The control of `actuator` at `time` (s): the sum of the controllers', 0 without one.
     pub fn control(&self, actuator: &str, time: f64) -> f64 {
         self.members

@@ -22,6 +22,7 @@ mod muscle_states;
 mod physiological_inverse;
 mod probes;
 mod reporters;
+mod residual_reduction;
 mod signal;
 mod simulation;
 mod sampled_motion;
@@ -45,6 +46,7 @@ pub use joint_reaction::{joint_reactions, reaction_reports, ActuatorForces, Join
 pub use analyze_tool::{analyze_tool_tables, AnalyzeModel, AnalyzeToolError, AnalyzeToolTables};
 pub use muscle_analysis::{MuscleAnalysis, SetupTables};
 pub use physiological_inverse::{physiological_inverse, Contraction, Criterion, PhysiologicalInverseResult, PhysiologicalInverseSettings, MAX_LINEARISATIONS, SETTLED_STEP, SETTLED_VIOLATION};
+pub use residual_reduction::{run_rra, Adjusted, MassAdjustment, ResidualReductionError, Residuals, RraOutputs, RESIDUALS};
 pub use signal::{spline, Series, SignalError};
 pub use simulation::{controls_table, initial_state, ForwardModel, simulate_plant, state_labels, state_values, states_table, InitialSource, Plant, SimulatedState, Simulation, SimulationError};
 pub use sampled_motion::{CoordinateState, SampledMotion, SampledMotionError};

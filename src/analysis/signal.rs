@@ -1,6 +1,6 @@
 //! OpenSim's `Storage` signal operations that its tools apply to coordinates before
-//! differentiating them: `pad` (reflect and negate), `lowpassIIR` (resampled first when the
-//! sampling is not uniform) and the GCV splines that resample and differentiate.
+//! differentiating them: `pad` (reflect and negate), `lowpassIIR` and `lowpassFIR` (resampled
+//! first when the sampling is not uniform) and the GCV splines that resample and differentiate.
 
 use crate::mechanics::Function;
 use crate::model::FunctionSpec;
@@ -46,24 +46,54 @@ impl Series {
         }
     }
 
-    /// `Storage::pad(n)` for n < the number of samples: n samples before and after, the times
-    /// and each signal reflected about its end sample and negated (`Signal::Pad`).
+    /// `Storage::pad(n)`: n samples before and after, the times and each signal reflected about
+    /// its end sample and negated (`Signal::Pad`) — for n not below the number of samples, padded
+    /// again and again by as many as there are, less one, until n are added on each side.
     pub fn pad(&self, n: usize) -> Series {
-        Series { times: reflect(&self.times, n), columns: self.columns.iter().map(|c| reflect(c, n)).collect() }
+        let padded = |signal: &[f64]| {
+            let target = signal.len() + 2 * n;
+            let mut padded = signal.to_vec();
+            let mut pad = n.min(signal.len().saturating_sub(1));
+            while padded.len() < target && pad > 0 {
+                padded = reflect(&padded, pad);
+                pad = ((target - padded.len()) / 2).min(padded.len() - 1);
+            }
+            padded
+        };
+        Series { times: padded(&self.times), columns: self.columns.iter().map(|c| padded(c)).collect() }
     }
 
     /// `Storage::lowpassIIR(cutoff)`: resampled at the smallest step by degree-5 GCV splines when
     /// the steps differ, then each signal through `Signal::LowpassIIR` (Hz).
     pub fn lowpass(&self, cutoff: f64) -> Result<Series, SignalError> {
-        let n = self.times.len();
-        let step = self.times.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
-        let average = (self.times[n - 1] - self.times[0]) / (n - 1) as f64;
-        let (series, step) = if average - step > EPS { self.resample(step)? } else { (self.clone(), step) };
+        let (series, step) = self.uniform()?;
         if series.times.len() < 4 {
             return Err(SignalError::TooFewSamples { needed: 4, found: series.times.len() });
         }
         let columns = series.columns.iter().map(|c| butterworth(step, cutoff, c)).collect();
         Ok(Series { times: series.times, columns })
+    }
+
+    /// `Storage::lowpassFIR(order, cutoff)`: resampled at the smallest step as
+    /// [`Series::lowpass`] does, then each signal through `Signal::LowpassFIR` — a windowed-sinc
+    /// filter of 2·`order` + 1 taps (Hamming window, unit gain at 0 Hz) over the signal padded by
+    /// `order` samples, cutoff in Hz; at least 2·`order` samples are needed.
+    pub fn lowpass_fir(&self, order: usize, cutoff: f64) -> Result<Series, SignalError> {
+        let (series, step) = self.uniform()?;
+        if series.times.len() < 2 * order {
+            return Err(SignalError::TooFewSamples { needed: 2 * order, found: series.times.len() });
+        }
+        let columns = series.columns.iter().map(|c| windowed_sinc(order, step, cutoff, c)).collect();
+        Ok(Series { times: series.times, columns })
+    }
+
+    /// The series at a uniform step — itself, or resampled at its smallest step when the steps
+    /// differ — and that step (s).
+    fn uniform(&self) -> Result<(Series, f64), SignalError> {
+        let n = self.times.len();
+        let step = self.times.windows(2).map(|w| w[1] - w[0]).fold(f64::INFINITY, f64::min);
+        let average = (self.times[n - 1] - self.times[0]) / (n - 1) as f64;
+        if average - step > EPS { self.resample(step) } else { Ok((self.clone(), step)) }
     }
 
     /// Degree-5 interpolating GCV splines of each signal (`GCVSplineSet(5, storage)`).
@@ -158,6 +188,27 @@ fn reflect(signal: &[f64], pad: usize) -> Vec<f64> {
     before.chain(signal.iter().copied()).chain(after).collect()
 }
 
+/// `Signal::LowpassFIR`: y[n] = Σₖ c(k)·s[n − k] / Σₖ c(k), k = −`order`…`order`, c(k) =
+/// sinc(k·ω·T)·ω·T/π · (0.54 + 0.46·cos(kπ/`order`)), ω = 2π·`cutoff` (Hz), T = `step` (s), s the
+/// signal padded by `order` samples (`Signal::Pad`).
+fn windowed_sinc(order: usize, step: f64, cutoff: f64, signal: &[f64]) -> Vec<f64> {
+    use std::f64::consts::PI;
+    let m = order as i64;
+    let padded = reflect(signal, order);
+    let w = 2.0 * PI * cutoff;
+    let sinc = |x: f64| if x.abs() < 1e-8 { 1.0 } else { x.sin() / x };
+    let coefficient = |k: i64| sinc(k as f64 * w * step) * step * w / PI * (0.54 + 0.46 * (k as f64 * PI / order as f64).cos());
+    (0..signal.len() as i64)
+        .map(|n| {
+            let (sum, total) = (-m..=m).fold((0.0, 0.0), |(sum, total), k| {
+                let c = coefficient(k);
+                (sum + c * padded[(m + n - k) as usize], total + c)
+            });
+            sum / total
+        })
+        .collect()
+}
+
 /// `Signal::LowpassIIR`: a third-order Butterworth low-pass (bilinear transform with frequency
 /// warping) run forward and then backward, sample step `step` (s), cutoff `cutoff` (Hz; lowered
 /// to 0.49 of the sampling rate if it is not below half of it). The first three samples of each
@@ -200,6 +251,32 @@ mod tests {
     }
 
     /// A constant passes unchanged (unit DC gain) and a tone far above the cutoff is removed.
+    /// `Signal::Pad` on an array shorter than the pad: padded by its length less one, then by
+    /// what is still missing.
+    #[test]
+    fn a_pad_longer_than_the_signal_is_repeated() {
+        let series = Series::new(vec![0.0, 1.0, 2.0], vec![vec![1.0, 2.0, 4.0]], 1).unwrap().pad(4);
+        assert_eq!(series.times, vec![-4.0, -3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        // Once by 2: [-2, 0 | 1 2 4 | 6, 7]; then by 2 more, about the new ends.
+        assert_eq!(series.columns[0], vec![-5.0, -4.0, -2.0, 0.0, 1.0, 2.0, 4.0, 6.0, 7.0, 8.0, 10.0]);
+    }
+
+    /// The FIR filter passes a constant and a slow line unchanged in the middle, and removes a
+    /// tone far above its cutoff.
+    #[test]
+    fn the_fir_filter_keeps_slow_signals_and_removes_a_high_tone() {
+        let times: Vec<f64> = (0..400).map(|i| i as f64 * 0.01).collect();
+        let slow: Vec<f64> = times.iter().map(|t| 2.0 + 0.5 * t).collect();
+        let noisy: Vec<f64> = times.iter().zip(&slow).map(|(t, s)| s + (2.0 * std::f64::consts::PI * 40.0 * t).sin()).collect();
+        let filtered = Series::new(times, vec![slow.clone(), noisy], 1).unwrap().lowpass_fir(50, 6.0).unwrap();
+        for i in 60..340 {
+            assert!((filtered.columns[0][i] - slow[i]).abs() < 1e-12, "{i}");
+            assert!((filtered.columns[1][i] - slow[i]).abs() < 1e-3, "{i}: {}", filtered.columns[1][i] - slow[i]);
+        }
+        let short = Series::new(vec![0.0, 0.1, 0.2], vec![vec![0.0; 3]], 1).unwrap();
+        assert_eq!(short.lowpass_fir(2, 1.0), Err(SignalError::TooFewSamples { needed: 4, found: 3 }));
+    }
+
     #[test]
     fn the_filter_keeps_a_constant_and_removes_a_high_tone() {
         let step = 0.01;

@@ -570,6 +570,26 @@ pub enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// OpenSim's residual reduction algorithm (RRATool) from its setup: the model's forces
+    /// replaced by the setup's actuators (residuals on the pelvis, a CoordinateActuator per joint),
+    /// with adjust_com_to_reduce_residuals the average residuals of inverse dynamics along the
+    /// desired kinematics moving adjusted_com_body's mass center (and mass changes recommended),
+    /// then CMC tracking of the desired kinematics (its CMC_Joint tasks, every 0.001 s the
+    /// actuator forces minimising the weighted acceleration errors plus the actuators' squared
+    /// stress, within the controls' bounds). Writes `<name>_states.sto`, `_controls.sto`,
+    /// `_controls.xml`, `_pErr.sto`, `_Kinematics_q/u/dudt.sto`, `_Actuation_force/speed/power.sto`,
+    /// `_avgResiduals.txt` and the adjusted model (output_model_file; only the mass center
+    /// changes). Exit 0 success, 1 the tracking failed (nothing written), 2 error.
+    Rra {
+        /// The model (.osim).
+        model: PathBuf,
+        /// The OpenSim RRATool setup (its other files relative to its folder).
+        #[arg(long)]
+        setup: PathBuf,
+        /// Output folder for the tables (created if needed); existing files of the same names are replaced.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Functional knee axis from a flexion–extension trial (thesis ch. 4): segment poses from
     /// the femur and tibia marker clusters, then GaL (Gamage & Lasenby) or SARA (Ehrig). Prints
     /// the axis in the lab frame of the trial's first frame and in both segment frames; with

@@ -18,30 +18,61 @@ pub struct ControlLinear {
     /// Linear extrapolation beyond the nodes (default true), else the end values.
     pub extrapolate: bool,
     pub nodes: Vec<(f64, f64)>,
+    /// The control's bounds in time.
+    pub bounds: ControlBounds,
+}
+
+/// A control's bounds: `default_min`/`default_max` (OpenSim's defaults 0.02 and 1), or nodes in
+/// time (`min_nodes`, `max_nodes`) where it has them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ControlBounds {
+    pub default_min: f64,
+    pub default_max: f64,
+    pub min_nodes: Vec<(f64, f64)>,
+    pub max_nodes: Vec<(f64, f64)>,
+}
+
+impl Default for ControlBounds {
+    fn default() -> Self {
+        ControlBounds { default_min: 0.02, default_max: 1.0, min_nodes: Vec::new(), max_nodes: Vec::new() }
+    }
 }
 
 impl ControlLinear {
     /// The control at time `t` (s), as `ControlLinear::getControlValue`: NaN without nodes.
     pub fn value(&self, t: f64) -> f64 {
-        let n = self.nodes.len();
-        let Some(&(_, first)) = self.nodes.first() else { return f64::NAN };
+        self.along(&self.nodes, t)
+    }
+
+    /// The lower and upper bound at `t` (s) (`getControlValueMin`/`Max`): the default without
+    /// nodes, else the nodes as [`ControlLinear::value`] follows its own.
+    pub fn bounds_at(&self, t: f64) -> (f64, f64) {
+        let bound = |nodes: &[(f64, f64)], default: f64| if nodes.is_empty() { default } else { self.along(nodes, t) };
+        (bound(&self.bounds.min_nodes, self.bounds.default_min), bound(&self.bounds.max_nodes, self.bounds.default_max))
+    }
+
+    /// `nodes` (time order) at `t`: linear or in steps, extrapolated or held, as this control
+    /// interpolates; NaN without nodes.
+    fn along(&self, nodes: &[(f64, f64)], t: f64) -> f64 {
+        let n = nodes.len();
+        let Some(&(_, first)) = nodes.first() else { return f64::NAN };
         // The last node at or before t (exact comparisons, OpenSim's binary search).
-        let at_or_before = self.nodes.partition_point(|&(time, _)| time <= t).checked_sub(1);
+        let at_or_before = nodes.partition_point(|&(time, _)| time <= t).checked_sub(1);
         let line = |(t1, v1): (f64, f64), (t2, v2): (f64, f64)| if t1 == t2 { v1 } else { v1 + (t - t1) * (v2 - v1) / (t2 - t1) };
         let extrapolating = !self.use_steps && self.extrapolate && n > 1;
         match at_or_before {
-            None if extrapolating => line(self.nodes[0], self.nodes[1]),
+            None if extrapolating => line(nodes[0], nodes[1]),
             None => first,
             Some(i) if i + 1 >= n => {
                 if extrapolating {
-                    line(self.nodes[n - 2], self.nodes[n - 1])
+                    line(nodes[n - 2], nodes[n - 1])
                 } else {
-                    self.nodes[n - 1].1
+                    nodes[n - 1].1
                 }
             }
-            Some(i) if !self.use_steps => line(self.nodes[i], self.nodes[i + 1]),
-            Some(i) if t == self.nodes[i].0 => self.nodes[i].1,
-            Some(i) => self.nodes[i + 1].1,
+            Some(i) if !self.use_steps => line(nodes[i], nodes[i + 1]),
+            Some(i) if t == nodes[i].0 => nodes[i].1,
+            Some(i) => nodes[i + 1].1,
         }
     }
 }
@@ -67,17 +98,22 @@ impl ControlSet {
         for element in set.listed_objects(document.object) {
             let control = set.at(element);
             expect_class(control, "ControlLinear")?;
-            let mut nodes = Vec::new();
-            if let Some(list) = control.child("x_nodes") {
-                for node in control.listed_objects(list) {
-                    let node = control.at(node);
-                    nodes.push((node.number("t")?, node.number("value")?));
-                }
-            }
-            nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
-            controls.push(ControlLinear { name: control.name(), use_steps: control.boolean_or("use_steps", false)?, extrapolate: control.boolean_or("extrapolate", true)?, nodes });
+            let defaults = ControlBounds::default();
+            let bounds = ControlBounds {
+                default_min: control.number_or("default_min", defaults.default_min)?,
+                default_max: control.number_or("default_max", defaults.default_max)?,
+                min_nodes: nodes(control, "min_nodes")?,
+                max_nodes: nodes(control, "max_nodes")?,
+            };
+            controls.push(ControlLinear { name: control.name(), use_steps: control.boolean_or("use_steps", false)?, extrapolate: control.boolean_or("extrapolate", true)?, nodes: nodes(control, "x_nodes")?, bounds });
         }
         Ok(ControlSet { file: path.into(), controls })
+    }
+
+    /// The control named `name` or `<name>.excitation`, as `ControlSetController` finds it.
+    pub fn find(&self, name: &str) -> Option<&ControlLinear> {
+        let exact = self.controls.iter().find(|c| c.name == name);
+        exact.or_else(|| self.controls.iter().find(|c| c.name.strip_suffix(".excitation") == Some(name)))
     }
 
     /// A linear control per column of `table` (read from `file`), nodes at its rows.
@@ -85,7 +121,7 @@ impl ControlSet {
         let times = table.times();
         let controls = table.labels()[1..]
             .iter()
-            .map(|name| ControlLinear { name: name.clone(), use_steps: false, extrapolate: true, nodes: times.iter().copied().zip(table.column(name).unwrap_or_default()).collect() })
+            .map(|name| ControlLinear { name: name.clone(), use_steps: false, extrapolate: true, nodes: times.iter().copied().zip(table.column(name).unwrap_or_default()).collect(), bounds: ControlBounds::default() })
             .collect();
         ControlSet { file: file.into(), controls }
     }
@@ -93,18 +129,39 @@ impl ControlSet {
     /// The control of actuator `actuator` — named so, or `<actuator>.excitation` — at `t` (s), as
     /// `ControlSetController` finds it; `None` when the set has none.
     pub fn control(&self, actuator: &str, t: f64) -> Option<f64> {
-        let exact = self.controls.iter().find(|c| c.name == actuator);
-        let excitation = || self.controls.iter().find(|c| c.name.strip_suffix(".excitation") == Some(actuator));
-        exact.or_else(excitation).map(|c| c.value(t))
+        self.find(actuator).map(|c| c.value(t))
     }
+}
+
+/// The `ControlLinearNode`s (time s, value) of the node list `list` of `control`, in time order.
+fn nodes(control: ComponentReader, list: &str) -> Result<Vec<(f64, f64)>, SetupError> {
+    let mut nodes = Vec::new();
+    if let Some(list) = control.child(list) {
+        for node in control.listed_objects(list) {
+            let node = control.at(node);
+            nodes.push((node.number("t")?, node.number("value")?));
+        }
+    }
+    nodes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    Ok(nodes)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::ControlLinear;
+    use super::{ControlBounds, ControlLinear};
 
     fn control(use_steps: bool, extrapolate: bool) -> ControlLinear {
-        ControlLinear { name: "a".into(), use_steps, extrapolate, nodes: vec![(0.0, 1.0), (1.0, 3.0), (2.0, 2.0)] }
+        ControlLinear { name: "a".into(), use_steps, extrapolate, nodes: vec![(0.0, 1.0), (1.0, 3.0), (2.0, 2.0)], bounds: ControlBounds::default() }
+    }
+
+    /// Bounds are the defaults without nodes, else their nodes interpolated as the control's.
+    #[test]
+    fn bounds_follow_their_nodes_or_defaults() {
+        let mut linear = control(false, true);
+        assert_eq!(linear.bounds_at(0.5), (0.02, 1.0));
+        linear.bounds.max_nodes = vec![(0.0, 2.0), (1.0, 4.0)];
+        linear.bounds.default_min = -5.0;
+        assert_eq!(linear.bounds_at(0.5), (-5.0, 3.0));
     }
 
     /// `ControlLinear::getControlValue`'s cases: between nodes, at them, before and after them.

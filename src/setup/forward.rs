@@ -44,16 +44,22 @@ impl ForwardSetup {
     /// The object of `document` (its file names resolve against the document's directory).
     pub fn from_document(document: &OsimDocument) -> Result<ForwardSetup, SetupError> {
         let tool = AnalyzeSetup::from_tool(document, "ForwardTool", false)?;
-        let reader = ComponentReader::new(document, document.object);
+        let integrator = IntegratorSettings::read(ComponentReader::new(document, document.object))?;
+        Ok(ForwardSetup { tool, integrator })
+    }
+}
+
+impl IntegratorSettings {
+    /// The integrator properties of the tool `reader` reads, with OpenSim's defaults.
+    pub(super) fn read(reader: ComponentReader) -> Result<IntegratorSettings, SetupError> {
         let positive = |property: &str, default: f64| checked_number_or(reader, property, default, |v| v > 0.0, "a number > 0");
         let steps = checked_number_or(reader, "maximum_number_of_integrator_steps", 20000.0, |v| v >= 1.0 && v.fract() == 0.0, "a whole number ≥ 1")?;
-        let integrator = IntegratorSettings {
+        Ok(IntegratorSettings {
             maximum_steps: steps as usize,
             maximum_step_size: positive("maximum_integrator_step_size", 1.0)?,
             minimum_step_size: positive("minimum_integrator_step_size", 1e-8)?,
             error_tolerance: positive("integrator_error_tolerance", 1e-5)?,
-        };
-        Ok(ForwardSetup { tool, integrator })
+        })
     }
 }
 

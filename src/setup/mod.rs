@@ -1,5 +1,5 @@
 //! Typed views of OpenSim tool setup files — `<ScaleTool>`, `<InverseKinematicsTool>`,
-//! `<InverseDynamicsTool>`, `<AnalyzeTool>` (static optimisation) and the `<ExternalLoads>` they
+//! `<InverseDynamicsTool>`, `<AnalyzeTool>`, `<ForwardTool>`, `<RRATool>` (with its `CMC_TaskSet`) and the `<ExternalLoads>` they
 //! name — in the 2.x/3.x and 4.x dialects, read through `io::osim::OsimDocument` with OpenSim's defaults
 //! for absent properties. Objects given by reference (`<IKTaskSet file="…"/>`) are read from
 //! their files; file names resolve against the setup file's directory, as OpenSim resolves them;
@@ -20,11 +20,12 @@ mod model_scaler;
 mod object;
 mod path;
 mod property;
+mod rra;
 mod scale;
 mod time_range;
 
 pub use analyze::{AnalyzeSetup, BodyKinematicsSetup, JointReactionSetup, KinematicsSetup, MuscleAnalysisSetup, PointKinematicsSetup, ReporterSetup, StaticOptimizationSetup};
-pub use controls::{ControlLinear, ControlSet};
+pub use controls::{ControlBounds, ControlLinear, ControlSet};
 pub use error::SetupError;
 pub use object::read_document;
 pub use external_loads::{ExternalForceSpec, ExternalLoadsSetup};
@@ -37,5 +38,6 @@ pub use marker_placer::MarkerPlacer;
 pub use measurement::{BodyScale, Measurement};
 pub use model_scaler::{ManualScale, ModelScaler, ScalingStep};
 pub use path::SetupPath;
+pub use rra::{CmcTaskSet, JointTask, RraSetup};
 pub use scale::{GenericModelMaker, ScaleSetup};
 pub use time_range::TimeRange;

@@ -66,6 +66,17 @@ impl ForwardModel {
         Ok(ForwardModel { spec, geometry, added, replace, external, controls, generators, states, read })
     }
 
+    /// The model with `body`'s mass center moved to `mass_center` (m, in the body), everything
+    /// else as it is (RRA's adjusted model).
+    pub fn with_mass_center(&self, body: &str, mass_center: [f64; 3]) -> Result<ForwardModel, String> {
+        let mut spec = self.spec.clone();
+        let adjusted = spec.bodies.iter_mut().find(|b| b.name == body).ok_or_else(|| format!("the model has no body {body:?}"))?;
+        adjusted.mass_center = mass_center;
+        let geometry = MuscleGeometry::new(&spec).map_err(|e| e.to_string())?;
+        let generators = force_generators(&spec, &geometry, &self.added, self.replace).map_err(|e| e.to_string())?;
+        Ok(ForwardModel { spec, geometry, generators, added: self.added.clone(), external: self.external.clone(), controls: self.controls.clone(), states: self.states.clone(), read: self.read.clone(), replace: self.replace })
+    }
+
     /// The plant of the model, its locked coordinates at their defaults; controllers osim-tune
     /// does not apply are refused.
     pub fn plant(&self) -> Result<Plant<'_>, SimulationError> {

@@ -22,7 +22,7 @@ mod tables;
 
 pub use initial::{initial_state, InitialSource};
 pub use inputs::ForwardModel;
-pub use plant::{Plant, SimulatedState};
+pub use plant::{Plant, SimulatedState, Workspace};
 pub use tables::{controls_table, state_labels, state_values, states_table};
 
 use std::cell::RefCell;

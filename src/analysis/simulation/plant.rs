@@ -50,7 +50,7 @@ pub struct Plant<'a> {
 }
 
 /// The buffers one evaluation of the state derivative needs.
-pub(super) struct Workspace {
+pub struct Workspace {
     kinematics: Kinematics,
     scratch: PathScratch,
 }
@@ -101,7 +101,7 @@ impl<'a> Plant<'a> {
     }
 
     /// The integrator's vector of `state`.
-    pub(super) fn pack(&self, state: &SimulatedState) -> Vec<f64> {
+    pub fn pack(&self, state: &SimulatedState) -> Vec<f64> {
         let free = || self.free.iter();
         free().map(|&c| state.q[c])
             .chain(free().map(|&c| state.u[c]))
@@ -170,13 +170,13 @@ impl<'a> Plant<'a> {
         Ok(projected)
     }
 
-    pub(super) fn workspace(&self) -> Workspace {
+    pub fn workspace(&self) -> Workspace {
         Workspace { kinematics: self.geometry.multibody.kinematics(), scratch: PathScratch::default() }
     }
 
     /// ẏ at `time` (s) and `y` into `dy`; an error names why it has none (a muscle's state out
     /// of its domain, a singular mass matrix).
-    pub(super) fn derivatives(&self, time: f64, y: &[f64], dy: &mut [f64], work: &mut Workspace) -> Result<(), String> {
+    pub fn derivatives(&self, time: f64, y: &[f64], dy: &mut [f64], work: &mut Workspace) -> Result<(), String> {
         let multibody = &self.geometry.multibody;
         let controls = self.generator_controls(time);
         let state = self.unpack_with(y, &controls);

@@ -10,10 +10,10 @@ use clap::Parser;
 
 use crate::cli::{Arguments, Failure, Outcome};
 use crate::model::ComponentReader;
-use crate::setup::{read_document, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, ScaleSetup, SetupPath};
+use crate::setup::{read_document, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, RraSetup, ScaleSetup, SetupPath};
 
 /// The setups `run` knows, by their root element.
-const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool> or <ForwardTool>";
+const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool>, <ForwardTool> or <RRATool>";
 /// The AnalyzeTool analyses `run` runs.
 const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction";
 
@@ -50,6 +50,7 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
         "InverseDynamicsTool" => vec![inverse_dynamics_tool(setup, &IdSetup::from_document(&document)?)?],
         "AnalyzeTool" => analyze_tool(setup, &AnalyzeSetup::from_document(&document)?)?,
         "ForwardTool" => vec![forward_tool(setup, &ForwardSetup::from_document(&document)?)?],
+        "RRATool" => vec![rra_tool(setup, &RraSetup::from_document(&document)?)?],
         other => return Err(format!("{}:{}: <{other}> is not a tool osim-tune runs; expected {TOOLS} ({ANALYSES})", setup.display(), tool.line()).into()),
     };
     let mut outcome = Outcome::Success;
@@ -168,6 +169,12 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
 }
 
 /// ForwardTool: `simulate MODEL --setup SETUP -o <results_directory>`.
+/// RRATool: `rra MODEL --setup SETUP -o <results_directory>`.
+fn rra_tool(file: &Path, setup: &RraSetup) -> Result<Invocation, Failure> {
+    let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
+    Ok(Invocation::new(&["rra".as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tool.results_directory.resolved.as_ref()]))
+}
+
 fn forward_tool(file: &Path, setup: &ForwardSetup) -> Result<Invocation, Failure> {
     let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
     if let Some(states) = &setup.tool.states_file {
