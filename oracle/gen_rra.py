@@ -11,7 +11,8 @@ ground reaction forces, the gait2354 RRA tracking tasks (CMC_Joint per coordinat
   integrator tolerance 1e-5.
 
 Writes fixtures/golden/rra/<case>/: setup.xml (inputs by plain name), files.txt (every file
-OpenSim wrote), every .sto and the average residuals it wrote, and summary.json: the adjusted
+OpenSim wrote), every .sto (the states file's header repaired: OpenSim 4.6 leaves an early
+flush's header lines in it) and the average residuals it wrote, and summary.json: the adjusted
 body's mass center in the model OpenSim wrote and the lines of its mass-adjustment report
 (`* …` lines of the log: the COM change, recommended masses, average residuals before and
 after the adjustment).
@@ -91,6 +92,17 @@ sys.exit(0 if ok else 1)
 """
 
 
+def repair_states(path):
+    """OpenSim 4.6's RRA flushes its states file early and prints it again at the end over the
+    same name, leaving the first header's lines before the second's tail; keeps the table and
+    writes a whole header for it."""
+    lines = path.read_text().splitlines()
+    last = max(i for i, line in enumerate(lines) if line.strip() == "endheader")
+    table = [line for line in lines[last + 1:] if line.strip()]
+    header = f"states\nversion=1\nnRows={len(table) - 1}\nnColumns={len(table[0].split())}\ninDegrees=no\nendheader\n"
+    path.write_text(header + "\n".join(table) + "\n")
+
+
 def main():
     for case in sys.argv[1:] or CASES:
         out = OUT / case
@@ -110,6 +122,7 @@ def main():
             for file in written:
                 if file.endswith(".sto") or file.endswith(".txt"):
                     shutil.copy(work / "Results" / file, out / file)
+            repair_states(out / f"{name}_states.sto")
             model = ET.parse(work / "Results" / f"{name}_adjusted.osim")
             body = next(b for b in model.iter("Body") if b.get("name") == "torso")
             report = [line.strip() for line in run.stdout.splitlines() if line.startswith("*  ") or line.startswith("* Mass Center") or line.startswith("* New COM")]

@@ -246,11 +246,11 @@ pub enum Command {
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
     /// InverseKinematicsTool, InverseDynamicsTool, AnalyzeTool (MuscleAnalysis, Kinematics,
     /// BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter,
-    /// ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction) or ForwardTool (`simulate`) setup's model, input
+    /// ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction), ForwardTool (`simulate`) or RRATool (`rra`) setup's model, input
     /// and output files (relative names from the setup's
     /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
     /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as
-    /// that command: 0 success, 1 a frame did not converge or a simulation failed, 2 error.
+    /// that command: 0 success, 1 a frame did not converge or a simulation or tracking failed, 2 error.
     Run {
         /// The setup (.xml), OpenSim 2.x–4.x.
         setup: PathBuf,

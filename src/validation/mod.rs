@@ -20,7 +20,9 @@ mod model_goldens;
 mod muscle_thelen;
 mod scale;
 mod walk_dynamics;
+mod rra;
 
+pub use rra::{compare_rra_case, rra_tolerances, run_rra_case, RraComparison, RRA_CASES, RRA_INPUTS, RRA_MASS_CENTER_TOLERANCE, RRA_REPORT_TOLERANCE};
 pub use analyze_tool::{case_tolerance, compare_analyze_tool_setup, row_errors, row_tolerance, table_error, AnalyzeToolComparison, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};
 pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};
 pub use dynamometer::{dynamometer_golden_run, DynamometerCase, DynamometerComparison, DYNAMOMETER_CASES};

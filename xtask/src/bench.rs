@@ -37,8 +37,9 @@ pub fn run() -> ExitCode {
     let forward = crate::bench_forward::run();
     let reaction = crate::bench_reaction::run();
     let analyze = crate::bench_analyze::run();
+    let rra = crate::bench_rra::run();
     let kalman = crate::bench_ik::kalman();
-    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction).and(analyze).and(kalman) {
+    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction).and(analyze).and(rra).and(kalman) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -11,6 +11,7 @@ mod bench_forward;
 mod bench_functional;
 mod bench_ik;
 mod bench_reaction;
+mod bench_rra;
 mod dynamics;
 mod functional;
 mod functional_generated;
@@ -21,6 +22,7 @@ mod kalman_ik;
 mod knee_axis;
 mod knee_swap;
 mod muscle;
+mod rra;
 mod scale;
 mod validate;
 

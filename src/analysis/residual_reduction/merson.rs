@@ -1,7 +1,10 @@
 //! Simbody's Runge–Kutta–Merson step (OpenSim's default integrator; Hairer, Nørsett & Wanner,
 //! Solving ODEs I, table 4.1): five stages, the 4th-order solution propagated, |y − ŷ|/5 against
-//! the embedded 3rd-order ŷ as its error estimate. A window is one step when that estimate is
-//! within the tolerance (relative to |y|, at least 1), else two half windows, recursively.
+//! the embedded 3rd-order ŷ as its error estimate, normed as Simbody norms it (the larger of the
+//! coordinates' RMS error and the speeds' RMS error relative to |u| where |u| > 1). A window is
+//! one step when that norm is within the tolerance, else two half windows, recursively (Simbody
+//! instead shrinks its step size and keeps it: its internal steps are not ours, though both meet
+//! the tolerance).
 
 use crate::analysis::simulation::{Plant, Workspace};
 
@@ -23,7 +26,7 @@ pub fn integrate(plant: &Plant, y: &[f64], [from, to]: [f64; 2], max_step: f64, 
 /// One step over [from, to], or two halves when its error estimate exceeds `tolerance`.
 fn adaptive(plant: &Plant, y: &[f64], [from, to]: [f64; 2], tolerance: f64, work: &mut Workspace, depth: u32) -> Result<Vec<f64>, (f64, String)> {
     let (y1, error) = step(plant, y, from, to - from, work)?;
-    let norm = error.iter().zip(&y1).map(|(e, y)| e / y.abs().max(1.0)).fold(0.0, f64::max);
+    let norm = error_norm(&error, y, plant.coordinate_states());
     if norm <= tolerance {
         return Ok(y1);
     }
@@ -33,6 +36,19 @@ fn adaptive(plant: &Plant, y: &[f64], [from, to]: [f64; 2], tolerance: f64, work
     let middle = 0.5 * (from + to);
     let half = adaptive(plant, y, [from, middle], tolerance, work, depth + 1)?;
     adaptive(plant, &half, [middle, to], tolerance, work, depth + 1)
+}
+
+/// Simbody's `calcErrorNorm` with unit weights: the RMS of the coordinates' errors and of the
+/// speeds' errors scaled by 1/|u| where |u| > 1 at the step's start `y`, the larger of the two
+/// (`n` coordinates, then as many speeds).
+fn error_norm(error: &[f64], y: &[f64], n: usize) -> f64 {
+    let rms = |values: &mut dyn Iterator<Item = f64>| {
+        let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v * v, c + 1));
+        if count == 0 { 0.0 } else { (sum / count as f64).sqrt() }
+    };
+    let q = rms(&mut error[..n].iter().copied());
+    let u = rms(&mut error[n..2 * n].iter().zip(&y[n..2 * n]).map(|(e, u)| if u.abs() > 1.0 { e / u.abs() } else { *e }));
+    q.max(u)
 }
 
 /// One Merson step of `h` (s) from `y` at `t0`: the 4th-order y₁ and the error estimate per state.

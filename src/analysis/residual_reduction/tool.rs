@@ -74,9 +74,9 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
     let desired = DesiredKinematics::new(&inputs.geometry.multibody, &table, &desired_file, cutoff)?;
     let adjustment = if setup.adjust_com_to_reduce_residuals { Some(adjust_mass_center(setup, &inputs, &desired, range, &desired_file)?) } else { None };
     let tracked_model = adjustment.as_ref().map_or(&inputs, |a| &a.model);
-    let mut plant = tracked_model.plant().map_err(|e| input(e.to_string()))?;
+    let plant = tracked_model.plant().map_err(|e| input(e.to_string()))?;
     let limits = control_limits(&plant, constraints.as_ref());
-    let tracking = track(&mut plant, &desired, &tasks, &limits, range, &setup.integrator)?;
+    let tracking = track(&plant, &desired, &tasks, &limits, range, &setup.integrator)?;
     let name = &tool.name;
     let table_error = |e: crate::io::table::TableError| ResidualReductionError::Input(e.to_string());
     let states = StorageTable::new(plant.spec.name.as_str(), state_labels(&plant), tracking.times.iter().zip(&tracking.states).flat_map(|(t, s)| std::iter::once(*t).chain(state_values(&plant, s))).collect()).map_err(table_error)?.with_in_degrees(false);

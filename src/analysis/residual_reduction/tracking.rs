@@ -41,7 +41,8 @@ pub struct Task<'a> {
 pub struct Tracking {
     pub times: Vec<f64>,
     pub states: Vec<SimulatedState>,
-    /// One `ControlLinear` per actuator (`<actuator>.excitation`), nodes at the windows' ends.
+    /// One `ControlLinear` per actuator (`<actuator>.excitation`), nodes at the windows' ends,
+    /// held at the first node's value before it.
     pub controls: ControlSet,
     /// `_pErr.sto`: qᵢ,d − qᵢ per task (rad or m).
     pub position_errors: StorageTable,
@@ -50,11 +51,9 @@ pub struct Tracking {
 /// Tracks `desired` with `plant`'s actuators (ideal: control × optimal force) from `range[0]` to
 /// `range[1]` − T; `limits`: each generator's control bounds (a `ControlLinear` whose bounds
 /// apply, e.g. from the setup's constraints file).
-pub fn track(plant: &mut Plant, desired: &DesiredKinematics, tasks: &[Task], limits: &[ControlLinear], range: [f64; 2], integrator: &IntegratorSettings) -> Result<Tracking, ResidualReductionError> {
+pub fn track(plant: &Plant, desired: &DesiredKinematics, tasks: &[Task], limits: &[ControlLinear], range: [f64; 2], integrator: &IntegratorSettings) -> Result<Tracking, ResidualReductionError> {
     let (q, u) = desired.pose(range[0]);
-    let mut state = SimulatedState { q, u, activations: Vec::new(), seconds: Vec::new() };
-    plant.geometry.multibody.follow_couplers(&mut state.q, &[]);
-    plant.hold(&state.q);
+    let mut state = assembled(plant, q, u);
     let names: Vec<String> = plant.generators.iter().map(|g| format!("{}.excitation", g.name)).collect();
     let mut nodes: Vec<Vec<(f64, f64)>> = vec![Vec::new(); names.len()];
     let add_nodes = |nodes: &mut Vec<Vec<(f64, f64)>>, time: f64, controls: &[f64]| {
@@ -66,7 +65,7 @@ pub fn track(plant: &mut Plant, desired: &DesiredKinematics, tasks: &[Task], lim
     add_nodes(&mut nodes, time + FIRST_WINDOW, &window_controls(plant, desired, tasks, limits, &state, time, FIRST_WINDOW)?.0);
     let end = range[1] - WINDOW;
     let (mut times, mut states, mut errors) = (vec![time], vec![state.clone()], Vec::new());
-    while time < end - 1e-12 {
+    while time < end {
         let (controls, position_errors) = window_controls(plant, desired, tasks, limits, &state, time, WINDOW)?;
         errors.push(time);
         errors.extend(position_errors);
@@ -74,24 +73,30 @@ pub fn track(plant: &mut Plant, desired: &DesiredKinematics, tasks: &[Task], lim
         let previous: Vec<(f64, f64)> = nodes.iter().map(|list| *list.last().expect("a first node")).collect();
         add_nodes(&mut nodes, target, &controls);
         let stop = target.min(end);
-        let window = window_controllers(&names, &previous, target, &controls);
-        let stepped = Plant::new(plant.spec, plant.geometry, plant.generators, plant.external, &window).map_err(|e| ResidualReductionError::Tracking { time, reason: e.to_string() })?;
-        let mut held = stepped;
-        held.hold(&states[0].q);
-        let y = merson::integrate(&held, &held.pack(&state), [time, stop], WINDOW.min(integrator.maximum_step_size), integrator.error_tolerance, &mut held.workspace())
-            .map_err(|(time, reason)| ResidualReductionError::Tracking { time, reason })?;
-        state = held.unpack(stop, &y);
+        state = integrate_window(plant, &window_controllers(&names, &previous, target, &controls), &states[0].q, &state, [time, stop], integrator)?;
         time = target;
         times.push(stop);
         states.push(state.clone());
     }
-    let controls = ControlSet { file: "CMC".into(), controls: names.into_iter().zip(nodes).map(|(name, nodes)| ControlLinear { name, use_steps: false, extrapolate: true, nodes, bounds: ControlBounds::default() }).collect() };
+    // Held, not extrapolated, before the first node: what OpenSim records at the initial time,
+    // before the first window's node exists.
+    let controls = ControlSet { file: "CMC".into(), controls: names.into_iter().zip(nodes).map(|(name, nodes)| ControlLinear { name, use_steps: false, extrapolate: false, nodes, bounds: ControlBounds::default() }).collect() };
     let labels = std::iter::once("time".to_string()).chain(tasks.iter().map(|t| t.task.name.clone())).collect();
     let position_errors = StorageTable::new("PositionErrors", labels, errors).map_err(|e| ResidualReductionError::Tracking { time, reason: e.to_string() })?.with_in_degrees(false);
     Ok(Tracking { times, states, controls, position_errors })
 }
 
-/// The controllers of one window: each actuator's control on the line from its last node to its
+/// `state` at `from` (s) carried to `to` under the window's `controls`, the locked coordinates
+/// held at their values in `held`.
+fn integrate_window(plant: &Plant, controls: &Controllers, held: &[f64], state: &SimulatedState, [from, to]: [f64; 2], integrator: &IntegratorSettings) -> Result<SimulatedState, ResidualReductionError> {
+    let failed = |(time, reason): (f64, String)| ResidualReductionError::Tracking { time, reason };
+    let mut window = Plant::new(plant.spec, plant.geometry, plant.generators, plant.external, controls).map_err(|e| failed((from, e.to_string())))?;
+    window.hold(held);
+    let y = merson::integrate(&window, &window.pack(state), [from, to], WINDOW.min(integrator.maximum_step_size), integrator.error_tolerance, &mut window.workspace()).map_err(failed)?;
+    Ok(window.unpack(to, &y))
+}
+
+/// The controls of one window: each actuator's control on the line from its last node to its
 /// new one at `target`.
 fn window_controllers(names: &[String], previous: &[(f64, f64)], target: f64, controls: &[f64]) -> Controllers {
     let controls = names
@@ -141,10 +146,21 @@ fn window_controls(plant: &Plant, desired: &DesiredKinematics, tasks: &[Task], l
 fn predicted_state(plant: &Plant, desired: &DesiredKinematics, state: &SimulatedState, time: f64, window: f64) -> SimulatedState {
     let (now_q, now_u) = desired.path(time);
     let (q, u) = desired.path(time + window);
-    let mut q: Vec<f64> = (0..q.len()).map(|c| q[c] + state.q[c] - now_q[c]).collect();
+    let q = (0..q.len()).map(|c| q[c] + state.q[c] - now_q[c]).collect();
     let u = (0..u.len()).map(|c| u[c] + state.u[c] - now_u[c]).collect();
-    plant.geometry.multibody.follow_couplers(&mut q, &[]);
-    SimulatedState { q, u, ..state.clone() }
+    assembled(plant, q, u)
+}
+
+/// The state of coordinates `q` and speeds `u` as OpenSim sets them: a locked coordinate keeps
+/// its default value (`Coordinate::setValue` refuses to move it) at rest, a coupler's dependent
+/// follows it.
+fn assembled(plant: &Plant, mut q: Vec<f64>, mut u: Vec<f64>) -> SimulatedState {
+    let multibody = &plant.geometry.multibody;
+    for (c, coordinate) in multibody.coordinates.iter().enumerate().filter(|(_, c)| c.locked) {
+        (q[c], u[c]) = (coordinate.default_value, 0.0);
+    }
+    multibody.follow_couplers(&mut q, &[]);
+    SimulatedState { q, u, activations: Vec::new(), seconds: Vec::new() }
 }
 
 /// The tasks' coordinate accelerations at `state` with no actuator force, and their change per

@@ -88,6 +88,12 @@ impl<'a> Plant<'a> {
         self.generators.iter().map(|g| self.control(&g.name, time)).collect()
     }
 
+    /// How many coordinates are integrated (the integrator's vector holds their values, then
+    /// their speeds, then the muscles' states).
+    pub fn coordinate_states(&self) -> usize {
+        self.free.len()
+    }
+
     /// The second state of muscle k (`None` beside a rigid tendon).
     pub fn second_state(&self, k: usize) -> Option<SecondState> {
         let muscle = &self.muscles[k];
