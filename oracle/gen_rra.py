@@ -11,7 +11,7 @@ ground reaction forces, the gait2354 RRA tracking tasks (CMC_Joint per coordinat
   integrator tolerance 1e-5.
 
 Writes fixtures/golden/rra/<case>/: setup.xml (inputs by plain name), files.txt (every file
-OpenSim wrote), every .sto (the states file's header repaired: OpenSim 4.6 leaves an early
+OpenSim wrote), the controls' `ControlSet`, every .sto (the states file's header repaired: OpenSim 4.6 leaves an early
 flush's header lines in it) and the average residuals it wrote, and summary.json: the adjusted
 body's mass center in the model OpenSim wrote and the lines of its mass-adjustment report
 (`* …` lines of the log: the COM change, recommended masses, average residuals before and
@@ -120,7 +120,7 @@ def main():
             written = sorted(p.name for p in (work / "Results").iterdir())
             (out / "files.txt").write_text("\n".join(written) + "\n")
             for file in written:
-                if file.endswith(".sto") or file.endswith(".txt"):
+                if file.endswith(".sto") or file.endswith(".txt") or file.endswith("_controls.xml"):
                     shutil.copy(work / "Results" / file, out / file)
             repair_states(out / f"{name}_states.sto")
             model = ET.parse(work / "Results" / f"{name}_adjusted.osim")

@@ -1,7 +1,7 @@
 //! OpenSim 4.6's RRATool on subject01's walk (`fixtures/golden/rra/<case>`, `oracle/gen_rra.py`)
 //! against ours: the mass-center adjustment (the adjusted body's mass center in the model OpenSim
-//! wrote, its report's printed numbers) and every table OpenSim wrote, row by row at the times
-//! we record — the CMC windows' ends; OpenSim also records its integrator's internal steps when
+//! wrote, its report's printed numbers), the controls' `ControlSet` (names, bounds, every node)
+//! and every table OpenSim wrote, row by row at the times we record — the CMC windows' ends; OpenSim also records its integrator's internal steps when
 //! it takes more than one per window, rows we do not have.
 
 use std::path::Path;
@@ -9,7 +9,7 @@ use std::path::Path;
 use super::geometry::Worst;
 use crate::analysis::{run_rra, RraOutputs};
 use crate::io::table::StorageTable;
-use crate::setup::RraSetup;
+use crate::setup::{ControlSet, RraSetup};
 
 /// The golden cases: the walk at 0.75–0.80 s as opensim-core's RRA example runs it (its control
 /// constraints, integrator tolerance 1e-4), and 0.62–0.70 s filtered at 6 Hz with the mass center
@@ -97,6 +97,9 @@ fn compare_files(golden: &Path, outputs: &RraOutputs, comparison: &mut RraCompar
     ours.extend(outputs.adjusted_model.iter().filter_map(|(path, _)| path.file_name()).map(|n| n.to_string_lossy().into_owned()));
     comparison.missing_files = written.lines().filter(|f| !ours.iter().any(|o| o == f)).map(String::from).collect();
     comparison.extra_files = ours.iter().filter(|o| !written.lines().any(|f| f == o.as_str())).cloned().collect();
+    for (name, text) in outputs.files.iter().filter(|(name, _)| name.ends_with("_controls.xml")) {
+        compare_control_sets(&golden.join(name), text, comparison)?;
+    }
     for (name, text) in outputs.files.iter().filter(|(name, _)| name.ends_with(".sto")) {
         let opensim = StorageTable::read(&golden.join(name)).map_err(|e| e.to_string())?;
         let table = StorageTable::parse(text, Path::new(name)).map_err(|e| e.to_string())?;
@@ -104,6 +107,29 @@ fn compare_files(golden: &Path, outputs: &RraOutputs, comparison: &mut RraCompar
             return Err(format!("{name}: OpenSim's columns {:?}, ours {:?}", opensim.labels(), table.labels()));
         }
         compare_rows(name, &opensim, &table, comparison);
+    }
+    Ok(())
+}
+
+/// Our `ControlSet` document (`text`) against OpenSim's (`file`): the same controls, bounds and
+/// node times (1e-12 s), each node's values among the tables' (relative to the node's largest).
+fn compare_control_sets(file: &Path, text: &str, comparison: &mut RraComparison) -> Result<(), String> {
+    let opensim = ControlSet::read(file).map_err(|e| e.to_string())?;
+    let folder = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let ours_file = folder.path().join("controls.xml");
+    std::fs::write(&ours_file, text).map_err(|e| e.to_string())?;
+    let ours = ControlSet::read(&ours_file).map_err(|e| e.to_string())?;
+    let names = |set: &ControlSet| set.controls.iter().map(|c| (c.name.clone(), c.bounds.default_min, c.bounds.default_max, c.nodes.len())).collect::<Vec<_>>();
+    if names(&opensim) != names(&ours) {
+        return Err(format!("{}: OpenSim's controls (name, bounds, nodes) {:?}, ours {:?}", file.display(), names(&opensim), names(&ours)));
+    }
+    for k in 0..opensim.controls.first().map_or(0, |c| c.nodes.len()) {
+        let scale = opensim.controls.iter().fold(0.0f64, |m, c| m.max(c.nodes[k].1.abs())).max(f64::MIN_POSITIVE);
+        for (theirs, mine) in opensim.controls.iter().zip(&ours.controls) {
+            let ((t1, v1), (t2, v2)) = (theirs.nodes[k], mine.nodes[k]);
+            let at = || format!("controls.xml node {k} of {}", mine.name);
+            comparison.tables.update(if (t1 - t2).abs() > 1e-12 { f64::INFINITY } else { (v1 - v2).abs() / scale }, at);
+        }
     }
     Ok(())
 }

@@ -11,7 +11,7 @@ use super::{average_residuals, mass_adjustment, time_average, track, DesiredKine
 use crate::analysis::analyze_tool::{analyze_tool_tables, AnalyzeModel};
 use crate::analysis::controllers::Controllers;
 use crate::analysis::simulation::{state_labels, state_values, ForwardModel, Plant};
-use crate::io::osim::{control_set_document, format_numbers, OsimDocument};
+use crate::io::osim::{bounded_control_set_document, format_numbers, OsimDocument};
 use crate::io::table::StorageTable;
 use crate::setup::{AnalyzeSetup, CmcTaskSet, ControlBounds, ControlLinear, ControlSet, KinematicsSetup, ReporterSetup, RraSetup, SetupPath};
 
@@ -83,7 +83,7 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
     let states_file = tool.results_directory.resolved.join(format!("{name}_states.sto"));
     let mut files = vec![
         (format!("{name}_controls.sto"), controls_table(&plant, &tracking).map_err(table_error)?.to_text()),
-        (format!("{name}_controls.xml"), control_set_document(&control_nodes(&tracking).map_err(table_error)?)),
+        (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(&tracking).map_err(table_error)?, &plant.spec.name, &limits.iter().map(|l| (l.bounds.default_min, l.bounds.default_max)).collect::<Vec<_>>())),
         (format!("{name}_pErr.sto"), tracking.position_errors.to_text()),
     ];
     let controls = Controllers::from_control_set(tracking.controls.clone());
