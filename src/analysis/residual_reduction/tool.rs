@@ -77,25 +77,36 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
     let plant = tracked_model.plant().map_err(|e| input(e.to_string()))?;
     let limits = control_limits(&plant, constraints.as_ref());
     let tracking = track(&plant, &desired, &tasks, &limits, range, &setup.integrator)?;
+    let (files, final_residuals) = tracked_files(tool, tracked_model, &plant, &tracking, &limits, &mut warnings)?;
+    let adjusted_model = adjustment.as_ref().map(|a| adjusted_model_text(model, &a.adjustment).map(|text| (adjusted_model_file(setup), text))).transpose()?;
+    Ok(RraOutputs { files, adjusted_model, adjustment, final_residuals, range, windows: tracking.times.len() - 1, warnings, read })
+}
+
+/// The files of the tracked motion (name, text) — states, controls (table and `ControlSet` with
+/// `limits`' bounds), position errors, the AnalyzeTool's tables on the tracked states, the
+/// average residuals — and those residuals; the analyses' warnings join `warnings`.
+fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, tracking: &Tracking, limits: &[ControlLinear], warnings: &mut Vec<String>) -> Result<(Vec<(String, String)>, Residuals), ResidualReductionError> {
     let name = &tool.name;
     let table_error = |e: crate::io::table::TableError| ResidualReductionError::Input(e.to_string());
-    let states = StorageTable::new(plant.spec.name.as_str(), state_labels(&plant), tracking.times.iter().zip(&tracking.states).flat_map(|(t, s)| std::iter::once(*t).chain(state_values(&plant, s))).collect()).map_err(table_error)?.with_in_degrees(false);
+    let rows = tracking.times.iter().zip(&tracking.states).flat_map(|(t, s)| std::iter::once(*t).chain(state_values(plant, s))).collect();
+    let states = StorageTable::new(plant.spec.name.as_str(), state_labels(plant), rows).map_err(table_error)?.with_in_degrees(false);
     let states_file = tool.results_directory.resolved.join(format!("{name}_states.sto"));
+    let bounds: Vec<(f64, f64)> = limits.iter().map(|l| (l.bounds.default_min, l.bounds.default_max)).collect();
     let mut files = vec![
-        (format!("{name}_controls.sto"), controls_table(&plant, &tracking).map_err(table_error)?.to_text()),
-        (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(&tracking).map_err(table_error)?, &plant.spec.name, &limits.iter().map(|l| (l.bounds.default_min, l.bounds.default_max)).collect::<Vec<_>>())),
+        (format!("{name}_controls.sto"), controls_table(plant, tracking).map_err(table_error)?.to_text()),
+        (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(tracking).map_err(table_error)?, &plant.spec.name, &bounds)),
         (format!("{name}_pErr.sto"), tracking.position_errors.to_text()),
     ];
     let controls = Controllers::from_control_set(tracking.controls.clone());
-    let analysed = AnalyzeModel { spec: &tracked_model.spec, geometry: &tracked_model.geometry, added: &tracked_model.added, replace: tracked_model.replace, external: tracked_model.external.as_ref(), controls: &controls };
-    let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses(tool, &states_file, range[0]), name).map_err(|e| ResidualReductionError::Input(e.to_string()))?;
-    let final_residuals = tables.files.iter().find(|(file, _)| file.ends_with("_Actuation_force.sto")).map_or([0.0; 6], |(_, table)| actuation_residuals(table));
+    let analysed = AnalyzeModel { spec: &model.spec, geometry: &model.geometry, added: &model.added, replace: model.replace, external: model.external.as_ref(), controls: &controls };
+    let start = tracking.times[0];
+    let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses(tool, &states_file, start), name).map_err(|e| ResidualReductionError::Input(e.to_string()))?;
+    let residuals = tables.files.iter().find(|(file, _)| file.ends_with("_Actuation_force.sto")).map_or([0.0; 6], |(_, table)| actuation_residuals(table));
     files.extend(tables.files.iter().map(|(file, table)| (file.clone(), table.to_text())));
     files.push((format!("{name}_states.sto"), states.to_text()));
-    files.push((format!("{name}_avgResiduals.txt"), average_residuals_text(&final_residuals)));
+    files.push((format!("{name}_avgResiduals.txt"), average_residuals_text(&residuals)));
     warnings.extend(tables.warnings.iter().cloned());
-    let adjusted_model = adjustment.as_ref().map(|a| adjusted_model_text(model, &a.adjustment).map(|text| (adjusted_model_file(setup), text))).transpose()?;
-    Ok(RraOutputs { files, adjusted_model, adjustment, final_residuals, range, windows: tracking.times.len() - 1, warnings, read })
+    Ok((files, residuals))
 }
 
 /// The file a setup's `property` names, which must exist.
