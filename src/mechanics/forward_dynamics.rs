@@ -38,6 +38,51 @@ pub enum ForwardDynamicsError {
     Constraints(Vec<String>),
 }
 
+/// One state's forward dynamics, factored: the mass matrix over the free speeds and, with links,
+/// the decomposed Schur complement ([`Multibody::prepare_dynamics`]).
+pub struct PreparedDynamics<'a> {
+    multibody: &'a Multibody,
+    kinematics: &'a Kinematics,
+    q: &'a [f64],
+    u: &'a [f64],
+    projection: DMatrix<f64>,
+    offset: DVector<f64>,
+    mass: DMatrix<f64>,
+    reduced: nalgebra::Cholesky<f64, nalgebra::Dyn>,
+    links: Option<LinkSolve>,
+}
+
+/// The links' rows over the free speeds, their acceleration target, A⁻¹(GP)ᵀ and S's SVD.
+struct LinkSolve {
+    links: DMatrix<f64>,
+    target: DVector<f64>,
+    spread: DMatrix<f64>,
+    schur: nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    rank_floor: f64,
+}
+
+impl PreparedDynamics<'_> {
+    /// u̇ under the body `loads` and mobility forces `tau` (one per coordinate), and the links'
+    /// multipliers λ (none without links).
+    ///
+    /// # Panics
+    /// If `tau` does not hold one value per coordinate.
+    pub fn solve(&self, loads: &[BodyLoad], tau: &[f64]) -> Result<(Vec<f64>, Option<DVector<f64>>), ForwardDynamicsError> {
+        let n = self.multibody.coordinates.len();
+        assert!(tau.len() == n, "one mobility force per coordinate");
+        let bias = DVector::from_vec(self.multibody.inverse_dynamics_at(self.kinematics, &MotionState { q: self.q, u: self.u, udot: &vec![0.0; n] }, loads));
+        let rhs = self.projection.transpose() * (DVector::from_column_slice(tau) - bias - &self.mass * &self.offset);
+        let mut free = self.reduced.solve(&rhs);
+        let mut link_multipliers = None;
+        if let Some(links) = &self.links {
+            let multipliers = links.schur.solve(&(&links.links * &free - &links.target), links.rank_floor).map_err(|_| ForwardDynamicsError::Singular)?;
+            free -= &links.spread * &multipliers;
+            link_multipliers = Some(multipliers);
+        }
+        Ok(((&self.projection * free + &self.offset).as_slice().to_vec(), link_multipliers))
+    }
+}
+
 impl Multibody {
     /// M(q) (kg·m², kg·m or kg), [`Multibody::coordinates`] order, at the pose `kinematics`
     /// holds ([`Multibody::realize`] at `q`).
@@ -82,33 +127,31 @@ impl Multibody {
 
     /// u̇ and, with links, their multipliers λ.
     fn solve_accelerations(&self, kinematics: &Kinematics, q: &[f64], u: &[f64], loads: &[BodyLoad], tau: &[f64]) -> Result<(Vec<f64>, Option<DVector<f64>>), ForwardDynamicsError> {
-        let n = self.coordinates.len();
-        assert!(tau.len() == n, "one mobility force per coordinate");
+        self.prepare_dynamics(kinematics, q, u)?.solve(loads, tau)
+    }
+
+    /// The forward dynamics of the state (`q`, `u`; `kinematics` realized at `q`) factored once,
+    /// for the accelerations of many sets of applied forces ([`PreparedDynamics::solve`]).
+    pub fn prepare_dynamics<'a>(&'a self, kinematics: &'a Kinematics, q: &'a [f64], u: &'a [f64]) -> Result<PreparedDynamics<'a>, ForwardDynamicsError> {
         if let Some(c) = self.coordinates.iter().find(|c| c.prescribed && !c.locked) {
             return Err(ForwardDynamicsError::Prescribed(c.name.clone()));
         }
         if !self.unheld_constraints.is_empty() {
             return Err(ForwardDynamicsError::Constraints(self.unheld_constraints.clone()));
         }
-        let bias = DVector::from_vec(self.inverse_dynamics_at(kinematics, &MotionState { q, u, udot: &vec![0.0; n] }, loads));
         let (projection, offset) = self.constraint_projection(q, u);
         let mass = self.mass_matrix(kinematics, q);
         let reduced = (projection.transpose() * &mass * &projection).cholesky().ok_or(ForwardDynamicsError::Singular)?;
-        let rhs = projection.transpose() * (DVector::from_column_slice(tau) - bias - &mass * &offset);
-        let mut free = reduced.solve(&rhs);
-        let mut link_multipliers = None;
-        if !self.links.is_empty() {
+        let links = (!self.links.is_empty()).then(|| {
             let g = self.link_jacobian(kinematics);
             let links = &g * &projection;
             let target = -(self.link_jacobian_rate(q, u) + &g * &offset);
             let spread = reduced.solve(&links.transpose());
             let schur = &links * &spread;
             let rank_floor = LINK_RANK_TOLERANCE * schur.norm();
-            let multipliers = schur.svd(true, true).solve(&(&links * &free - target), rank_floor).map_err(|_| ForwardDynamicsError::Singular)?;
-            free -= spread * &multipliers;
-            link_multipliers = Some(multipliers);
-        }
-        Ok(((projection * free + offset).as_slice().to_vec(), link_multipliers))
+            LinkSolve { links, target, spread, schur: schur.svd(true, true), rank_floor }
+        });
+        Ok(PreparedDynamics { multibody: self, kinematics, q, u, projection, offset, mass, reduced, links })
     }
 
     /// The links' accelerations G·u̇ + Ġ·u (m/s², or rad/s² for a weld's orientation rows; 0

@@ -32,7 +32,7 @@ mod wrap_torus;
 pub use actuator::Actuator;
 pub use coupling::{for_each_coupling, projected_coupling, tied_coordinates, Coupler, ProjectedCoupling};
 pub use error::MechanicsError;
-pub use forward_dynamics::ForwardDynamicsError;
+pub use forward_dynamics::{ForwardDynamicsError, PreparedDynamics};
 pub use function::Function;
 pub use geometry::{MuscleGeometry, PathEvaluation};
 pub use inverse_dynamics::{AppliedForces, BodyLoad, MotionState};

@@ -171,7 +171,8 @@ fn acceleration_map(plant: &Plant, state: &SimulatedState, time: f64, tasks: &[T
     multibody.realize(&state.q, &mut kinematics);
     let loads = plant.external.map(|e| e.at(time, &kinematics)).unwrap_or_default();
     let zero = vec![0.0; state.q.len()];
-    let at = |applied: &AppliedForces| multibody.accelerations(&kinematics, &state.q, &state.u, &applied.loads, &applied.mobility).map_err(|e| format!("forward dynamics: {e}"));
+    let dynamics = multibody.prepare_dynamics(&kinematics, &state.q, &state.u).map_err(|e| format!("forward dynamics: {e}"))?;
+    let at = |applied: &AppliedForces| dynamics.solve(&applied.loads, &applied.mobility).map(|(udot, _)| udot).map_err(|e| format!("forward dynamics: {e}"));
     let base = at(&AppliedForces { loads: loads.clone(), mobility: zero.clone() })?;
     let mut sensitivity = DMatrix::zeros(tasks.len(), plant.generators.len());
     let mut scratch = PathScratch::default();
