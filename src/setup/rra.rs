@@ -17,8 +17,9 @@ use crate::model::ComponentReader;
 /// An RRATool setup.
 #[derive(Debug, Clone)]
 pub struct RraSetup {
-    /// The `AbstractTool` part: model, force-set files (replacing the model's forces by
-    /// default), results directory, time range, external loads, controllers, analyses.
+    /// The `AbstractTool` part: model, force-set files (added to the model's forces unless
+    /// `replace_force_set`, whose default is false in an RRATool), results directory, time range,
+    /// external loads, controllers, analyses.
     pub tool: AnalyzeSetup,
     pub integrator: IntegratorSettings,
     /// The kinematics tracked (required: osim-tune does not track `desired_points_file`s).
@@ -47,7 +48,7 @@ impl RraSetup {
 
     /// The object of `document` (its file names resolve against the document's directory).
     pub fn from_document(document: &OsimDocument) -> Result<RraSetup, SetupError> {
-        let tool = AnalyzeSetup::from_tool(document, "RRATool", true)?;
+        let tool = AnalyzeSetup::from_tool(document, "RRATool", false)?;
         let reader = ComponentReader::new(document, document.object);
         let directory = directory_of(document.xml.file());
         let com_range = [reader.number_or("initial_time_for_com_adjustment", -1.0)?, reader.number_or("final_time_for_com_adjustment", -1.0)?];
@@ -129,7 +130,7 @@ mod tests {
     #[test]
     fn opensims_defaults_are_taken() {
         let rra = setup("<model_file>m.osim</model_file><desired_kinematics_file>ik.mot</desired_kinematics_file>").unwrap();
-        assert!(rra.tool.replace_force_set, "RRA replaces the model's forces unless told not to");
+        assert!(!rra.tool.replace_force_set, "RRATool::setNull leaves replace_force_set false");
         assert_eq!((rra.lowpass_cutoff_frequency, rra.adjust_com_to_reduce_residuals, rra.com_adjustment_time_range), (-1.0, false, None));
         assert_eq!(rra.desired_kinematics_file.unwrap().resolved, Path::new("/data/ik.mot"));
         assert_eq!((rra.task_set_file, rra.constraints_file, rra.adjusted_com_body), (None, None, None));
