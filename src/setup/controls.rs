@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::error::SetupError;
 use super::object::{expect_class, read_document};
+use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::model::ComponentReader;
 
@@ -91,8 +92,12 @@ impl ControlSet {
         if path.extension().is_some_and(|e| e == "sto") {
             return Ok(ControlSet::from_table(&StorageTable::read(path)?, path));
         }
-        let document = read_document(path)?;
-        let set = ComponentReader::new(&document, document.object);
+        Self::from_document(&read_document(path)?)
+    }
+
+    /// The `<ControlSet>` of `document` (another control class is an error naming it).
+    pub fn from_document(document: &OsimDocument) -> Result<ControlSet, SetupError> {
+        let set = ComponentReader::new(document, document.object);
         expect_class(set, "ControlSet")?;
         let mut controls = Vec::new();
         for element in set.listed_objects(document.object) {
@@ -107,7 +112,7 @@ impl ControlSet {
             };
             controls.push(ControlLinear { name: control.name(), use_steps: control.boolean_or("use_steps", false)?, extrapolate: control.boolean_or("extrapolate", true)?, nodes: nodes(control, "x_nodes")?, bounds });
         }
-        Ok(ControlSet { file: path.into(), controls })
+        Ok(ControlSet { file: document.xml.file().into(), controls })
     }
 
     /// The control named `name` or `<name>.excitation`, as `ControlSetController` finds it.

@@ -37,7 +37,7 @@ pub use ik_tasks::{CoordinateTarget, CoordinateTask, IkTaskSet, MarkerTask};
 pub use marker_placer::MarkerPlacer;
 pub use measurement::{BodyScale, Measurement};
 pub use model_scaler::{ManualScale, ModelScaler, ScalingStep};
-pub use path::SetupPath;
+pub use path::{required_input, SetupPath};
 pub use rra::{CmcTaskSet, JointTask, RraSetup};
 pub use scale::{GenericModelMaker, ScaleSetup};
 pub use time_range::TimeRange;

@@ -26,6 +26,19 @@ impl SetupPath {
     }
 }
 
+/// The existing file `path` that the setup `setup`'s `property` names; an error message naming
+/// the setup and the property when it is unset or no such file (a Windows drive path named as
+/// such).
+pub fn required_input(setup: &Path, property: &str, path: Option<&SetupPath>) -> Result<PathBuf, String> {
+    let path = path.ok_or_else(|| format!("{}: {property} is not set; the tool needs it", setup.display()))?;
+    if !path.resolved.is_file() {
+        let drive = path.written.as_bytes().get(..3).is_some_and(|b| b[0].is_ascii_alphabetic() && b[1] == b':' && (b[2] == b'\\' || b[2] == b'/'));
+        let hint = if drive { "; a Windows path: give it relative to the setup's folder" } else { "" };
+        return Err(format!("{}: {property} {:?}: no such file ({}){hint}", setup.display(), path.written, path.resolved.display()));
+    }
+    Ok(path.resolved.clone())
+}
+
 /// OpenSim's convention for an unset string property: empty or `Unassigned`.
 pub fn is_unassigned(text: &str) -> bool {
     text.is_empty() || text == "Unassigned"

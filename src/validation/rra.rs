@@ -8,6 +8,7 @@ use std::path::Path;
 
 use super::geometry::Worst;
 use crate::analysis::{run_rra, RraOutputs};
+use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::setup::{ControlSet, RraSetup};
 
@@ -115,10 +116,8 @@ fn compare_files(golden: &Path, outputs: &RraOutputs, comparison: &mut RraCompar
 /// node times (1e-12 s), each node's values among the tables' (relative to the node's largest).
 fn compare_control_sets(file: &Path, text: &str, comparison: &mut RraComparison) -> Result<(), String> {
     let opensim = ControlSet::read(file).map_err(|e| e.to_string())?;
-    let folder = tempfile::tempdir().map_err(|e| e.to_string())?;
-    let ours_file = folder.path().join("controls.xml");
-    std::fs::write(&ours_file, text).map_err(|e| e.to_string())?;
-    let ours = ControlSet::read(&ours_file).map_err(|e| e.to_string())?;
+    let document = OsimDocument::parse(text.to_string(), Path::new("controls.xml")).map_err(|e| e.to_string())?;
+    let ours = ControlSet::from_document(&document).map_err(|e| e.to_string())?;
     let names = |set: &ControlSet| set.controls.iter().map(|c| (c.name.clone(), c.bounds.default_min, c.bounds.default_max, c.nodes.len())).collect::<Vec<_>>();
     if names(&opensim) != names(&ours) {
         return Err(format!("{}: OpenSim's controls (name, bounds, nodes) {:?}, ours {:?}", file.display(), names(&opensim), names(&ours)));

@@ -40,9 +40,14 @@ impl DesiredKinematics {
         Ok(DesiredKinematics { states, q, u, udot })
     }
 
-    /// Coordinate c's desired value, speed and acceleration at `time` (s).
-    pub fn at(&self, c: usize, time: f64) -> [f64; 3] {
-        [self.q[c].value(time), self.u[c].value(time), self.udot[c].value(time)]
+    /// Coordinate c's desired value and speed at `time` (s).
+    pub fn value_and_speed(&self, c: usize, time: f64) -> (f64, f64) {
+        (self.q[c].value(time), self.u[c].value(time))
+    }
+
+    /// Coordinate c's desired acceleration at `time` (s).
+    pub fn acceleration(&self, c: usize, time: f64) -> f64 {
+        self.udot[c].value(time)
     }
 
     /// Every coordinate's desired value and speed (the speeds' spline) at `time` (s).

@@ -42,3 +42,16 @@ pub enum ResidualReductionError {
     #[error("the tracking stopped at {time} s: {reason}")]
     Tracking { time: f64, reason: String },
 }
+
+/// The input errors of the files RRA reads (their messages name the file) and of the
+/// AnalyzeTool analyses it runs on the tracked states.
+macro_rules! input_error {
+    ($($source:ty),*) => {$(
+        impl From<$source> for ResidualReductionError {
+            fn from(error: $source) -> Self {
+                ResidualReductionError::Input(error.to_string())
+            }
+        }
+    )*};
+}
+input_error!(crate::setup::SetupError, crate::io::table::TableError, crate::io::osim::OsimError, crate::analysis::AnalyzeToolError);

@@ -13,7 +13,7 @@ use crate::analysis::controllers::Controllers;
 use crate::analysis::simulation::{state_labels, state_values, ForwardModel, Plant};
 use crate::io::osim::{bounded_control_set_document, format_numbers, OsimDocument};
 use crate::io::table::StorageTable;
-use crate::setup::{AnalyzeSetup, CmcTaskSet, ControlBounds, ControlLinear, ControlSet, KinematicsSetup, ReporterSetup, RraSetup, SetupPath};
+use crate::setup::{required_input, AnalyzeSetup, CmcTaskSet, ControlBounds, ControlLinear, ControlSet, KinematicsSetup, ReporterSetup, RraSetup, SetupPath};
 
 /// The bound CMC gives a control whose actuator has none (`MAX_CONTROLS_FOR_RRA`).
 const MAX_CONTROL: f64 = 10_000.0;
@@ -27,7 +27,8 @@ pub struct RraOutputs {
     pub adjustment: Option<Adjusted>,
     /// The Actuation's residuals averaged over the tracked motion.
     pub final_residuals: Residuals,
-    /// The time range tracked, s, and the number of windows.
+    /// The setup's time range within the desired kinematics' times, s (tracked to one window
+    /// short of its end), and the number of windows.
     pub range: [f64; 2],
     pub windows: usize,
     pub warnings: Vec<String>,
@@ -57,17 +58,17 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
     check_actuated(&inputs, tool).map_err(input)?;
     let mut read = inputs.read.clone();
     read.extend([tool.file.clone(), desired_file.clone(), task_file.clone()]);
-    let task_set = CmcTaskSet::read(&task_file).map_err(|e| ResidualReductionError::Input(e.to_string()))?;
+    let task_set = CmcTaskSet::read(&task_file)?;
     let tasks = tasks(&task_set, &inputs, &task_file)?;
     let constraints = match &setup.constraints_file {
         Some(file) => {
             let path = existing(setup, "constraints_file", Some(file))?;
             read.push(path.clone());
-            Some(ControlSet::read(&path).map_err(|e| ResidualReductionError::Input(e.to_string()))?)
+            Some(ControlSet::read(&path)?)
         }
         None => None,
     };
-    let table = StorageTable::read(&desired_file).map_err(|e| ResidualReductionError::Input(e.to_string()))?;
+    let table = StorageTable::read(&desired_file)?;
     let mut warnings = Vec::new();
     let range = time_range(tool, &table, &desired_file, &mut warnings);
     let cutoff = (setup.lowpass_cutoff_frequency >= 0.0).then_some(setup.lowpass_cutoff_frequency);
@@ -87,20 +88,19 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
 /// average residuals — and those residuals; the analyses' warnings join `warnings`.
 fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, tracking: &Tracking, limits: &[ControlLinear], warnings: &mut Vec<String>) -> Result<(Vec<(String, String)>, Residuals), ResidualReductionError> {
     let name = &tool.name;
-    let table_error = |e: crate::io::table::TableError| ResidualReductionError::Input(e.to_string());
     let rows = tracking.times.iter().zip(&tracking.states).flat_map(|(t, s)| std::iter::once(*t).chain(state_values(plant, s))).collect();
-    let states = StorageTable::new(plant.spec.name.as_str(), state_labels(plant), rows).map_err(table_error)?.with_in_degrees(false);
+    let states = StorageTable::new(plant.spec.name.as_str(), state_labels(plant), rows)?.with_in_degrees(false);
     let states_file = tool.results_directory.resolved.join(format!("{name}_states.sto"));
     let bounds: Vec<(f64, f64)> = limits.iter().map(|l| (l.bounds.default_min, l.bounds.default_max)).collect();
     let mut files = vec![
-        (format!("{name}_controls.sto"), controls_table(plant, tracking).map_err(table_error)?.to_text()),
-        (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(tracking).map_err(table_error)?, &plant.spec.name, &bounds)),
+        (format!("{name}_controls.sto"), controls_table(plant, tracking)?.to_text()),
+        (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(tracking)?, &plant.spec.name, &bounds)),
         (format!("{name}_pErr.sto"), tracking.position_errors.to_text()),
     ];
     let controls = Controllers::from_control_set(tracking.controls.clone());
     let analysed = AnalyzeModel { spec: &model.spec, geometry: &model.geometry, added: &model.added, replace: model.replace, external: model.external.as_ref(), controls: &controls };
     let start = tracking.times[0];
-    let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses(tool, &states_file, start), name).map_err(|e| ResidualReductionError::Input(e.to_string()))?;
+    let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses(tool, &states_file, start), name)?;
     let residuals = tables.files.iter().find(|(file, _)| file.ends_with("_Actuation_force.sto")).map_or([0.0; 6], |(_, table)| actuation_residuals(table));
     files.extend(tables.files.iter().map(|(file, table)| (file.clone(), table.to_text())));
     files.push((format!("{name}_states.sto"), states.to_text()));
@@ -111,12 +111,7 @@ fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, track
 
 /// The file a setup's `property` names, which must exist.
 fn existing(setup: &RraSetup, property: &str, path: Option<&SetupPath>) -> Result<PathBuf, ResidualReductionError> {
-    let file = setup.tool.file.display();
-    let path = path.ok_or_else(|| ResidualReductionError::Input(format!("{file}: {property} is not set; RRA needs it")))?;
-    if !path.resolved.is_file() {
-        return Err(ResidualReductionError::Input(format!("{file}: {property} {:?}: no such file ({})", path.written, path.resolved.display())));
-    }
-    Ok(path.resolved.clone())
+    required_input(&setup.tool.file, property, path).map_err(ResidualReductionError::Input)
 }
 
 /// The active tasks on their coordinates; a coordinate the model lacks is an error naming the
@@ -236,7 +231,7 @@ fn adjusted_model_file(setup: &RraSetup) -> PathBuf {
 
 /// `model`'s text with only the adjusted body's `mass_center` changed.
 fn adjusted_model_text(model: &Path, adjustment: &MassAdjustment) -> Result<String, ResidualReductionError> {
-    let edited = OsimDocument::read(model).and_then(|mut document| document.set_property(&format!("/bodyset/{}/mass_center", adjustment.body), &format_numbers(&adjustment.mass_center[1])).map(|()| document));
-    let document = edited.map_err(|e| ResidualReductionError::Input(e.to_string()))?;
+    let mut document = OsimDocument::read(model)?;
+    document.set_property(&format!("/bodyset/{}/mass_center", adjustment.body), &format_numbers(&adjustment.mass_center[1]))?;
     String::from_utf8(document.xml.serialize()).map_err(|e| ResidualReductionError::Input(format!("{}: the model is not UTF-8 text: {e}", model.display())))
 }

@@ -27,8 +27,6 @@ use crate::solvers::qp::{DenseQp, QpSettings};
 const WINDOW: f64 = 0.001;
 /// The window of the first solve, at the initial state (s).
 const FIRST_WINDOW: f64 = 1e-8;
-/// The bound CMC puts on a control whose actuator has none (`MAX_CONTROLS_FOR_RRA`).
-const MAX_CONTROL: f64 = 10_000.0;
 
 /// A task on its coordinate ([`crate::mechanics::Multibody::coordinates`] index).
 pub struct Task<'a> {
@@ -117,10 +115,10 @@ fn window_controls(plant: &Plant, desired: &DesiredKinematics, tasks: &[Task], l
     let mut stress_weight: f64 = 1.0;
     for task in tasks {
         let c = task.coordinate;
-        let [q, u, _] = desired.at(c, time);
+        let (q, u) = desired.value_and_speed(c, time);
         let (position, speed) = (q - state.q[c], u - state.u[c]);
         let JointTask { kp, kv, ka, limit, .. } = *task.task;
-        desired_accelerations.push(ka * desired.at(c, time + window)[2] + kv * speed + kp * position);
+        desired_accelerations.push(ka * desired.acceleration(c, time + window) + kv * speed + kp * position);
         if limit != 0.0 {
             stress_weight = stress_weight.min(sigma_down(0.1 * limit, limit, position.abs()));
         }
@@ -187,15 +185,14 @@ fn acceleration_map(plant: &Plant, state: &SimulatedState, time: f64, tasks: &[T
     Ok((tasks.iter().map(|t| base[t.coordinate]).collect(), sensitivity))
 }
 
-/// Each generator's force bounds at `time` (s): its control bounds (±10000 where unbounded) times
-/// its optimal force, ordered; a range under 1 N collapses onto its lower end, as CMC does.
+/// Each generator's force bounds at `time` (s): its control bounds times its optimal force,
+/// ordered; a range under 1 N collapses onto its lower end, as CMC does.
 fn force_bounds(limits: &[ControlLinear], optimal: &[f64], time: f64) -> (Vec<f64>, Vec<f64>) {
     limits
         .iter()
         .zip(optimal)
         .map(|(limit, &f)| {
             let (min, max) = limit.bounds_at(time);
-            let (min, max) = (min.max(-MAX_CONTROL), max.min(MAX_CONTROL));
             let (a, b) = (min * f, if (max - min) * f < 1.0 { min * f } else { max * f });
             (a.min(b), a.max(b))
         })

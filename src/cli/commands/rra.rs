@@ -32,7 +32,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         print!("{}", report(adjusted));
     }
     println!("Final average residuals (after the kinematics adjustment): {}", residuals_line(&outputs.final_residuals));
-    println!("RRA: {}–{} s tracked in {} windows → {} files in {}", outputs.range[0], outputs.range[1], outputs.windows, files.len(), output.display());
+    println!("RRA over {}–{} s (tracked to one window short of the end, as CMC): {} windows → {} files in {}", outputs.range[0], outputs.range[1], outputs.windows, files.len(), output.display());
     Ok(Outcome::Success)
 }
 

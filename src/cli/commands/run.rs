@@ -10,7 +10,7 @@ use clap::Parser;
 
 use crate::cli::{Arguments, Failure, Outcome};
 use crate::model::ComponentReader;
-use crate::setup::{read_document, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, RraSetup, ScaleSetup, SetupPath};
+use crate::setup::{read_document, required_input, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, RraSetup, ScaleSetup, SetupPath};
 
 /// The setups `run` knows, by their root element.
 const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool>, <ForwardTool> or <RRATool>";
@@ -70,13 +70,7 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
 
 /// The file a setup's `property` names, which must exist.
 fn input(setup: &Path, property: &str, path: Option<&SetupPath>) -> Result<PathBuf, Failure> {
-    let path = path.ok_or_else(|| format!("{}: {property} is not set; the tool needs it", setup.display()))?;
-    if !path.resolved.is_file() {
-        let drive = path.written.as_bytes().get(..3).is_some_and(|b| b[0].is_ascii_alphabetic() && b[1] == b':' && (b[2] == b'\\' || b[2] == b'/'));
-        let hint = if drive { "; a Windows path: give it relative to the setup's folder" } else { "" };
-        return Err(format!("{}: {property} {:?}: no such file ({}){hint}", setup.display(), path.written, path.resolved.display()).into());
-    }
-    Ok(path.resolved.clone())
+    Ok(required_input(setup, property, path)?)
 }
 
 /// The output a setup's `property` names, which must be set.
@@ -168,13 +162,13 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
     Ok(analyses.into_iter().filter(|(on, _, _)| *on).map(|(_, command, flags)| invocation(command, flags)).collect())
 }
 
-/// ForwardTool: `simulate MODEL --setup SETUP -o <results_directory>`.
 /// RRATool: `rra MODEL --setup SETUP -o <results_directory>`.
 fn rra_tool(file: &Path, setup: &RraSetup) -> Result<Invocation, Failure> {
     let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
     Ok(Invocation::new(&["rra".as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tool.results_directory.resolved.as_ref()]))
 }
 
+/// ForwardTool: `simulate MODEL --setup SETUP -o <results_directory>`.
 fn forward_tool(file: &Path, setup: &ForwardSetup) -> Result<Invocation, Failure> {
     let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
     if let Some(states) = &setup.tool.states_file {
