@@ -6,6 +6,8 @@
 //! - `power_sum.rs`: min Σ|xᵢ|ᵖ under equalities and bounds, on power cones ([`minimise_power_sum`]);
 //! - `sparse_qp.rs`: a sparse QP with a diagonal Hessian over whole trajectories ([`SparseQp`]);
 //! - `false_position.rs`: a bracketed scalar root without derivatives ([`false_position`]);
+//! - `uncoupled_roots.rs`: OpenSim's `RootSolver`, Brent's method on every component of an
+//!   uncoupled vector function at once ([`uncoupled_roots`]);
 //! - `kalman_smoother.rs`: a Rauch–Tung–Striebel smoother of coordinates with a constant 4th
 //!   derivative (De Groote et al. 2008);
 //! - `ik/`: inverse kinematics as OpenSim 4.6 computes it ([`InverseKinematics`]);
@@ -21,6 +23,7 @@ pub mod nlp;
 mod power_sum;
 pub mod qp;
 mod sparse_qp;
+mod uncoupled_roots;
 
 pub use box_qp::BoxQpError;
 pub use error::IkError;
@@ -31,4 +34,5 @@ pub use ik::{
 };
 pub use power_sum::{minimise_power_sum, PowerSumSolution};
 pub use sparse_qp::{SparseQp, SparseQpSolution, SparseRow};
+pub use uncoupled_roots::uncoupled_roots;
 pub use least_squares::{Bounds, LeastSquares, LeastSquaresOptions, LeastSquaresProblem, LeastSquaresReport, LeastSquaresStatus};

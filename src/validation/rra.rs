@@ -85,9 +85,9 @@ pub fn run_rra_case(root: &Path, case: &str, time_range: Option<[f64; 2]>) -> Re
     std::fs::copy(root.join("fixtures/golden/rra").join(case).join("setup.xml"), &setup_file).map_err(|e| e.to_string())?;
     let mut setup = RraSetup::read(&setup_file).map_err(|e| e.to_string())?;
     if let Some([start, end]) = time_range {
-        (setup.tool.initial_time, setup.tool.final_time) = (start, end);
+        (setup.tracking.tool.initial_time, setup.tracking.tool.final_time) = (start, end);
     }
-    let model = setup.tool.model_file.as_ref().ok_or("the golden setup names no model")?.resolved.clone();
+    let model = setup.tracking.tool.model_file.as_ref().ok_or("the golden setup names no model")?.resolved.clone();
     run_rra(&model, &setup).map_err(|e| e.to_string())
 }
 

@@ -8,20 +8,16 @@
 //! the Actuation's residual forces are averaged again.
 
 mod averages;
-mod desired;
-mod merson;
 mod tool;
-mod tracking;
 
 use std::path::PathBuf;
 
 use averages::{average_residuals, mass_adjustment, time_average};
 pub use averages::{MassAdjustment, Residuals, RESIDUALS};
-use desired::DesiredKinematics;
 pub use tool::{run_rra, Adjusted, RraOutputs};
-use tracking::{track, Task, Tracking};
 
 use super::analyze_states::StatesError;
+use super::cmc::CmcError;
 
 /// Why RRA cannot run or did not finish.
 #[derive(Debug, thiserror::Error)]
@@ -39,8 +35,8 @@ pub enum ResidualReductionError {
     /// A file or setup property RRA cannot use (the message names it).
     #[error("{0}")]
     Input(String),
-    #[error("the tracking stopped at {time} s: {reason}")]
-    Tracking { time: f64, reason: String },
+    #[error(transparent)]
+    Cmc(#[from] CmcError),
 }
 
 /// The input errors of the files RRA reads (their messages name the file) and of the

@@ -7,16 +7,15 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{average_residuals, mass_adjustment, time_average, track, DesiredKinematics, MassAdjustment, ResidualReductionError, Residuals, Task, Tracking, RESIDUALS};
-use crate::analysis::analyze_tool::{analyze_tool_tables, AnalyzeModel};
-use crate::analysis::controllers::Controllers;
-use crate::analysis::simulation::{state_labels, state_values, ForwardModel, Plant};
-use crate::io::osim::{bounded_control_set_document, format_numbers, OsimDocument};
+use super::{average_residuals, mass_adjustment, time_average, MassAdjustment, ResidualReductionError, Residuals, RESIDUALS};
+use crate::analysis::cmc::{control_limits, desired_state, read_tracking_inputs, tasks, tracked_files, Controller, DesiredKinematics, Target};
+use crate::analysis::simulation::ForwardModel;
+use crate::io::osim::{format_numbers, OsimDocument};
 use crate::io::table::StorageTable;
-use crate::setup::{required_input, AnalyzeSetup, CmcTaskSet, ControlBounds, ControlLinear, ControlSet, KinematicsSetup, ReporterSetup, RraSetup, SetupPath};
+use crate::setup::{AnalyzeSetup, RraSetup};
 
-/// The bound CMC gives a control whose actuator has none (`MAX_CONTROLS_FOR_RRA`).
-const MAX_CONTROL: f64 = 10_000.0;
+/// RRA's window (s).
+const WINDOW: f64 = 0.001;
 
 /// What an RRA run forms.
 pub struct RraOutputs {
@@ -47,84 +46,24 @@ pub struct Adjusted {
 
 /// Runs the RRATool `setup` on `model`.
 pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualReductionError> {
-    let tool = &setup.tool;
+    let tool = &setup.tracking.tool;
     let input = |what: String| ResidualReductionError::Input(format!("{}: {what}", tool.file.display()));
-    if setup.desired_points_file.is_some() {
-        return Err(input("desired_points_file: osim-tune's RRA tracks desired kinematics (desired_kinematics_file) only".into()));
-    }
-    let desired_file = existing(setup, "desired_kinematics_file", setup.desired_kinematics_file.as_ref())?;
-    let task_file = existing(setup, "task_set_file", setup.task_set_file.as_ref())?;
-    let inputs = ForwardModel::read(model, tool).map_err(input)?;
-    check_actuated(&inputs, tool).map_err(input)?;
-    let mut read = inputs.read.clone();
-    read.extend([tool.file.clone(), desired_file.clone(), task_file.clone()]);
-    let task_set = CmcTaskSet::read(&task_file)?;
-    let tasks = tasks(&task_set, &inputs, &task_file)?;
-    let constraints = match &setup.constraints_file {
-        Some(file) => {
-            let path = existing(setup, "constraints_file", Some(file))?;
-            read.push(path.clone());
-            Some(ControlSet::read(&path)?)
-        }
-        None => None,
-    };
-    let table = StorageTable::read(&desired_file)?;
-    let mut warnings = Vec::new();
-    let range = time_range(tool, &table, &desired_file, &mut warnings);
-    let cutoff = (setup.lowpass_cutoff_frequency >= 0.0).then_some(setup.lowpass_cutoff_frequency);
-    let desired = DesiredKinematics::new(&inputs.geometry.multibody, &table, &desired_file, cutoff)?;
-    let adjustment = if setup.adjust_com_to_reduce_residuals { Some(adjust_mass_center(setup, &inputs, &desired, range, &desired_file)?) } else { None };
-    let tracked_model = adjustment.as_ref().map_or(&inputs, |a| &a.model);
+    let mut inputs = read_tracking_inputs(model, &setup.tracking)?;
+    check_actuated(&inputs.model, tool).map_err(input)?;
+    let tasks = tasks(&inputs.task_set, &inputs.model, &inputs.task_file)?;
+    let range = inputs.range;
+    let adjustment = if setup.adjust_com_to_reduce_residuals { Some(adjust_mass_center(setup, &inputs.model, &inputs.desired, range, &inputs.desired_file)?) } else { None };
+    let tracked_model = adjustment.as_ref().map_or(&inputs.model, |a| &a.model);
     let plant = tracked_model.plant().map_err(|e| input(e.to_string()))?;
-    let limits = control_limits(&plant, constraints.as_ref());
-    let tracking = track(&plant, &desired, &tasks, &limits, range, &setup.integrator)?;
-    let (files, final_residuals) = tracked_files(tool, tracked_model, &plant, &tracking, &limits, &mut warnings)?;
+    let limits = control_limits(&plant, inputs.constraints.as_ref());
+    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, target: Target::Slow, window: WINDOW };
+    let tracking = controller.track(desired_state(&plant, &inputs.desired, range[0], &[]), range, &setup.tracking.integrator)?;
+    let tracked = tracked_files(tool, tracked_model, &plant, &tracking, &limits, &mut inputs.warnings)?;
+    let final_residuals = tracked.actuation_force.as_ref().map_or([0.0; 6], actuation_residuals);
+    let mut files = tracked.files;
+    files.push((format!("{}_avgResiduals.txt", tool.name), average_residuals_text(&final_residuals)));
     let adjusted_model = adjustment.as_ref().map(|a| adjusted_model_text(model, &a.adjustment).map(|text| (adjusted_model_file(setup), text))).transpose()?;
-    Ok(RraOutputs { files, adjusted_model, adjustment, final_residuals, range, windows: tracking.times.len() - 1, warnings, read })
-}
-
-/// The files of the tracked motion (name, text) — states, controls (table and `ControlSet` with
-/// `limits`' bounds), position errors, the AnalyzeTool's tables on the tracked states, the
-/// average residuals — and those residuals; the analyses' warnings join `warnings`.
-fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, tracking: &Tracking, limits: &[ControlLinear], warnings: &mut Vec<String>) -> Result<(Vec<(String, String)>, Residuals), ResidualReductionError> {
-    let name = &tool.name;
-    let rows = tracking.times.iter().zip(&tracking.states).flat_map(|(t, s)| std::iter::once(*t).chain(state_values(plant, s))).collect();
-    let states = StorageTable::new(plant.spec.name.as_str(), state_labels(plant), rows)?.with_in_degrees(false);
-    let states_file = tool.results_directory.resolved.join(format!("{name}_states.sto"));
-    let bounds: Vec<(f64, f64)> = limits.iter().map(|l| (l.bounds.default_min, l.bounds.default_max)).collect();
-    let mut files = vec![
-        (format!("{name}_controls.sto"), controls_table(plant, tracking)?.to_text()),
-        (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(tracking)?, &plant.spec.name, &bounds)),
-        (format!("{name}_pErr.sto"), tracking.position_errors.to_text()),
-    ];
-    let controls = Controllers::from_control_set(tracking.controls.clone());
-    let analysed = AnalyzeModel { spec: &model.spec, geometry: &model.geometry, added: &model.added, replace: model.replace, external: model.external.as_ref(), controls: &controls };
-    let start = tracking.times[0];
-    let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses(tool, &states_file, start), name)?;
-    let residuals = tables.files.iter().find(|(file, _)| file.ends_with("_Actuation_force.sto")).map_or([0.0; 6], |(_, table)| actuation_residuals(table));
-    files.extend(tables.files.iter().map(|(file, table)| (file.clone(), table.to_text())));
-    files.push((format!("{name}_states.sto"), states.to_text()));
-    files.push((format!("{name}_avgResiduals.txt"), average_residuals_text(&residuals)));
-    warnings.extend(tables.warnings.iter().cloned());
-    Ok((files, residuals))
-}
-
-/// The file a setup's `property` names, which must exist.
-fn existing(setup: &RraSetup, property: &str, path: Option<&SetupPath>) -> Result<PathBuf, ResidualReductionError> {
-    required_input(&setup.tool.file, property, path).map_err(ResidualReductionError::Input)
-}
-
-/// The active tasks on their coordinates; a coordinate the model lacks is an error naming the
-/// task.
-fn tasks<'a>(set: &'a CmcTaskSet, inputs: &ForwardModel, file: &Path) -> Result<Vec<Task<'a>>, ResidualReductionError> {
-    let coordinates = &inputs.geometry.multibody.coordinates;
-    set.tasks
-        .iter()
-        .map(|task| {
-            let coordinate = coordinates.iter().position(|c| c.name == task.coordinate);
-            coordinate.map(|coordinate| Task { task, coordinate }).ok_or_else(|| ResidualReductionError::Input(format!("{}: task {}: the model has no coordinate {:?}", file.display(), task.name, task.coordinate)))
-        })
-        .collect()
+    Ok(RraOutputs { files, adjusted_model, adjustment, final_residuals, range, windows: tracking.times.len() - 1, warnings: inputs.warnings, read: inputs.read })
 }
 
 /// RRA drives ideal actuators only, by its own controller.
@@ -141,22 +80,10 @@ fn check_actuated(inputs: &ForwardModel, tool: &AnalyzeSetup) -> Result<(), Stri
     Ok(())
 }
 
-/// The setup's time range within the desired kinematics' times (OpenSim moves an end that lies
-/// outside them, with a warning).
-fn time_range(tool: &AnalyzeSetup, table: &StorageTable, file: &Path, warnings: &mut Vec<String>) -> [f64; 2] {
-    let times = table.times();
-    let (first, last) = (times[0], times[times.len() - 1]);
-    let range = [tool.initial_time.max(first), tool.final_time.min(last)];
-    if range != [tool.initial_time, tool.final_time] {
-        warnings.push(format!("{}: the time range {}–{} s is moved to {}–{} s, within the file's times", file.display(), tool.initial_time, tool.final_time, range[0], range[1]));
-    }
-    range
-}
-
 /// RRA's first pass: the average residuals over the adjustment's time range, the mass-center
 /// move, the adjusted model and its average residuals.
 fn adjust_mass_center(setup: &RraSetup, inputs: &ForwardModel, desired: &DesiredKinematics, range: [f64; 2], file: &Path) -> Result<Adjusted, ResidualReductionError> {
-    let body = setup.adjusted_com_body.as_deref().ok_or_else(|| ResidualReductionError::Input(format!("{}: adjust_com_to_reduce_residuals is true but adjusted_com_body is not set", setup.tool.file.display())))?;
+    let body = setup.adjusted_com_body.as_deref().ok_or_else(|| ResidualReductionError::Input(format!("{}: adjust_com_to_reduce_residuals is true but adjusted_com_body is not set", setup.tracking.tool.file.display())))?;
     let range = setup.com_adjustment_time_range.unwrap_or(range);
     let averages = |model: &ForwardModel| average_residuals(&model.geometry, &model.generators, model.external.as_ref(), &mut desired.states.clone(), range, file);
     let before = averages(inputs)?;
@@ -164,48 +91,6 @@ fn adjust_mass_center(setup: &RraSetup, inputs: &ForwardModel, desired: &Desired
     let model = inputs.with_mass_center(body, adjustment.mass_center[1]).map_err(ResidualReductionError::Input)?;
     let after = averages(&model)?;
     Ok(Adjusted { model, adjustment, before, after })
-}
-
-/// Each generator's control bounds: the constraints file's control of its name (or
-/// `<name>.excitation`), else its actuator's min/max control (±10000 where unbounded).
-fn control_limits(plant: &Plant, constraints: Option<&ControlSet>) -> Vec<ControlLinear> {
-    plant
-        .generators
-        .iter()
-        .map(|g| {
-            constraints.and_then(|c| c.find(&g.name)).cloned().unwrap_or_else(|| {
-                let bounds = ControlBounds { default_min: g.bounds[0].max(-MAX_CONTROL), default_max: g.bounds[1].min(MAX_CONTROL), ..ControlBounds::default() };
-                ControlLinear { name: g.name.clone(), use_steps: false, extrapolate: true, nodes: Vec::new(), bounds }
-            })
-        })
-        .collect()
-}
-
-/// `_controls.sto`: each actuator's control at the recorded times.
-fn controls_table(plant: &Plant, tracking: &Tracking) -> Result<StorageTable, crate::io::table::TableError> {
-    let labels = std::iter::once("time".to_string()).chain(plant.generators.iter().map(|g| g.name.clone())).collect();
-    let values = tracking.times.iter().flat_map(|&t| std::iter::once(t).chain(tracking.controls.controls.iter().map(move |c| c.value(t)))).collect();
-    Ok(StorageTable::new("controls", labels, values)?.with_in_degrees(false))
-}
-
-/// The controls' nodes as a table (time, one column per control) for the `ControlSet` document.
-fn control_nodes(tracking: &Tracking) -> Result<StorageTable, crate::io::table::TableError> {
-    let controls = &tracking.controls.controls;
-    let labels = std::iter::once("time".to_string()).chain(controls.iter().map(|c| c.name.clone())).collect();
-    let values = (0..controls[0].nodes.len()).flat_map(|i| std::iter::once(controls[0].nodes[i].0).chain(controls.iter().map(move |c| c.nodes[i].1))).collect();
-    StorageTable::new("controls", labels, values)
-}
-
-/// The AnalyzeTool analyses run on the tracked states: the setup's, with a Kinematics (in
-/// degrees) and an Actuation added when it has none (`RRATool::addNecessaryAnalyses`).
-fn analyses(tool: &AnalyzeSetup, states_file: &Path, start: f64) -> AnalyzeSetup {
-    let mut analyses = tool.clone();
-    analyses.states_file = Some(SetupPath { written: states_file.display().to_string(), resolved: states_file.to_path_buf() });
-    analyses.initial_time = start;
-    let kinematics = analyses.kinematics.get_or_insert_with(|| KinematicsSetup { name: "Kinematics".into(), step_interval: 1, coordinates: vec!["all".into()], in_degrees: true });
-    kinematics.in_degrees = true;
-    analyses.actuation.get_or_insert_with(|| ReporterSetup { name: "Actuation".into(), step_interval: 1, include_constraint_forces: false });
-    analyses
 }
 
 /// The time averages of the residual actuators' columns of an Actuation force table.
@@ -226,7 +111,7 @@ fn average_residuals_text(residuals: &Residuals) -> String {
 
 /// The setup's `output_model_file`, else `adjusted_model.osim` beside the setup (OpenSim's).
 fn adjusted_model_file(setup: &RraSetup) -> PathBuf {
-    setup.output_model_file.as_ref().map_or_else(|| setup.tool.file.parent().unwrap_or(Path::new(".")).join("adjusted_model.osim"), |f| f.resolved.clone())
+    setup.output_model_file.as_ref().map_or_else(|| setup.tracking.tool.file.parent().unwrap_or(Path::new(".")).join("adjusted_model.osim"), |f| f.resolved.clone())
 }
 
 /// `model`'s text with only the adjusted body's `mass_center` changed.

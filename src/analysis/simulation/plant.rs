@@ -125,14 +125,25 @@ impl<'a> Plant<'a> {
     /// [`Plant::unpack`] with the generators' `controls` at its time.
     fn unpack_with(&self, y: &[f64], controls: &[f64]) -> SimulatedState {
         let (q, u) = self.pose(y);
-        let n = self.free.len();
+        self.with_muscle_states(q, u, &y[2 * self.free.len()..], controls)
+    }
+
+    /// The muscles' states of `state` as the integrator holds them after the speeds: the
+    /// activations of the muscles with activation dynamics, then the second states.
+    pub fn muscle_states(&self, state: &SimulatedState) -> Vec<f64> {
+        self.pack(state)[2 * self.free.len()..].to_vec()
+    }
+
+    /// The state of pose `q`, speeds `u` and muscles' states `z` ([`Plant::muscle_states`]
+    /// order), a muscle without activation dynamics at its generator's control in `controls`.
+    pub fn with_muscle_states(&self, q: Vec<f64>, u: Vec<f64>, z: &[f64], controls: &[f64]) -> SimulatedState {
         let mut activations: Vec<f64> = self.generator_of.iter().map(|&g| controls[g]).collect();
         for (i, &k) in self.with_activation.iter().enumerate() {
-            activations[k] = y[2 * n + i];
+            activations[k] = z[i];
         }
         let mut seconds = vec![None; self.muscles.len()];
         for (i, &k) in self.with_second.iter().enumerate() {
-            seconds[k] = Some(y[2 * n + self.with_activation.len() + i]);
+            seconds[k] = Some(z[self.with_activation.len() + i]);
         }
         SimulatedState { q, u, activations, seconds }
     }
@@ -189,16 +200,8 @@ impl<'a> Plant<'a> {
         let (q, u) = (&state.q, &state.u);
         multibody.realize(q, &mut work.kinematics);
         let mut applied = AppliedForces { loads: self.external.map(|e| e.at(time, &work.kinematics)).unwrap_or_default(), mobility: vec![0.0; q.len()] };
-        let mut rates = vec![0.0; self.muscles.len()];
-        for (g, generator) in self.generators.iter().enumerate() {
-            let force = match self.muscle_of[g] {
-                Some(k) => {
-                    let (force, rate) = self.muscle_force(k, &state, time, work)?;
-                    rates[k] = rate;
-                    force
-                }
-                None => controls[g] * generator.unit_force(false, 0.0, 0.0),
-            };
+        let (forces, rates) = self.forces_and_rates(time, &state, &controls, work)?;
+        for (generator, &force) in self.generators.iter().zip(&forces) {
             generator.apply(self.geometry, &work.kinematics, q, &mut work.scratch, force, &mut applied);
         }
         let udot = multibody.accelerations(&work.kinematics, q, u, &applied.loads, &applied.mobility).map_err(|e| e.to_string())?;
@@ -208,14 +211,54 @@ impl<'a> Plant<'a> {
             dy[i] = qdot[c];
             dy[n + i] = udot[c];
         }
+        self.write_muscle_rates(&state, &controls, &rates, &mut dy[2 * n..]);
+        Ok(())
+    }
+
+    /// The muscles' state rates ż ([`Plant::muscle_states`] order) at `state` and `time` (s)
+    /// under the generators' `controls` — the muscles alone, their paths moving as `state`'s
+    /// coordinates and speeds say (CMC's actuator subsystem).
+    pub fn muscle_state_rates(&self, time: f64, state: &SimulatedState, controls: &[f64], dz: &mut [f64], work: &mut Workspace) -> Result<(), String> {
+        self.geometry.multibody.realize(&state.q, &mut work.kinematics);
+        let (_, rates) = self.forces_and_rates(time, state, controls, work)?;
+        self.write_muscle_rates(state, controls, &rates, dz);
+        Ok(())
+    }
+
+    /// Each generator's force (N or N·m) at `state` and `time` (s) under `controls`: a muscle's
+    /// tendon force, an actuator's control × optimal force.
+    pub fn actuations(&self, time: f64, state: &SimulatedState, controls: &[f64], work: &mut Workspace) -> Result<Vec<f64>, String> {
+        self.geometry.multibody.realize(&state.q, &mut work.kinematics);
+        Ok(self.forces_and_rates(time, state, controls, work)?.0)
+    }
+
+    /// Each generator's force and each muscle's second-state rate at `state`, whose pose
+    /// `work`'s kinematics holds.
+    fn forces_and_rates(&self, time: f64, state: &SimulatedState, controls: &[f64], work: &mut Workspace) -> Result<(Vec<f64>, Vec<f64>), String> {
+        let mut rates = vec![0.0; self.muscles.len()];
+        let mut forces = Vec::with_capacity(self.generators.len());
+        for (g, generator) in self.generators.iter().enumerate() {
+            forces.push(match self.muscle_of[g] {
+                Some(k) => {
+                    let (force, rate) = self.muscle_force(k, state, time, work)?;
+                    rates[k] = rate;
+                    force
+                }
+                None => controls[g] * generator.unit_force(false, 0.0, 0.0),
+            });
+        }
+        Ok((forces, rates))
+    }
+
+    /// ż into `dz`: the activations' rates from the excitations, then the second states' `rates`.
+    fn write_muscle_rates(&self, state: &SimulatedState, controls: &[f64], rates: &[f64], dz: &mut [f64]) {
         for (i, &k) in self.with_activation.iter().enumerate() {
             let dynamics = self.muscles[k].activation.as_ref().expect("a muscle with activation dynamics");
-            dy[2 * n + i] = dynamics.rate(state.activations[k], controls[self.generator_of[k]]);
+            dz[i] = dynamics.rate(state.activations[k], controls[self.generator_of[k]]);
         }
         for (i, &k) in self.with_second.iter().enumerate() {
-            dy[2 * n + self.with_activation.len() + i] = rates[k];
+            dz[self.with_activation.len() + i] = rates[k];
         }
-        Ok(())
     }
 
     /// Muscle k's tendon force (N) at `state` and the rate of its second state (fiber velocity,

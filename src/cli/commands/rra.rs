@@ -5,18 +5,18 @@
 use std::path::Path;
 
 use super::analyze_inputs::{analyze_tool_analyses, check_analyses};
-use crate::analysis::{run_rra, Adjusted, ResidualReductionError, Residuals, RESIDUALS};
+use crate::analysis::{run_rra, Adjusted, CmcError, ResidualReductionError, Residuals, RESIDUALS};
 use crate::cli::{write_files, Failure, Outcome};
 use crate::io::osim::format_numbers;
 use crate::setup::RraSetup;
 
 pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
     let mut setup = RraSetup::read(setup_file)?;
-    check_analyses(&setup.tool, &analyze_tool_analyses(&setup.tool))?;
-    setup.tool.results_directory.resolved = output.to_path_buf();
+    check_analyses(&setup.tracking.tool, &analyze_tool_analyses(&setup.tracking.tool))?;
+    setup.tracking.tool.results_directory.resolved = output.to_path_buf();
     let outputs = match run_rra(model, &setup) {
         Ok(outputs) => outputs,
-        Err(error @ ResidualReductionError::Tracking { .. }) => {
+        Err(error @ ResidualReductionError::Cmc(CmcError::Tracking { .. })) => {
             eprintln!("error: RRA's tracking failed: {error}; no output written");
             return Ok(Outcome::NotConverged);
         }

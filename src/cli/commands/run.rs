@@ -164,8 +164,8 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
 
 /// RRATool: `rra MODEL --setup SETUP -o <results_directory>`.
 fn rra_tool(file: &Path, setup: &RraSetup) -> Result<Invocation, Failure> {
-    let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
-    Ok(Invocation::new(&["rra".as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tool.results_directory.resolved.as_ref()]))
+    let model = input(file, "model_file", setup.tracking.tool.model_file.as_ref())?;
+    Ok(Invocation::new(&["rra".as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tracking.tool.results_directory.resolved.as_ref()]))
 }
 
 /// ForwardTool: `simulate MODEL --setup SETUP -o <results_directory>`.

@@ -8,7 +8,7 @@ mod path;
 mod property;
 mod version;
 
-pub use control_set::{bounded_control_set_document, control_set_document};
+pub use control_set::{bounded_control_set_document, control_set_document, ControlLimits};
 pub use document::OsimDocument;
 pub use error::OsimError;
 pub use path::{canonical_path, child_segments, ComponentPath};

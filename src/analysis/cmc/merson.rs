@@ -1,32 +1,56 @@
 //! Simbody's Runge–Kutta–Merson step (OpenSim's default integrator; Hairer, Nørsett & Wanner,
 //! Solving ODEs I, table 4.1): five stages, the 4th-order solution propagated, |y − ŷ|/5 against
 //! the embedded 3rd-order ŷ as its error estimate, normed as Simbody norms it (the larger of the
-//! coordinates' RMS error and the speeds' RMS error relative to |u| where |u| > 1). A window is
+//! coordinates' RMS error, the speeds' and the auxiliary states' RMS errors relative to |y|
+//! where |y| > 1). A window is
 //! one step when that norm is within the tolerance, else two half windows, recursively (Simbody
 //! instead shrinks its step size and keeps it: its internal steps are not ours, though both meet
 //! the tolerance).
 
 use crate::analysis::simulation::{Plant, Workspace};
 
+/// What the integrator advances: ẏ at (t, y), and how many coordinates lead `y` (then as many
+/// speeds, then the auxiliary states).
+pub trait Rates {
+    fn rates(&mut self, time: f64, y: &[f64], dy: &mut [f64]) -> Result<(), String>;
+    fn coordinates(&self) -> usize;
+}
+
+/// A plant's whole state moved by its dynamics.
+pub struct PlantRates<'p, 'a> {
+    pub plant: &'p Plant<'a>,
+    pub work: Workspace,
+}
+
+impl Rates for PlantRates<'_, '_> {
+    fn rates(&mut self, time: f64, y: &[f64], dy: &mut [f64]) -> Result<(), String> {
+        self.plant.derivatives(time, y, dy, &mut self.work)
+    }
+
+    fn coordinates(&self) -> usize {
+        self.plant.coordinate_states()
+    }
+}
+
 /// Deepest halving of a window before the integration gives up.
 const MAX_HALVINGS: u32 = 12;
 
-/// The state `y` at `from` (s) of `plant` carried to `to` (s) with steps no longer than
+/// The state `y` at `from` (s) of `system` carried to `to` (s) with steps no longer than
 /// `max_step` (s) and errors within `tolerance`; an error names the time and the reason.
-pub fn integrate(plant: &Plant, y: &[f64], [from, to]: [f64; 2], max_step: f64, tolerance: f64, work: &mut Workspace) -> Result<Vec<f64>, (f64, String)> {
+pub fn integrate(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], max_step: f64, tolerance: f64) -> Result<Vec<f64>, (f64, String)> {
     let pieces = ((to - from) / max_step - 1e-9).ceil().max(1.0) as usize;
     let mut y = y.to_vec();
     for k in 0..pieces {
         let (a, b) = (from + (to - from) * k as f64 / pieces as f64, from + (to - from) * (k + 1) as f64 / pieces as f64);
-        y = adaptive(plant, &y, [a, b], tolerance, work, 0)?;
+        y = adaptive(system, &y, [a, b], tolerance, 0)?;
     }
     Ok(y)
 }
 
 /// One step over [from, to], or two halves when its error estimate exceeds `tolerance`.
-fn adaptive(plant: &Plant, y: &[f64], [from, to]: [f64; 2], tolerance: f64, work: &mut Workspace, depth: u32) -> Result<Vec<f64>, (f64, String)> {
-    let (y1, error) = step(plant, y, from, to - from, work)?;
-    let norm = error_norm(&error, y, plant.coordinate_states());
+fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], tolerance: f64, depth: u32) -> Result<Vec<f64>, (f64, String)> {
+    let (y1, error) = step(system, y, from, to - from)?;
+    let norm = error_norm(&error, y, system.coordinates());
     if norm <= tolerance {
         return Ok(y1);
     }
@@ -34,28 +58,31 @@ fn adaptive(plant: &Plant, y: &[f64], [from, to]: [f64; 2], tolerance: f64, work
         return Err((from, format!("the step error {norm:e} stays above the tolerance {tolerance:e} at steps of {:e} s", to - from)));
     }
     let middle = 0.5 * (from + to);
-    let half = adaptive(plant, y, [from, middle], tolerance, work, depth + 1)?;
-    adaptive(plant, &half, [middle, to], tolerance, work, depth + 1)
+    let half = adaptive(system, y, [from, middle], tolerance, depth + 1)?;
+    adaptive(system, &half, [middle, to], tolerance, depth + 1)
 }
 
-/// Simbody's `calcErrorNorm` with unit weights: the RMS of the coordinates' errors and of the
-/// speeds' errors scaled by 1/|u| where |u| > 1 at the step's start `y`, the larger of the two
-/// (`n` coordinates, then as many speeds).
+/// Simbody's `calcErrorNorm` with unit weights: the RMS of the coordinates' errors, of the
+/// speeds' errors and of the auxiliary states' errors, the latter two scaled by 1/|y| where
+/// |y| > 1 at the step's start `y`; the largest of the three (`n` coordinates, then as many
+/// speeds, then the auxiliary states).
 fn error_norm(error: &[f64], y: &[f64], n: usize) -> f64 {
     let rms = |values: &mut dyn Iterator<Item = f64>| {
         let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v * v, c + 1));
         if count == 0 { 0.0 } else { (sum / count as f64).sqrt() }
     };
     let q = rms(&mut error[..n].iter().copied());
-    let u = rms(&mut error[n..2 * n].iter().zip(&y[n..2 * n]).map(|(e, u)| if u.abs() > 1.0 { e / u.abs() } else { *e }));
-    q.max(u)
+    let relative = |(e, y): (&f64, &f64)| if y.abs() > 1.0 { e / y.abs() } else { *e };
+    let u = rms(&mut error[n..2 * n].iter().zip(&y[n..2 * n]).map(relative));
+    let z = rms(&mut error[2 * n..].iter().zip(&y[2 * n..]).map(relative));
+    q.max(u).max(z)
 }
 
 /// One Merson step of `h` (s) from `y` at `t0`: the 4th-order y₁ and the error estimate per state.
-fn step(plant: &Plant, y0: &[f64], t0: f64, h: f64, work: &mut Workspace) -> Result<(Vec<f64>, Vec<f64>), (f64, String)> {
+fn step(system: &mut impl Rates, y0: &[f64], t0: f64, h: f64) -> Result<(Vec<f64>, Vec<f64>), (f64, String)> {
     let mut rate = |t: f64, y: &[f64]| {
         let mut dy = vec![0.0; y.len()];
-        plant.derivatives(t, y, &mut dy, work).map(|()| dy).map_err(|reason| (t, reason))
+        system.rates(t, y, &mut dy).map(|()| dy).map_err(|reason| (t, reason))
     };
     let combine = |terms: &[(f64, &[f64])]| -> Vec<f64> { (0..y0.len()).map(|i| y0[i] + terms.iter().map(|(c, f)| c * f[i]).sum::<f64>()).collect() };
     let f0 = rate(t0, y0)?;

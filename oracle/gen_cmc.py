@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""OpenSim 4.6's CMCTool (computed muscle control) on arm26: the model of `fixtures/models/`,
+opensim-core's arm26 CMC inputs (`fixtures/cmc/`: the reserve actuators added to the six Thelen
+muscles, the IK motion, the two CMC_Joint tasks):
+
+* `fast`: 0.40–0.65 s as opensim-core's arm26 CMC test runs it (the desired kinematics filtered
+  at 6 Hz, the fast target, integrator tolerance 1e-5, windows of 0.01 s);
+* `slow`: 0.20–0.40 s unfiltered, the slow target (`use_fast_optimization_target` false).
+
+Writes fixtures/golden/cmc/<case>/: setup.xml (inputs by plain name), files.txt (every file
+OpenSim wrote) and every .sto and the controls' `ControlSet` it wrote (the states file's header
+repaired: OpenSim 4.6 leaves an early flush's header lines in it).
+
+    python3 oracle/gen_cmc.py [case ...]
+"""
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parent.parent
+OUT = REPO / "fixtures" / "golden" / "cmc"
+INPUTS = {
+    "arm26.osim": REPO / "fixtures" / "models" / "arm26.osim",
+    "arm26_InverseKinematics.mot": REPO / "fixtures" / "cmc" / "arm26_InverseKinematics.mot",
+    "arm26_Reserve_Actuators.xml": REPO / "fixtures" / "cmc" / "arm26_Reserve_Actuators.xml",
+    "arm26_ComputedMuscleControl_Tasks.xml": REPO / "fixtures" / "cmc" / "arm26_ComputedMuscleControl_Tasks.xml",
+}
+
+SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
+<OpenSimDocument Version="40600">
+\t<CMCTool name="{name}">
+\t\t<model_file>arm26.osim</model_file>
+\t\t<replace_force_set>false</replace_force_set>
+\t\t<force_set_files>arm26_Reserve_Actuators.xml</force_set_files>
+\t\t<results_directory>Results</results_directory>
+\t\t<output_precision>8</output_precision>
+\t\t<initial_time>{start}</initial_time>
+\t\t<final_time>{end}</final_time>
+\t\t<solve_for_equilibrium_for_auxiliary_states>true</solve_for_equilibrium_for_auxiliary_states>
+\t\t<maximum_number_of_integrator_steps>20000</maximum_number_of_integrator_steps>
+\t\t<maximum_integrator_step_size>1</maximum_integrator_step_size>
+\t\t<minimum_integrator_step_size>1e-08</minimum_integrator_step_size>
+\t\t<integrator_error_tolerance>1e-05</integrator_error_tolerance>
+\t\t<AnalysisSet name="Analyses">
+\t\t\t<objects />
+\t\t\t<groups />
+\t\t</AnalysisSet>
+\t\t<ControllerSet name="Controllers">
+\t\t\t<objects />
+\t\t\t<groups />
+\t\t</ControllerSet>
+\t\t<external_loads_file />
+\t\t<desired_points_file />
+\t\t<desired_kinematics_file>arm26_InverseKinematics.mot</desired_kinematics_file>
+\t\t<task_set_file>arm26_ComputedMuscleControl_Tasks.xml</task_set_file>
+\t\t<constraints_file />
+\t\t<lowpass_cutoff_frequency>{cutoff}</lowpass_cutoff_frequency>
+\t\t<cmc_time_window>0.01</cmc_time_window>
+\t\t<use_fast_optimization_target>{fast}</use_fast_optimization_target>
+\t\t<optimizer_algorithm>ipopt</optimizer_algorithm>
+\t\t<numerical_derivative_step_size>0.0001</numerical_derivative_step_size>
+\t\t<optimization_convergence_tolerance>1e-05</optimization_convergence_tolerance>
+\t\t<optimizer_max_iterations>100</optimizer_max_iterations>
+\t\t<use_verbose_printing>false</use_verbose_printing>
+\t</CMCTool>
+</OpenSimDocument>
+"""
+CASES = {
+    "fast": dict(start=0.4, end=0.65, cutoff=6, fast="true"),
+    "slow": dict(start=0.2, end=0.4, cutoff=-1, fast="false"),
+}
+RUN = """
+import sys, opensim as osim
+ok = osim.CMCTool("setup.xml").run()
+sys.exit(0 if ok else 1)
+"""
+
+
+def repair_states(path):
+    """OpenSim 4.6 flushes the states file early and prints it again at the end over the same
+    name, leaving the first header's lines before the second's tail; keeps the table and writes
+    a whole header for it."""
+    lines = path.read_text().splitlines()
+    last = max(i for i, line in enumerate(lines) if line.strip() == "endheader")
+    table = [line for line in lines[last + 1:] if line.strip()]
+    header = f"states\nversion=1\nnRows={len(table) - 1}\nnColumns={len(table[0].split())}\ninDegrees=no\nendheader\n"
+    path.write_text(header + "\n".join(table) + "\n")
+
+
+def main():
+    for case in sys.argv[1:] or CASES:
+        out = OUT / case
+        out.mkdir(parents=True, exist_ok=True)
+        name = f"arm26_CMC_{case}"
+        (out / "setup.xml").write_text(SETUP.format(name=name, **CASES[case]))
+        with tempfile.TemporaryDirectory() as work:
+            work = Path(work)
+            for file, source in INPUTS.items():
+                shutil.copy(source, work / file)
+            shutil.copy(out / "setup.xml", work / "setup.xml")
+            run = subprocess.run([sys.executable, "-c", RUN], cwd=work, capture_output=True, text=True)
+            if run.returncode != 0:
+                raise SystemExit(f"CMCTool failed on {case}:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
+            written = sorted(p.name for p in (work / "Results").iterdir())
+            (out / "files.txt").write_text("\n".join(written) + "\n")
+            for file in written:
+                if file.endswith(".sto") or file.endswith("_controls.xml"):
+                    shutil.copy(work / "Results" / file, out / file)
+            repair_states(out / f"{name}_states.sto")
+            print(case, "->", out, ", ".join(written))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,110 @@
+//! CMC's optimisation targets: the generators' forces f at the predicted state, within their
+//! force range. The forward dynamics are linear in f (q̈ = q̈₀ + S f), so each is a convex QP
+//! (clarabel, solved to the optimum where OpenSim's IPOPT stops at its tolerance):
+//! - `Fast` (`ActuatorForceTargetFast`, CMC's default): min Σⱼ (fⱼ/F₁,ⱼ)² with every task's
+//!   acceleration met exactly, F₁ a muscle's active fiber force at activation 1 with a rigid
+//!   tendon at the predicted path (`calcInextensibleTendonActiveFiberForce`), an actuator's
+//!   optimal force;
+//! - `Slow` (`ActuatorForceTarget`, RRA's): min Σᵢ wᵢ·(q̈ᵢ − q̈ᵢ*)² + s·Σⱼ (fⱼ/Fⱼ)², F a muscle's
+//!   maximum isometric force, an actuator's optimal force, s the stress term's weight.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::tracking::Controller;
+use crate::analysis::simulation::{Plant, SimulatedState};
+use crate::mechanics::{AppliedForces, PathScratch};
+use crate::solvers::qp::{DenseQp, QpSettings};
+
+/// Which of CMC's optimisation targets chooses the forces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    Fast,
+    Slow,
+}
+
+/// The forces (N or N·m) `controller`'s target chooses at the `predicted` state at `time` (s) for
+/// the tasks' `desired` accelerations, within `bounds` ([lower, upper]).
+pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time: f64, desired: &[f64], stress_weight: f64, [lower, upper]: [&[f64]; 2]) -> Result<Vec<f64>, String> {
+    let plant = controller.plant;
+    let coordinates: Vec<usize> = controller.tasks.iter().map(|t| t.coordinate).collect();
+    let (base, sensitivity) = acceleration_map(plant, predicted, time, &coordinates)?;
+    let offset: Vec<f64> = base.iter().zip(desired).map(|(a, d)| a - d).collect();
+    let n = plant.generators.len();
+    let solved = match controller.target {
+        Target::Fast => {
+            let scales = fast_scales(plant, predicted);
+            let hessian = DMatrix::from_diagonal(&DVector::from_iterator(n, scales.iter().map(|f| 2.0 / (f * f))));
+            let weighted: Vec<usize> = (0..coordinates.len()).filter(|&i| controller.tasks[i].task.weight != 0.0).collect();
+            let rows = DMatrix::from_fn(weighted.len(), n, |r, j| sensitivity[(weighted[r], j)]);
+            let rhs: Vec<f64> = weighted.iter().map(|&i| -offset[i]).collect();
+            let zero = vec![0.0; n];
+            let qp = DenseQp::new(&hessian, &zero).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(lower, upper)).map_err(|e| e.to_string())?;
+            qp.solve(&QpSettings::default())
+        }
+        Target::Slow => {
+            let weights = DMatrix::from_diagonal(&DVector::from_iterator(coordinates.len(), controller.tasks.iter().map(|t| t.task.weight)));
+            let stress = DMatrix::from_diagonal(&DVector::from_iterator(n, plant.generators.iter().map(|g| stress_weight / g.unit_force(false, 0.0, 0.0).powi(2))));
+            let hessian = 2.0 * (sensitivity.transpose() * &weights * &sensitivity + stress);
+            let linear: Vec<f64> = (2.0 * sensitivity.transpose() * &weights * DVector::from_vec(offset)).iter().copied().collect();
+            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_bounds(lower, upper)).map_err(|e| e.to_string())?;
+            qp.solve(&QpSettings::default())
+        }
+    };
+    if !solved.status.is_solved() {
+        return Err(format!(
+            "no actuator forces within their ranges reach the desired accelerations ({:?}): are all coordinates actuated, tasks free of locked coordinates, reserve actuators unconstrained?",
+            solved.status
+        ));
+    }
+    Ok(solved.x)
+}
+
+/// The fast target's force scale per generator: a muscle's rigid-tendon active fiber force at
+/// activation 1 on its predicted path (at least the smallest positive normal number, as
+/// OpenSim's `TinyReal` floor), an actuator's optimal force.
+fn fast_scales(plant: &Plant, state: &SimulatedState) -> Vec<f64> {
+    let multibody = &plant.geometry.multibody;
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(&state.q, &mut kinematics);
+    let mut scratch = PathScratch::default();
+    plant
+        .generators
+        .iter()
+        .map(|g| match g.muscle_path() {
+            Some((path, _)) => {
+                let path = &plant.geometry.paths[path];
+                let (length, speed) = path.length_and_speed(multibody, &kinematics, &state.q, &mut scratch, &path.loaded, &state.u);
+                let force = g.unit_force(true, length, speed);
+                if force.abs() < TINY { TINY } else { force }
+            }
+            None => g.unit_force(false, 0.0, 0.0),
+        })
+        .collect()
+}
+
+/// SimTK's `TinyReal` (ε^1.25 of double precision, about 2e-20).
+const TINY: f64 = 2.168404344971009e-20;
+
+/// The `coordinates`' accelerations at `state` with no generator force, and their change per
+/// unit force of each generator (rows: coordinates; columns: generators).
+fn acceleration_map(plant: &Plant, state: &SimulatedState, time: f64, coordinates: &[usize]) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+    let multibody = &plant.geometry.multibody;
+    let mut kinematics = multibody.kinematics();
+    multibody.realize(&state.q, &mut kinematics);
+    let loads = plant.external.map(|e| e.at(time, &kinematics)).unwrap_or_default();
+    let zero = vec![0.0; state.q.len()];
+    let dynamics = multibody.prepare_dynamics(&kinematics, &state.q, &state.u).map_err(|e| format!("forward dynamics: {e}"))?;
+    let at = |applied: &AppliedForces| dynamics.solve(&applied.loads, &applied.mobility).map(|(udot, _)| udot).map_err(|e| format!("forward dynamics: {e}"));
+    let base = at(&AppliedForces { loads: loads.clone(), mobility: zero.clone() })?;
+    let mut sensitivity = DMatrix::zeros(coordinates.len(), plant.generators.len());
+    let mut scratch = PathScratch::default();
+    for (j, generator) in plant.generators.iter().enumerate() {
+        let mut applied = AppliedForces { loads: loads.clone(), mobility: zero.clone() };
+        generator.apply(plant.geometry, &kinematics, &state.q, &mut scratch, 1.0, &mut applied);
+        let moved = at(&applied)?;
+        for (i, &c) in coordinates.iter().enumerate() {
+            sensitivity[(i, j)] = moved[c] - base[c];
+        }
+    }
+    Ok((coordinates.iter().map(|&c| base[c]).collect(), sensitivity))
+}
