@@ -9,10 +9,16 @@ muscles, the IK motion, the two CMC_Joint tasks):
 
 Writes fixtures/golden/cmc/<case>/: setup.xml (inputs by plain name), files.txt (every file
 OpenSim wrote) and every .sto and the controls' `ControlSet` it wrote (the states file's header
-repaired: OpenSim 4.6 leaves an early flush's header lines in it).
+repaired: OpenSim 4.6 leaves an early flush's header lines in it), and initial.json: what the
+verbose log (the run's copy of the setup with `use_verbose_printing` on) reports of
+`computeInitialStates` — the muscles' states Z before and after each 0.2 s settling, and of each of
+the first window's two solves the min and max forces, the desired forces and the target's
+performance (printed to 6 significant digits, the performance to 17).
 
     python3 oracle/gen_cmc.py [case ...]
 """
+import json
+import re
 import shutil
 import subprocess
 import sys
@@ -80,13 +86,42 @@ sys.exit(0 if ok else 1)
 
 def repair_states(path):
     """OpenSim 4.6 flushes the states file early and prints it again at the end over the same
-    name, leaving the first header's lines before the second's tail; keeps the table and writes
-    a whole header for it."""
+    name, leaving pieces of the first header before the second's tail; keeps the table (from the
+    last line of column labels) and writes a whole header for it."""
     lines = path.read_text().splitlines()
-    last = max(i for i, line in enumerate(lines) if line.strip() == "endheader")
-    table = [line for line in lines[last + 1:] if line.strip()]
+    start = max(i for i, line in enumerate(lines) if line.split()[:1] == ["time"] and len(line.split()) > 1)
+    table = [line for line in lines[start:] if line.strip()]
     header = f"states\nversion=1\nnRows={len(table) - 1}\nnColumns={len(table[0].split())}\ninDegrees=no\nendheader\n"
     path.write_text(header + "\n".join(table) + "\n")
+
+
+def numbers(line, label):
+    """The numbers of `line` after `label`."""
+    return [float(v) for v in re.findall(r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?", line.split(label, 1)[1])]
+
+
+def initial_report(log):
+    """The verbose log's report of computeInitialStates: Z (per muscle: activation, fiber length)
+    of the guess and after each settling, and the first window's two solves."""
+    lines = log.splitlines()
+    z = []
+    for i, line in enumerate(lines):
+        if "CMC::computeInitialStates, guess" in line or "actuator equilibrium #" in line:
+            z.append(numbers(next(l for l in lines[i:] if "-- Z =" in l), "-- Z ="))
+    solves = []
+    block = {}
+    for line in lines:
+        for key, label in (("min_forces", "Min forces:"), ("max_forces", "Max forces:"), ("desired_forces", "Desired actuator forces:")):
+            if label in line:
+                block[key] = numbers(line, label)
+        if line.startswith("performance ="):
+            block["performance"] = float(line.split("=")[1])
+        if len(block) == 4:
+            solves.append(block)
+            block = {}
+        if len(solves) == 2:
+            break
+    return {"z": {"guess": z[0], "settled": z[1:3]}, "first_window": solves}
 
 
 def main():
@@ -99,7 +134,7 @@ def main():
             work = Path(work)
             for file, source in INPUTS.items():
                 shutil.copy(source, work / file)
-            shutil.copy(out / "setup.xml", work / "setup.xml")
+            (work / "setup.xml").write_text((out / "setup.xml").read_text().replace("<use_verbose_printing>false", "<use_verbose_printing>true"))
             run = subprocess.run([sys.executable, "-c", RUN], cwd=work, capture_output=True, text=True)
             if run.returncode != 0:
                 raise SystemExit(f"CMCTool failed on {case}:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
@@ -109,6 +144,7 @@ def main():
                 if file.endswith(".sto") or file.endswith("_controls.xml"):
                     shutil.copy(work / "Results" / file, out / file)
             repair_states(out / f"{name}_states.sto")
+            (out / "initial.json").write_text(json.dumps(initial_report(run.stdout + run.stderr), indent=1) + "\n")
             print(case, "->", out, ", ".join(written))
 
 

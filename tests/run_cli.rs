@@ -328,11 +328,11 @@ fn a_dry_run_prints_the_command_only() {
 fn setups_it_cannot_run_are_refused_naming_what_is_wrong() {
     let folder = tempfile::tempdir().unwrap();
     let dir = folder.path();
-    let cmc = dir.join("cmc.xml");
-    std::fs::write(&cmc, "<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"40000\">\n<CMCTool name=\"walk\"><model_file>m.osim</model_file></CMCTool>\n</OpenSimDocument>\n").unwrap();
-    let (code, _, stderr) = osim_tune(&["run", s(&cmc)]);
+    let moco = dir.join("moco.xml");
+    std::fs::write(&moco, "<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"40000\">\n<MocoStudy name=\"walk\"><model_file>m.osim</model_file></MocoStudy>\n</OpenSimDocument>\n").unwrap();
+    let (code, _, stderr) = osim_tune(&["run", s(&moco)]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("cmc.xml:3: <CMCTool> is not a tool osim-tune runs"), "{stderr}");
+    assert!(stderr.contains("moco.xml:3: <MocoStudy> is not a tool osim-tune runs"), "{stderr}");
 
     let speeds = dir.join("speeds.xml");
     std::fs::write(&speeds, ANALYZE_SETUP.replace("<coordinates_file>", "<speeds_file>u.sto</speeds_file><coordinates_file>")).unwrap();

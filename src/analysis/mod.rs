@@ -32,7 +32,7 @@ mod static_optimization;
 
 pub use activation::{ActivationError, Activations};
 pub use body_kinematics::KinematicsError;
-pub use cmc::{run_cmc, CmcError, CmcOutputs};
+pub use cmc::{run_cmc, CmcError, CmcOutputs, InitialStates as CmcInitialStates, WindowSolution};
 pub use controllers::Controllers;
 pub use dynamometer::{agreement, dynamometer_analysis, isometric_contraction, plateau, Agreement, IsometricContraction, Agreements, Axis, DynamometerSummary, HerzogEstimate, Spread, PERPENDICULAR_TOLERANCE, DynamometerError, DynamometerFrame, DynamometerModel, DynamometerResult, DynamometerSettings, MeasuredMoment, Perturbations, SensitivityRow};
 pub use emg_comparison::{correlate_with_emg, EmgComparisonError, EmgCorrelation};

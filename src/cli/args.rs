@@ -246,7 +246,7 @@ pub enum Command {
     /// Run an OpenSim tool setup as `opensim-cmd run-tool` does: a ScaleTool,
     /// InverseKinematicsTool, InverseDynamicsTool, AnalyzeTool (MuscleAnalysis, Kinematics,
     /// BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter,
-    /// ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction), ForwardTool (`simulate`) or RRATool (`rra`) setup's model, input
+    /// ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction), ForwardTool (`simulate`), RRATool (`rra`) or CMCTool (`cmc`) setup's model, input
     /// and output files (relative names from the setup's
     /// folder; outputs under OpenSim's names, e.g. <results_directory>/<name>_ik_marker_errors.sto)
     /// given to the osim-tune command that does the tool's work, printed before it runs. Exit as
@@ -584,6 +584,25 @@ pub enum Command {
         /// The model (.osim).
         model: PathBuf,
         /// The OpenSim RRATool setup (its other files relative to its folder).
+        #[arg(long)]
+        setup: PathBuf,
+        /// Output folder for the tables (created if needed); existing files of the same names are replaced.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
+    /// OpenSim's computed muscle control (CMCTool) from its setup: every cmc_time_window (default
+    /// 0.01 s) the muscles' and actuators' forces that reach the CMC_Joint tasks' desired
+    /// accelerations at the window's end (fast target: met exactly at the least Σ(f/F)²; slow:
+    /// weighted least squares), the excitations that give those forces there (the muscles'
+    /// activation and fiber states predicted over the window), and the model integrated under
+    /// them; with muscles the tracking starts 0.03 s after initial_time, as OpenSim's
+    /// computeInitialStates. Writes `<name>_states.sto`, `_controls.sto`, `_controls.xml`,
+    /// `_pErr.sto`, `_Kinematics_q/u/dudt.sto` and `_Actuation_force/speed/power.sto`.
+    /// Exit 0 success, 1 the tracking failed (nothing written), 2 error.
+    Cmc {
+        /// The model (.osim).
+        model: PathBuf,
+        /// The OpenSim CMCTool setup (its other files relative to its folder).
         #[arg(long)]
         setup: PathBuf,
         /// Output folder for the tables (created if needed); existing files of the same names are replaced.

@@ -89,11 +89,11 @@ impl ActuatorSpec {
 }
 
 /// The actuators of a `<ForceSet>` document (e.g. OpenSim's residual-actuator files; 2.x/3.x and
-/// 4.x dialects), in file order; a member of another class is an error naming file, line and
-/// class.
+/// 4.x dialects; `<ActuatorSet>`, OpenSim 1.x's name that OpenSim still reads as a ForceSet), in
+/// file order; a member of another class is an error naming file, line and class.
 pub fn read_force_set(document: &OsimDocument) -> Result<Vec<ActuatorSpec>, ModelError> {
     let set = ComponentReader::new(document, document.object);
-    if set.class() != "ForceSet" {
+    if !matches!(set.class(), "ForceSet" | "ActuatorSet") {
         return Err(unexpected_class(set, "OpenSimDocument", "a <ForceSet>"));
     }
     let Some(objects) = set.child("objects") else { return Ok(Vec::new()) };

@@ -22,6 +22,7 @@ mod kalman_ik;
 mod knee_axis;
 mod knee_swap;
 mod muscle;
+mod cmc;
 mod rra;
 mod scale;
 mod validate;

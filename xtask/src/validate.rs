@@ -38,6 +38,7 @@ pub fn run() -> ExitCode {
     rows.extend(crate::kalman_ik::rows());
     rows.extend(crate::dynamics::rows());
     rows.extend(crate::rra::rows());
+    rows.extend(crate::cmc::rows());
     rows.extend(scale::rows());
     rows.extend(crate::knee_axis::rows());
     rows.extend(knee_swap::rows());

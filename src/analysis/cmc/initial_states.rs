@@ -6,7 +6,7 @@
 //! starts, 0.03 s after the initial time, with those controls as its first nodes.
 
 use super::predictor::{Predictor, Prescribed};
-use super::tracking::Controller;
+use super::tracking::{Controller, WindowSolution};
 use super::CmcError;
 use crate::analysis::simulation::SimulatedState;
 
@@ -17,14 +17,19 @@ const SETTLING_CONTROL: f64 = 0.01;
 /// The first window (s): the tracking starts this much after the initial time.
 pub const FIRST_WINDOW: f64 = 0.03;
 
-/// Where the tracking starts.
+/// Where the tracking starts, and how CMC got there.
+#[derive(Debug, Clone)]
 pub struct InitialStates {
     pub time: f64,
     pub state: SimulatedState,
-    /// The first window's controls (the tracking's first nodes).
-    pub controls: Vec<f64>,
-    /// The tasks' position errors at the initial time.
-    pub position_errors: Vec<f64>,
+    /// The muscles' states it started from (the model's default state's, OpenSim's "guess").
+    pub guess: Vec<f64>,
+    /// The muscles' states after each settling under controls of 0.01 ([`crate::analysis::Plant::muscle_states`]
+    /// order).
+    pub settled: [Vec<f64>; 2],
+    /// The first window's two solutions; the last one's controls are the tracking's first nodes.
+    pub first: WindowSolution,
+    pub last: WindowSolution,
 }
 
 /// CMC's initial states from `start`, the desired state at `time` (s) with the muscles' states
@@ -43,14 +48,13 @@ pub fn initial_states(controller: &Controller, start: SimulatedState, time: f64)
         last_nodes: vec![None; n],
     };
     let settled = |z: Vec<f64>, controls: &[f64]| predictor(z, SETTLING, true).forces(controls).map(|(_, state)| plant.muscle_states(&state)).map_err(failed);
-    let mut z = plant.muscle_states(&start);
-    for _ in 0..2 {
-        z = settled(z, &vec![SETTLING_CONTROL; n])?;
-    }
+    let guess = plant.muscle_states(&start);
+    let once = settled(guess.clone(), &vec![SETTLING_CONTROL; n])?;
+    let twice = settled(once.clone(), &vec![SETTLING_CONTROL; n])?;
     let with_states = |z: &[f64]| plant.with_muscle_states(start.q.clone(), start.u.clone(), z, &plant.generator_controls(time));
-    let mut solution = controller.solve_with(&predictor(z.clone(), FIRST_WINDOW, false), &with_states(&z), time)?;
-    z = settled(z, &solution.controls)?;
-    solution = controller.solve_with(&predictor(z.clone(), FIRST_WINDOW, false), &with_states(&z), time)?;
-    let (_, state) = predictor(z, FIRST_WINDOW, false).forces(&solution.controls).map_err(failed)?;
-    Ok(InitialStates { time: time + FIRST_WINDOW, state, controls: solution.controls, position_errors: solution.position_errors })
+    let first = controller.solve_with(&predictor(twice.clone(), FIRST_WINDOW, false), &with_states(&twice), time)?;
+    let z = settled(twice.clone(), &first.controls)?;
+    let last = controller.solve_with(&predictor(z.clone(), FIRST_WINDOW, false), &with_states(&z), time)?;
+    let (_, state) = predictor(z, FIRST_WINDOW, false).forces(&last.controls).map_err(failed)?;
+    Ok(InitialStates { time: time + FIRST_WINDOW, state, guess, settled: [once, twice], first, last })
 }

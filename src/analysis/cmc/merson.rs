@@ -49,8 +49,16 @@ pub fn integrate(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], max_s
 
 /// One step over [from, to], or two halves when its error estimate exceeds `tolerance`.
 fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], tolerance: f64, depth: u32) -> Result<Vec<f64>, (f64, String)> {
-    let (y1, error) = step(system, y, from, to - from)?;
-    let norm = error_norm(&error, y, system.coordinates());
+    // A step whose stages leave the states' domain (a muscle's fiber length below 0) is
+    // retried in halves, as one whose error is too large.
+    let (y1, norm) = match step(system, y, from, to - from) {
+        Ok((y1, error)) => {
+            let norm = error_norm(&error, y, system.coordinates());
+            (y1, norm)
+        }
+        Err(failure) if depth >= MAX_HALVINGS => return Err(failure),
+        Err(_) => (Vec::new(), f64::INFINITY),
+    };
     if norm <= tolerance {
         return Ok(y1);
     }

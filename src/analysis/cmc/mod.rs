@@ -18,9 +18,10 @@ mod tool;
 mod tracking;
 
 pub use desired::DesiredKinematics;
+pub use initial_states::InitialStates;
 pub use target::Target;
 pub use tool::{control_limits, read_tracking_inputs, run_cmc, tasks, tracked_files, CmcOutputs};
-pub use tracking::{desired_state, Controller, Task, Tracking};
+pub use tracking::{desired_state, Controller, Task, Tracking, WindowSolution};
 
 use super::analyze_states::StatesError;
 

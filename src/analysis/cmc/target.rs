@@ -23,16 +23,20 @@ pub enum Target {
 }
 
 /// The forces (N or N·m) `controller`'s target chooses at the `predicted` state at `time` (s) for
-/// the tasks' `desired` accelerations, within `bounds` ([lower, upper]).
-pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time: f64, desired: &[f64], stress_weight: f64, [lower, upper]: [&[f64]; 2]) -> Result<Vec<f64>, String> {
+/// the tasks' `desired` accelerations, within `bounds` ([lower, upper]), and the target's value
+/// there (OpenSim's "performance").
+pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time: f64, desired: &[f64], stress_weight: f64, [lower, upper]: [&[f64]; 2]) -> Result<(Vec<f64>, f64), String> {
     let plant = controller.plant;
     let coordinates: Vec<usize> = controller.tasks.iter().map(|t| t.coordinate).collect();
     let (base, sensitivity) = acceleration_map(plant, predicted, time, &coordinates)?;
     let offset: Vec<f64> = base.iter().zip(desired).map(|(a, d)| a - d).collect();
     let n = plant.generators.len();
+    let scales = match controller.target {
+        Target::Fast => fast_scales(plant, predicted),
+        Target::Slow => plant.generators.iter().map(|g| g.unit_force(false, 0.0, 0.0) / stress_weight.sqrt()).collect(),
+    };
     let solved = match controller.target {
         Target::Fast => {
-            let scales = fast_scales(plant, predicted);
             let hessian = DMatrix::from_diagonal(&DVector::from_iterator(n, scales.iter().map(|f| 2.0 / (f * f))));
             let weighted: Vec<usize> = (0..coordinates.len()).filter(|&i| controller.tasks[i].task.weight != 0.0).collect();
             let rows = DMatrix::from_fn(weighted.len(), n, |r, j| sensitivity[(weighted[r], j)]);
@@ -43,9 +47,9 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
         }
         Target::Slow => {
             let weights = DMatrix::from_diagonal(&DVector::from_iterator(coordinates.len(), controller.tasks.iter().map(|t| t.task.weight)));
-            let stress = DMatrix::from_diagonal(&DVector::from_iterator(n, plant.generators.iter().map(|g| stress_weight / g.unit_force(false, 0.0, 0.0).powi(2))));
+            let stress = DMatrix::from_diagonal(&DVector::from_iterator(n, scales.iter().map(|f| 1.0 / (f * f))));
             let hessian = 2.0 * (sensitivity.transpose() * &weights * &sensitivity + stress);
-            let linear: Vec<f64> = (2.0 * sensitivity.transpose() * &weights * DVector::from_vec(offset)).iter().copied().collect();
+            let linear: Vec<f64> = (2.0 * sensitivity.transpose() * &weights * DVector::from_vec(offset.clone())).iter().copied().collect();
             let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_bounds(lower, upper)).map_err(|e| e.to_string())?;
             qp.solve(&QpSettings::default())
         }
@@ -56,7 +60,12 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
             solved.status
         ));
     }
-    Ok(solved.x)
+    let stress: f64 = solved.x.iter().zip(&scales).map(|(f, s)| (f / s).powi(2)).sum();
+    let tracking: f64 = match controller.target {
+        Target::Fast => 0.0,
+        Target::Slow => (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|j| sensitivity[(i, j)] * solved.x[j]).sum::<f64>()).powi(2)).sum(),
+    };
+    Ok((solved.x, stress + tracking))
 }
 
 /// The fast target's force scale per generator: a muscle's rigid-tendon active fiber force at

@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use super::{desired_state, CmcError, Controller, DesiredKinematics, Target, Task, Tracking};
+use super::{desired_state, CmcError, Controller, DesiredKinematics, InitialStates, Target, Task, Tracking};
 use crate::analysis::analyze_tool::{analyze_tool_tables, AnalyzeModel};
 use crate::analysis::controllers::Controllers;
 use crate::analysis::simulation::{initial_state, state_labels, state_values, ForwardModel, InitialSource, Plant};
@@ -186,6 +186,8 @@ pub struct CmcOutputs {
     pub warnings: Vec<String>,
     /// Every file read.
     pub read: Vec<PathBuf>,
+    /// How CMC found the muscles' initial states.
+    pub initial: Option<InitialStates>,
 }
 
 /// Runs the CMCTool `setup` on `model`.
@@ -202,7 +204,7 @@ pub fn run_cmc(model: &Path, setup: &CmcSetup) -> Result<CmcOutputs, CmcError> {
     let start = start_state(&plant, &inputs.desired, inputs.range[0], tool.solve_for_equilibrium_for_auxiliary_states)?;
     let tracking = controller.track(start, inputs.range, &setup.tracking.integrator)?;
     let tracked = tracked_files(tool, model, &plant, &tracking, &limits, &mut inputs.warnings)?;
-    Ok(CmcOutputs { files: tracked.files, range: inputs.range, start: tracking.times[0], windows: tracking.times.len() - 1, warnings: inputs.warnings, read: inputs.read })
+    Ok(CmcOutputs { files: tracked.files, range: inputs.range, start: tracking.times[0], windows: tracking.times.len() - 1, warnings: inputs.warnings, read: inputs.read, initial: tracking.initial })
 }
 
 /// The state CMC starts from at `time` (s): the desired kinematics there with the muscles'

@@ -17,7 +17,7 @@
 //! 0.03 s later (see [`super::initial_states`]).
 
 use super::desired::DesiredKinematics;
-use super::initial_states::initial_states;
+use super::initial_states::{initial_states, InitialStates};
 use super::merson::{self, PlantRates};
 use super::predictor::{assembled, window_controls, Predictor, Prescribed};
 use super::target::{optimal_forces, Target};
@@ -63,12 +63,23 @@ pub struct Tracking {
     pub controls: ControlSet,
     /// `_pErr.sto`: qᵢ,d − qᵢ per task (rad or m).
     pub position_errors: StorageTable,
+    /// How CMC found the muscles' initial states (a model with muscles' states).
+    pub initial: Option<InitialStates>,
 }
 
-/// One window's solution: the controls at its end and the tasks' position errors at its start.
+/// One window's solution: the controls at its end and the tasks' position errors at its start,
+/// with what CMC's verbose log reports of it.
+#[derive(Debug, Clone)]
 pub struct WindowSolution {
     pub controls: Vec<f64>,
     pub position_errors: Vec<f64>,
+    /// Each generator's force at the window's end under its lower and its upper control bound
+    /// (N or N·m; "Min forces", "Max forces").
+    pub force_range: [Vec<f64>; 2],
+    /// The forces the target chose ("Desired actuator forces") and its value there
+    /// ("performance").
+    pub forces: Vec<f64>,
+    pub performance: f64,
 }
 
 impl Controller<'_, '_> {
@@ -79,16 +90,17 @@ impl Controller<'_, '_> {
         let mut nodes: Vec<Vec<(f64, f64)>> = vec![Vec::new(); plant.generators.len()];
         let push = |nodes: &mut Vec<Vec<(f64, f64)>>, time: f64, controls: &[f64]| nodes.iter_mut().zip(controls).for_each(|(list, &x)| list.push((time, x)));
         let mut errors = Vec::new();
+        let mut initial = None;
         let (mut time, mut state) = if plant.muscle_states(&start).is_empty() {
             let first = self.solve(&start, range[0], FIRST_WINDOW, &nodes)?;
             push(&mut nodes, range[0] + FIRST_WINDOW, &first.controls);
             (range[0], start)
         } else {
-            let initial = initial_states(self, start, range[0])?;
+            let found = initial.insert(initial_states(self, start, range[0])?);
             errors.push(range[0]);
-            errors.extend(initial.position_errors);
-            push(&mut nodes, initial.time, &initial.controls);
-            (initial.time, initial.state)
+            errors.extend(found.last.position_errors.iter().copied());
+            push(&mut nodes, found.time, &found.last.controls);
+            (found.time, found.state.clone())
         };
         let end = range[1] - self.window;
         let held = state.q.clone();
@@ -117,7 +129,7 @@ impl Controller<'_, '_> {
             .collect();
         let labels = std::iter::once("time".to_string()).chain(self.tasks.iter().map(|t| t.task.name.clone())).collect();
         let position_errors = StorageTable::new("PositionErrors", labels, errors).map_err(|e| CmcError::Tracking { time, reason: e.to_string() })?.with_in_degrees(false);
-        Ok(Tracking { times, states, controls: ControlSet { file: "CMC".into(), controls }, position_errors })
+        Ok(Tracking { times, states, controls: ControlSet { file: "CMC".into(), controls }, position_errors, initial })
     }
 
     /// CMC's controls at `state` and `time` (s) for a window of `window` (s), each control's
@@ -143,10 +155,10 @@ impl Controller<'_, '_> {
             }
         }
         let (lower, upper): (Vec<f64>, Vec<f64>) = at_lower.iter().zip(&at_upper).map(|(&a, &b)| (a.min(b), a.max(b))).unzip();
-        let forces = optimal_forces(self, &predicted, end, &desired_accelerations, stress_weight, [&lower, &upper]).map_err(failed)?;
+        let (forces, performance) = optimal_forces(self, &predicted, end, &desired_accelerations, stress_weight, [&lower, &upper]).map_err(failed)?;
         let residual = |x: &[f64]| predictor.forces(x).map(|(f, _)| f.iter().zip(&forces).map(|(a, b)| a - b).collect());
         let controls = uncoupled_roots(residual, &lower_controls, &upper_controls, &vec![CONTROL_TOLERANCE; forces.len()]).map_err(failed)?;
-        Ok(WindowSolution { controls, position_errors })
+        Ok(WindowSolution { controls, position_errors, force_range: [at_lower, at_upper], forces, performance })
     }
 
     /// The tasks' position errors at `time`, their desired accelerations with the feed-forward at

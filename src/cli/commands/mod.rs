@@ -17,6 +17,7 @@ mod run;
 mod scale;
 mod scale_functional;
 mod set;
+mod cmc;
 mod rra;
 mod simulate;
 mod so;
@@ -76,6 +77,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Emg { predicted, emg, pair, max_lag, json } => emg::run(&predicted, &emg, &pair, max_lag, json),
         Command::Simulate { model, setup, output } => simulate::run(&model, &setup, &output),
         Command::Rra { model, setup, output } => rra::run(&model, &setup, &output),
+        Command::Cmc { model, setup, output } => cmc::run(&model, &setup, &output),
         Command::Forward { model, coordinates, excitations, activations, inverse_dynamics, time, lowpass, accuracy, name, output } => {
             let request = forward::Request { excitations, activations, inverse_dynamics, time: time.map(|t| [t[0], t[1]]), lowpass, accuracy, name, output };
             forward::run(&model, &coordinates, &request)

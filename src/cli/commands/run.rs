@@ -10,10 +10,10 @@ use clap::Parser;
 
 use crate::cli::{Arguments, Failure, Outcome};
 use crate::model::ComponentReader;
-use crate::setup::{read_document, required_input, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, RraSetup, ScaleSetup, SetupPath};
+use crate::setup::{read_document, required_input, AnalyzeSetup, ForwardSetup, IdSetup, IkSetup, RraSetup, ScaleSetup, TrackingSetup, CmcSetup, SetupPath};
 
 /// The setups `run` knows, by their root element.
-const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool>, <ForwardTool> or <RRATool>";
+const TOOLS: &str = "<ScaleTool>, <InverseKinematicsTool>, <InverseDynamicsTool>, <AnalyzeTool>, <ForwardTool>, <RRATool> or <CMCTool>";
 /// The AnalyzeTool analyses `run` runs.
 const ANALYSES: &str = "MuscleAnalysis, Kinematics, BodyKinematics, PointKinematics, ForceReporter, Actuation, StatesReporter, ProbeReporter, InducedAccelerations, StaticOptimization, JointReaction";
 
@@ -50,7 +50,8 @@ pub fn run(setup: &Path, dry_run: bool) -> Result<Outcome, Failure> {
         "InverseDynamicsTool" => vec![inverse_dynamics_tool(setup, &IdSetup::from_document(&document)?)?],
         "AnalyzeTool" => analyze_tool(setup, &AnalyzeSetup::from_document(&document)?)?,
         "ForwardTool" => vec![forward_tool(setup, &ForwardSetup::from_document(&document)?)?],
-        "RRATool" => vec![rra_tool(setup, &RraSetup::from_document(&document)?)?],
+        "RRATool" => vec![tracking_tool("rra", setup, &RraSetup::from_document(&document)?.tracking)?],
+        "CMCTool" => vec![tracking_tool("cmc", setup, &CmcSetup::from_document(&document)?.tracking)?],
         other => return Err(format!("{}:{}: <{other}> is not a tool osim-tune runs; expected {TOOLS} ({ANALYSES})", setup.display(), tool.line()).into()),
     };
     let mut outcome = Outcome::Success;
@@ -162,10 +163,10 @@ fn analyze_tool(file: &Path, setup: &AnalyzeSetup) -> Result<Vec<Invocation>, Fa
     Ok(analyses.into_iter().filter(|(on, _, _)| *on).map(|(_, command, flags)| invocation(command, flags)).collect())
 }
 
-/// RRATool: `rra MODEL --setup SETUP -o <results_directory>`.
-fn rra_tool(file: &Path, setup: &RraSetup) -> Result<Invocation, Failure> {
-    let model = input(file, "model_file", setup.tracking.tool.model_file.as_ref())?;
-    Ok(Invocation::new(&["rra".as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tracking.tool.results_directory.resolved.as_ref()]))
+/// RRATool and CMCTool: `rra|cmc MODEL --setup SETUP -o <results_directory>`.
+fn tracking_tool(command: &str, file: &Path, setup: &TrackingSetup) -> Result<Invocation, Failure> {
+    let model = input(file, "model_file", setup.tool.model_file.as_ref())?;
+    Ok(Invocation::new(&[command.as_ref(), model.as_ref(), "--setup".as_ref(), file.as_ref(), "-o".as_ref(), setup.tool.results_directory.resolved.as_ref()]))
 }
 
 /// ForwardTool: `simulate MODEL --setup SETUP -o <results_directory>`.
