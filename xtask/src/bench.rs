@@ -38,8 +38,9 @@ pub fn run() -> ExitCode {
     let reaction = crate::bench_reaction::run();
     let analyze = crate::bench_analyze::run();
     let rra = crate::bench_rra::run();
+    let cmc = crate::bench_cmc::run();
     let kalman = crate::bench_ik::kalman();
-    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction).and(analyze).and(rra).and(kalman) {
+    match geometry.and(equilibrium).and(ik).and(scale).and(functional).and(forward).and(reaction).and(analyze).and(rra).and(cmc).and(kalman) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

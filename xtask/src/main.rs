@@ -11,6 +11,7 @@ mod bench_forward;
 mod bench_functional;
 mod bench_ik;
 mod bench_reaction;
+mod bench_cmc;
 mod bench_rra;
 mod dynamics;
 mod functional;
