@@ -72,7 +72,9 @@ fn run_writes_cmcs_files() {
 /// What CMC cannot run is refused with the setup named, and nothing is written.
 #[test]
 fn unusable_setups_are_refused() {
-    let cases: [(&[(&str, &str)], &str); 3] = [
+    let cases: [(&[(&str, &str)], &str); 5] = [
+        (&[("<constraints_file />", "<constraints_file /><rra_controls_file>rra_controls.xml</rra_controls_file>")], "rra_controls_file"),
+        (&[("<use_verbose_printing>", "<actuators_to_exclude>BRA</actuators_to_exclude><use_verbose_printing>")], "actuators_to_exclude"),
         (&[("<desired_points_file />", "<desired_points_file>points.sto</desired_points_file>")], "desired_points_file"),
         (&[("<task_set_file>arm26_ComputedMuscleControl_Tasks.xml</task_set_file>", "<task_set_file>none.xml</task_set_file>")], "task_set_file"),
         (&[("<cmc_time_window>0.01</cmc_time_window>", "<cmc_time_window>-0.01</cmc_time_window>")], "cmc_time_window"),

@@ -31,6 +31,9 @@ pub struct TrackingSetup {
     pub constraints_file: Option<SetupPath>,
     /// Hz; negative: no filtering (default −1).
     pub lowpass_cutoff_frequency: f64,
+    /// Controls of an earlier RRA to bound these by (OpenSim reads the name but does not
+    /// implement it).
+    pub rra_controls_file: Option<SetupPath>,
 }
 
 impl TrackingSetup {
@@ -48,6 +51,7 @@ impl TrackingSetup {
             task_set_file: optional_path(reader, "task_set_file", &directory),
             constraints_file: optional_path(reader, "constraints_file", &directory),
             lowpass_cutoff_frequency: reader.number_or("lowpass_cutoff_frequency", -1.0)?,
+            rra_controls_file: optional_path(reader, "rra_controls_file", &directory),
         })
     }
 }
@@ -61,6 +65,8 @@ pub struct CmcSetup {
     /// Whether the fast target (accelerations met exactly) chooses the forces, else the slow
     /// one (`use_fast_optimization_target`, default true).
     pub use_fast_optimization_target: bool,
+    /// Actuators (or groups) CMC leaves uncontrolled (`actuators_to_exclude`).
+    pub actuators_to_exclude: Vec<String>,
 }
 
 impl CmcSetup {
@@ -77,7 +83,7 @@ impl CmcSetup {
         if !(time_window > 0.0) {
             return Err(reader.bad("cmc_time_window", "a window longer than 0 s", &time_window.to_string()).into());
         }
-        Ok(CmcSetup { tracking, time_window, use_fast_optimization_target: reader.boolean_or("use_fast_optimization_target", true)? })
+        Ok(CmcSetup { tracking, time_window, use_fast_optimization_target: reader.boolean_or("use_fast_optimization_target", true)?, actuators_to_exclude: reader.words("actuators_to_exclude") })
     }
 }
 
@@ -146,8 +152,10 @@ mod tests {
         assert!(!cmc.tracking.tool.replace_force_set);
         assert_eq!((cmc.time_window, cmc.use_fast_optimization_target, cmc.tracking.lowpass_cutoff_frequency), (0.01, true, -1.0));
         assert_eq!(cmc.tracking.desired_kinematics_file.unwrap().resolved, Path::new("/data/ik.mot"));
-        let slow = setup("<cmc_time_window>0.005</cmc_time_window><use_fast_optimization_target>false</use_fast_optimization_target>").unwrap();
+        assert!(cmc.actuators_to_exclude.is_empty() && cmc.tracking.rra_controls_file.is_none());
+        let slow = setup("<cmc_time_window>0.005</cmc_time_window><use_fast_optimization_target>false</use_fast_optimization_target><actuators_to_exclude>BRA reserve</actuators_to_exclude>").unwrap();
         assert_eq!((slow.time_window, slow.use_fast_optimization_target), (0.005, false));
+        assert_eq!(slow.actuators_to_exclude, ["BRA", "reserve"]);
         let error = setup("<cmc_time_window>0</cmc_time_window>").unwrap_err().to_string();
         assert!(error.contains("cmc_time_window"), "{error}");
     }

@@ -44,6 +44,9 @@ pub fn read_tracking_inputs(model: &Path, setup: &TrackingSetup) -> Result<Track
     if setup.desired_points_file.is_some() {
         return Err(input("desired_points_file: osim-tune tracks desired kinematics (desired_kinematics_file) only".into()));
     }
+    if setup.rra_controls_file.is_some() {
+        return Err(input("rra_controls_file: OpenSim does not implement it (its tools stop with \"function not implemented\"); leave it empty".into()));
+    }
     let existing = |property: &str, path: Option<&SetupPath>| required_input(&tool.file, property, path).map_err(CmcError::Input);
     let desired_file = existing("desired_kinematics_file", setup.desired_kinematics_file.as_ref())?;
     let task_file = existing("task_set_file", setup.task_set_file.as_ref())?;
@@ -193,6 +196,9 @@ pub struct CmcOutputs {
 /// Runs the CMCTool `setup` on `model`.
 pub fn run_cmc(model: &Path, setup: &CmcSetup) -> Result<CmcOutputs, CmcError> {
     let tool = &setup.tracking.tool;
+    if !setup.actuators_to_exclude.is_empty() {
+        return Err(CmcError::Input(format!("{}: actuators_to_exclude {:?}: osim-tune's CMC controls every muscle and actuator (remove the excluded ones from the model or the force set instead)", tool.file.display(), setup.actuators_to_exclude)));
+    }
     let mut inputs = read_tracking_inputs(model, &setup.tracking)?;
     check_controlled(&inputs.model, tool)?;
     let tasks = tasks(&inputs.task_set, &inputs.model, &inputs.task_file)?;
