@@ -12,15 +12,15 @@ from pathlib import Path
 
 import opensim as osim
 
-from gen_cmc import CASES, INPUTS, OUT
+from gen_cmc import CASES, OUT
 
 
 def main():
     osim.Logger.setLevelString("error")
-    for case in CASES:
+    for case, (inputs, _, _) in CASES.items():
         with tempfile.TemporaryDirectory() as work:
             work = Path(work)
-            for file, source in INPUTS.items():
+            for file, source in inputs.items():
                 shutil.copy(source, work / file)
             shutil.copy(OUT / case / "setup.xml", work / "setup.xml")
             tool = osim.CMCTool(str(work / "setup.xml"))

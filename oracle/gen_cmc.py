@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
-"""OpenSim 4.6's CMCTool (computed muscle control) on arm26: the model of `fixtures/models/`,
+"""OpenSim 4.6's CMCTool (computed muscle control) on arm26 — the model of `fixtures/models/`,
 opensim-core's arm26 CMC inputs (`fixtures/cmc/`: the reserve actuators added to the six Thelen
-muscles, the IK motion, the two CMC_Joint tasks):
+muscles, the IK motion, the two CMC_Joint tasks) — and on subject01's walk:
 
 * `fast`: 0.40–0.65 s as opensim-core's arm26 CMC test runs it (the desired kinematics filtered
   at 6 Hz, the fast target, integrator tolerance 1e-5, windows of 0.01 s);
-* `slow`: 0.20–0.40 s unfiltered, the slow target (`use_fast_optimization_target` false).
+* `slow`: 0.20–0.40 s unfiltered, the slow target (`use_fast_optimization_target` false);
+* `walk`: 0.80–0.86 s of subject01's walk on the scaled gait2392 (92 muscles; the scale and IK
+  goldens, the ground reactions) with opensim-core's gait2354 CMC actuators (residuals and
+  reserves), tasks and control constraints (`fixtures/subject01/`), filtered at 6 Hz, fast target.
 
 Writes fixtures/golden/cmc/<case>/: setup.xml (inputs by plain name), files.txt (every file
 OpenSim wrote) and every .sto and the controls' `ControlSet` it wrote (the states file's header
@@ -27,19 +30,28 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "cmc"
-INPUTS = {
+ARM26 = {
     "arm26.osim": REPO / "fixtures" / "models" / "arm26.osim",
     "arm26_InverseKinematics.mot": REPO / "fixtures" / "cmc" / "arm26_InverseKinematics.mot",
     "arm26_Reserve_Actuators.xml": REPO / "fixtures" / "cmc" / "arm26_Reserve_Actuators.xml",
     "arm26_ComputedMuscleControl_Tasks.xml": REPO / "fixtures" / "cmc" / "arm26_ComputedMuscleControl_Tasks.xml",
 }
+GAIT = {
+    "subject01_simbody.osim": REPO / "fixtures" / "golden" / "scale" / "subject01_simbody.osim",
+    "subject01_walk1_ik.mot": REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
+    "subject01_walk1_grf.xml": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.xml",
+    "subject01_walk1_grf.mot": REPO / "fixtures" / "subject01" / "subject01_walk1_grf.mot",
+    "gait2354_CMC_Actuators.xml": REPO / "fixtures" / "subject01" / "gait2354_CMC_Actuators.xml",
+    "gait2354_CMC_Tasks.xml": REPO / "fixtures" / "subject01" / "gait2354_CMC_Tasks.xml",
+    "gait2354_CMC_ControlConstraints.xml": REPO / "fixtures" / "subject01" / "gait2354_CMC_ControlConstraints.xml",
+}
 
 SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
 <OpenSimDocument Version="40600">
 \t<CMCTool name="{name}">
-\t\t<model_file>arm26.osim</model_file>
+\t\t<model_file>{model}</model_file>
 \t\t<replace_force_set>false</replace_force_set>
-\t\t<force_set_files>arm26_Reserve_Actuators.xml</force_set_files>
+\t\t<force_set_files>{actuators}</force_set_files>
 \t\t<results_directory>Results</results_directory>
 \t\t<output_precision>8</output_precision>
 \t\t<initial_time>{start}</initial_time>
@@ -48,7 +60,7 @@ SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
 \t\t<maximum_number_of_integrator_steps>20000</maximum_number_of_integrator_steps>
 \t\t<maximum_integrator_step_size>1</maximum_integrator_step_size>
 \t\t<minimum_integrator_step_size>1e-08</minimum_integrator_step_size>
-\t\t<integrator_error_tolerance>1e-05</integrator_error_tolerance>
+\t\t<integrator_error_tolerance>{tolerance}</integrator_error_tolerance>
 \t\t<AnalysisSet name="Analyses">
 \t\t\t<objects />
 \t\t\t<groups />
@@ -57,11 +69,11 @@ SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
 \t\t\t<objects />
 \t\t\t<groups />
 \t\t</ControllerSet>
-\t\t<external_loads_file />
+\t\t<external_loads_file>{loads}</external_loads_file>
 \t\t<desired_points_file />
-\t\t<desired_kinematics_file>arm26_InverseKinematics.mot</desired_kinematics_file>
-\t\t<task_set_file>arm26_ComputedMuscleControl_Tasks.xml</task_set_file>
-\t\t<constraints_file />
+\t\t<desired_kinematics_file>{kinematics}</desired_kinematics_file>
+\t\t<task_set_file>{tasks}</task_set_file>
+\t\t<constraints_file>{constraints}</constraints_file>
 \t\t<lowpass_cutoff_frequency>{cutoff}</lowpass_cutoff_frequency>
 \t\t<cmc_time_window>0.01</cmc_time_window>
 \t\t<use_fast_optimization_target>{fast}</use_fast_optimization_target>
@@ -73,9 +85,12 @@ SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
 \t</CMCTool>
 </OpenSimDocument>
 """
+ARM = dict(model="arm26.osim", actuators="arm26_Reserve_Actuators.xml", loads="", kinematics="arm26_InverseKinematics.mot", tasks="arm26_ComputedMuscleControl_Tasks.xml", constraints="", tolerance="1e-05")
+WALK = dict(model="subject01_simbody.osim", actuators="gait2354_CMC_Actuators.xml", loads="subject01_walk1_grf.xml", kinematics="subject01_walk1_ik.mot", tasks="gait2354_CMC_Tasks.xml", constraints="gait2354_CMC_ControlConstraints.xml", tolerance="1e-05")
 CASES = {
-    "fast": dict(start=0.4, end=0.65, cutoff=6, fast="true"),
-    "slow": dict(start=0.2, end=0.4, cutoff=-1, fast="false"),
+    "fast": (ARM26, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true")),
+    "slow": (ARM26, "arm26", dict(ARM, start=0.2, end=0.4, cutoff=-1, fast="false")),
+    "walk": (GAIT, "subject01_walk1", dict(WALK, start=0.8, end=0.86, cutoff=6, fast="true")),
 }
 RUN = """
 import sys, opensim as osim
@@ -128,11 +143,12 @@ def main():
     for case in sys.argv[1:] or CASES:
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)
-        name = f"arm26_CMC_{case}"
-        (out / "setup.xml").write_text(SETUP.format(name=name, **CASES[case]))
+        inputs, prefix, settings = CASES[case]
+        name = f"{prefix}_CMC_{case}"
+        (out / "setup.xml").write_text(SETUP.format(name=name, **settings).replace("<external_loads_file></external_loads_file>", "<external_loads_file />").replace("<constraints_file></constraints_file>", "<constraints_file />"))
         with tempfile.TemporaryDirectory() as work:
             work = Path(work)
-            for file, source in INPUTS.items():
+            for file, source in inputs.items():
                 shutil.copy(source, work / file)
             (work / "setup.xml").write_text((out / "setup.xml").read_text().replace("<use_verbose_printing>false", "<use_verbose_printing>true"))
             run = subprocess.run([sys.executable, "-c", RUN], cwd=work, capture_output=True, text=True)

@@ -114,7 +114,14 @@ fn malformed_xml_names_file_and_line() {
 fn unknown_version_is_refused() {
     let text = "<OpenSimDocument Version=\"12345\">\n<Model name=\"m\"/>\n</OpenSimDocument>\n";
     assert_set_fails(text, &[], &["bad.osim:1:", "unsupported OpenSim document version \"12345\""]);
-    assert_set_fails("<Model name=\"m\"/>", &[], &["expected the root element <OpenSimDocument"]);
+    // A bare object (no <OpenSimDocument>, as OpenSim 1.x wrote them and OpenSim still reads) is
+    // read as such: copied unchanged, its properties found.
+    let dir = temporary();
+    let (input, output) = (dir.path().join("bare.xml"), dir.path().join("out.xml"));
+    std::fs::write(&input, "<ActuatorSet name=\"a\"><objects><CoordinateActuator name=\"r\"><optimal_force>1</optimal_force></CoordinateActuator></objects></ActuatorSet>").unwrap();
+    let (code, _, stderr) = osim_tune(&["set", s(&input), "-o", s(&output), "/r/optimal_force=2"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(std::fs::read_to_string(&output).unwrap().contains("<optimal_force>2</optimal_force>"));
 }
 
 #[test]

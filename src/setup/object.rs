@@ -5,26 +5,13 @@
 use std::path::Path;
 
 use super::error::SetupError;
-use crate::io::osim::{Dialect, DocumentVersion, OsimDocument, OsimError};
-use crate::io::xml::Document;
+use crate::io::osim::OsimDocument;
 use crate::model::ComponentReader;
-
-/// The version OpenSim gives a document whose root is the object itself (no
-/// `<OpenSimDocument>`, as written before OpenSim 1.6 and in some task files).
-const BARE_DOCUMENT_VERSION: u32 = 10500;
 
 /// Reads a setup document: `<OpenSimDocument Version="…">` around the object, or the object as
 /// the root element (OpenSim reads both).
 pub fn read_document(path: &Path) -> Result<OsimDocument, SetupError> {
-    match OsimDocument::read(path) {
-        Err(OsimError::NotOpenSim { .. }) => {
-            let xml = Document::read(path).map_err(OsimError::from)?;
-            let object = xml.root();
-            let version = DocumentVersion { number: BARE_DOCUMENT_VERSION, dialect: Dialect::V2 };
-            Ok(OsimDocument { xml, version, object })
-        }
-        read => Ok(read?),
-    }
+    Ok(OsimDocument::read_object(path)?)
 }
 
 /// Checks that `reader` is an object of class (tag) `class`.

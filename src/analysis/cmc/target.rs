@@ -31,26 +31,28 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
     let (base, sensitivity) = acceleration_map(plant, predicted, time, &coordinates)?;
     let offset: Vec<f64> = base.iter().zip(desired).map(|(a, d)| a - d).collect();
     let n = plant.generators.len();
+    // In the variables x = f/c (c the force scales) the stress term is Σx² for both targets.
     let scales = match controller.target {
         Target::Fast => fast_scales(plant, predicted),
-        Target::Slow => plant.generators.iter().map(|g| g.unit_force(false, 0.0, 0.0) / stress_weight.sqrt()).collect(),
+        Target::Slow => plant.generators.iter().map(|g| g.unit_force(false, 0.0, 0.0).abs()).collect(),
     };
+    let scaled = DMatrix::from_fn(coordinates.len(), n, |i, j| sensitivity[(i, j)] * scales[j]);
+    let (lower, upper): (Vec<f64>, Vec<f64>) = (0..n).map(|j| (lower[j] / scales[j], upper[j] / scales[j])).unzip();
     let solved = match controller.target {
         Target::Fast => {
-            let hessian = DMatrix::from_diagonal(&DVector::from_iterator(n, scales.iter().map(|f| 2.0 / (f * f))));
+            let hessian = DMatrix::from_diagonal_element(n, n, 2.0);
             let weighted: Vec<usize> = (0..coordinates.len()).filter(|&i| controller.tasks[i].task.weight != 0.0).collect();
-            let rows = DMatrix::from_fn(weighted.len(), n, |r, j| sensitivity[(weighted[r], j)]);
+            let rows = DMatrix::from_fn(weighted.len(), n, |r, j| scaled[(weighted[r], j)]);
             let rhs: Vec<f64> = weighted.iter().map(|&i| -offset[i]).collect();
             let zero = vec![0.0; n];
-            let qp = DenseQp::new(&hessian, &zero).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(lower, upper)).map_err(|e| e.to_string())?;
+            let qp = DenseQp::new(&hessian, &zero).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper)).map_err(|e| e.to_string())?;
             qp.solve(&QpSettings::default())
         }
         Target::Slow => {
             let weights = DMatrix::from_diagonal(&DVector::from_iterator(coordinates.len(), controller.tasks.iter().map(|t| t.task.weight)));
-            let stress = DMatrix::from_diagonal(&DVector::from_iterator(n, scales.iter().map(|f| 1.0 / (f * f))));
-            let hessian = 2.0 * (sensitivity.transpose() * &weights * &sensitivity + stress);
-            let linear: Vec<f64> = (2.0 * sensitivity.transpose() * &weights * DVector::from_vec(offset.clone())).iter().copied().collect();
-            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_bounds(lower, upper)).map_err(|e| e.to_string())?;
+            let hessian = 2.0 * (scaled.transpose() * &weights * &scaled + DMatrix::from_diagonal_element(n, n, stress_weight));
+            let linear: Vec<f64> = (2.0 * scaled.transpose() * &weights * DVector::from_vec(offset.clone())).iter().copied().collect();
+            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_bounds(&lower, &upper)).map_err(|e| e.to_string())?;
             qp.solve(&QpSettings::default())
         }
     };
@@ -60,17 +62,18 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
             solved.status
         ));
     }
-    let stress: f64 = solved.x.iter().zip(&scales).map(|(f, s)| (f / s).powi(2)).sum();
-    let tracking: f64 = match controller.target {
-        Target::Fast => 0.0,
-        Target::Slow => (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|j| sensitivity[(i, j)] * solved.x[j]).sum::<f64>()).powi(2)).sum(),
+    let x = &solved.x;
+    let stress: f64 = x.iter().map(|x| x * x).sum();
+    let performance = match controller.target {
+        Target::Fast => stress,
+        Target::Slow => stress_weight * stress + (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|j| scaled[(i, j)] * x[j]).sum::<f64>()).powi(2)).sum::<f64>(),
     };
-    Ok((solved.x, stress + tracking))
+    Ok((x.iter().zip(&scales).map(|(x, c)| x * c).collect(), performance))
 }
 
 /// The fast target's force scale per generator: a muscle's rigid-tendon active fiber force at
-/// activation 1 on its predicted path (at least the smallest positive normal number, as
-/// OpenSim's `TinyReal` floor), an actuator's optimal force.
+/// activation 1 on its predicted path (its magnitude, at least SimTK's `TinyReal` as OpenSim
+/// floors it), an actuator's optimal force.
 fn fast_scales(plant: &Plant, state: &SimulatedState) -> Vec<f64> {
     let multibody = &plant.geometry.multibody;
     let mut kinematics = multibody.kinematics();
@@ -84,9 +87,9 @@ fn fast_scales(plant: &Plant, state: &SimulatedState) -> Vec<f64> {
                 let path = &plant.geometry.paths[path];
                 let (length, speed) = path.length_and_speed(multibody, &kinematics, &state.q, &mut scratch, &path.loaded, &state.u);
                 let force = g.unit_force(true, length, speed);
-                if force.abs() < TINY { TINY } else { force }
+                if force.abs() < TINY { TINY } else { force.abs() }
             }
-            None => g.unit_force(false, 0.0, 0.0),
+            None => g.unit_force(false, 0.0, 0.0).abs(),
         })
         .collect()
 }

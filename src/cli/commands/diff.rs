@@ -10,7 +10,7 @@ pub fn run(a: &Path, b: &Path, json: bool, relative_tolerance: f64) -> Result<Ou
     if relative_tolerance.is_nan() || relative_tolerance < 0.0 {
         return Err(format!("--rtol must be ≥ 0, got {relative_tolerance}").into());
     }
-    let (document_a, document_b) = (OsimDocument::read(a)?, OsimDocument::read(b)?);
+    let (document_a, document_b) = (OsimDocument::read_object(a)?, OsimDocument::read_object(b)?);
     let differences = diff(&document_a, &document_b, relative_tolerance);
     if json {
         println!("{}", serde_json::to_string_pretty(&differences)?);

@@ -7,7 +7,7 @@ use crate::io::osim::OsimDocument;
 use crate::review::{flatten, FlatEntry};
 
 pub fn run(document: &Path) -> Result<Outcome, Failure> {
-    let document = OsimDocument::read(document)?;
+    let document = OsimDocument::read_object(document)?;
     println!("@Version = {}", document.version.number);
     for (path, entry) in flatten(&document).entries {
         match entry {

@@ -8,7 +8,7 @@ use crate::io::osim::OsimDocument;
 
 pub fn run(input: &Path, output: &Path, assignments: &[String]) -> Result<Outcome, Failure> {
     ensure_not_an_input(output, &[input])?;
-    let mut document = OsimDocument::read(input)?;
+    let mut document = OsimDocument::read_object(input)?;
     for assignment in assignments {
         let (path, value) = assignment
             .split_once('=')

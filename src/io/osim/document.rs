@@ -5,7 +5,7 @@ use std::path::Path;
 use super::error::OsimError;
 use super::path::{canonical_path, resolve_segment, ComponentPath, SegmentMatch};
 use super::property::PropertyKind;
-use super::version::DocumentVersion;
+use super::version::{Dialect, DocumentVersion};
 use crate::io::xml::{Document, ElementId};
 
 /// `<OpenSimDocument Version="…">` with its object (`<Model>`, `<ScaleTool>`, …).
@@ -17,10 +17,27 @@ pub struct OsimDocument {
     pub object: ElementId,
 }
 
+/// The version OpenSim gives a document whose root is the object itself.
+const BARE_DOCUMENT_VERSION: u32 = 10500;
+
 impl OsimDocument {
     /// Reads and checks `path`.
     pub fn read(path: &Path) -> Result<Self, OsimError> {
         Self::from_xml(Document::read(path)?)
+    }
+
+    /// Reads `path`: `<OpenSimDocument Version="…">` around the object, or the object as the
+    /// root element (no `<OpenSimDocument>`, as written before OpenSim 1.6 and in some task and
+    /// actuator files, e.g. an `<ActuatorSet>`), which OpenSim reads as version 10500.
+    pub fn read_object(path: &Path) -> Result<Self, OsimError> {
+        match Self::read(path) {
+            Err(OsimError::NotOpenSim { .. }) => {
+                let xml = Document::read(path)?;
+                let object = xml.root();
+                Ok(OsimDocument { xml, version: DocumentVersion { number: BARE_DOCUMENT_VERSION, dialect: Dialect::V2 }, object })
+            }
+            read => read,
+        }
     }
 
     /// Parses `source`; `file` names it in messages.
