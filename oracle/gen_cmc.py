@@ -22,11 +22,10 @@ performance (printed to 6 significant digits, the performance to 17).
 """
 import json
 import re
-import shutil
-import subprocess
 import sys
-import tempfile
 from pathlib import Path
+
+from tool_run import keep_results, repair_states, tool_results
 
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "cmc"
@@ -92,24 +91,6 @@ CASES = {
     "slow": (ARM26, "arm26", dict(ARM, start=0.2, end=0.4, cutoff=-1, fast="false")),
     "walk": (GAIT, "subject01_walk1", dict(WALK, start=0.8, end=0.86, cutoff=6, fast="true")),
 }
-RUN = """
-import sys, opensim as osim
-ok = osim.CMCTool("setup.xml").run()
-sys.exit(0 if ok else 1)
-"""
-
-
-def repair_states(path):
-    """OpenSim 4.6 flushes the states file early and prints it again at the end over the same
-    name, leaving pieces of the first header before the second's tail; keeps the table (from the
-    last line of column labels) and writes a whole header for it."""
-    lines = path.read_text().splitlines()
-    start = max(i for i, line in enumerate(lines) if line.split()[:1] == ["time"] and len(line.split()) > 1)
-    table = [line for line in lines[start:] if line.strip()]
-    header = f"states\nversion=1\nnRows={len(table) - 1}\nnColumns={len(table[0].split())}\ninDegrees=no\nendheader\n"
-    path.write_text(header + "\n".join(table) + "\n")
-
-
 def numbers(line, label):
     """The numbers of `line` after `label`."""
     return [float(v) for v in re.findall(r"[-+]?\d*\.?\d+(?:[eE][-+]?\d+)?", line.split(label, 1)[1])]
@@ -146,19 +127,9 @@ def main():
         inputs, prefix, settings = CASES[case]
         name = f"{prefix}_CMC_{case}"
         (out / "setup.xml").write_text(SETUP.format(name=name, **settings).replace("<external_loads_file></external_loads_file>", "<external_loads_file />").replace("<constraints_file></constraints_file>", "<constraints_file />"))
-        with tempfile.TemporaryDirectory() as work:
-            work = Path(work)
-            for file, source in inputs.items():
-                shutil.copy(source, work / file)
-            (work / "setup.xml").write_text((out / "setup.xml").read_text().replace("<use_verbose_printing>false", "<use_verbose_printing>true"))
-            run = subprocess.run([sys.executable, "-c", RUN], cwd=work, capture_output=True, text=True)
-            if run.returncode != 0:
-                raise SystemExit(f"CMCTool failed on {case}:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
-            written = sorted(p.name for p in (work / "Results").iterdir())
-            (out / "files.txt").write_text("\n".join(written) + "\n")
-            for file in written:
-                if file.endswith(".sto") or file.endswith("_controls.xml"):
-                    shutil.copy(work / "Results" / file, out / file)
+        verbose = (out / "setup.xml").read_text().replace("<use_verbose_printing>false", "<use_verbose_printing>true")
+        with tool_results("CMCTool", inputs, verbose) as (run, results):
+            written = keep_results(results, out, (".sto", "_controls.xml"))
             repair_states(out / f"{name}_states.sto")
             (out / "initial.json").write_text(json.dumps(initial_report(run.stdout + run.stderr), indent=1) + "\n")
             print(case, "->", out, ", ".join(written))

@@ -20,13 +20,11 @@ after the adjustment).
     python3 oracle/gen_rra.py [case ...]
 """
 import json
-import re
-import shutil
-import subprocess
 import sys
-import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
+
+from tool_run import keep_results, repair_states, tool_results
 
 REPO = Path(__file__).resolve().parent.parent
 OUT = REPO / "fixtures" / "golden" / "rra"
@@ -85,45 +83,16 @@ CASES = {
     "walk": dict(start=0.75, end=0.80, tolerance="0.0001", constraints="gait2354_RRA_ControlConstraints.xml", cutoff=-1, com_start=-1, com_end=-1),
     "filtered": dict(start=0.62, end=0.70, tolerance="1e-05", constraints="", cutoff=6, com_start=0.5, com_end=1.5),
 }
-RUN = """
-import sys, opensim as osim
-ok = osim.RRATool("setup.xml").run()
-sys.exit(0 if ok else 1)
-"""
-
-
-def repair_states(path):
-    """OpenSim 4.6's RRA flushes its states file early and prints it again at the end over the
-    same name, leaving the first header's lines before the second's tail; keeps the table and
-    writes a whole header for it."""
-    lines = path.read_text().splitlines()
-    last = max(i for i, line in enumerate(lines) if line.strip() == "endheader")
-    table = [line for line in lines[last + 1:] if line.strip()]
-    header = f"states\nversion=1\nnRows={len(table) - 1}\nnColumns={len(table[0].split())}\ninDegrees=no\nendheader\n"
-    path.write_text(header + "\n".join(table) + "\n")
-
-
 def main():
     for case in sys.argv[1:] or CASES:
         out = OUT / case
         out.mkdir(parents=True, exist_ok=True)
         name = f"subject01_walk1_RRA_{case}"
         (out / "setup.xml").write_text(SETUP.format(name=name, **CASES[case]))
-        with tempfile.TemporaryDirectory() as work:
-            work = Path(work)
-            for file, source in INPUTS.items():
-                shutil.copy(source, work / file)
-            shutil.copy(out / "setup.xml", work / "setup.xml")
-            run = subprocess.run([sys.executable, "-c", RUN], cwd=work, capture_output=True, text=True)
-            if run.returncode != 0:
-                raise SystemExit(f"RRATool failed on {case}:\n{run.stdout[-3000:]}\n{run.stderr[-3000:]}")
-            written = sorted(p.name for p in (work / "Results").iterdir())
-            (out / "files.txt").write_text("\n".join(written) + "\n")
-            for file in written:
-                if file.endswith(".sto") or file.endswith(".txt") or file.endswith("_controls.xml"):
-                    shutil.copy(work / "Results" / file, out / file)
+        with tool_results("RRATool", INPUTS, (out / "setup.xml").read_text()) as (run, results):
+            written = keep_results(results, out, (".sto", ".txt", "_controls.xml"))
             repair_states(out / f"{name}_states.sto")
-            model = ET.parse(work / "Results" / f"{name}_adjusted.osim")
+            model = ET.parse(results / f"{name}_adjusted.osim")
             body = next(b for b in model.iter("Body") if b.get("name") == "torso")
             report = [line.strip() for line in run.stdout.splitlines() if line.startswith("*  ") or line.startswith("* Mass Center") or line.startswith("* New COM")]
             summary = {

@@ -80,7 +80,7 @@ impl CmcSetup {
         let tracking = TrackingSetup::read(document, "CMCTool")?;
         let reader = ComponentReader::new(document, document.object);
         let time_window = reader.number_or("cmc_time_window", 0.01)?;
-        if !(time_window > 0.0) {
+        if time_window.is_nan() || time_window <= 0.0 {
             return Err(reader.bad("cmc_time_window", "a window longer than 0 s", &time_window.to_string()).into());
         }
         Ok(CmcSetup { tracking, time_window, use_fast_optimization_target: reader.boolean_or("use_fast_optimization_target", true)?, actuators_to_exclude: reader.words("actuators_to_exclude") })

@@ -1,10 +1,12 @@
-//! OpenSim 4.6's CMCTool on arm26 (`fixtures/golden/cmc/<case>`, `oracle/gen_cmc.py`) against
-//! ours, in two parts:
+//! OpenSim 4.6's CMCTool on arm26 and subject01's walk (`fixtures/golden/cmc/<case>`,
+//! `oracle/gen_cmc.py`) against ours, in two parts:
 //! 1. what is deterministic before any optimisation — the muscles' states of the model's default
-//!    state (equilibrated at the default pose) and after each 0.2 s settling, and the first window's force range (each generator's
-//!    force at its lower and upper control, the muscles' states predicted over 0.03 s) — to the 6
-//!    digits OpenSim's verbose log prints; the first window's target: our forces are its optimum,
-//!    so our performance may not exceed OpenSim's (IPOPT stops at its tolerance);
+//!    state (equilibrated at the default pose) and after each 0.2 s settling, and the first
+//!    window's force range (each generator's force at its lower and upper control, the muscles'
+//!    states predicted over 0.03 s) — to the 6 digits OpenSim's verbose log prints (the walk's to
+//!    what its integration allows, see [`cmc_tolerances`]); the first window's target: our forces
+//!    are its optimum, so our performance may not exceed OpenSim's (IPOPT stops at its
+//!    tolerance); and no task's position error may exceed the largest of OpenSim's;
 //! 2. the tracked motion at the windows' ends, each quantity within a bound set by what the two
 //!    implementations may differ by: OpenSim's root solve accepts a control within 2e-3 of the
 //!    root (its abscissa tolerance, 4e-3), and the windows feed back through the muscles'
@@ -18,6 +20,7 @@
 use std::path::Path;
 
 use super::geometry::Worst;
+use super::tool_case::{case_folder, file_differences};
 use crate::analysis::{run_cmc, CmcOutputs};
 use crate::io::table::StorageTable;
 use crate::setup::CmcSetup;
@@ -123,10 +126,8 @@ pub fn compare_cmc_case(root: &Path, case: &str) -> Result<(CmcComparison, CmcOu
     let golden = root.join("fixtures/golden/cmc").join(case);
     let outputs = run_cmc_case(root, case)?;
     let mut comparison = CmcComparison::default();
-    let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| e.to_string())?;
-    let ours: Vec<&str> = outputs.files.iter().map(|(name, _)| name.as_str()).collect();
-    comparison.missing_files = written.lines().filter(|f| !ours.contains(f)).map(String::from).collect();
-    comparison.extra_files = ours.iter().filter(|o| !written.lines().any(|f| f == **o)).map(|o| o.to_string()).collect();
+    let ours: Vec<String> = outputs.files.iter().map(|(name, _)| name.clone()).collect();
+    (comparison.missing_files, comparison.extra_files) = file_differences(&golden, &ours)?;
     compare_initial(&golden, &outputs, cmc_tolerances(case).lower_forces, &mut comparison)?;
     let largest = |table: &StorageTable| table.rows().flat_map(|row| row[1..].to_vec()).fold(0.0f64, |m, v| m.max(v.abs()));
     let (name, text) = outputs.files.iter().find(|(name, _)| name.ends_with("_pErr.sto")).ok_or("we wrote no _pErr.sto")?;
@@ -148,12 +149,7 @@ pub fn compare_cmc_case(root: &Path, case: &str) -> Result<(CmcComparison, CmcOu
 
 /// Runs `case`'s setup (its inputs copied beside it into a temporary folder).
 pub fn run_cmc_case(root: &Path, case: &str) -> Result<CmcOutputs, String> {
-    let folder = tempfile::tempdir().map_err(|e| e.to_string())?;
-    for &(name, source) in cmc_inputs(case) {
-        std::fs::copy(root.join(source), folder.path().join(name)).map_err(|e| format!("{source}: {e}"))?;
-    }
-    let setup_file = folder.path().join("setup.xml");
-    std::fs::copy(root.join("fixtures/golden/cmc").join(case).join("setup.xml"), &setup_file).map_err(|e| e.to_string())?;
+    let (_folder, setup_file) = case_folder(root, &root.join("fixtures/golden/cmc").join(case), cmc_inputs(case))?;
     let setup = CmcSetup::read(&setup_file).map_err(|e| e.to_string())?;
     let model = setup.tracking.tool.model_file.as_ref().ok_or("the golden setup names no model")?.resolved.clone();
     run_cmc(&model, &setup).map_err(|e| e.to_string())

@@ -19,6 +19,7 @@ mod muscle_degroote;
 mod model_goldens;
 mod muscle_thelen;
 mod scale;
+mod tool_case;
 mod walk_dynamics;
 mod cmc;
 mod rra;

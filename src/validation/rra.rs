@@ -7,6 +7,7 @@
 use std::path::Path;
 
 use super::geometry::Worst;
+use super::tool_case::{case_folder, file_differences};
 use crate::analysis::{run_rra, RraOutputs};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
@@ -77,12 +78,7 @@ pub fn compare_rra_case(root: &Path, case: &str) -> Result<(RraComparison, RraOu
 /// Runs `case`'s setup (its inputs copied beside it into a temporary folder), over `time_range`
 /// (s) instead of the setup's when given.
 pub fn run_rra_case(root: &Path, case: &str, time_range: Option<[f64; 2]>) -> Result<RraOutputs, String> {
-    let folder = tempfile::tempdir().map_err(|e| e.to_string())?;
-    for (name, source) in RRA_INPUTS {
-        std::fs::copy(root.join(source), folder.path().join(name)).map_err(|e| format!("{source}: {e}"))?;
-    }
-    let setup_file = folder.path().join("setup.xml");
-    std::fs::copy(root.join("fixtures/golden/rra").join(case).join("setup.xml"), &setup_file).map_err(|e| e.to_string())?;
+    let (_folder, setup_file) = case_folder(root, &root.join("fixtures/golden/rra").join(case), &RRA_INPUTS)?;
     let mut setup = RraSetup::read(&setup_file).map_err(|e| e.to_string())?;
     if let Some([start, end]) = time_range {
         (setup.tracking.tool.initial_time, setup.tracking.tool.final_time) = (start, end);
@@ -93,11 +89,9 @@ pub fn run_rra_case(root: &Path, case: &str, time_range: Option<[f64; 2]>) -> Re
 
 /// The files' names and every golden table's rows at the times both have.
 fn compare_files(golden: &Path, outputs: &RraOutputs, comparison: &mut RraComparison) -> Result<(), String> {
-    let written = std::fs::read_to_string(golden.join("files.txt")).map_err(|e| e.to_string())?;
     let mut ours: Vec<String> = outputs.files.iter().map(|(name, _)| name.clone()).collect();
     ours.extend(outputs.adjusted_model.iter().filter_map(|(path, _)| path.file_name()).map(|n| n.to_string_lossy().into_owned()));
-    comparison.missing_files = written.lines().filter(|f| !ours.iter().any(|o| o == f)).map(String::from).collect();
-    comparison.extra_files = ours.iter().filter(|o| !written.lines().any(|f| f == o.as_str())).cloned().collect();
+    (comparison.missing_files, comparison.extra_files) = file_differences(golden, &ours)?;
     for (name, text) in outputs.files.iter().filter(|(name, _)| name.ends_with("_controls.xml")) {
         compare_control_sets(&golden.join(name), text, comparison)?;
     }
