@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use super::error::{BadProperty, ModelError};
-use super::reader::ComponentReader;
+use super::reader::{ComponentReader, PropertySources};
 use crate::io::osim::OsimDocument;
 
 /// The classes read here.
@@ -18,6 +18,12 @@ const ACTUATOR_CLASSES: &str = "CoordinateActuator, PointActuator or TorqueActua
 /// The first document version with `appliesForce`; in older documents OpenSim reads `isDisabled`
 /// as `appliesForce` negated (`Force::updateFromXMLNode`).
 const APPLIES_FORCE_VERSION: u32 = 30509;
+
+/// The first document version whose Point- and TorqueActuators are OpenSim's current ones; older
+/// ones (OpenSim 1.x `Force`/`Torque`, and every document without `<OpenSimDocument>`) name their
+/// bodies, point and direction the old way and point the other way
+/// (`PointActuator::updateFromXMLNode`, `TorqueActuator::updateFromXMLNode`).
+const CURRENT_ACTUATORS_VERSION: u32 = 10905;
 
 /// What an actuator applies per unit actuation (1 N or 1 N·m).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -56,20 +62,24 @@ pub struct ActuatorSpec {
 impl ActuatorSpec {
     /// The actuator a ForceSet member describes; `None` for a class that is not one of these three.
     pub fn read(reader: ComponentReader) -> Result<Option<ActuatorSpec>, ModelError> {
-        let properties = Properties::new(reader);
+        let properties = PropertySources::new(reader);
+        let legacy = reader.document.version.number < CURRENT_ACTUATORS_VERSION;
+        // A legacy document's name of a property, when it states it.
+        let named = |current: &'static str, old: &'static str| if legacy && properties.of(current).child(current).is_none() && properties.of(old).child(old).is_some() { old } else { current };
+        let flipped = |v: [f64; 3]| if legacy { v.map(|x| -x) } else { v };
         let kind = match reader.class() {
             "CoordinateActuator" => ActuatorKind::Coordinate { coordinate: properties.reference("coordinate")? },
             "PointActuator" => ActuatorKind::Point {
-                body: properties.reference("body")?,
-                point: properties.vec3("point", [0.0; 3])?,
+                body: properties.reference(named("body", "body_B"))?,
+                point: properties.vec3(named("point", "point_B"), [0.0; 3])?,
                 point_is_global: properties.boolean("point_is_global", false)?,
-                direction: properties.vec3("direction", [1.0, 0.0, 0.0])?,
-                force_is_global: properties.boolean("force_is_global", false)?,
+                direction: flipped(properties.vec3(named("direction", "direction_A"), [1.0, 0.0, 0.0])?),
+                force_is_global: properties.boolean("force_is_global", legacy)?,
             },
             "TorqueActuator" => ActuatorKind::Torque {
-                body_a: properties.reference("bodyA")?,
-                body_b: properties.reference("bodyB")?,
-                axis: properties.vec3("axis", [0.0, 0.0, 1.0])?,
+                body_a: properties.reference(named("bodyA", "body_B"))?,
+                body_b: properties.reference(named("bodyB", "body_A"))?,
+                axis: flipped(properties.vec3(named("axis", "direction_A"), [0.0, 0.0, 1.0])?),
                 torque_is_global: properties.boolean("torque_is_global", true)?,
             },
             _ => return Ok(None),
@@ -81,7 +91,7 @@ impl ActuatorSpec {
             optimal_force: properties.number("optimal_force", 1.0)?,
             min_control: properties.number("min_control", f64::NEG_INFINITY)?,
             max_control: properties.number("max_control", f64::INFINITY)?,
-            applies_force: properties.applies_force()?,
+            applies_force: applies_force(&properties)?,
             file: reader.document.xml.file().into(),
             line: reader.line(),
         }))
@@ -120,62 +130,18 @@ fn unexpected_class(reader: ComponentReader, property: &str, expected: &str) -> 
     }))
 }
 
-/// Where a member's properties are read: the member, else the `<defaults>` object of its class
-/// in the document's object (`<Model>` or `<ForceSet>`).
-struct Properties<'a> {
-    member: ComponentReader<'a>,
-    defaults: Option<ComponentReader<'a>>,
-}
-
-impl<'a> Properties<'a> {
-    fn new(member: ComponentReader<'a>) -> Self {
-        let document = member.document;
-        let defaults = document.xml.child(document.object, "defaults").and_then(|d| member.at(d).child_of_class(member.class()));
-        Properties { member, defaults }
-    }
-
-    /// The member, then the defaults object.
-    fn sources(&self) -> impl Iterator<Item = ComponentReader<'a>> {
-        std::iter::once(self.member).chain(self.defaults)
-    }
-
-    /// The first source stating `property`; the member when none does.
-    fn of(&self, property: &str) -> ComponentReader<'a> {
-        self.sources().find(|source| source.child(property).is_some()).unwrap_or(self.member)
-    }
-
-    fn number(&self, property: &str, default: f64) -> Result<f64, ModelError> {
-        self.of(property).number_or(property, default)
-    }
-
-    fn boolean(&self, property: &str, default: bool) -> Result<bool, ModelError> {
-        self.of(property).boolean_or(property, default)
-    }
-
-    fn vec3(&self, property: &str, default: [f64; 3]) -> Result<[f64; 3], ModelError> {
-        let source = self.of(property);
-        if source.child(property).is_some() { source.vec3(property) } else { Ok(default) }
-    }
-
-    /// A required name (of a coordinate or body): OpenSim refuses an empty one.
-    fn reference(&self, property: &str) -> Result<String, ModelError> {
-        let text = self.of(property).optional_text(property).filter(|text| !text.is_empty());
-        text.ok_or_else(|| self.member.missing(property))
-    }
-
-    /// `appliesForce`, or in documents older than 30509 also the negated `isDisabled`.
-    fn applies_force(&self) -> Result<bool, ModelError> {
-        let legacy = self.member.document.version.number < APPLIES_FORCE_VERSION;
-        for source in self.sources() {
-            if legacy && source.child("isDisabled").is_some() {
-                return Ok(!source.boolean_or("isDisabled", false)?);
-            }
-            if source.child("appliesForce").is_some() {
-                return source.boolean_or("appliesForce", true);
-            }
+/// `appliesForce`, or in documents older than 30509 also the negated `isDisabled`.
+fn applies_force(properties: &PropertySources) -> Result<bool, ModelError> {
+    let legacy = properties.member.document.version.number < APPLIES_FORCE_VERSION;
+    for source in properties.sources() {
+        if legacy && source.child("isDisabled").is_some() {
+            return Ok(!source.boolean_or("isDisabled", false)?);
         }
-        Ok(true)
+        if source.child("appliesForce").is_some() {
+            return source.boolean_or("appliesForce", true);
+        }
     }
+    Ok(true)
 }
 
 #[cfg(test)]
@@ -207,6 +173,21 @@ mod tests {
         let torque = ActuatorKind::Torque { body_a: "pelvis".into(), body_b: "ground".into(), axis: [0.0, 0.0, 1.0], torque_is_global: true };
         assert_eq!(actuators[2].kind, torque);
         assert_eq!((actuators[2].line, actuators[2].class.as_str()), (6, "TorqueActuator"));
+    }
+
+    #[test]
+    fn documents_older_than_10905_name_and_point_their_actuators_the_old_way() {
+        // A document without <OpenSimDocument> is 10500, as OpenSim reads opensim-core's gait2354
+        // CMC actuators: the direction and axis turn round, the old names are read.
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("actuators.xml");
+        std::fs::write(&file, "<ForceSet name=\"a\"><objects><PointActuator name=\"FX\"><body>pelvis</body><direction>1 0 0</direction></PointActuator>
+            <TorqueActuator name=\"MX\"><body_A>ground</body_A><body_B>pelvis</body_B><direction_A>0 0 1</direction_A></TorqueActuator></objects></ForceSet>").unwrap();
+        let set = read_force_set(&OsimDocument::read_object(&file).unwrap()).unwrap();
+        assert!(matches!(&set[0].kind, ActuatorKind::Point { direction, force_is_global: true, .. } if *direction == [-1.0, 0.0, 0.0]), "{:?}", set[0].kind);
+        assert!(matches!(&set[1].kind, ActuatorKind::Torque { body_a, body_b, axis, .. } if body_a == "pelvis" && body_b == "ground" && *axis == [0.0, 0.0, -1.0]), "{:?}", set[1].kind);
+        let current = &read_force_set(&document(20302, "<ForceSet><objects><PointActuator name=\"FX\"><body>pelvis</body><direction>1 0 0</direction></PointActuator></objects></ForceSet>")).unwrap()[0];
+        assert!(matches!(&current.kind, ActuatorKind::Point { direction, force_is_global: false, .. } if *direction == [1.0, 0.0, 0.0]));
     }
 
     #[test]

@@ -40,7 +40,7 @@ pub use muscle::{
     ActiveForceLengthCurveSpec, DeGrooteSpec, FiberForceLengthCurveSpec, ForceVelocityCurveSpec, MillardSpec,
     MuscleModelSpec, MuscleSpec, SecondState, TendonForceLengthCurveSpec, ThelenSpec, MUSCLE_CLASSES,
 };
-pub use reader::ComponentReader;
+pub use reader::{ComponentReader, PropertySources};
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
 pub use probe::{ActuatorQuantity, BhargavaRates, MetabolicModel, MetabolicMuscleSpec, MetabolicsProbeSpec, ProbeKind, ProbeSpec, UmbergerRates};
 pub use spec::{ModelSpec, GROUND};

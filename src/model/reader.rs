@@ -168,3 +168,48 @@ impl<'a> ComponentReader<'a> {
         xml.children(list).to_vec()
     }
 }
+
+/// Where an object's properties are read: the object, else the `<defaults>` object of its class
+/// in the document's object (a `<Model>`, `<ForceSet>` or `<ControlSet>`), which OpenSim
+/// registers as the class default while reading the document.
+pub struct PropertySources<'a> {
+    pub member: ComponentReader<'a>,
+    defaults: Option<ComponentReader<'a>>,
+}
+
+impl<'a> PropertySources<'a> {
+    pub fn new(member: ComponentReader<'a>) -> Self {
+        let document = member.document;
+        let defaults = document.xml.child(document.object, "defaults").and_then(|d| member.at(d).child_of_class(member.class()));
+        PropertySources { member, defaults }
+    }
+
+    /// The member, then the defaults object.
+    pub fn sources(&self) -> impl Iterator<Item = ComponentReader<'a>> {
+        std::iter::once(self.member).chain(self.defaults)
+    }
+
+    /// The first source stating `property`; the member when none does.
+    pub fn of(&self, property: &str) -> ComponentReader<'a> {
+        self.sources().find(|source| source.child(property).is_some()).unwrap_or(self.member)
+    }
+
+    pub fn number(&self, property: &str, default: f64) -> Result<f64, ModelError> {
+        self.of(property).number_or(property, default)
+    }
+
+    pub fn boolean(&self, property: &str, default: bool) -> Result<bool, ModelError> {
+        self.of(property).boolean_or(property, default)
+    }
+
+    pub fn vec3(&self, property: &str, default: [f64; 3]) -> Result<[f64; 3], ModelError> {
+        let source = self.of(property);
+        if source.child(property).is_some() { source.vec3(property) } else { Ok(default) }
+    }
+
+    /// A required name (of a coordinate or body): OpenSim refuses an empty one.
+    pub fn reference(&self, property: &str) -> Result<String, ModelError> {
+        let text = self.of(property).optional_text(property).filter(|text| !text.is_empty());
+        text.ok_or_else(|| self.member.missing(property))
+    }
+}

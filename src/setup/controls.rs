@@ -8,7 +8,7 @@ use super::error::SetupError;
 use super::object::{expect_class, read_document};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
-use crate::model::ComponentReader;
+use crate::model::{ComponentReader, PropertySources};
 
 /// One `ControlLinear`: nodes (time s, value) in time order.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,14 +103,16 @@ impl ControlSet {
         for element in set.listed_objects(document.object) {
             let control = set.at(element);
             expect_class(control, "ControlLinear")?;
+            // A property the control leaves out comes from the set's `<defaults>` ControlLinear.
+            let properties = PropertySources::new(control);
             let defaults = ControlBounds::default();
             let bounds = ControlBounds {
-                default_min: control.number_or("default_min", defaults.default_min)?,
-                default_max: control.number_or("default_max", defaults.default_max)?,
+                default_min: properties.number("default_min", defaults.default_min)?,
+                default_max: properties.number("default_max", defaults.default_max)?,
                 min_nodes: nodes(control, "min_nodes")?,
                 max_nodes: nodes(control, "max_nodes")?,
             };
-            controls.push(ControlLinear { name: control.name(), use_steps: control.boolean_or("use_steps", false)?, extrapolate: control.boolean_or("extrapolate", true)?, nodes: nodes(control, "x_nodes")?, bounds });
+            controls.push(ControlLinear { name: control.name(), use_steps: properties.boolean("use_steps", false)?, extrapolate: properties.boolean("extrapolate", true)?, nodes: nodes(control, "x_nodes")?, bounds });
         }
         Ok(ControlSet { file: document.xml.file().into(), controls })
     }
@@ -153,7 +155,22 @@ fn nodes(control: ComponentReader, list: &str) -> Result<Vec<(f64, f64)>, SetupE
 
 #[cfg(test)]
 mod tests {
-    use super::{ControlBounds, ControlLinear};
+    use std::path::Path;
+
+    use super::{ControlBounds, ControlLinear, ControlSet};
+    use crate::io::osim::OsimDocument;
+
+    /// A control leaves out what the set's `<defaults>` ControlLinear states (opensim-core's CMC
+    /// control constraints give every muscle its bounds and steps so).
+    #[test]
+    fn a_control_takes_what_it_leaves_out_from_the_sets_defaults() {
+        let xml = r#"<OpenSimDocument Version="20302"><ControlSet name="c"><defaults><ControlLinear name="default"><default_min>0.05</default_min><use_steps>true</use_steps></ControlLinear></defaults>
+            <objects><ControlLinear name="m.excitation" /><ControlLinear name="r.excitation"><default_min>-1</default_min><use_steps>false</use_steps></ControlLinear></objects></ControlSet></OpenSimDocument>"#;
+        let set = ControlSet::from_document(&OsimDocument::parse(xml.into(), Path::new("c.xml")).unwrap()).unwrap();
+        let [muscle, reserve] = [&set.controls[0], &set.controls[1]];
+        assert_eq!((muscle.bounds.default_min, muscle.bounds.default_max, muscle.use_steps), (0.05, 1.0, true));
+        assert_eq!((reserve.bounds.default_min, reserve.use_steps), (-1.0, false));
+    }
 
     fn control(use_steps: bool, extrapolate: bool) -> ControlLinear {
         ControlLinear { name: "a".into(), use_steps, extrapolate, nodes: vec![(0.0, 1.0), (1.0, 3.0), (2.0, 2.0)], bounds: ControlBounds::default() }

@@ -6,7 +6,8 @@
 //!    states predicted over 0.03 s) — to the 6 digits OpenSim's verbose log prints (the walk's to
 //!    what its integration allows, see [`cmc_tolerances`]); the first window's target: our forces
 //!    are its optimum, so our performance may not exceed OpenSim's (IPOPT stops at its
-//!    tolerance); and no task's position error may exceed the largest of OpenSim's;
+//!    tolerance); and no task's position error may exceed the largest of OpenSim's by more than
+//!    5 % (`POSITION_ERROR_MARGIN`);
 //! 2. the tracked motion at the windows' ends, each quantity within a bound set by what the two
 //!    implementations may differ by: OpenSim's root solve accepts a control within 2e-3 of the
 //!    root (its abscissa tolerance, 4e-3), and the windows feed back through the muscles'
@@ -51,6 +52,9 @@ pub fn cmc_inputs(case: &str) -> &'static [(&'static str, &'static str)] {
     if case == "walk" { &WALK } else { &ARM26 }
 }
 
+/// How far our largest position error may exceed OpenSim's, relative.
+pub const POSITION_ERROR_MARGIN: f64 = 0.05;
+
 /// `case`'s bounds.
 #[derive(Debug, Clone, Copy)]
 pub struct CmcTolerances {
@@ -61,8 +65,8 @@ pub struct CmcTolerances {
     /// bounds where `lower_forces`), relative to the force (at least 1 N).
     pub force_ranges: f64,
     pub lower_forces: bool,
-    /// The tracked motion at the windows' ends, where it is compared value by value.
-    pub tracked: Option<TrackedBounds>,
+    /// The tracked motion at the windows' ends, value by value.
+    pub tracked: TrackedBounds,
 }
 
 /// Bounds on the tracked motion at the windows' ends.
@@ -84,14 +88,14 @@ pub struct TrackedBounds {
 /// accuracy is absolute on a fiber length under 1 m, so over the 0.4 s of settling the 92
 /// muscles' fiber lengths may part by 1e-4 m, and the stiffest tendons (add_brev: a 2.2 cm tendon
 /// on a 15 cm fiber) turn that into tens of newtons at low activation — the lower forces are not
-/// compared —; the tracking then differs window by window where OpenSim's lets the toes drift
-/// (its IPOPT stops short of the accelerations; ours meets them) and is judged by its position
-/// errors only.
+/// compared, and the activations and fiber lengths then part further; the kinematics (whose toes
+/// drift in both, stepped reserves being what CMC gives them) and the residual and reserve
+/// controls follow closely.
 pub fn cmc_tolerances(case: &str) -> CmcTolerances {
     match case {
-        "fast" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: Some(TrackedBounds { coordinates: 1e-3, speeds: 3e-2, muscles: 0.1, fibers: 2e-4, reserves: 1e-3 }) },
-        "slow" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: Some(TrackedBounds { coordinates: 2e-3, speeds: 5e-2, muscles: 2e-2, fibers: 1e-4, reserves: 2e-4 }) },
-        _ => CmcTolerances { initial_states: 1e-4, force_ranges: 3e-5, lower_forces: false, tracked: None },
+        "fast" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 1e-3, speeds: 3e-2, muscles: 0.1, fibers: 2e-4, reserves: 1e-3 } },
+        "slow" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 2e-3, speeds: 5e-2, muscles: 2e-2, fibers: 1e-4, reserves: 2e-4 } },
+        _ => CmcTolerances { initial_states: 1e-4, force_ranges: 3e-5, lower_forces: false, tracked: TrackedBounds { coordinates: 3e-3, speeds: 0.2, muscles: 0.15, fibers: 2e-3, reserves: 5e-3 } },
     }
 }
 
@@ -134,8 +138,7 @@ pub fn compare_cmc_case(root: &Path, case: &str) -> Result<(CmcComparison, CmcOu
     let opensim = StorageTable::read(&golden.join(name)).map_err(|e| e.to_string())?;
     comparison.position_errors = [largest(&StorageTable::parse(text, Path::new(name)).map_err(|e| e.to_string())?), largest(&opensim)];
     let muscles: Vec<String> = outputs.files.iter().find(|(name, _)| name.ends_with("_states.sto")).map_or(String::new(), |(_, text)| text.lines().find(|l| l.starts_with("time")).unwrap_or_default().to_string()).split('\t').filter_map(|label| label.strip_prefix("/forceset/")?.strip_suffix("/activation")).map(String::from).collect();
-    let tracked = if cmc_tolerances(case).tracked.is_some() { ["_states.sto", "_controls.sto"].as_slice() } else { &[] };
-    for suffix in tracked {
+    for suffix in ["_states.sto", "_controls.sto"] {
         let (name, text) = outputs.files.iter().find(|(name, _)| name.ends_with(suffix)).ok_or(format!("we wrote no {suffix}"))?;
         let opensim = StorageTable::read(&golden.join(name)).map_err(|e| e.to_string())?;
         let table = StorageTable::parse(text, Path::new(name)).map_err(|e| e.to_string())?;

@@ -24,7 +24,7 @@ mod walk_dynamics;
 mod cmc;
 mod rra;
 
-pub use cmc::{cmc_tolerances, compare_cmc_case, run_cmc_case, CmcComparison, CmcTolerances, TrackedBounds, CMC_CASES, cmc_inputs};
+pub use cmc::{cmc_tolerances, compare_cmc_case, run_cmc_case, CmcComparison, CmcTolerances, TrackedBounds, CMC_CASES, cmc_inputs, POSITION_ERROR_MARGIN};
 pub use rra::{compare_rra_case, rra_tolerances, run_rra_case, RraComparison, RRA_CASES, RRA_INPUTS, RRA_MASS_CENTER_TOLERANCE, RRA_REPORT_TOLERANCE};
 pub use analyze_tool::{case_tolerance, compare_analyze_tool_setup, row_errors, row_tolerance, table_error, AnalyzeToolComparison, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};
 pub use assembly::{compare_assembly, AssemblyComparison, ILL_DEFINED_SPEED};

@@ -40,8 +40,10 @@ pub fn initial_states(controller: &Controller, start: SimulatedState, time: f64)
     let n = plant.generators.len();
     let failed = |reason: String| CmcError::Tracking { time, reason };
     let corrections = Prescribed::corrections(desired, &start, time);
+    let steps = controller.steps();
     let predictor = |z: Vec<f64>, window: f64, held: bool| Predictor {
         plant,
+        steps: &steps,
         prescribed: Prescribed { desired, corrections: corrections.clone(), held_at: held.then_some(time) },
         window: [time, time + window],
         start: z,

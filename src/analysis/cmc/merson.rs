@@ -32,23 +32,27 @@ impl Rates for PlantRates<'_, '_> {
     }
 }
 
-/// Deepest halving of a window before the integration gives up.
-const MAX_HALVINGS: u32 = 12;
+/// Deepest halving of a window before the integration gives up (without a minimum step).
+const MAX_HALVINGS: u32 = 40;
 
 /// The state `y` at `from` (s) of `system` carried to `to` (s) with steps no longer than
 /// `max_step` (s) and errors within `tolerance`; an error names the time and the reason.
-pub fn integrate(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], max_step: f64, tolerance: f64) -> Result<Vec<f64>, (f64, String)> {
+/// A step as short as `min_step` (s) is taken whatever its error, as Simbody takes a step at the
+/// user's minimum step size (a control stepping at a window's start otherwise defeats every step
+/// there: its first stage sees the old control).
+pub fn integrate(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], [min_step, max_step]: [f64; 2], tolerance: f64) -> Result<Vec<f64>, (f64, String)> {
     let pieces = ((to - from) / max_step - 1e-9).ceil().max(1.0) as usize;
     let mut y = y.to_vec();
     for k in 0..pieces {
         let (a, b) = (from + (to - from) * k as f64 / pieces as f64, from + (to - from) * (k + 1) as f64 / pieces as f64);
-        y = adaptive(system, &y, [a, b], tolerance, 0)?;
+        y = adaptive(system, &y, [a, b], min_step, tolerance, 0)?;
     }
     Ok(y)
 }
 
 /// One step over [from, to], or two halves when its error estimate exceeds `tolerance`.
-fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], tolerance: f64, depth: u32) -> Result<Vec<f64>, (f64, String)> {
+fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], min_step: f64, tolerance: f64, depth: u32) -> Result<Vec<f64>, (f64, String)> {
+    let at_minimum = to - from <= min_step;
     // A step whose stages leave the states' domain (a muscle's fiber length below 0) is
     // retried in halves, as one whose error is too large.
     let (y1, norm) = match step(system, y, from, to - from) {
@@ -56,18 +60,18 @@ fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], tolerance:
             let norm = error_norm(&error, y, system.coordinates());
             (y1, norm)
         }
-        Err(failure) if depth >= MAX_HALVINGS => return Err(failure),
+        Err(failure) if depth >= MAX_HALVINGS || at_minimum => return Err(failure),
         Err(_) => (Vec::new(), f64::INFINITY),
     };
-    if norm <= tolerance {
+    if norm <= tolerance || at_minimum {
         return Ok(y1);
     }
     if depth >= MAX_HALVINGS {
         return Err((from, format!("the step error {norm:e} stays above the tolerance {tolerance:e} at steps of {:e} s", to - from)));
     }
     let middle = 0.5 * (from + to);
-    let half = adaptive(system, y, [from, middle], tolerance, depth + 1)?;
-    adaptive(system, &half, [middle, to], tolerance, depth + 1)
+    let half = adaptive(system, y, [from, middle], min_step, tolerance, depth + 1)?;
+    adaptive(system, &half, [middle, to], min_step, tolerance, depth + 1)
 }
 
 /// Simbody's `calcErrorNorm` with unit weights: the RMS of the coordinates' errors, of the

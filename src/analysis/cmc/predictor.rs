@@ -53,9 +53,10 @@ pub fn assembled(plant: &Plant, mut q: Vec<f64>, mut u: Vec<f64>) -> (Vec<f64>, 
 }
 
 /// One window's predictor: the muscles' states `start` at `window[0]`, each generator's last
-/// control node and whether its control steps (a muscle's) or ramps.
+/// control node and whether its control steps (`steps`) or ramps.
 pub struct Predictor<'p, 'a> {
     pub plant: &'p Plant<'a>,
+    pub steps: &'p [bool],
     pub prescribed: Prescribed<'p>,
     pub window: [f64; 2],
     pub start: Vec<f64>,
@@ -73,7 +74,7 @@ impl Predictor<'_, '_> {
         let z = if self.start.is_empty() {
             Vec::new()
         } else {
-            merson::integrate(&mut subsystem, &self.start, [from, to], MAX_STEP, ACCURACY).map_err(|(time, reason)| format!("the muscles' states cannot be predicted at {time} s: {reason}"))?
+            merson::integrate(&mut subsystem, &self.start, [from, to], [0.0, MAX_STEP], ACCURACY).map_err(|(time, reason)| format!("the muscles' states cannot be predicted at {time} s: {reason}"))?
         };
         let at_end: Vec<f64> = controls.iter().map(|c| c.value(to)).collect();
         let (q, u) = self.prescribed.pose(plant, to);
@@ -85,20 +86,21 @@ impl Predictor<'_, '_> {
     /// Each generator's control over the window: from its last node to `x` at the window's end
     /// (constant at `x` without a last node).
     fn controls(&self, x: &[f64]) -> Vec<ControlLinear> {
-        window_controls(self.plant, &self.last_nodes, self.window[1], x)
+        window_controls(self.plant, self.steps, &self.last_nodes, self.window[1], x)
     }
 }
 
-/// Each generator's control from its last node to `x` at `end` (s): a muscle's in a step (CMC
-/// gives muscles piecewise-constant controls), an actuator's on a line.
-pub fn window_controls(plant: &Plant, last_nodes: &[Option<(f64, f64)>], end: f64, x: &[f64]) -> Vec<ControlLinear> {
+/// Each generator's control from its last node to `x` at `end` (s), in a step where `steps` says
+/// (CMC gives muscles piecewise-constant controls unless a constraints file's control says
+/// otherwise), else on a line.
+pub fn window_controls(plant: &Plant, steps: &[bool], last_nodes: &[Option<(f64, f64)>], end: f64, x: &[f64]) -> Vec<ControlLinear> {
     plant
         .generators
         .iter()
-        .zip(last_nodes.iter().zip(x))
-        .map(|(generator, (last, &x))| {
+        .zip(steps.iter().zip(last_nodes.iter().zip(x)))
+        .map(|(generator, (&use_steps, (last, &x)))| {
             let nodes = last.iter().copied().chain(std::iter::once((end, x))).collect();
-            ControlLinear { name: format!("{}.excitation", generator.name), use_steps: generator.muscle_path().is_some(), extrapolate: true, nodes, bounds: ControlBounds::default() }
+            ControlLinear { name: format!("{}.excitation", generator.name), use_steps, extrapolate: true, nodes, bounds: ControlBounds::default() }
         })
         .collect()
 }

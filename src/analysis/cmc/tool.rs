@@ -95,9 +95,11 @@ fn time_range(tool: &AnalyzeSetup, table: &StorageTable, file: &Path, warnings: 
     range
 }
 
-/// Each generator's control bounds: the constraints file's control of its name (or
-/// `<name>.excitation`), else its own min/max control — ±10000 where unbounded; a muscle's at
-/// least 0.02 and, where under 1, raised to 1 (CMC's rule, as `CMC::extendAddToSystem` has it).
+/// Each generator's control — its bounds and whether it steps between nodes: the constraints
+/// file's control of its name (or `<name>.excitation`), which OpenSim puts in CMC's place
+/// (`initializeControlSetUsingConstraints`), else its own min/max control — ±10000 where
+/// unbounded; a muscle's at least 0.02 and, where under 1, raised to 1, and stepping (CMC's rules,
+/// as `CMC::extendAddToSystem` has them).
 pub fn control_limits(plant: &Plant, constraints: Option<&ControlSet>) -> Vec<ControlLinear> {
     plant
         .generators

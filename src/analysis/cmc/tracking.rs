@@ -42,7 +42,8 @@ pub struct Task<'a> {
 }
 
 /// CMC's controller: the plant it drives, the kinematics and tasks it tracks, each generator's
-/// control bounds (a `ControlLinear` whose bounds apply) and its target.
+/// control (a `ControlLinear` whose bounds apply and which steps or ramps between nodes) and its
+/// target.
 pub struct Controller<'p, 'a> {
     pub plant: &'p Plant<'a>,
     pub desired: &'p DesiredKinematics,
@@ -113,7 +114,7 @@ impl Controller<'_, '_> {
             let last: Vec<Option<(f64, f64)>> = nodes.iter().map(|list| list.last().copied()).collect();
             push(&mut nodes, target, &solution.controls);
             let stop = target.min(end);
-            let controls = Controllers::from_control_set(ControlSet { file: "CMC".into(), controls: window_controls(plant, &last, target, &solution.controls) });
+            let controls = Controllers::from_control_set(ControlSet { file: "CMC".into(), controls: window_controls(plant, &self.steps(), &last, target, &solution.controls) });
             state = integrate_window(plant, &controls, &held, &state, [time, stop], integrator)?;
             time = target;
             times.push(stop);
@@ -124,8 +125,8 @@ impl Controller<'_, '_> {
         let controls = plant
             .generators
             .iter()
-            .zip(nodes)
-            .map(|(g, nodes)| ControlLinear { name: format!("{}.excitation", g.name), use_steps: g.muscle_path().is_some(), extrapolate: false, nodes, bounds: ControlBounds::default() })
+            .zip(self.limits.iter().zip(nodes))
+            .map(|(g, (limit, nodes))| ControlLinear { name: format!("{}.excitation", g.name), use_steps: limit.use_steps, extrapolate: false, nodes, bounds: ControlBounds::default() })
             .collect();
         let labels = std::iter::once("time".to_string()).chain(self.tasks.iter().map(|t| t.task.name.clone())).collect();
         let position_errors = StorageTable::new("PositionErrors", labels, errors).map_err(|e| CmcError::Tracking { time, reason: e.to_string() })?.with_in_degrees(false);
@@ -137,8 +138,14 @@ impl Controller<'_, '_> {
     pub fn solve(&self, state: &SimulatedState, time: f64, window: f64, nodes: &[Vec<(f64, f64)>]) -> Result<WindowSolution, CmcError> {
         let last_nodes = nodes.iter().map(|list| list.last().copied()).collect();
         let prescribed = Prescribed { desired: self.desired, corrections: Prescribed::corrections(self.desired, state, time), held_at: None };
-        let predictor = Predictor { plant: self.plant, prescribed, window: [time, time + window], start: self.plant.muscle_states(state), last_nodes };
+        let steps = self.steps();
+        let predictor = Predictor { plant: self.plant, steps: &steps, prescribed, window: [time, time + window], start: self.plant.muscle_states(state), last_nodes };
         self.solve_with(&predictor, state, time)
+    }
+
+    /// Whether each generator's control steps between nodes (else it ramps).
+    pub fn steps(&self) -> Vec<bool> {
+        self.limits.iter().map(|l| l.use_steps).collect()
     }
 
     /// [`Controller::solve`] with the window's `predictor`.
@@ -197,7 +204,7 @@ fn integrate_window(plant: &Plant, controls: &Controllers, held: &[f64], state: 
     let mut window = Plant::new(plant.spec, plant.geometry, plant.generators, plant.external, controls).map_err(|e| failed((from, e.to_string())))?;
     window.hold(held);
     let mut rates = PlantRates { plant: &window, work: window.workspace() };
-    let y = merson::integrate(&mut rates, &window.pack(state), [from, to], (to - from).min(integrator.maximum_step_size), integrator.error_tolerance).map_err(failed)?;
+    let y = merson::integrate(&mut rates, &window.pack(state), [from, to], [integrator.minimum_step_size, (to - from).min(integrator.maximum_step_size)], integrator.error_tolerance).map_err(failed)?;
     Ok(window.unpack(to, &y))
 }
 
