@@ -65,7 +65,7 @@ fn print_table(rows: &[Row]) -> ExitCode {
 }
 
 fn read(path: &Path) -> Option<OsimDocument> {
-    OsimDocument::read(path).map_err(|e| eprintln!("{e}")).ok()
+    OsimDocument::read_object(path).map_err(|e| eprintln!("{e}")).ok()
 }
 
 /// Bytes that differ after read → write, summed over all documents (unreadable: counted as ∞).
