@@ -108,10 +108,7 @@ pub fn control_limits(plant: &Plant, constraints: Option<&ControlSet>) -> Vec<Co
             constraints.and_then(|c| c.find(&g.name)).cloned().unwrap_or_else(|| {
                 let [mut min, mut max] = [g.bounds[0].max(-MAX_CONTROL), g.bounds[1].min(MAX_CONTROL)];
                 if g.muscle_path().is_some() {
-                    min = min.max(MIN_MUSCLE_CONTROL);
-                    if max < MAX_MUSCLE_CONTROL {
-                        max = MAX_MUSCLE_CONTROL;
-                    }
+                    (min, max) = (min.max(MIN_MUSCLE_CONTROL), max.max(MAX_MUSCLE_CONTROL));
                 }
                 let bounds = ControlBounds { default_min: min, default_max: max, ..ControlBounds::default() };
                 ControlLinear { name: g.name.clone(), use_steps: g.muscle_path().is_some(), extrapolate: true, nodes: Vec::new(), bounds }

@@ -77,9 +77,7 @@ pub struct WindowSolution {
     /// Each generator's force at the window's end under its lower and its upper control bound
     /// (N or N·m; "Min forces", "Max forces").
     pub force_range: [Vec<f64>; 2],
-    /// The forces the target chose ("Desired actuator forces") and its value there
-    /// ("performance").
-    pub forces: Vec<f64>,
+    /// The target's value at the forces it chose ("performance").
     pub performance: f64,
 }
 
@@ -165,7 +163,7 @@ impl Controller<'_, '_> {
         let (forces, performance) = optimal_forces(self, &predicted, end, &desired_accelerations, stress_weight, [&lower, &upper]).map_err(failed)?;
         let residual = |x: &[f64]| predictor.forces(x).map(|(f, _)| f.iter().zip(&forces).map(|(a, b)| a - b).collect());
         let controls = uncoupled_roots(residual, &lower_controls, &upper_controls, &vec![CONTROL_TOLERANCE; forces.len()]).map_err(failed)?;
-        Ok(WindowSolution { controls, position_errors, force_range: [at_lower, at_upper], forces, performance })
+        Ok(WindowSolution { controls, position_errors, force_range: [at_lower, at_upper], performance })
     }
 
     /// The tasks' position errors at `time`, their desired accelerations with the feed-forward at

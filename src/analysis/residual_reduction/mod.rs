@@ -39,15 +39,9 @@ pub enum ResidualReductionError {
     Cmc(#[from] CmcError),
 }
 
-/// The input errors of the files RRA reads (their messages name the file) and of the
-/// AnalyzeTool analyses it runs on the tracked states.
-macro_rules! input_error {
-    ($($source:ty),*) => {$(
-        impl From<$source> for ResidualReductionError {
-            fn from(error: $source) -> Self {
-                ResidualReductionError::Input(error.to_string())
-            }
-        }
-    )*};
+/// The model file RRA reads again to write the adjusted model (the message names it).
+impl From<crate::io::osim::OsimError> for ResidualReductionError {
+    fn from(error: crate::io::osim::OsimError) -> Self {
+        ResidualReductionError::Input(error.to_string())
+    }
 }
-input_error!(crate::setup::SetupError, crate::io::table::TableError, crate::io::osim::OsimError, crate::analysis::AnalyzeToolError);
