@@ -3,10 +3,11 @@
 //! Data flows one way: [`io`] (documents and tables, lossless) → [`model`], [`setup`] (typed
 //! views of model and tool documents) → [`mechanics`] (kinematics, paths, muscles) →
 //! [`solvers`] (inverse kinematics) → [`tuning`] (scaling) → [`analysis`], [`validation`],
-//! [`review`] → [`cli`] (the only place that prints). See `ARCHITECTURE.md` for the map.
+//! [`review`], [`figures`] → [`cli`] (the only place that prints). See `ARCHITECTURE.md` for the map.
 
 pub mod analysis;
 pub mod cli;
+pub mod figures;
 pub mod io;
 pub mod mechanics;
 pub mod model;

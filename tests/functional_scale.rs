@@ -1,15 +1,16 @@
 //! `osim-tune scale MODEL TRIALS/` with a dynamometry folder (functional scaling): the written
 //! model differs from the input only in the fitted L_opt/L_ts and reproduces the measured
-//! moments; a hidden single-muscle change is named and recovered; bad input is refused.
+//! moments (and its figures draw the report's moments and feasible sets); a hidden single-muscle
+//! change is named and recovered; bad input is refused.
 
 mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{fixture, osim_tune};
+use common::{fixture, osim_tune, pixel_map, svg_elements, svg_points};
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::ModelSpec;
-use osim_tune::tuning::functional::{DynamometryData, KneeMomentModel, MuscleParameters, TrialOptions};
+use osim_tune::tuning::functional::{Direction, DynamometryData, KneeMomentModel, MuscleParameters, TrialOptions};
 use osim_tune::validation::functional::hidden_slack_change;
 use serde_json::Value;
 
@@ -85,8 +86,8 @@ fn run_scale(folder: &Path, output: &Path, extra: &[&str]) -> (i32, String, Stri
 #[test]
 fn writes_only_the_fitted_lengths_and_reproduces_the_moments() {
     let dir = tempfile::tempdir().unwrap();
-    let (output, report) = (dir.path().join("out/train01.osim"), dir.path().join("out/report.json"));
-    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &["--sets", "set5", "--report", s(&report)]);
+    let (output, report, figures) = (dir.path().join("out/train01.osim"), dir.path().join("out/report.json"), dir.path().join("figures"));
+    let (code, stdout, stderr) = run_scale(&fixture("dynamometry/train01"), &output, &["--sets", "set5", "--report", s(&report), "--figures", s(&figures)]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stdout.contains("Phase I feasible sets") && stdout.contains("identifiability"), "{stdout}");
     let model = base_model();
@@ -117,6 +118,38 @@ fn writes_only_the_fitted_lengths_and_reproduces_the_moments() {
         assert_eq!(direction["trials"], 5, "{direction}");
         assert!(direction["initial"]["rms"].as_f64().unwrap() > 1.0 && direction["fitted"]["rms"].as_f64().unwrap() < 1e-4, "{direction}");
     }
+    assert_figures(&figures, &report, &data);
+}
+
+/// The figures of a set5 fit: the moments figure draws the measured moments (dots) and the
+/// fitted model's (solid lines) of the report at the trials' knee angles, by one affine map;
+/// each muscle's feasible-set figure draws as many dots as the report has feasible points.
+fn assert_figures(folder: &Path, report: &Value, data: &DynamometryData) {
+    let svg = std::fs::read_to_string(folder.join("moments_set5.svg")).unwrap();
+    let trials = report["trials"].as_array().unwrap();
+    // Figure order: extension, then flexion, each by knee angle (the files list them so).
+    let mut order: Vec<usize> = (0..trials.len()).collect();
+    order.sort_by(|&a, &b| (data.trials[a].direction != Direction::Extension, data.trials[a].knee_angle).partial_cmp(&(data.trials[b].direction != Direction::Extension, data.trials[b].knee_angle)).unwrap());
+    let angle = |t: usize| data.trials[t].knee_angle.to_degrees();
+    let value = |t: usize, key: &str| trials[t][key].as_f64().unwrap();
+    let dots: Vec<(f64, f64)> = svg_elements(&svg, "circle").iter().filter(|c| c["fill"] == "#000000").map(|c| (c["cx"].parse().unwrap(), c["cy"].parse().unwrap())).collect();
+    assert_eq!(dots.len(), trials.len() + 1, "ten measured moments and the legend's dot");
+    let x_map = pixel_map(&order.iter().zip(&dots).map(|(&t, d)| (angle(t), d.0)).collect::<Vec<_>>());
+    let y_map = pixel_map(&order.iter().zip(&dots).map(|(&t, d)| (value(t, "measured"), d.1)).collect::<Vec<_>>());
+    let fitted: Vec<(f64, f64)> = svg_elements(&svg, "polyline").iter().filter(|l| l["stroke"] == "#1F77B4").flat_map(svg_points).collect();
+    let fitted = &fitted[..trials.len()];
+    for (k, &t) in order.iter().enumerate() {
+        let near = |pixel: (f64, f64), moment: f64| (x_map(angle(t)) - pixel.0).abs() <= 1.5 && (y_map(moment) - pixel.1).abs() <= 1.5;
+        assert!(near(dots[k], value(t, "measured")), "{}: measured at {:?}", trials[t]["trial"], dots[k]);
+        assert!(near(fitted[k], value(t, "fitted")), "{}: fitted at {:?}", trials[t]["trial"], fitted[k]);
+    }
+    for set in report["feasible_sets"].as_array().unwrap() {
+        let muscle = set["muscle"].as_str().unwrap();
+        let svg = std::fs::read_to_string(folder.join(format!("feasible_{muscle}.svg"))).unwrap();
+        let dots = svg_elements(&svg, "circle").iter().filter(|c| c["r"] == "2").count();
+        assert_eq!(dots, set["feasible"].as_array().unwrap().len(), "{muscle}");
+    }
+    assert_eq!(std::fs::read_dir(folder).unwrap().count(), 1 + report["feasible_sets"].as_array().unwrap().len());
 }
 
 #[test]

@@ -125,6 +125,9 @@ pub enum Command {
         /// Functional: also write the model extended by the single cause the report's verdict names (a muscle's or a group's parameter set to its fitted value, or the knee's two offset frames moved with its axis; nothing else changed); when the verdict names none, or a cause in the trials or the measured moments (an angle offset, an activation level, a moment offset), it says so and writes nothing.
         #[arg(long)]
         cause_model: Option<PathBuf>,
+        /// Functional: also draw figures into this folder (SVG, created if needed): per trial set the knee moment against the knee angle — measured, initial and fitted model — and per estimated muscle its Phase I feasible set with the regression line, the initial and the fitted L_opt and L_ts.
+        #[arg(long)]
+        figures: Option<PathBuf>,
         /// ScaleTool setup file.
         #[arg(long)]
         setup: Option<PathBuf>,
@@ -656,6 +659,31 @@ pub enum Command {
     /// text form of a document for `git diff` (use as diff.textconv; see README).
     Flatten {
         document: PathBuf,
+    },
+    /// Draw columns of OpenSim tables (.sto, .mot: an IK motion, ID moments, SO activations, a
+    /// CMC or RRA result) against time, or against --x COLUMN, as an SVG chart: one colour per
+    /// column, one line style per table (solid, dashed, dots), so the same column of two results
+    /// — ours and OpenSim's — overlays. Values are drawn as the files hold them (degrees stay
+    /// degrees).
+    Plot {
+        /// The tables; each must hold every named column.
+        #[arg(required = true)]
+        tables: Vec<PathBuf>,
+        /// The columns to draw, comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        columns: Vec<String>,
+        /// The column on the horizontal axis (default: time).
+        #[arg(long)]
+        x: Option<String>,
+        /// The chart's title (default: the tables' file names).
+        #[arg(long)]
+        title: Option<String>,
+        /// The vertical axis' label (default: the column's name, or "value" for several).
+        #[arg(long)]
+        y_label: Option<String>,
+        /// The chart to write (.svg).
+        #[arg(short, long)]
+        output: PathBuf,
     },
 }
 

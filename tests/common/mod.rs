@@ -72,3 +72,40 @@ pub mod golden_rows {
         (0..table.rows.len()).map(move |index| Row { table, index })
     }
 }
+
+/// The attributes of every `<tag …>` element of an SVG document, in document order.
+pub fn svg_elements(svg: &str, tag: &str) -> Vec<std::collections::HashMap<String, String>> {
+    let opening = format!("<{tag} ");
+    svg.match_indices(&opening)
+        .map(|(start, _)| {
+            let element = &svg[start + opening.len()..start + svg[start..].find('>').unwrap()];
+            element
+                .split('"')
+                .collect::<Vec<_>>()
+                .chunks(2)
+                .filter(|pair| pair.len() == 2)
+                .map(|pair| (pair[0].trim().trim_end_matches('=').to_string(), pair[1].to_string()))
+                .collect()
+        })
+        .collect()
+}
+
+/// The (x, y) pixel positions of an SVG element's `points` attribute (a polyline's vertices).
+pub fn svg_points(element: &std::collections::HashMap<String, String>) -> Vec<(f64, f64)> {
+    element["points"]
+        .split_whitespace()
+        .map(|pair| {
+            let (x, y) = pair.split_once(',').unwrap();
+            (x.parse().unwrap(), y.parse().unwrap())
+        })
+        .collect()
+}
+
+/// The affine map of data to pixels along one axis, fitted to the two data values farthest
+/// apart and their pixels: `pixel = a + b·value`.
+pub fn pixel_map(pairs: &[(f64, f64)]) -> impl Fn(f64) -> f64 {
+    let low = pairs.iter().copied().min_by(|p, q| p.0.total_cmp(&q.0)).unwrap();
+    let high = pairs.iter().copied().max_by(|p, q| p.0.total_cmp(&q.0)).unwrap();
+    let slope = (high.1 - low.1) / (high.0 - low.0);
+    move |value| low.1 + slope * (value - low.0)
+}

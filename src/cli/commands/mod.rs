@@ -12,6 +12,7 @@ mod forward;
 mod id;
 mod ik;
 mod info;
+mod plot;
 mod reaction;
 mod run;
 mod scale;
@@ -46,6 +47,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
+        Command::Plot { tables, columns, x, title, y_label, output } => plot::run(&tables, &plot::Request { columns, x, title, y_label }, &output),
         Command::Id { model, coordinates, external_loads, setup, time, lowpass, rates, body_force_joints, body_forces, output } => {
             let request = id::Request { external_loads, setup, time: time.map(|t| [t[0], t[1]]), lowpass, rates, body_force_joints, body_forces, output };
             id::run(&model, &coordinates, &request)
@@ -116,6 +118,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             force,
             report,
             cause_model,
+            figures,
             setup,
             linear,
             output,
@@ -128,7 +131,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             Some(folder) => {
                 let options = scale_functional::Options { method, rest_tolerance, rest_constraint, rest_curve: !no_rest_curve, prior_sd, no_prior, map, group_ratios, noise_sd, sigma_points };
                 let settings = options.settings();
-                let request = scale_functional::Request { sets, muscles, settings, force, report, cause_model, json };
+                let request = scale_functional::Request { sets, muscles, settings, force, report, cause_model, figures, json };
                 scale_functional::run(&model, folder, &output, &request)
             }
             None => {

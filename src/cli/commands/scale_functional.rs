@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::cli::{check_outputs, create_output_folders, Failure, Outcome};
+use crate::cli::{check_outputs, create_output_folders, write_files, Failure, Outcome};
+use crate::figures::{feasible_set_figures, moment_figures};
 use crate::io::atomic::write_atomically;
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
@@ -25,6 +26,8 @@ pub struct Request {
     pub report: Option<PathBuf>,
     /// Where to write the model extended by the named single cause.
     pub cause_model: Option<PathBuf>,
+    /// Where to draw the fit's figures.
+    pub figures: Option<PathBuf>,
     pub json: bool,
 }
 
@@ -93,6 +96,10 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     let knee = KneeMomentModel::new(&spec, &data)?;
     let result = fit(&spec, &knee, &data, &request.settings, &mut |stage| eprintln!("scale: {stage}"))?;
     let report = serde_json::to_string_pretty(&result)?;
+    let figures = match &request.figures {
+        Some(folder) => figure_files(&result, &knee, folder)?,
+        None => Vec::new(),
+    };
     if request.json {
         println!("{report}");
     } else {
@@ -101,6 +108,10 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     create_output_folders([Some(output), request.report.as_deref(), request.cause_model.as_deref()].into_iter().flatten())?;
     if let Some(file) = &request.report {
         write_atomically(file, report.as_bytes(), &input_refs)?;
+    }
+    if let (Some(folder), false) = (&request.figures, figures.is_empty()) {
+        write_files(&figures, &inputs)?;
+        eprintln!("scale: {} figures drawn in {}", figures.len(), folder.display());
     }
     if let Some(file) = &request.cause_model {
         write_cause_model(&result, model, file, &input_refs)?;
@@ -113,6 +124,13 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     write_atomically(output, &document.xml.serialize(), &input_refs)?;
     eprintln!("scale: {changed} values changed; wrote {}", output.display());
     Ok(if result.converged { Outcome::Success } else { Outcome::NotConverged })
+}
+
+/// The fit's figures as files in `folder`: the moments per trial set, the feasible sets.
+fn figure_files(fit: &FunctionalFit, knee: &KneeMomentModel, folder: &Path) -> Result<Vec<(PathBuf, String)>, Failure> {
+    let mut figures = moment_figures(fit, knee.trials())?;
+    figures.extend(feasible_set_figures(fit)?);
+    Ok(figures.into_iter().map(|figure| (folder.join(figure.file_name), figure.svg)).collect())
 }
 
 /// The initial model extended by the cause the verdict names (the best candidate when it names
