@@ -42,7 +42,8 @@ fn cmc_agrees_with_opensim() {
         assert!(c.force_ranges.error < bounds.force_ranges, "{case}: {:?}", c.force_ranges);
         // Muscles and actuators: arm26's 6 and 2 reserves; gait2392's 92 and gait2354's 6 residuals
         // and 6 reserves.
-        let (muscles, generators) = if case == "walk" { (92, 104) } else { (6, 8) };
+        // (exclude: BRA and TRImed settle but are not CMC's to control).
+        let (muscles, generators) = match case { "walk" => (92, 104), "exclude" => (6, 6), _ => (6, 8) };
         assert_eq!((c.initial_states.count, c.force_ranges.count), (3 * 2 * muscles, if bounds.lower_forces { 2 * generators } else { generators }), "{case}: values compared");
         let [ours, opensim] = c.performance;
         assert!(ours <= opensim * (1.0 + 1e-9) && ours >= 0.98 * opensim, "{case}: performance ours {ours}, OpenSim {opensim}");
@@ -55,7 +56,7 @@ fn cmc_agrees_with_opensim() {
         assert!(c.fibers.error < tracked.fibers, "{case}: {:?}", c.fibers);
         assert!(c.reserves.error < tracked.reserves, "{case}: {:?}", c.reserves);
         assert_eq!((c.missing_rows, c.extra_rows), (0, 0), "{case}: every window's end, and only those");
-        assert_eq!(outputs.windows, match case { "fast" => 21, "slow" => 16, _ => 2 });
+        assert_eq!(outputs.windows, match case { "fast" | "exclude" => 21, "slow" => 16, _ => 2 });
     }
 }
 
@@ -77,12 +78,37 @@ fn run_writes_cmcs_files() {
     assert_eq!(controls.matches("<use_steps>true</use_steps>").count(), 6, "the six muscles' controls step, the reserves' ramp");
 }
 
+/// Actuators left out of CMC's control (`actuators_to_exclude`) keep the model's control, 0, in
+/// the controls table and are not among CMC's own controls (the `ControlSet`), as OpenSim writes
+/// them; a name no actuator has is reported and ignored.
+#[test]
+fn excluded_actuators_keep_the_models_zero_control() {
+    let folder = tempfile::tempdir().unwrap();
+    let dir = folder.path();
+    case_folder(dir, "exclude", &[]);
+    let (code, _, stderr) = osim_tune(&["run", s(&dir.join("setup.xml"))]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("no actuator is named \"r_elbow_flex\""), "{stderr}");
+    let controls = osim_tune::io::table::StorageTable::read(&dir.join("Results/arm26_CMC_exclude_controls.sto")).unwrap();
+    let opensim = osim_tune::io::table::StorageTable::read(&fixture("golden/cmc/exclude/arm26_CMC_exclude_controls.sto")).unwrap();
+    assert_eq!(controls.labels(), opensim.labels());
+    for muscle in ["BRA", "TRImed"] {
+        assert!(controls.column(muscle).unwrap().iter().all(|&u| u == 0.0), "{muscle}");
+    }
+    assert!(controls.column("BIClong").unwrap().iter().any(|&u| u > 0.1), "the others are CMC's to set");
+    let control_set = std::fs::read_to_string(dir.join("Results/arm26_CMC_exclude_controls.xml")).unwrap();
+    let opensim_set = std::fs::read_to_string(fixture("golden/cmc/exclude/arm26_CMC_exclude_controls.xml")).unwrap();
+    let names = |text: &str| text.match_indices("<ControlLinear name=\"").map(|(i, m)| text[i + m.len()..].split('"').next().unwrap().to_string()).collect::<Vec<_>>();
+    assert_eq!(names(&control_set), names(&opensim_set));
+    assert!(!control_set.contains("BRA.excitation") && !control_set.contains("TRImed.excitation"));
+}
+
 /// What CMC cannot run is refused with the setup named, and nothing is written.
 #[test]
 fn unusable_setups_are_refused() {
     let cases: [(&[(&str, &str)], &str); 5] = [
         (&[("<constraints_file />", "<constraints_file /><rra_controls_file>rra_controls.xml</rra_controls_file>")], "rra_controls_file"),
-        (&[("<use_verbose_printing>", "<actuators_to_exclude>BRA</actuators_to_exclude><use_verbose_printing>")], "actuators_to_exclude"),
+        (&[("<actuators_to_exclude />", "<actuators_to_exclude>TRIlong TRIlat TRImed BIClong BICshort BRA r_shoulder_elev_reserve r_elbow_flex_reserve</actuators_to_exclude>")], "leaves CMC no actuator"),
         (&[("<desired_points_file />", "<desired_points_file>points.sto</desired_points_file>")], "desired_points_file"),
         (&[("<task_set_file>arm26_ComputedMuscleControl_Tasks.xml</task_set_file>", "<task_set_file>none.xml</task_set_file>")], "task_set_file"),
         (&[("<cmc_time_window>0.01</cmc_time_window>", "<cmc_time_window>-0.01</cmc_time_window>")], "cmc_time_window"),

@@ -37,7 +37,7 @@ pub struct MuscleStates {
     /// evaluate it (it writes NaN).
     pub states: Vec<Vec<Option<MuscleState>>>,
     /// What OpenSim warns about: muscles it cannot equilibrate (left as they were) or evaluate,
-    /// with the time.
+    /// with the time — once per muscle and kind, with the number of rows and their times.
     pub warnings: Vec<String>,
 }
 
@@ -114,12 +114,13 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
     let mut evaluation = PathEvaluation::new(geometry, &indices);
     let second_states = held.iter().map(|h| h.second).collect();
     let mut result = MuscleStates { muscles, second_states, variables: Vec::new(), states: Vec::new(), warnings: Vec::new() };
+    let mut failures = Failures::default();
     for (row, &time) in states.motion.times.iter().enumerate() {
         evaluation.evaluate_moving(geometry, states.motion.pose(row), Some(&states.speeds[row]));
         let (mut variables, mut reports) = (Vec::new(), Vec::new());
         for (k, held) in held.iter().enumerate() {
             let (length, speed) = (evaluation.length(k), evaluation.lengthening_speed(k));
-            let mut warn = |what: &str, e: MuscleError| result.warnings.push(format!("at {time} s: {what}: {e}"));
+            let mut warn = |what: &'static str, e: MuscleError| failures.add(k, what, time, e);
             let start = held.variables(row);
             // A muscle without activation dynamics is activated by its control. OpenSim's
             // `getActivation` clamps the state (a forward simulation can carry it past its
@@ -143,5 +144,43 @@ pub fn muscle_states(spec: &ModelSpec, geometry: &MuscleGeometry, states: &Analy
         result.variables.push(variables);
         result.states.push(reports);
     }
+    result.warnings = failures.warnings();
     Ok(result)
+}
+
+/// The failures of one muscle and kind over the rows: how many, the first and last time (s),
+/// the first one's error.
+struct Failure {
+    muscle: usize,
+    what: &'static str,
+    count: usize,
+    times: [f64; 2],
+    first: MuscleError,
+}
+
+/// Failures collected over the rows, so that a muscle that fails at every row is reported once.
+#[derive(Default)]
+struct Failures(Vec<Failure>);
+
+impl Failures {
+    fn add(&mut self, muscle: usize, what: &'static str, time: f64, error: MuscleError) {
+        match self.0.iter_mut().find(|f| f.muscle == muscle && f.what == what) {
+            Some(failure) => {
+                failure.count += 1;
+                failure.times[1] = time;
+            }
+            None => self.0.push(Failure { muscle, what, count: 1, times: [time, time], first: error }),
+        }
+    }
+
+    /// One line per muscle and kind, in the order they first failed.
+    fn warnings(&self) -> Vec<String> {
+        self.0
+            .iter()
+            .map(|f| match f.count {
+                1 => format!("at {} s: {}: {}", f.times[0], f.what, f.first),
+                n => format!("at {n} rows from {} to {} s: {}: {} (at the first; the others alike)", f.times[0], f.times[1], f.what, f.first),
+            })
+            .collect()
+    }
 }

@@ -1,9 +1,10 @@
 //! `CMC::computeInitialStates`: where CMC starts a model with muscles' states. At the initial
-//! time the coordinates are held while the muscles settle for 0.2 s under controls of 0.01, twice;
-//! then CMC's controls for a first window of 0.03 s are solved (twice, the muscles settling under
-//! the first solution in between) and the predictor's state at the window's end — the desired
-//! kinematics there, the muscles' states integrated under those controls — is where the tracking
-//! starts, 0.03 s after the initial time, with those controls as its first nodes.
+//! time the coordinates are held while the muscles settle for 0.2 s under controls of 0.01 (an
+//! excluded generator's 0), twice; then CMC's controls for a first window of 0.03 s are solved
+//! (twice, the muscles settling under the first solution in between) and the predictor's state at
+//! the window's end — the desired kinematics there, the muscles' states integrated under those
+//! controls — is where the tracking starts, 0.03 s after the initial time, with those controls as
+//! its first nodes.
 
 use super::predictor::{Predictor, Prescribed};
 use super::tracking::{Controller, WindowSolution};
@@ -51,8 +52,9 @@ pub fn initial_states(controller: &Controller, start: SimulatedState, time: f64)
     };
     let settled = |z: Vec<f64>, controls: &[f64]| predictor(z, SETTLING, true).forces(controls).map(|(_, state)| plant.muscle_states(&state)).map_err(failed);
     let guess = plant.muscle_states(&start);
-    let once = settled(guess.clone(), &vec![SETTLING_CONTROL; n])?;
-    let twice = settled(once.clone(), &vec![SETTLING_CONTROL; n])?;
+    let settling = controller.uniform_controls(SETTLING_CONTROL);
+    let once = settled(guess.clone(), &settling)?;
+    let twice = settled(once.clone(), &settling)?;
     let with_states = |z: &[f64]| plant.with_muscle_states(start.q.clone(), start.u.clone(), z, &plant.generator_controls(time));
     let first = controller.solve_with(&predictor(twice.clone(), FIRST_WINDOW, false), &with_states(&twice), time)?;
     let z = settled(twice.clone(), &first.controls)?;

@@ -23,36 +23,42 @@ pub enum Target {
 }
 
 /// The forces (N or N·m) `controller`'s target chooses at the `predicted` state at `time` (s) for
-/// the tasks' `desired` accelerations, within `bounds` ([lower, upper]), and the target's value
-/// there (OpenSim's "performance").
+/// the tasks' `desired` accelerations, within `bounds` ([lower, upper]; an excluded generator's
+/// force is its lower bound), and the target's value there (OpenSim's "performance", over the
+/// controlled generators).
 pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time: f64, desired: &[f64], stress_weight: f64, [lower, upper]: [&[f64]; 2]) -> Result<(Vec<f64>, f64), String> {
     let plant = controller.plant;
     let coordinates: Vec<usize> = controller.tasks.iter().map(|t| t.coordinate).collect();
     let (base, sensitivity) = acceleration_map(plant, predicted, time, &coordinates)?;
-    let offset: Vec<f64> = base.iter().zip(desired).map(|(a, d)| a - d).collect();
-    let n = plant.generators.len();
+    // The variables: the controlled generators' forces; an excluded one's (its force range is a
+    // point) joins the accelerations without forces.
+    let free: Vec<usize> = (0..plant.generators.len()).filter(|&j| !controller.excluded[j]).collect();
+    let offset: Vec<f64> = (0..coordinates.len())
+        .map(|i| base[i] - desired[i] + (0..plant.generators.len()).filter(|&j| controller.excluded[j]).map(|j| sensitivity[(i, j)] * lower[j]).sum::<f64>())
+        .collect();
+    let n = free.len();
     // In the variables x = f/c (c the force scales) the stress term is Σx² for both targets.
-    let scales = match controller.target {
-        Target::Fast => fast_scales(plant, predicted),
-        Target::Slow => plant.generators.iter().map(|g| g.unit_force(false, 0.0, 0.0).abs()).collect(),
+    let scales: Vec<f64> = match controller.target {
+        Target::Fast => fast_scales(plant, predicted, &free),
+        Target::Slow => free.iter().map(|&j| plant.generators[j].unit_force(false, 0.0, 0.0).abs()).collect(),
     };
-    let scaled = DMatrix::from_fn(coordinates.len(), n, |i, j| sensitivity[(i, j)] * scales[j]);
-    let (lower, upper): (Vec<f64>, Vec<f64>) = (0..n).map(|j| (lower[j] / scales[j], upper[j] / scales[j])).unzip();
+    let scaled = DMatrix::from_fn(coordinates.len(), n, |i, k| sensitivity[(i, free[k])] * scales[k]);
+    let (lower_x, upper_x): (Vec<f64>, Vec<f64>) = free.iter().zip(&scales).map(|(&j, c)| (lower[j] / c, upper[j] / c)).unzip();
     let solved = match controller.target {
         Target::Fast => {
             let hessian = DMatrix::from_diagonal_element(n, n, 2.0);
             let weighted: Vec<usize> = (0..coordinates.len()).filter(|&i| controller.tasks[i].task.weight != 0.0).collect();
-            let rows = DMatrix::from_fn(weighted.len(), n, |r, j| scaled[(weighted[r], j)]);
+            let rows = DMatrix::from_fn(weighted.len(), n, |r, k| scaled[(weighted[r], k)]);
             let rhs: Vec<f64> = weighted.iter().map(|&i| -offset[i]).collect();
             let zero = vec![0.0; n];
-            let qp = DenseQp::new(&hessian, &zero).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(&lower, &upper)).map_err(|e| e.to_string())?;
+            let qp = DenseQp::new(&hessian, &zero).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(&lower_x, &upper_x)).map_err(|e| e.to_string())?;
             qp.solve(&QpSettings::default())
         }
         Target::Slow => {
             let weights = DMatrix::from_diagonal(&DVector::from_iterator(coordinates.len(), controller.tasks.iter().map(|t| t.task.weight)));
             let hessian = 2.0 * (scaled.transpose() * &weights * &scaled + DMatrix::from_diagonal_element(n, n, stress_weight));
             let linear: Vec<f64> = (2.0 * scaled.transpose() * &weights * DVector::from_vec(offset.clone())).iter().copied().collect();
-            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_bounds(&lower, &upper)).map_err(|e| e.to_string())?;
+            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_bounds(&lower_x, &upper_x)).map_err(|e| e.to_string())?;
             qp.solve(&QpSettings::default())
         }
     };
@@ -66,22 +72,25 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
     let stress: f64 = x.iter().map(|x| x * x).sum();
     let performance = match controller.target {
         Target::Fast => stress,
-        Target::Slow => stress_weight * stress + (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|j| scaled[(i, j)] * x[j]).sum::<f64>()).powi(2)).sum::<f64>(),
+        Target::Slow => stress_weight * stress + (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|k| scaled[(i, k)] * x[k]).sum::<f64>()).powi(2)).sum::<f64>(),
     };
-    Ok((x.iter().zip(&scales).map(|(x, c)| x * c).collect(), performance))
+    let mut forces = lower.to_vec();
+    for ((&j, x), c) in free.iter().zip(x).zip(&scales) {
+        forces[j] = x * c;
+    }
+    Ok((forces, performance))
 }
 
-/// The fast target's force scale per generator: a muscle's rigid-tendon active fiber force at
-/// activation 1 on its predicted path (its magnitude, at least SimTK's `TinyReal` as OpenSim
-/// floors it), an actuator's optimal force.
-fn fast_scales(plant: &Plant, state: &SimulatedState) -> Vec<f64> {
+/// The fast target's force scale of each generator of `free`: a muscle's rigid-tendon active
+/// fiber force at activation 1 on its predicted path (its magnitude, at least SimTK's `TinyReal`
+/// as OpenSim floors it), an actuator's optimal force.
+fn fast_scales(plant: &Plant, state: &SimulatedState, free: &[usize]) -> Vec<f64> {
     let multibody = &plant.geometry.multibody;
     let mut kinematics = multibody.kinematics();
     multibody.realize(&state.q, &mut kinematics);
     let mut scratch = PathScratch::default();
-    plant
-        .generators
-        .iter()
+    free.iter()
+        .map(|&j| &plant.generators[j])
         .map(|g| match g.muscle_path() {
             Some((path, _)) => {
                 let path = &plant.geometry.paths[path];

@@ -133,7 +133,8 @@ pub fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, t
     let rows = tracking.times.iter().zip(&tracking.states).flat_map(|(t, s)| std::iter::once(*t).chain(state_values(plant, s))).collect();
     let states = StorageTable::new(plant.spec.name.as_str(), state_labels(plant), rows)?.with_in_degrees(false);
     let states_file = tool.results_directory.resolved.join(format!("{name}_states.sto"));
-    let styles: Vec<ControlLimits> = limits.iter().zip(&tracking.controls.controls).map(|(l, c)| ControlLimits { min: l.bounds.default_min, max: l.bounds.default_max, use_steps: c.use_steps }).collect();
+    let controlled = |j: &usize| !tracking.excluded[*j];
+    let styles: Vec<ControlLimits> = (0..limits.len()).filter(controlled).map(|j| ControlLimits { min: limits[j].bounds.default_min, max: limits[j].bounds.default_max, use_steps: tracking.controls.controls[j].use_steps }).collect();
     let mut files = vec![
         (format!("{name}_controls.sto"), controls_table(plant, tracking)?.to_text()),
         (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(tracking)?, &plant.spec.name, &styles)),
@@ -149,16 +150,18 @@ pub fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, t
     Ok(TrackedFiles { files, actuation_force })
 }
 
-/// `_controls.sto`: each generator's control at the recorded times.
+/// `_controls.sto`: each generator's control at the recorded times (the model's controls, an
+/// excluded generator's 0 among them, as OpenSim writes them).
 fn controls_table(plant: &Plant, tracking: &Tracking) -> Result<StorageTable, crate::io::table::TableError> {
     let labels = std::iter::once("time".to_string()).chain(plant.generators.iter().map(|g| g.name.clone())).collect();
     let values = tracking.times.iter().flat_map(|&t| std::iter::once(t).chain(tracking.controls.controls.iter().map(move |c| c.value(t)))).collect();
     Ok(StorageTable::new("controls", labels, values)?.with_in_degrees(false))
 }
 
-/// The controls' nodes as a table (time, one column per control) for the `ControlSet` document.
+/// The controlled generators' nodes as a table (time, one column per control) for the
+/// `ControlSet` document (CMC's own controls: the excluded generators' are the model's).
 fn control_nodes(tracking: &Tracking) -> Result<StorageTable, crate::io::table::TableError> {
-    let controls = &tracking.controls.controls;
+    let controls: Vec<&ControlLinear> = tracking.controls.controls.iter().zip(&tracking.excluded).filter(|(_, &excluded)| !excluded).map(|(c, _)| c).collect();
     let labels = std::iter::once("time".to_string()).chain(controls.iter().map(|c| c.name.clone())).collect();
     let values = (0..controls[0].nodes.len()).flat_map(|i| std::iter::once(controls[0].nodes[i].0).chain(controls.iter().map(move |c| c.nodes[i].1))).collect();
     StorageTable::new("controls", labels, values)
@@ -195,21 +198,33 @@ pub struct CmcOutputs {
 /// Runs the CMCTool `setup` on `model`.
 pub fn run_cmc(model: &Path, setup: &CmcSetup) -> Result<CmcOutputs, CmcError> {
     let tool = &setup.tracking.tool;
-    if !setup.actuators_to_exclude.is_empty() {
-        return Err(CmcError::Input(format!("{}: actuators_to_exclude {:?}: osim-tune's CMC controls every muscle and actuator (remove the excluded ones from the model or the force set instead)", tool.file.display(), setup.actuators_to_exclude)));
-    }
     let mut inputs = read_tracking_inputs(model, &setup.tracking)?;
     check_controlled(&inputs.model, tool)?;
     let tasks = tasks(&inputs.task_set, &inputs.model, &inputs.task_file)?;
     let model = &inputs.model;
     let plant = model.plant().map_err(|e| CmcError::Input(format!("{}: {e}", tool.file.display())))?;
     let limits = control_limits(&plant, inputs.constraints.as_ref());
+    let excluded = excluded_generators(&plant, &setup.actuators_to_exclude, &mut inputs.warnings);
+    if excluded.iter().all(|&x| x) {
+        return Err(CmcError::Input(format!("{}: actuators_to_exclude leaves CMC no actuator to control", tool.file.display())));
+    }
     let target = if setup.use_fast_optimization_target { Target::Fast } else { Target::Slow };
-    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, target, window: setup.time_window };
+    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, excluded: &excluded, target, window: setup.time_window };
     let start = start_state(&plant, &inputs.desired, inputs.range[0], tool.solve_for_equilibrium_for_auxiliary_states)?;
     let tracking = controller.track(start, inputs.range, &setup.tracking.integrator)?;
     let tracked = tracked_files(tool, model, &plant, &tracking, &limits, &mut inputs.warnings)?;
     Ok(CmcOutputs { files: tracked.files, range: inputs.range, start: tracking.times[0], windows: tracking.times.len() - 1, warnings: inputs.warnings, read: inputs.read, initial: tracking.initial })
+}
+
+/// Per generator, whether `names` (`actuators_to_exclude`) leave it out of CMC's control. As
+/// OpenSim 4.6 (`CMCTool::getActuatorsPathsForCMC`) each name is looked up among the actuators'
+/// names only — its actuator set has no groups, so a force-set group name excludes nothing —
+/// and a name that matches none is reported and ignored.
+fn excluded_generators(plant: &Plant, names: &[String], warnings: &mut Vec<String>) -> Vec<bool> {
+    for name in names.iter().filter(|name| !plant.generators.iter().any(|g| &g.name == *name)) {
+        warnings.push(format!("actuators_to_exclude: no actuator is named {name:?}; ignored (as OpenSim, which also ignores force-set group names here)"));
+    }
+    plant.generators.iter().map(|g| names.contains(&g.name)).collect()
 }
 
 /// The state CMC starts from at `time` (s): the desired kinematics there with the muscles'

@@ -49,6 +49,9 @@ pub struct Controller<'p, 'a> {
     pub desired: &'p DesiredKinematics,
     pub tasks: &'p [Task<'p>],
     pub limits: &'p [ControlLinear],
+    /// Per generator, whether CMC leaves it uncontrolled (`actuators_to_exclude`): its control
+    /// stays 0, the model's default, and its force enters the target as given.
+    pub excluded: &'p [bool],
     pub target: Target,
     /// The window T (s): 0.001 in RRA, `cmc_time_window` in CMC.
     pub window: f64,
@@ -60,8 +63,10 @@ pub struct Tracking {
     pub times: Vec<f64>,
     pub states: Vec<SimulatedState>,
     /// One `ControlLinear` per generator (`<name>.excitation`), nodes at the windows' ends,
-    /// held at the first node's value before it; muscles' in steps.
+    /// held at the first node's value before it; muscles' in steps; an excluded generator's 0.
     pub controls: ControlSet,
+    /// Per generator, whether CMC left it uncontrolled.
+    pub excluded: Vec<bool>,
     /// `_pErr.sto`: qᵢ,d − qᵢ per task (rad or m).
     pub position_errors: StorageTable,
     /// How CMC found the muscles' initial states (a model with muscles' states).
@@ -74,8 +79,8 @@ pub struct Tracking {
 pub struct WindowSolution {
     pub controls: Vec<f64>,
     pub position_errors: Vec<f64>,
-    /// Each generator's force at the window's end under its lower and its upper control bound
-    /// (N or N·m; "Min forces", "Max forces").
+    /// Each controlled generator's force at the window's end under its lower and its upper
+    /// control bound (N or N·m; "Min forces", "Max forces").
     pub force_range: [Vec<f64>; 2],
     /// The target's value at the forces it chose ("performance").
     pub performance: f64,
@@ -128,7 +133,7 @@ impl Controller<'_, '_> {
             .collect();
         let labels = std::iter::once("time".to_string()).chain(self.tasks.iter().map(|t| t.task.name.clone())).collect();
         let position_errors = StorageTable::new("PositionErrors", labels, errors).map_err(|e| CmcError::Tracking { time, reason: e.to_string() })?.with_in_degrees(false);
-        Ok(Tracking { times, states, controls: ControlSet { file: "CMC".into(), controls }, position_errors, initial })
+        Ok(Tracking { times, states, controls: ControlSet { file: "CMC".into(), controls }, excluded: self.excluded.to_vec(), position_errors, initial })
     }
 
     /// CMC's controls at `state` and `time` (s) for a window of `window` (s), each control's
@@ -141,6 +146,16 @@ impl Controller<'_, '_> {
         self.solve_with(&predictor, state, time)
     }
 
+    /// The controlled generators' entries of `values` (one per generator).
+    fn controlled(&self, values: &[f64]) -> Vec<f64> {
+        values.iter().zip(self.excluded).filter(|(_, &excluded)| !excluded).map(|(v, _)| *v).collect()
+    }
+
+    /// `control` for every controlled generator, 0 for the excluded ones.
+    pub fn uniform_controls(&self, control: f64) -> Vec<f64> {
+        self.excluded.iter().map(|&excluded| if excluded { 0.0 } else { control }).collect()
+    }
+
     /// Whether each generator's control steps between nodes (else it ramps).
     pub fn steps(&self) -> Vec<bool> {
         self.limits.iter().map(|l| l.use_steps).collect()
@@ -151,7 +166,7 @@ impl Controller<'_, '_> {
         let failed = |reason: String| CmcError::Tracking { time, reason };
         let end = predictor.window[1];
         let (position_errors, desired_accelerations, stress_weight) = self.task_targets(state, time, end);
-        let (lower_controls, mut upper_controls): (Vec<f64>, Vec<f64>) = self.limits.iter().map(|l| l.bounds_at(time)).unzip();
+        let (lower_controls, mut upper_controls): (Vec<f64>, Vec<f64>) = self.limits.iter().zip(self.excluded).map(|(l, &excluded)| if excluded { (0.0, 0.0) } else { l.bounds_at(time) }).unzip();
         let (at_lower, _) = predictor.forces(&lower_controls).map_err(failed)?;
         let (at_upper, predicted) = predictor.forces(&upper_controls).map_err(failed)?;
         for (i, upper) in upper_controls.iter_mut().enumerate() {
@@ -163,7 +178,7 @@ impl Controller<'_, '_> {
         let (forces, performance) = optimal_forces(self, &predicted, end, &desired_accelerations, stress_weight, [&lower, &upper]).map_err(failed)?;
         let residual = |x: &[f64]| predictor.forces(x).map(|(f, _)| f.iter().zip(&forces).map(|(a, b)| a - b).collect());
         let controls = uncoupled_roots(residual, &lower_controls, &upper_controls, &vec![CONTROL_TOLERANCE; forces.len()]).map_err(failed)?;
-        Ok(WindowSolution { controls, position_errors, force_range: [at_lower, at_upper], performance })
+        Ok(WindowSolution { controls, position_errors, force_range: [self.controlled(&at_lower), self.controlled(&at_upper)], performance })
     }
 
     /// The tasks' position errors at `time`, their desired accelerations with the feed-forward at

@@ -56,7 +56,8 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
     let tracked_model = adjustment.as_ref().map_or(&inputs.model, |a| &a.model);
     let plant = tracked_model.plant().map_err(|e| input(e.to_string()))?;
     let limits = control_limits(&plant, inputs.constraints.as_ref());
-    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, target: Target::Slow, window: WINDOW };
+    let excluded = vec![false; plant.generators.len()];
+    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, excluded: &excluded, target: Target::Slow, window: WINDOW };
     let tracking = controller.track(desired_state(&plant, &inputs.desired, range[0], &[]), range, &setup.tracking.integrator)?;
     let tracked = tracked_files(tool, tracked_model, &plant, &tracking, &limits, &mut inputs.warnings)?;
     let final_residuals = tracked.actuation_force.as_ref().map_or([0.0; 6], actuation_residuals);
