@@ -8,6 +8,9 @@ muscles, the IK motion, the two CMC_Joint tasks) — and on subject01's walk:
 * `slow`: 0.20–0.40 s unfiltered, the slow target (`use_fast_optimization_target` false);
 * `exclude`: `fast` with BRA and TRImed left out of CMC's control (`actuators_to_exclude`, with a
   name no actuator has, which OpenSim warns about and ignores);
+* `prescribed`: `fast` with a `PrescribedController` in the setup's `ControllerSet` driving BRA
+  (excluded from CMC's control) along a line in time and adding 0.05 to TRIlong's control (still
+  CMC's): the model's controls are every controller's sum;
 * `walk`: 0.80–0.86 s of subject01's walk on the scaled gait2392 (92 muscles; the scale and IK
   goldens, the ground reactions) with opensim-core's gait2354 CMC actuators (residuals and
   reserves), tasks and control constraints (`fixtures/subject01/`), filtered at 6 Hz, fast target.
@@ -67,7 +70,7 @@ SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
 \t\t\t<groups />
 \t\t</AnalysisSet>
 \t\t<ControllerSet name="Controllers">
-\t\t\t<objects />
+\t\t\t<objects>{controllers}</objects>
 \t\t\t<groups />
 \t\t</ControllerSet>
 \t\t<external_loads_file>{loads}</external_loads_file>
@@ -87,12 +90,17 @@ SETUP = """<?xml version="1.0" encoding="UTF-8" ?>
 \t</CMCTool>
 </OpenSimDocument>
 """
-ARM = dict(model="arm26.osim", actuators="arm26_Reserve_Actuators.xml", loads="", kinematics="arm26_InverseKinematics.mot", tasks="arm26_ComputedMuscleControl_Tasks.xml", constraints="", tolerance="1e-05", exclude="")
-WALK = dict(model="subject01_simbody.osim", actuators="gait2354_CMC_Actuators.xml", loads="subject01_walk1_grf.xml", kinematics="subject01_walk1_ik.mot", tasks="gait2354_CMC_Tasks.xml", constraints="gait2354_CMC_ControlConstraints.xml", tolerance="1e-05", exclude="")
+ARM = dict(model="arm26.osim", actuators="arm26_Reserve_Actuators.xml", loads="", kinematics="arm26_InverseKinematics.mot", tasks="arm26_ComputedMuscleControl_Tasks.xml", constraints="", tolerance="1e-05", exclude="", controllers="")
+WALK = dict(model="subject01_simbody.osim", actuators="gait2354_CMC_Actuators.xml", loads="subject01_walk1_grf.xml", kinematics="subject01_walk1_ik.mot", tasks="gait2354_CMC_Tasks.xml", constraints="gait2354_CMC_ControlConstraints.xml", tolerance="1e-05", exclude="", controllers="")
+# BRA, left out of CMC's control, driven by a line in time; TRIlong, still CMC's, given 0.05 more.
+PRESCRIBED = ('<PrescribedController name="prescribed"><socket_actuators>/forceset/BRA /forceset/TRIlong</socket_actuators>'
+              '<FunctionSet name="ControlFunctions"><objects><LinearFunction><coefficients> 0.5 0.1</coefficients></LinearFunction>'
+              '<Constant><value>0.05</value></Constant></objects></FunctionSet></PrescribedController>')
 CASES = {
     "fast": (ARM26, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true")),
     "slow": (ARM26, "arm26", dict(ARM, start=0.2, end=0.4, cutoff=-1, fast="false")),
     "exclude": (ARM26, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true", exclude="BRA TRImed r_elbow_flex")),
+    "prescribed": (ARM26, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true", exclude="BRA", controllers=PRESCRIBED)),
     "walk": (GAIT, "subject01_walk1", dict(WALK, start=0.8, end=0.86, cutoff=6, fast="true")),
 }
 def numbers(line, label):
@@ -130,7 +138,7 @@ def main():
         out.mkdir(parents=True, exist_ok=True)
         inputs, prefix, settings = CASES[case]
         name = f"{prefix}_CMC_{case}"
-        (out / "setup.xml").write_text(SETUP.format(name=name, **settings).replace("<external_loads_file></external_loads_file>", "<external_loads_file />").replace("<constraints_file></constraints_file>", "<constraints_file />").replace("<actuators_to_exclude></actuators_to_exclude>", "<actuators_to_exclude />"))
+        (out / "setup.xml").write_text(SETUP.format(name=name, **settings).replace("<external_loads_file></external_loads_file>", "<external_loads_file />").replace("<constraints_file></constraints_file>", "<constraints_file />").replace("<actuators_to_exclude></actuators_to_exclude>", "<actuators_to_exclude />").replace("<objects></objects>", "<objects />"))
         verbose = (out / "setup.xml").read_text().replace("<use_verbose_printing>false", "<use_verbose_printing>true")
         with tool_results("CMCTool", inputs, verbose) as (run, results):
             written = keep_results(results, out, (".sto", "_controls.xml"))

@@ -42,8 +42,8 @@ fn cmc_agrees_with_opensim() {
         assert!(c.force_ranges.error < bounds.force_ranges, "{case}: {:?}", c.force_ranges);
         // Muscles and actuators: arm26's 6 and 2 reserves; gait2392's 92 and gait2354's 6 residuals
         // and 6 reserves.
-        // (exclude: BRA and TRImed settle but are not CMC's to control).
-        let (muscles, generators) = match case { "walk" => (92, 104), "exclude" => (6, 6), _ => (6, 8) };
+        // (exclude: BRA and TRImed settle but are not CMC's to control; prescribed: BRA is not).
+        let (muscles, generators) = match case { "walk" => (92, 104), "exclude" => (6, 6), "prescribed" => (6, 7), _ => (6, 8) };
         assert_eq!((c.initial_states.count, c.force_ranges.count), (3 * 2 * muscles, if bounds.lower_forces { 2 * generators } else { generators }), "{case}: values compared");
         let [ours, opensim] = c.performance;
         assert!(ours <= opensim * (1.0 + 1e-9) && ours >= 0.98 * opensim, "{case}: performance ours {ours}, OpenSim {opensim}");
@@ -56,7 +56,7 @@ fn cmc_agrees_with_opensim() {
         assert!(c.fibers.error < tracked.fibers, "{case}: {:?}", c.fibers);
         assert!(c.reserves.error < tracked.reserves, "{case}: {:?}", c.reserves);
         assert_eq!((c.missing_rows, c.extra_rows), (0, 0), "{case}: every window's end, and only those");
-        assert_eq!(outputs.windows, match case { "fast" | "exclude" => 21, "slow" => 16, _ => 2 });
+        assert_eq!(outputs.windows, match case { "fast" | "exclude" | "prescribed" => 21, "slow" => 16, _ => 2 });
     }
 }
 
@@ -106,7 +106,8 @@ fn excluded_actuators_keep_the_models_zero_control() {
 /// What CMC cannot run is refused with the setup named, and nothing is written.
 #[test]
 fn unusable_setups_are_refused() {
-    let cases: [(&[(&str, &str)], &str); 5] = [
+    let cases: [(&[(&str, &str)], &str); 6] = [
+        (&[("<ControllerSet name=\"Controllers\">\n\t\t\t<objects />", "<ControllerSet name=\"Controllers\">\n\t\t\t<objects><ToyReflexController name=\"reflex\" /></objects>")], "controllers osim-tune does not apply"),
         (&[("<constraints_file />", "<constraints_file /><rra_controls_file>rra_controls.xml</rra_controls_file>")], "rra_controls_file"),
         (&[("<actuators_to_exclude />", "<actuators_to_exclude>TRIlong TRIlat TRImed BIClong BICshort BRA r_shoulder_elev_reserve r_elbow_flex_reserve</actuators_to_exclude>")], "leaves CMC no actuator"),
         (&[("<desired_points_file />", "<desired_points_file>points.sto</desired_points_file>")], "desired_points_file"),

@@ -63,6 +63,14 @@ impl Controllers {
         Controllers { members: vec![Member::ControlSet(set)], ..Controllers::default() }
     }
 
+    /// These controllers with `other`'s after them (their controls add up).
+    pub fn and(mut self, other: &Controllers) -> Controllers {
+        self.members.extend(other.members.iter().cloned());
+        self.unapplied.extend(other.unapplied.iter().cloned());
+        self.files.extend(other.files.iter().cloned());
+        self
+    }
+
     /// The control of `actuator` at `time` (s): the sum of the controllers', 0 without one.
     pub fn control(&self, actuator: &str, time: f64) -> f64 {
         self.members

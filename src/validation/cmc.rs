@@ -28,10 +28,11 @@ use crate::setup::CmcSetup;
 
 /// The golden cases: arm26 at 0.40–0.65 s as opensim-core's arm26 CMC test runs it (filtered at
 /// 6 Hz, fast target), the same with BRA and TRImed left out of CMC's control
-/// (`actuators_to_exclude`), and at 0.20–0.40 s unfiltered with the slow target; subject01's walk at
+/// (`actuators_to_exclude`), the same with BRA driven by a `PrescribedController` of the setup
+/// that also adds to TRIlong's control, and at 0.20–0.40 s unfiltered with the slow target; subject01's walk at
 /// 0.80–0.86 s on the scaled gait2392 (92 muscles, ground reactions, opensim-core's gait2354 CMC
 /// actuators, tasks and control constraints).
-pub const CMC_CASES: [&str; 4] = ["fast", "slow", "exclude", "walk"];
+pub const CMC_CASES: [&str; 5] = ["fast", "slow", "exclude", "prescribed", "walk"];
 
 /// The files `case`'s golden setup names, with where the repository keeps them.
 pub fn cmc_inputs(case: &str) -> &'static [(&'static str, &'static str)] {
@@ -94,7 +95,7 @@ pub struct TrackedBounds {
 /// controls follow closely.
 pub fn cmc_tolerances(case: &str) -> CmcTolerances {
     match case {
-        "fast" | "exclude" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 1e-3, speeds: 3e-2, muscles: 0.1, fibers: 2e-4, reserves: 1e-3 } },
+        "fast" | "exclude" | "prescribed" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 1e-3, speeds: 3e-2, muscles: 0.1, fibers: 2e-4, reserves: 1e-3 } },
         "slow" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 2e-3, speeds: 5e-2, muscles: 2e-2, fibers: 1e-4, reserves: 2e-4 } },
         _ => CmcTolerances { initial_states: 1e-4, force_ranges: 3e-5, lower_forces: false, tracked: TrackedBounds { coordinates: 3e-3, speeds: 0.2, muscles: 0.15, fibers: 2e-3, reserves: 5e-3 } },
     }

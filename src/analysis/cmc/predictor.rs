@@ -3,7 +3,8 @@
 //! of at most 1 ms), the coordinates following the desired kinematics' splines plus the errors at
 //! the window's start — or held where they are at the start while the muscles settle —, each
 //! control moving from its last node to a trial value at the window's end (muscles in a step,
-//! actuators on a line); the generators' forces at the window's end.
+//! actuators on a line), the model's other controllers adding theirs; the generators' forces at
+//! the window's end.
 
 use super::desired::DesiredKinematics;
 use super::merson::{self, Rates};
@@ -76,7 +77,7 @@ impl Predictor<'_, '_> {
         } else {
             merson::integrate(&mut subsystem, &self.start, [from, to], [0.0, MAX_STEP], ACCURACY).map_err(|(time, reason)| format!("the muscles' states cannot be predicted at {time} s: {reason}"))?
         };
-        let at_end: Vec<f64> = controls.iter().map(|c| c.value(to)).collect();
+        let at_end = model_controls(plant, &controls, to, self.prescribed.held_at.unwrap_or(to));
         let (q, u) = self.prescribed.pose(plant, to);
         let state = plant.with_muscle_states(q, u, &z, &at_end);
         let forces = plant.actuations(to, &state, &at_end, &mut subsystem.work)?;
@@ -105,6 +106,13 @@ pub fn window_controls(plant: &Plant, steps: &[bool], last_nodes: &[Option<(f64,
         .collect()
 }
 
+/// The model's controls: CMC's `controls` at `time` plus the model's and the tool's other
+/// controllers' at `model_time` (s) — the subsystem's time, or the held time while the
+/// coordinates are held (`CMCActuatorSubsystem` poses the complete state there).
+fn model_controls(plant: &Plant, controls: &[ControlLinear], time: f64, model_time: f64) -> Vec<f64> {
+    controls.iter().zip(plant.generator_controls(model_time)).map(|(c, other)| c.value(time) + other).collect()
+}
+
 /// The muscles' states moved by their own dynamics along the prescribed kinematics.
 struct ActuatorSubsystem<'s, 'p, 'a> {
     plant: &'s Plant<'a>,
@@ -115,7 +123,7 @@ struct ActuatorSubsystem<'s, 'p, 'a> {
 
 impl Rates for ActuatorSubsystem<'_, '_, '_> {
     fn rates(&mut self, time: f64, z: &[f64], dz: &mut [f64]) -> Result<(), String> {
-        let controls: Vec<f64> = self.controls.iter().map(|c| c.value(time)).collect();
+        let controls = model_controls(self.plant, self.controls, time, self.prescribed.held_at.unwrap_or(time));
         let (q, u) = self.prescribed.pose(self.plant, time);
         let state = self.plant.with_muscle_states(q, u, z, &controls);
         self.plant.muscle_state_rates(time, &state, &controls, dz, &mut self.work)

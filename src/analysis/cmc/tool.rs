@@ -140,7 +140,7 @@ pub fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, t
         (format!("{name}_controls.xml"), bounded_control_set_document(&control_nodes(tracking)?, &plant.spec.name, &styles)),
         (format!("{name}_pErr.sto"), tracking.position_errors.to_text()),
     ];
-    let controls = Controllers::from_control_set(tracking.controls.clone());
+    let controls = Controllers::from_control_set(tracking.controls.clone()).and(&model.controls);
     let analysed = AnalyzeModel { spec: &model.spec, geometry: &model.geometry, added: &model.added, replace: model.replace, external: model.external.as_ref(), controls: &controls };
     let tables = analyze_tool_tables(&analysed, &states, &states_file, &analyses(tool, &states_file, tracking.times[0]), name)?;
     let actuation_force = tables.files.iter().find(|(file, _)| file.ends_with("_Actuation_force.sto")).map(|(_, table)| table.clone());
@@ -150,11 +150,11 @@ pub fn tracked_files(tool: &AnalyzeSetup, model: &ForwardModel, plant: &Plant, t
     Ok(TrackedFiles { files, actuation_force })
 }
 
-/// `_controls.sto`: each generator's control at the recorded times (the model's controls, an
-/// excluded generator's 0 among them, as OpenSim writes them).
+/// `_controls.sto`: each generator's control at the recorded times — the model's controls, CMC's
+/// plus the other controllers' (an excluded generator's CMC control is 0), as OpenSim writes them.
 fn controls_table(plant: &Plant, tracking: &Tracking) -> Result<StorageTable, crate::io::table::TableError> {
     let labels = std::iter::once("time".to_string()).chain(plant.generators.iter().map(|g| g.name.clone())).collect();
-    let values = tracking.times.iter().flat_map(|&t| std::iter::once(t).chain(tracking.controls.controls.iter().map(move |c| c.value(t)))).collect();
+    let values = tracking.times.iter().flat_map(|&t| std::iter::once(t).chain(tracking.controls.controls.iter().zip(plant.generator_controls(t)).map(move |(c, other)| c.value(t) + other))).collect();
     Ok(StorageTable::new("controls", labels, values)?.with_in_degrees(false))
 }
 
@@ -235,14 +235,10 @@ fn start_state(plant: &Plant, desired: &DesiredKinematics, time: f64, equilibrat
     Ok(desired_state(plant, desired, time, &plant.muscle_states(&defaults)))
 }
 
-/// CMC drives the model's muscles and the setup's actuators by its own controller alone.
+/// CMC has muscles or actuators to drive.
 fn check_controlled(model: &ForwardModel, tool: &AnalyzeSetup) -> Result<(), CmcError> {
-    let input = |what: &str| CmcError::Input(format!("{}: {what}", tool.file.display()));
-    if !model.spec.controllers.is_empty() || !tool.controllers.is_empty() {
-        return Err(input("controllers besides CMC's own are not supported (the model's or the setup's ControllerSet)"));
-    }
     if model.generators.is_empty() {
-        return Err(input("no muscles or actuators to track the kinematics with"));
+        return Err(CmcError::Input(format!("{}: no muscles or actuators to track the kinematics with", tool.file.display())));
     }
     Ok(())
 }

@@ -117,7 +117,7 @@ impl Controller<'_, '_> {
             let last: Vec<Option<(f64, f64)>> = nodes.iter().map(|list| list.last().copied()).collect();
             push(&mut nodes, target, &solution.controls);
             let stop = target.min(end);
-            let controls = Controllers::from_control_set(ControlSet { file: "CMC".into(), controls: window_controls(plant, &self.steps(), &last, target, &solution.controls) });
+            let controls = Controllers::from_control_set(ControlSet { file: "CMC".into(), controls: window_controls(plant, &self.steps(), &last, target, &solution.controls) }).and(plant.controls);
             state = integrate_window(plant, &controls, &held, &state, [time, stop], integrator)?;
             time = target;
             times.push(stop);
