@@ -122,8 +122,9 @@ fn writes_only_the_fitted_lengths_and_reproduces_the_moments() {
 }
 
 /// The figures of a set5 fit: the moments figure draws the measured moments (dots) and the
-/// fitted model's (solid lines) of the report at the trials' knee angles, by one affine map;
-/// each muscle's feasible-set figure draws as many dots as the report has feasible points.
+/// fitted model's (solid lines) of the report at the trials' knee angles, by one affine map; the
+/// diagnosis figure the best single cause's errors with the report's RMS; each muscle's
+/// feasible-set figure draws as many dots as the report has feasible points.
 fn assert_figures(folder: &Path, report: &Value, data: &DynamometryData) {
     let svg = std::fs::read_to_string(folder.join("moments_set5.svg")).unwrap();
     let trials = report["trials"].as_array().unwrap();
@@ -143,13 +144,28 @@ fn assert_figures(folder: &Path, report: &Value, data: &DynamometryData) {
         assert!(near(dots[k], value(t, "measured")), "{}: measured at {:?}", trials[t]["trial"], dots[k]);
         assert!(near(fitted[k], value(t, "fitted")), "{}: fitted at {:?}", trials[t]["trial"], fitted[k]);
     }
+    // The diagnosis: the initial model's errors (squares) set the map; the best single cause's
+    // line then gives back the report's RMS after it, to the pixels' resolution.
+    let svg = std::fs::read_to_string(folder.join("diagnosis_set5.svg")).unwrap();
+    let squares: Vec<(f64, f64)> = svg_elements(&svg, "rect").iter().filter(|r| r.get("stroke").is_some_and(|s| s == "#808080")).map(|r| {
+        let at = |key: &str, size: &str| r[key].parse::<f64>().unwrap() + 0.5 * r[size].parse::<f64>().unwrap();
+        (at("x", "width"), at("y", "height"))
+    }).collect();
+    assert_eq!(squares.len(), trials.len() + 1, "ten initial errors and the legend's square");
+    let error = |t: usize, key: &str| value(t, key) - value(t, "measured");
+    let y_map = pixel_map(&order.iter().zip(&squares).map(|(&t, p)| (error(t, "initial"), p.1)).collect::<Vec<_>>());
+    let newton_metres_per_pixel = 1.0 / (y_map(1.0) - y_map(0.0)).abs();
+    let cause: Vec<f64> = svg_elements(&svg, "polyline").iter().filter(|l| l["stroke"] == "#FF7F0E").flat_map(svg_points).take(trials.len()).map(|p| (p.1 - y_map(0.0)) / (y_map(1.0) - y_map(0.0))).collect();
+    let rms = (cause.iter().map(|r| r * r).sum::<f64>() / cause.len() as f64).sqrt();
+    let reported = report["single_causes"][0]["rms_after"].as_f64().unwrap();
+    assert!((rms - reported).abs() <= 1.5 * newton_metres_per_pixel, "drawn RMS {rms}, reported {reported} (± {} N·m per pixel)", newton_metres_per_pixel);
     for set in report["feasible_sets"].as_array().unwrap() {
         let muscle = set["muscle"].as_str().unwrap();
         let svg = std::fs::read_to_string(folder.join(format!("feasible_{muscle}.svg"))).unwrap();
         let dots = svg_elements(&svg, "circle").iter().filter(|c| c["r"] == "2").count();
         assert_eq!(dots, set["feasible"].as_array().unwrap().len(), "{muscle}");
     }
-    assert_eq!(std::fs::read_dir(folder).unwrap().count(), 1 + report["feasible_sets"].as_array().unwrap().len());
+    assert_eq!(std::fs::read_dir(folder).unwrap().count(), 2 + report["feasible_sets"].as_array().unwrap().len());
 }
 
 #[test]

@@ -59,6 +59,8 @@ pub enum Tone {
     Measured,
     Initial,
     Fitted,
+    /// A diagnosed cause's model.
+    Cause,
     Background,
     Palette(usize),
 }
@@ -69,6 +71,7 @@ impl Tone {
             Tone::Measured => BLACK,
             Tone::Initial => RGBColor(128, 128, 128),
             Tone::Fitted => RGBColor(31, 119, 180),
+            Tone::Cause => RGBColor(255, 127, 14),
             Tone::Background => RGBColor(190, 205, 225),
             Tone::Palette(n) => {
                 let color = Palette99::pick(n).to_rgba();

@@ -1,9 +1,10 @@
 //! The figures of a functional fit: per trial set the knee moment against the knee angle —
-//! measured, initial model and fitted model, both directions — and per estimated muscle its
+//! measured, initial model and fitted model, both directions — and what the models get wrong
+//! with the best single cause fitted, and per estimated muscle its
 //! Phase I feasible set on the L_opt × L_ts plane with the regression line of eq. 6.13, the
 //! initial and the fitted parameters.
 
-use crate::tuning::functional::{Direction, FunctionalFit, IsometricTrial, MuscleFeasibleSet, MuscleParameters};
+use crate::tuning::functional::{Direction, FunctionalFit, IsometricTrial, MuscleFeasibleSet, MuscleParameters, TrialFit};
 
 use super::{render, Chart, Figure, FigureError, Mark, Series, Tone};
 
@@ -18,27 +19,13 @@ pub fn moment_figures(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Result<
     if trials.len() != fit.trials.len() {
         return Err(FigureError::Input(format!("{} trials given for a fit of {}", trials.len(), fit.trials.len())));
     }
-    let mut sets: Vec<&str> = Vec::new();
-    for trial in trials {
-        if !sets.contains(&trial.set.as_str()) {
-            sets.push(&trial.set);
-        }
-    }
-    sets.into_iter().map(|set| set_figure(fit, trials, set)).collect()
+    sets(trials).into_iter().map(|set| set_figure(fit, trials, set)).collect()
 }
 
 fn set_figure(fit: &FunctionalFit, trials: &[IsometricTrial], set: &str) -> Result<Figure, FigureError> {
     let mut series = Vec::new();
-    for direction in Direction::BOTH {
-        let mut indices: Vec<usize> = (0..trials.len()).filter(|&t| trials[t].set == set && trials[t].direction == direction).collect();
-        if indices.is_empty() {
-            continue;
-        }
-        indices.sort_by(|&a, &b| trials[a].knee_angle.total_cmp(&trials[b].knee_angle));
-        let curve = |moment: fn(&crate::tuning::functional::TrialFit) -> f64| -> Vec<(f64, f64)> {
-            indices.iter().map(|&t| (trials[t].knee_angle.to_degrees(), moment(&fit.trials[t]))).collect()
-        };
-        let first = series.is_empty();
+    for (first, indices) in directions(trials, set).into_iter().enumerate().map(|(k, i)| (k == 0, i)) {
+        let curve = |moment: fn(&TrialFit) -> f64| -> Vec<(f64, f64)> { indices.iter().map(|&t| (trials[t].knee_angle.to_degrees(), moment(&fit.trials[t]))).collect() };
         let label = |text: &str| if first { text.to_string() } else { String::new() };
         series.push(Series::new(label("initial model"), curve(|t| t.initial), Mark::Dashed, Tone::Initial));
         series.push(Series::new(label("fitted model"), curve(|t| t.fitted), Mark::Line, Tone::Fitted));
@@ -62,6 +49,60 @@ fn posture(trials: &[IsometricTrial], set: &str) -> String {
         return String::new();
     }
     format!(" at hip {:.0}°, ankle {:.0}°", first.hip_flexion.to_degrees(), first.ankle_angle.to_degrees())
+}
+
+/// One figure per trial set (`diagnosis_<set>.svg`) of what the models get wrong, M_mod − M_meas
+/// (N·m) against the knee angle (°): the initial model's (squares on a dashed line), the initial
+/// model with the best single cause fitted (the report's first `single_causes`; orange) and the
+/// fitted model's (solid). None when the fit ranked no cause.
+pub fn diagnosis_figures(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Result<Vec<Figure>, FigureError> {
+    let Some(best) = fit.single_causes.first().filter(|c| c.residuals.len() == trials.len()) else { return Ok(Vec::new()) };
+    if trials.len() != fit.trials.len() {
+        return Err(FigureError::Input(format!("{} trials given for a fit of {}", trials.len(), fit.trials.len())));
+    }
+    let title = |set: &str| format!("{set}: model − measured; best single change {} (RMS {:.2} → {:.2} N·m)", best.cause.describe(), best.rms_before, best.rms_after);
+    sets(trials)
+        .into_iter()
+        .map(|set| {
+            let mut series = Vec::new();
+            for (first, indices) in directions(trials, set).into_iter().enumerate().map(|(k, i)| (k == 0, i)) {
+                let label = |text: &str| if first { text.to_string() } else { String::new() };
+                let curve = |residual: &dyn Fn(usize) -> f64| -> Vec<(f64, f64)> { indices.iter().map(|&t| (trials[t].knee_angle.to_degrees(), residual(t))).collect() };
+                let initial = curve(&|t| fit.trials[t].initial - fit.trials[t].measured);
+                series.push(Series::new("", initial.clone(), Mark::Dashed, Tone::Initial));
+                series.push(Series::new(label("initial model"), initial, Mark::Squares, Tone::Initial));
+                series.push(Series::new(label(&format!("with {}", best.cause.describe())), curve(&|t| best.residuals[t]), Mark::Line, Tone::Cause));
+                series.push(Series::new(label("fitted model"), curve(&|t| fit.trials[t].fitted - fit.trials[t].measured), Mark::Line, Tone::Fitted));
+            }
+            let chart = Chart { title: title(set), x_label: "knee angle (°)".into(), y_label: "M_mod − M_meas (N·m)".into(), series };
+            Ok(Figure { file_name: format!("diagnosis_{}.svg", file_stem(set)), svg: render(&chart)? })
+        })
+        .collect()
+}
+
+/// The trial sets in the order of their first trial.
+fn sets(trials: &[IsometricTrial]) -> Vec<&str> {
+    let mut sets: Vec<&str> = Vec::new();
+    for trial in trials {
+        if !sets.contains(&trial.set.as_str()) {
+            sets.push(&trial.set);
+        }
+    }
+    sets
+}
+
+/// The trials of `set` per direction that has any, extension first, each in the order of its
+/// knee angles.
+fn directions(trials: &[IsometricTrial], set: &str) -> Vec<Vec<usize>> {
+    Direction::BOTH
+        .into_iter()
+        .map(|direction| {
+            let mut indices: Vec<usize> = (0..trials.len()).filter(|&t| trials[t].set == set && trials[t].direction == direction).collect();
+            indices.sort_by(|&a, &b| trials[a].knee_angle.total_cmp(&trials[b].knee_angle));
+            indices
+        })
+        .filter(|indices| !indices.is_empty())
+        .collect()
 }
 
 /// One figure per estimated muscle with a Phase I feasible set (`feasible_<muscle>.svg`): the

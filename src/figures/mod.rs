@@ -6,7 +6,7 @@ mod functional;
 mod table;
 
 pub use chart::{render, Chart, Mark, Series, Tone, DOT_SIZE, MARKER_SIZE, SIZE};
-pub use functional::{feasible_set_figures, moment_figures};
+pub use functional::{diagnosis_figures, feasible_set_figures, moment_figures};
 pub use table::{table_chart, TableSeries};
 
 /// A drawn figure and the file name it is written under (no folder).

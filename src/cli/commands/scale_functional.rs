@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::cli::{check_outputs, create_output_folders, write_files, Failure, Outcome};
-use crate::figures::{feasible_set_figures, moment_figures};
+use crate::figures::{diagnosis_figures, feasible_set_figures, moment_figures};
 use crate::io::atomic::write_atomically;
 use crate::io::osim::OsimDocument;
 use crate::model::ModelSpec;
@@ -126,9 +126,11 @@ pub fn run(model: &Path, folder: &Path, output: &Path, request: &Request) -> Res
     Ok(if result.converged { Outcome::Success } else { Outcome::NotConverged })
 }
 
-/// The fit's figures as files in `folder`: the moments per trial set, the feasible sets.
+/// The fit's figures as files in `folder`: the moments and the diagnosis per trial set, the
+/// feasible sets.
 fn figure_files(fit: &FunctionalFit, knee: &KneeMomentModel, folder: &Path) -> Result<Vec<(PathBuf, String)>, Failure> {
     let mut figures = moment_figures(fit, knee.trials())?;
+    figures.extend(diagnosis_figures(fit, knee.trials())?);
     figures.extend(feasible_set_figures(fit)?);
     Ok(figures.into_iter().map(|figure| (folder.join(figure.file_name), figure.svg)).collect())
 }

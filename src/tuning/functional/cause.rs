@@ -139,6 +139,9 @@ pub struct SingleCause {
     /// candidate's least-squares fit linearised at its result; an axis: its move's, mm, along the
     /// least certain direction); ∞ where the moments do not fix it.
     pub unit_noise_sd: f64,
+    /// M_mod − M_meas of every trial with the cause fitted, N·m (for figures; not reported).
+    #[serde(skip)]
+    pub residuals: Vec<f64>,
 }
 
 impl SingleCause {
@@ -283,7 +286,7 @@ impl CandidateFit {
     fn into_cause(self, cause: Cause, rms_before: f64) -> SingleCause {
         let rms_after = root_mean_square(self.residuals.iter().copied());
         let (variables, axis_move) = (self.variables, self.axis_move);
-        SingleCause { cause, initial: self.initial, fitted: self.value, rms_before, rms_after, at_minimum: self.at_minimum, variables, axis_move, unit_noise_sd: self.unit_noise_sd }
+        SingleCause { cause, initial: self.initial, fitted: self.value, rms_before, rms_after, at_minimum: self.at_minimum, variables, axis_move, unit_noise_sd: self.unit_noise_sd, residuals: self.residuals }
     }
 }
 

@@ -86,7 +86,7 @@ mod tests {
     fn moved_knee_axis(parent_direction: [f64; 3], child_direction: [f64; 3]) -> SingleCause {
         let axis_move = Some(AxisMove { in_parent: parent_direction.map(|c| 5.0 * c), in_child: child_direction.map(|c| 5.0 * c) });
         let cause = Cause::AxisOffset { joint: "knee_r".into() };
-        SingleCause { cause, initial: 0.0, fitted: 5.0, rms_before: 1.0, rms_after: 0.0, at_minimum: true, variables: 2, axis_move, unit_noise_sd: 0.1 }
+        SingleCause { cause, initial: 0.0, fitted: 5.0, rms_before: 1.0, rms_after: 0.0, at_minimum: true, variables: 2, axis_move, unit_noise_sd: 0.1, residuals: Vec::new() }
     }
 
     fn translation(document: &OsimDocument, frame: &str) -> Vec3 {

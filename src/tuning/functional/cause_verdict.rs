@@ -156,7 +156,7 @@ mod tests {
     use super::*;
 
     fn cause(muscle: &str, parameter: Parameter, rms_after: f64) -> SingleCause {
-        SingleCause { cause: Cause::Muscle { muscle: muscle.into(), parameter }, initial: 1.0, fitted: 1.0, rms_before: 10.0, rms_after, at_minimum: true, variables: 1, axis_move: None, unit_noise_sd: 0.1 }
+        SingleCause { cause: Cause::Muscle { muscle: muscle.into(), parameter }, initial: 1.0, fitted: 1.0, rms_before: 10.0, rms_after, at_minimum: true, variables: 1, axis_move: None, unit_noise_sd: 0.1, residuals: Vec::new() }
     }
 
     #[test]
