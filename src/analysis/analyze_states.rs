@@ -117,12 +117,14 @@ impl AnalyzeStates {
         })
     }
 
-    /// The states of a states file `table` (read from `file`, times increasing) for `multibody`
+    /// The states of a states file `table` (read from `file`, times increasing; a repeated time's
+    /// later row replacing the earlier, as OpenSim's `Storage`) for `multibody`
     /// and the muscles `muscles` (name, second state's name: `fiber_length` or
     /// `normalized_tendon_force`): no filtering; a coordinate the file lacks at its default
     /// value, a speed at 0, each a muscle state at the muscle's default; u̇ the derivatives of
     /// degree-5 GCV splines through the speeds (NaN with fewer than 6 rows).
     pub fn from_states(multibody: &Multibody, table: &StorageTable, file: &Path, muscles: &[(String, &str)]) -> Result<AnalyzeStates, StatesError> {
+        let table = &table.with_repeated_times_replaced();
         if table.in_degrees() == Some(true) {
             return Err(StatesError::StatesInDegrees { file: file.into() });
         }

@@ -40,8 +40,10 @@ impl Motion {
     /// from degrees when the table is in degrees: `inDegrees=yes`, or, as OpenSim, a `.mot`
     /// without `inDegrees` and without `version` (a SIMM motion). Coupled coordinates are never
     /// converted (OpenSim converts only rotational ones). A coupler's dependent coordinate that
-    /// the table lacks is set from its independent one.
+    /// the table lacks is set from its independent one. A row at the time of the row before it
+    /// replaces that row, as OpenSim's `Storage` reads it.
     pub fn from_table(table: &StorageTable, file: &Path, multibody: &Multibody, skip_unknown: bool) -> Result<Motion, MotionError> {
+        let table = &table.with_repeated_times_replaced();
         if table.n_rows() == 0 {
             return Err(MotionError::Empty { file: file.into() });
         }

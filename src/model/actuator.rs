@@ -67,7 +67,8 @@ impl ActuatorSpec {
         // A legacy document's name of a property, when it states it.
         let named = |current: &'static str, old: &'static str| if legacy && properties.of(current).child(current).is_none() && properties.of(old).child(old).is_some() { old } else { current };
         let flipped = |v: [f64; 3]| if legacy { v.map(|x| -x) } else { v };
-        let kind = match reader.class() {
+        let class = current_class(reader.class());
+        let kind = match class {
             "CoordinateActuator" => ActuatorKind::Coordinate { coordinate: properties.reference("coordinate")? },
             "PointActuator" => ActuatorKind::Point {
                 body: properties.reference(named("body", "body_B"))?,
@@ -86,7 +87,7 @@ impl ActuatorSpec {
         };
         Ok(Some(ActuatorSpec {
             name: reader.name(),
-            class: reader.class().to_string(),
+            class: class.to_string(),
             kind,
             optimal_force: properties.number("optimal_force", 1.0)?,
             min_control: properties.number("min_control", f64::NEG_INFINITY)?,
@@ -95,6 +96,17 @@ impl ActuatorSpec {
             file: reader.document.xml.file().into(),
             line: reader.line(),
         }))
+    }
+}
+
+/// The current name of an actuator class: OpenSim 1.x's `GeneralizedForce`, `Force` and `Torque`
+/// are read as the classes they became (`Object::renameType` in OpenSim's actuator library).
+fn current_class(class: &str) -> &str {
+    match class {
+        "GeneralizedForce" => "CoordinateActuator",
+        "Force" => "PointActuator",
+        "Torque" => "TorqueActuator",
+        other => other,
     }
 }
 
@@ -188,6 +200,25 @@ mod tests {
         assert!(matches!(&set[1].kind, ActuatorKind::Torque { body_a, body_b, axis, .. } if body_a == "pelvis" && body_b == "ground" && *axis == [0.0, 0.0, -1.0]), "{:?}", set[1].kind);
         let current = &read_force_set(&document(20302, "<ForceSet><objects><PointActuator name=\"FX\"><body>pelvis</body><direction>1 0 0</direction></PointActuator></objects></ForceSet>")).unwrap()[0];
         assert!(matches!(&current.kind, ActuatorKind::Point { direction, force_is_global: false, .. } if *direction == [1.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn opensim_1_class_names_are_read_as_the_classes_they_became() {
+        // opensim-core's runningModel CMC actuators: an <ActuatorSet> of Force, Torque and
+        // GeneralizedForce members with <defaults> of those classes.
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("actuators.xml");
+        std::fs::write(&file, "<ActuatorSet name=\"a\"><defaults><Force name=\"default\"><optimal_force> 1000.0 </optimal_force></Force>
+            <GeneralizedForce name=\"default\"><optimal_force> 300.0 </optimal_force></GeneralizedForce></defaults><objects>
+            <Force name=\"FX\"><optimal_force> 1.0 </optimal_force><body_A> ground </body_A><direction_A> -1 0 0 </direction_A><body_B> pelvis </body_B><point_B> -0.07 0 0 </point_B></Force>
+            <Torque name=\"MX\"><body_A> ground </body_A><direction_A> 1 0 0 </direction_A><body_B> pelvis </body_B></Torque>
+            <GeneralizedForce name=\"knee\"><coordinate> knee_angle_r </coordinate></GeneralizedForce></objects></ActuatorSet>").unwrap();
+        let set = read_force_set(&OsimDocument::read_object(&file).unwrap()).unwrap();
+        let classes: Vec<&str> = set.iter().map(|a| a.class.as_str()).collect();
+        assert_eq!(classes, ["PointActuator", "TorqueActuator", "CoordinateActuator"]);
+        assert!(matches!(&set[0].kind, ActuatorKind::Point { body, point, direction, .. } if body == "pelvis" && *point == [-0.07, 0.0, 0.0] && *direction == [1.0, 0.0, 0.0]), "{:?}", set[0].kind);
+        assert_eq!((set[0].optimal_force, set[2].optimal_force), (1.0, 300.0), "the member's value, else its class' <defaults>");
+        assert_eq!(set[2].kind, ActuatorKind::Coordinate { coordinate: "knee_angle_r".into() });
     }
 
     #[test]

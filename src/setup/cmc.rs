@@ -9,11 +9,11 @@ use std::path::Path;
 use super::analyze::AnalyzeSetup;
 use super::error::SetupError;
 use super::forward::IntegratorSettings;
-use super::object::{expect_class, read_document, set_members};
+use super::object::{expect_one_of, read_document, set_members};
 use super::path::{directory_of, SetupPath};
 use super::property::{optional_path, optional_string, required_name};
 use crate::io::osim::OsimDocument;
-use crate::model::ComponentReader;
+use crate::model::{ComponentReader, PropertySources};
 
 /// What a CMCTool and an RRATool share.
 #[derive(Debug, Clone)]
@@ -111,27 +111,34 @@ pub struct CmcTaskSet {
 }
 
 impl CmcTaskSet {
-    /// Reads the `<CMC_TaskSet>` file `path`: its `CMC_Joint`s whose first `active` flag is
-    /// true; a task of another class (points, orientations) is an error naming it.
+    /// Reads the `<CMC_TaskSet>` file `path` (OpenSim 1.x's `rdCMC_TaskSet` and `rdCMC_Joint`
+    /// read as their current classes, `Object::RenameType`): its `CMC_Joint`s whose first
+    /// `active` flag is true, each property from the task or else its class' `<defaults>`; a
+    /// task of another class (points, orientations) is an error naming it.
     pub fn read(path: &Path) -> Result<CmcTaskSet, SetupError> {
         let document = read_document(path)?;
         let set = ComponentReader::new(&document, document.object);
-        expect_class(set, "CMC_TaskSet")?;
+        expect_one_of(set, &["CMC_TaskSet", "rdCMC_TaskSet"])?;
         let mut tasks = Vec::new();
-        for task in set_members(set, &["CMC_Joint"])? {
+        for task in set_members(set, &["CMC_Joint", "rdCMC_Joint"])? {
+            let properties = PropertySources::new(task);
             // Gains and weights are arrays of 3 (one per component); a joint has one component.
-            let first = |property: &str, default: f64| match task.child(property) {
-                Some(_) => task.numbers(property, None).map(|values| values.first().copied().unwrap_or(default)),
-                None => Ok(default),
+            let first = |property: &str, default: f64| {
+                let source = properties.of(property);
+                match source.child(property) {
+                    Some(_) => source.numbers(property, None).map(|values| values.first().copied().unwrap_or(default)),
+                    None => Ok(default),
+                }
             };
             // OpenSim tracks a task whose first `active` flag is true (default false); it never
             // reads `on`.
-            if !task.words("active").first().is_some_and(|flag| flag.eq_ignore_ascii_case("true")) {
+            if !properties.of("active").words("active").first().is_some_and(|flag| flag.eq_ignore_ascii_case("true")) {
                 continue;
             }
             let name = required_name(task, "task")?;
-            let coordinate = optional_string(task, "coordinate").ok_or_else(|| task.missing("coordinate"))?;
-            tasks.push(JointTask { name, coordinate, weight: first("weight", 1.0)?, kp: first("kp", 1.0)?, kv: first("kv", 0.5)?, ka: first("ka", 1.0)?, limit: task.number_or("limit", 0.0)? });
+            let coordinate = optional_string(properties.of("coordinate"), "coordinate").ok_or_else(|| task.missing("coordinate"))?;
+            let limit = properties.of("limit").number_or("limit", 0.0)?;
+            tasks.push(JointTask { name, coordinate, weight: first("weight", 1.0)?, kp: first("kp", 1.0)?, kv: first("kv", 0.5)?, ka: first("ka", 1.0)?, limit });
         }
         Ok(CmcTaskSet { tasks })
     }
@@ -175,5 +182,18 @@ mod tests {
         std::fs::write(&file, "<OpenSimDocument Version=\"30000\"><CMC_TaskSet name=\"t\"><objects><CMC_Point name=\"p\"/></objects></CMC_TaskSet></OpenSimDocument>").unwrap();
         let error = CmcTaskSet::read(&file).unwrap_err().to_string();
         assert!(error.contains("CMC_Point") && error.contains("CMC_Joint"), "{error}");
+    }
+
+    #[test]
+    fn opensim_1_task_sets_are_read_with_their_defaults() {
+        // opensim-core's runningModel CMC tasks: an rdCMC_TaskSet of rdCMC_Joints whose
+        // <defaults> give what a task leaves out.
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("tasks.xml");
+        std::fs::write(&file, "<rdCMC_TaskSet name=\"t\"><defaults><rdCMC_Joint name=\"default\"><active> true false false </active><kp> 100 1 1 </kp><kv> 20 1 1 </kv></rdCMC_Joint></defaults>
+            <objects><rdCMC_Joint name=\"knee\"><coordinate> knee_angle_r </coordinate><kp> 400 1 1 </kp></rdCMC_Joint>
+            <rdCMC_Joint name=\"hip\"><coordinate> hip_flexion_r </coordinate><active> false false false </active></rdCMC_Joint></objects></rdCMC_TaskSet>").unwrap();
+        let set = CmcTaskSet::read(&file).unwrap();
+        assert_eq!(set.tasks, [JointTask { name: "knee".into(), coordinate: "knee_angle_r".into(), weight: 1.0, kp: 400.0, kv: 20.0, ka: 1.0, limit: 0.0 }]);
     }
 }

@@ -19,7 +19,8 @@ pub fn expect_class(reader: ComponentReader, class: &str) -> Result<(), SetupErr
     expect_one_of(reader, &[class])
 }
 
-fn expect_one_of(reader: ComponentReader, classes: &[&str]) -> Result<(), SetupError> {
+/// Checks that `reader` is of one of `classes`.
+pub fn expect_one_of(reader: ComponentReader, classes: &[&str]) -> Result<(), SetupError> {
     if classes.contains(&reader.class()) {
         return Ok(());
     }

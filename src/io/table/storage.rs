@@ -175,6 +175,15 @@ impl StorageTable {
         self.column_index(label).map(|index| self.column_at(index))
     }
 
+    /// The table as OpenSim's `Storage` holds a file it reads: a row at the time of the row
+    /// before it replaces that row (`Storage::append`), so a repeated last row — OpenSim's own
+    /// tools write some — counts once, with the later values.
+    pub fn with_repeated_times_replaced(&self) -> StorageTable {
+        let rows: Vec<&[f64]> = self.rows().collect();
+        let kept = (0..rows.len()).filter(|&i| i + 1 == rows.len() || rows[i + 1][0] != rows[i][0]);
+        StorageTable { values: kept.flat_map(|i| rows[i].iter().copied()).collect(), ..self.clone() }
+    }
+
     /// The times of the rows, in seconds (column 0).
     pub fn times(&self) -> Vec<f64> {
         self.column_at(0)
@@ -325,6 +334,16 @@ mod tests {
     fn knee_table() -> StorageTable {
         let values = vec![0.0, 90.0, 0.5, 0.01, -45.0, 0.6];
         StorageTable::new("Coordinates", labels(&["time", "knee_angle_r", "pelvis_tx"]), values).unwrap()
+    }
+
+    #[test]
+    fn a_repeated_time_keeps_its_later_row_as_opensims_storage_reads_it() {
+        // opensim-core's gait10dof18musc RRA kinematics end with their last row twice.
+        let values = vec![0.0, 1.0, 0.1, 2.0, 0.1, 3.0, 0.1, 4.0, 0.2, 5.0, 0.2, 6.0];
+        let table = StorageTable::new("q", labels(&["time", "a"]), values).unwrap();
+        let read = table.with_repeated_times_replaced();
+        assert_eq!((read.times(), read.column("a")), (vec![0.0, 0.1, 0.2], Some(vec![1.0, 4.0, 6.0])));
+        assert_eq!(knee_table().with_repeated_times_replaced(), knee_table());
     }
 
     #[test]
