@@ -1,10 +1,10 @@
 //! `CMC::computeInitialStates`: where CMC starts a model with muscles' states. At the initial
-//! time the coordinates are held while the muscles settle for 0.2 s under controls of 0.01 (an
-//! excluded generator's 0), twice; then CMC's controls for a first window of 0.03 s are solved
-//! (twice, the muscles settling under the first solution in between) and the predictor's state at
-//! the window's end — the desired kinematics there, the muscles' states integrated under those
-//! controls — is where the tracking starts, 0.03 s after the initial time, with those controls as
-//! its first nodes.
+//! time the coordinates are held while the muscles settle for 0.2 s under CMC's controls of 0.01
+//! (an excluded generator's 0; other controllers add theirs), twice; then CMC's controls for a
+//! first window of 0.03 s are solved (twice, the muscles settling under the first solution in
+//! between) and the predictor's state at the window's end — the desired kinematics there, the
+//! muscles' states integrated under those controls — is where the tracking starts, 0.03 s after
+//! the initial time, with those controls as its first nodes.
 
 use super::predictor::{Predictor, Prescribed};
 use super::tracking::{Controller, WindowSolution};

@@ -49,8 +49,9 @@ pub struct Controller<'p, 'a> {
     pub desired: &'p DesiredKinematics,
     pub tasks: &'p [Task<'p>],
     pub limits: &'p [ControlLinear],
-    /// Per generator, whether CMC leaves it uncontrolled (`actuators_to_exclude`): its control
-    /// stays 0, the model's default, and its force enters the target as given.
+    /// Per generator, whether CMC leaves it uncontrolled (`actuators_to_exclude`): CMC's part of
+    /// its control stays 0 (the other controllers', if any, drive it) and its force enters the
+    /// target as given.
     pub excluded: &'p [bool],
     pub target: Target,
     /// The window T (s): 0.001 in RRA, `cmc_time_window` in CMC.
