@@ -91,6 +91,25 @@ fn a_load_on_an_unknown_body_is_refused_with_its_line() {
     assert!(!output.exists());
 }
 
+/// An OpenSim 3.x loads file naming `external_loads_model_kinematics_file` is read as OpenSim 4
+/// reads it: the option is ignored, with a warning, and the moments are those without it.
+#[test]
+fn a_model_kinematics_file_is_ignored_with_a_warning_as_opensim_4_does() {
+    let folder = tempfile::tempdir().unwrap();
+    let loads = folder.path().join("grf.xml");
+    let text = std::fs::read_to_string(path("fixtures/subject01/subject01_walk1_grf.xml")).unwrap();
+    let text = text.replace("subject01_walk1_grf.mot", &path("fixtures/subject01/subject01_walk1_grf.mot"));
+    let text = text.replace("</ExternalLoads>", "<external_loads_model_kinematics_file> walk_ik.mot </external_loads_model_kinematics_file></ExternalLoads>");
+    std::fs::write(&loads, text).unwrap();
+    let (with, without) = (folder.path().join("with.sto"), folder.path().join("without.sto"));
+    let (code, _, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--external-loads", s(&loads), "-o", s(&with)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("grf.xml: external_loads_model_kinematics_file walk_ik.mot is ignored, as OpenSim 4 ignores it"), "{stderr}");
+    let (code, _, stderr) = osim_tune(&["id", &path(MODEL), &path(IK), "--external-loads", &path("fixtures/subject01/subject01_walk1_grf.xml"), "-o", s(&without)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(std::fs::read_to_string(&with).unwrap(), std::fs::read_to_string(&without).unwrap());
+}
+
 #[test]
 fn the_output_may_not_overwrite_an_input() {
     let folder = tempfile::tempdir().unwrap();

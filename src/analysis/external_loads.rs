@@ -26,6 +26,9 @@ pub enum ExternalLoadsError {
 #[derive(Debug, Clone)]
 pub struct ExternalLoads {
     forces: Vec<AppliedForce>,
+    /// What OpenSim warns about while reading the file (an ignored
+    /// `external_loads_model_kinematics_file`).
+    pub warnings: Vec<String>,
 }
 
 /// One `ExternalForce`: frames as body indices, columns as functions of time.
@@ -56,12 +59,12 @@ impl ExternalLoads {
     /// three; they are interpolated as OpenSim does: constant for one row, piecewise linear for
     /// two or three, else an interpolating cubic GCV spline.
     pub fn new(setup: &ExternalLoadsSetup, data: &StorageTable, data_file: &Path, multibody: &Multibody) -> Result<ExternalLoads, ExternalLoadsError> {
-        if setup.model_kinematics_file.is_some() {
-            return Err(ExternalLoadsError::Data {
-                file: setup.file.clone(),
-                problem: "external_loads_model_kinematics_file (points re-expressed through a motion, OpenSim 3.x) is not supported; express the points in ground or in the bodies".into(),
-            });
-        }
+        // OpenSim 4 no longer re-expresses the points through the motion it names
+        // (`ExternalLoads::updateFromXMLNode`: "not supported anymore. Results may change").
+        let warnings = setup.model_kinematics_file.iter().map(|kinematics| {
+            format!("{}: external_loads_model_kinematics_file {} is ignored, as OpenSim 4 ignores it: each point is used in the frame its force names", setup.file.display(), kinematics.written)
+        });
+        let warnings = warnings.collect();
         let times = data.times();
         if times.is_empty() {
             return Err(ExternalLoadsError::Data { file: data_file.into(), problem: "the table has no rows".into() });
@@ -70,7 +73,7 @@ impl ExternalLoads {
             return Err(ExternalLoadsError::Data { file: data_file.into(), problem: format!("times must increase strictly, but row {} is at {time} s after {previous} s", row + 1) });
         }
         let forces = setup.forces.iter().map(|spec| AppliedForce::new(spec, &setup.file, data, data_file, &times, multibody)).collect::<Result<_, _>>()?;
-        Ok(ExternalLoads { forces })
+        Ok(ExternalLoads { forces, warnings })
     }
 
     /// The loads at `time` (s), in ground, for the pose in `kinematics`.

@@ -93,9 +93,18 @@ pub(crate) fn read_marker_trial(file: &Path) -> Result<crate::io::table::MarkerT
     Ok(trial)
 }
 
-/// An `ExternalLoads` file and its datafile on `multibody`; both files join `inputs`.
+/// Prints `warnings`, one `warning:` line each.
+pub(crate) fn warn_about(warnings: &[String]) {
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
+}
+
+/// An `ExternalLoads` file and its datafile on `multibody`; both files join `inputs` (its
+/// warnings are printed).
 pub(crate) fn read_external_loads(file: &Path, multibody: &crate::mechanics::Multibody, inputs: &mut Vec<std::path::PathBuf>) -> Result<crate::analysis::ExternalLoads, Failure> {
     let (loads, data_file) = crate::analysis::ExternalLoads::read(file, multibody)?;
     inputs.extend([file.to_path_buf(), data_file]);
+    warn_about(&loads.warnings);
     Ok(loads)
 }

@@ -45,8 +45,8 @@ pub struct ExternalForceSpec {
 }
 
 impl ExternalLoadsSetup {
-    /// Reads the ExternalLoads file `path`. A `external_loads_model_kinematics_file` (points
-    /// re-expressed through a motion) is reported, not ignored.
+    /// Reads the ExternalLoads file `path`, with its `external_loads_model_kinematics_file` (an
+    /// OpenSim 3.x option OpenSim 4 ignores with a warning).
     pub fn read(path: &Path) -> Result<ExternalLoadsSetup, SetupError> {
         Self::from_document(&read_document(path)?)
     }

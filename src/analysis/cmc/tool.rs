@@ -63,7 +63,7 @@ pub fn read_tracking_inputs(model: &Path, setup: &TrackingSetup) -> Result<Track
         None => None,
     };
     let table = StorageTable::read(&desired_file)?;
-    let mut warnings = Vec::new();
+    let mut warnings = forward.external.as_ref().map(|loads| loads.warnings.clone()).unwrap_or_default();
     let range = time_range(tool, &table, &desired_file, &mut warnings);
     let cutoff = (setup.lowpass_cutoff_frequency >= 0.0).then_some(setup.lowpass_cutoff_frequency);
     let desired = DesiredKinematics::new(&forward.geometry.multibody, &table, &desired_file, cutoff)?;

@@ -32,6 +32,7 @@ pub fn run(model: &Path, coordinates: &Path, request: &Request) -> Result<Outcom
     let multibody = Multibody::new(&ModelSpec::read(&OsimDocument::read(model)?)?)?;
     let dynamometer = DynamometerModel::new(&multibody, &request.crank, &request.knee)?;
     let (loads, data_file) = ExternalLoads::read(&request.load_cell, &multibody)?;
+    crate::cli::warn_about(&loads.warnings);
     dynamometer.check_load_cell(&multibody, &loads, &request.load_cell)?;
     let inputs = [model, coordinates, request.load_cell.as_path(), data_file.as_path()];
     for output in std::iter::once(&request.output).chain(&request.report) {

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::analyze_inputs::{analyze_tool_analyses, check_analyses};
 use crate::analysis::{analyze_tool_tables, controls_table, initial_state, simulate_plant, states_table, ForwardModel, InitialSource, SimulationError};
-use crate::cli::{write_files, Failure, Outcome};
+use crate::cli::{warn_about, write_files, Failure, Outcome};
 use crate::setup::{ForwardSetup, SetupPath};
 
 pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
@@ -15,6 +15,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
     let tool = &setup.tool;
     check_analyses(tool, &analyze_tool_analyses(tool))?;
     let inputs = ForwardModel::read(model, tool)?;
+    warn_about(inputs.external.as_ref().map_or(&[][..], |loads| &loads.warnings));
     let mut read = inputs.read.clone();
     read.push(setup_file.to_path_buf());
     let in_setup = |error: SimulationError| -> Failure { format!("{}: {error}", setup_file.display()).into() };

@@ -183,6 +183,7 @@ fn contraction_row(setup: &SessionSetUp, contraction: &Contraction, direction: D
     let SessionSetUp { multibody, dynamometer, base, agonists, request } = *setup;
     let (coordinates, load_cell) = (base.join(&contraction.coordinates), base.join(&contraction.load_cell));
     let (loads, data_file) = ExternalLoads::read(&load_cell, multibody)?;
+    crate::cli::warn_about(&loads.warnings);
     dynamometer.check_load_cell(multibody, &loads, &load_cell)?;
     let motion = SplinedMotion::new(multibody, &StorageTable::read(&coordinates)?, &coordinates, None)?;
     let plateau = isometric_contraction(multibody, dynamometer, &motion, &loads, request.plateau_fraction)?;
