@@ -60,7 +60,7 @@ pub fn diagnosis_figures(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Resu
     if trials.len() != fit.trials.len() {
         return Err(FigureError::Input(format!("{} trials given for a fit of {}", trials.len(), fit.trials.len())));
     }
-    let title = |set: &str| format!("{set}: model − measured; best single change {} (RMS {:.2} → {:.2} N·m)", best.cause.describe(), best.rms_before, best.rms_after);
+    let title = |set: &str| format!("{set}: model − measured; best single change {} (all trials: RMS {:.2} → {:.2} N·m)", best.cause.describe(), best.rms_before, best.rms_after);
     sets(trials)
         .into_iter()
         .map(|set| {
