@@ -12,9 +12,9 @@ use super::FigureError;
 /// Width and height of a drawn chart, px.
 pub const SIZE: (u32, u32) = (800, 560);
 /// Marker radius (half side for squares and triangles), px.
-pub const MARKER_SIZE: i32 = 4;
+const MARKER_SIZE: i32 = 4;
 /// Radius of the small dots of a dense point cloud, px.
-pub const DOT_SIZE: i32 = 2;
+const DOT_SIZE: i32 = 2;
 
 /// A chart: its series are drawn in order, each in the legend under its label unless the label
 /// is empty.
@@ -42,9 +42,9 @@ pub enum Mark {
     Line,
     /// A dashed line through the points in their order.
     Dashed,
-    /// A filled circle at each point ([`MARKER_SIZE`]).
+    /// A filled circle at each point (radius 4 px).
     Circles,
-    /// A small filled dot at each point ([`DOT_SIZE`]), for point clouds.
+    /// A small filled dot at each point (radius 2 px), for point clouds.
     Dots,
     /// An open square at each point.
     Squares,

@@ -16,9 +16,7 @@ const LINE_SAMPLES: usize = 60;
 /// (solid), each direction's trials joined in the order of their angles. `trials` are the
 /// fit's trials, in the order of `fit.trials`.
 pub fn moment_figures(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Result<Vec<Figure>, FigureError> {
-    if trials.len() != fit.trials.len() {
-        return Err(FigureError::Input(format!("{} trials given for a fit of {}", trials.len(), fit.trials.len())));
-    }
+    check_trials(fit, trials)?;
     sets(trials).into_iter().map(|set| set_figure(fit, trials, set)).collect()
 }
 
@@ -56,10 +54,8 @@ fn posture(trials: &[IsometricTrial], set: &str) -> String {
 /// model with the best single cause fitted (the report's first `single_causes`; orange) and the
 /// fitted model's (solid). None when the fit ranked no cause.
 pub fn diagnosis_figures(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Result<Vec<Figure>, FigureError> {
+    check_trials(fit, trials)?;
     let Some(best) = fit.single_causes.first().filter(|c| c.residuals.len() == trials.len()) else { return Ok(Vec::new()) };
-    if trials.len() != fit.trials.len() {
-        return Err(FigureError::Input(format!("{} trials given for a fit of {}", trials.len(), fit.trials.len())));
-    }
     let title = |set: &str| format!("{set}: model − measured; best single change {} (all trials: RMS {:.2} → {:.2} N·m)", best.cause.describe(), best.rms_before, best.rms_after);
     sets(trials)
         .into_iter()
@@ -78,6 +74,14 @@ pub fn diagnosis_figures(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Resu
             Ok(Figure { file_name: format!("diagnosis_{}.svg", file_stem(set)), svg: render(&chart)? })
         })
         .collect()
+}
+
+/// `trials` are as many as the fit's.
+fn check_trials(fit: &FunctionalFit, trials: &[IsometricTrial]) -> Result<(), FigureError> {
+    if trials.len() != fit.trials.len() {
+        return Err(FigureError::Input(format!("{} trials given for a fit of {}", trials.len(), fit.trials.len())));
+    }
+    Ok(())
 }
 
 /// The trial sets in the order of their first trial.

@@ -5,7 +5,7 @@ mod chart;
 mod functional;
 mod table;
 
-pub use chart::{render, Chart, Mark, Series, Tone, DOT_SIZE, MARKER_SIZE, SIZE};
+pub use chart::{render, Chart, Mark, Series, Tone, SIZE};
 pub use functional::{diagnosis_figures, feasible_set_figures, moment_figures};
 pub use table::{table_chart, TableSeries};
 

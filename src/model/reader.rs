@@ -170,8 +170,8 @@ impl<'a> ComponentReader<'a> {
 }
 
 /// Where an object's properties are read: the object, else the `<defaults>` object of its class
-/// in the document's object (a `<Model>`, `<ForceSet>` or `<ControlSet>`), which OpenSim
-/// registers as the class default while reading the document.
+/// in the document's object (a `<Model>`, `<ForceSet>`, `<ControlSet>` or `<CMC_TaskSet>`),
+/// which OpenSim registers as the class default while reading the document.
 pub struct PropertySources<'a> {
     pub member: ComponentReader<'a>,
     defaults: Option<ComponentReader<'a>>,

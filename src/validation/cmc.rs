@@ -29,9 +29,9 @@ use crate::setup::CmcSetup;
 /// The golden cases: arm26 at 0.40–0.65 s as opensim-core's arm26 CMC test runs it (filtered at
 /// 6 Hz, fast target), the same with BRA and TRImed left out of CMC's control
 /// (`actuators_to_exclude`), the same with BRA driven by a `PrescribedController` of the setup
-/// that also adds to TRIlong's control, and at 0.20–0.40 s unfiltered with the slow target; subject01's walk at
-/// 0.80–0.86 s on the scaled gait2392 (92 muscles, ground reactions, opensim-core's gait2354 CMC
-/// actuators, tasks and control constraints).
+/// that also adds to TRIlong's control, and at 0.20–0.40 s unfiltered with the slow target;
+/// subject01's walk at 0.80–0.86 s on the scaled gait2392 (92 muscles, ground reactions,
+/// opensim-core's gait2354 CMC actuators, tasks and control constraints).
 pub const CMC_CASES: [&str; 5] = ["fast", "slow", "exclude", "prescribed", "walk"];
 
 /// The files `case`'s golden setup names, with where the repository keeps them.

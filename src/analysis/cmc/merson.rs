@@ -34,6 +34,10 @@ impl Rates for PlantRates<'_, '_> {
 
 /// Deepest halving of a window before the integration gives up (without a minimum step).
 const MAX_HALVINGS: u32 = 40;
+/// Most steps (taken or rejected) one integration makes before it gives up: a thousand times
+/// what a CMC window or settling takes, so that an error estimate that stops falling as the
+/// steps shrink ends the run with its reason instead of halving towards 2^40 pieces.
+const MAX_STEPS: usize = 100_000;
 
 /// The state `y` at `from` (s) of `system` carried to `to` (s) with steps no longer than
 /// `max_step` (s) and errors within `tolerance`; an error names the time and the reason.
@@ -43,15 +47,21 @@ const MAX_HALVINGS: u32 = 40;
 pub fn integrate(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], [min_step, max_step]: [f64; 2], tolerance: f64) -> Result<Vec<f64>, (f64, String)> {
     let pieces = ((to - from) / max_step - 1e-9).ceil().max(1.0) as usize;
     let mut y = y.to_vec();
+    let mut steps_left = MAX_STEPS;
     for k in 0..pieces {
         let (a, b) = (from + (to - from) * k as f64 / pieces as f64, from + (to - from) * (k + 1) as f64 / pieces as f64);
-        y = adaptive(system, &y, [a, b], min_step, tolerance, 0)?;
+        y = adaptive(system, &y, [a, b], min_step, tolerance, 0, &mut steps_left)?;
     }
     Ok(y)
 }
 
-/// One step over [from, to], or two halves when its error estimate exceeds `tolerance`.
-fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], min_step: f64, tolerance: f64, depth: u32) -> Result<Vec<f64>, (f64, String)> {
+/// One step over [from, to], or two halves when its error estimate exceeds `tolerance`; each
+/// attempt spends one of `steps_left`.
+fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], min_step: f64, tolerance: f64, depth: u32, steps_left: &mut usize) -> Result<Vec<f64>, (f64, String)> {
+    if *steps_left == 0 {
+        return Err((from, format!("{MAX_STEPS} steps did not carry the state through (the error estimate does not fall below the tolerance {tolerance:e} as the steps shrink; here {:e} s)", to - from)));
+    }
+    *steps_left -= 1;
     let at_minimum = to - from <= min_step;
     // A step whose stages leave the states' domain (a muscle's fiber length below 0) is
     // retried in halves, as one whose error is too large.
@@ -70,8 +80,8 @@ fn adaptive(system: &mut impl Rates, y: &[f64], [from, to]: [f64; 2], min_step: 
         return Err((from, format!("the step error {norm:e} stays above the tolerance {tolerance:e} at steps of {:e} s", to - from)));
     }
     let middle = 0.5 * (from + to);
-    let half = adaptive(system, y, [from, middle], min_step, tolerance, depth + 1)?;
-    adaptive(system, &half, [middle, to], min_step, tolerance, depth + 1)
+    let half = adaptive(system, y, [from, middle], min_step, tolerance, depth + 1, steps_left)?;
+    adaptive(system, &half, [middle, to], min_step, tolerance, depth + 1, steps_left)
 }
 
 /// Simbody's `calcErrorNorm` with unit weights: the RMS of the coordinates' errors, of the
@@ -106,4 +116,46 @@ fn step(system: &mut impl Rates, y0: &[f64], t0: f64, h: f64) -> Result<(Vec<f64
     let y1 = combine(&[(h / 6.0, &f0), (4.0 * h / 6.0, &f3), (h / 6.0, &f4)]);
     let error = y1.iter().zip(&saved).map(|(a, b)| 0.2 * (a - b).abs()).collect();
     Ok((y1, error))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ẏ = λy (one auxiliary state), or, when `rough`, rates that jump between calls, so the
+    /// error estimate never falls with the step.
+    struct Decay {
+        rate: f64,
+        rough: bool,
+        calls: usize,
+    }
+
+    impl Rates for Decay {
+        fn rates(&mut self, _time: f64, y: &[f64], dy: &mut [f64]) -> Result<(), String> {
+            self.calls += 1;
+            dy[0] = if self.rough { if self.calls.is_multiple_of(2) { 1e3 } else { -1e3 } } else { self.rate * y[0] };
+            Ok(())
+        }
+
+        fn coordinates(&self) -> usize {
+            0
+        }
+    }
+
+    #[test]
+    fn meets_the_tolerance_against_the_exact_solution() {
+        let mut decay = Decay { rate: -30.0, rough: false, calls: 0 };
+        let y = integrate(&mut decay, &[1.0], [0.0, 0.2], [0.0, 1e-3], 1e-8).unwrap();
+        let exact = (-30.0f64 * 0.2).exp();
+        // Local errors within 1e-8 per step, 200 steps or more.
+        assert!((y[0] - exact).abs() < 200.0 * 1e-8, "{} vs {exact}", y[0]);
+    }
+
+    #[test]
+    fn gives_up_with_its_reason_when_the_error_never_falls() {
+        let mut rough = Decay { rate: 0.0, rough: true, calls: 0 };
+        let (time, reason) = integrate(&mut rough, &[0.0], [0.0, 0.01], [0.0, 1e-3], 1e-8).unwrap_err();
+        assert!((0.0..0.01).contains(&time) && reason.contains("steps did not carry the state through"), "{time}: {reason}");
+        assert!(rough.calls <= 5 * MAX_STEPS + 5, "{} rate evaluations", rough.calls);
+    }
 }

@@ -110,7 +110,11 @@ pub fn window_controls(plant: &Plant, steps: &[bool], last_nodes: &[Option<(f64,
 /// controllers' at `model_time` (s) — the subsystem's time, or the held time while the
 /// coordinates are held (`CMCActuatorSubsystem` poses the complete state there).
 fn model_controls(plant: &Plant, controls: &[ControlLinear], time: f64, model_time: f64) -> Vec<f64> {
-    controls.iter().zip(plant.generator_controls(model_time)).map(|(c, other)| c.value(time) + other).collect()
+    let mut sum = plant.generator_controls(model_time);
+    for (u, c) in sum.iter_mut().zip(controls) {
+        *u += c.value(time);
+    }
+    sum
 }
 
 /// The muscles' states moved by their own dynamics along the prescribed kinematics.
