@@ -89,6 +89,27 @@ fn missing_coordinates_take_their_default_and_radians_are_read_as_such() {
     assert_eq!(lengths.value(0, vastus).unwrap(), evaluation.length(0));
 }
 
+/// OpenSim's `Storage` takes a version-less header's "Angles are in degrees." as the unit
+/// (opensim-core's runningModel CMC kinematics say so in a `.sto`): the walk's IK motion renamed
+/// `.sto` with that sentence gives OpenSim's lengths; the sentence after a `version` line is
+/// only a comment, and the angles are read as radians.
+#[test]
+fn a_simm_headers_angle_sentence_declares_degrees() {
+    let out = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(path(MOTION)).unwrap();
+    let golden = GoldenTable::read(&common::fixture("golden/analysis/subject01_walk1/lengths.csv")).unwrap();
+    let lengths = |header_line: &str, name: &str| {
+        let motion = out.path().join(format!("{name}.sto"));
+        std::fs::write(&motion, text.replacen("# SIMM Motion File Header:", header_line, 1)).unwrap();
+        let results = out.path().join(name);
+        let (code, _, stderr) = common::osim_tune(&["analyze", &path(MODEL), "--motion", &motion.to_string_lossy(), "-o", &results.to_string_lossy(), "--skip-unknown-columns"]);
+        assert_eq!(code, 0, "{stderr}");
+        worst_difference(&StorageTable::read(&results.join("Length.sto")).unwrap(), &golden)
+    };
+    assert!(lengths("# SIMM Motion File Header:\nAngles are in degrees.", "degrees") <= 1e-9);
+    assert!(lengths("version=1\nAngles are in degrees.", "radians") > 1e-2);
+}
+
 #[test]
 fn analyze_never_writes_over_its_inputs() {
     let out = tempfile::tempdir().unwrap();

@@ -119,7 +119,8 @@ fn legacy_simm_inverse_kinematics() {
     let table = read_storage("subject01/OutputReference/subject01_walk1_ik.mot");
     assert_eq!((table.n_rows(), table.n_columns()), (211, 165));
     assert_eq!(table.name(), "first trial");
-    assert_eq!(table.in_degrees(), None);
+    // No inDegrees and no version: a SIMM motion, in degrees as OpenSim's Storage reads it.
+    assert_eq!(table.in_degrees(), Some(true));
     assert!(table.comments().iter().any(|line| line == "# SIMM Motion File Header:"));
     assert_eq!(table.column("pelvis_tx").unwrap()[0], 0.5897903832585103);
     // Row 1 of the file: `-19.88552911045664800000`.
@@ -190,7 +191,10 @@ fn degrees_to_radians_on_rotational_columns_and_back() {
 
 #[test]
 fn conversion_of_an_undeclared_table_is_refused() {
-    let legacy = read_storage("subject01/OutputReference/subject01_walk1_ik.mot");
+    // The SIMM motion's text in a `.sto`: nothing declares the unit (OpenSim: radians).
+    let text = std::fs::read_to_string(fixture("subject01/OutputReference/subject01_walk1_ik.mot")).unwrap();
+    let legacy = StorageTable::parse(&text, Path::new("subject01_walk1_ik.sto")).unwrap();
+    assert_eq!(legacy.in_degrees(), None);
     let error = legacy.to_radians(|_| true).unwrap_err();
     assert!(matches!(error, TableError::UnknownAngleUnit { .. }), "{error}");
 }

@@ -37,8 +37,9 @@ impl Motion {
     /// Maps `table` (read from `file`) onto `multibody`'s coordinates. Columns are coordinate
     /// names or paths ending in `<coordinate>/value`; `…/speed` columns are ignored; any other
     /// column is an error unless `skip_unknown` (then it is listed in `ignored_columns`). Rotational coordinates are converted
-    /// from degrees when the table is in degrees: `inDegrees=yes`, or, as OpenSim, a `.mot`
-    /// without `inDegrees` and without `version` (a SIMM motion). Coupled coordinates are never
+    /// from degrees when the table is in degrees as OpenSim reads its unit (`inDegrees`, a SIMM
+    /// header's angle line, a `.mot` without `version`; see [`StorageTable::parse`]), radians
+    /// when it does not say. Coupled coordinates are never
     /// converted (OpenSim converts only rotational ones). A coupler's dependent coordinate that
     /// the table lacks is set from its independent one. A row at the time of the row before it
     /// replaces that row, as OpenSim's `Storage` reads it.
@@ -47,9 +48,7 @@ impl Motion {
         if table.n_rows() == 0 {
             return Err(MotionError::Empty { file: file.into() });
         }
-        let in_degrees = table.in_degrees().unwrap_or_else(|| {
-            table.metadata_value("version").is_none() && file.extension().is_some_and(|e| e.eq_ignore_ascii_case("mot"))
-        });
+        let in_degrees = table.in_degrees().unwrap_or(false);
         let mut sources: Vec<Option<usize>> = vec![None; multibody.coordinates.len()];
         let mut ignored_columns = Vec::new();
         let mut unknown = Vec::new();

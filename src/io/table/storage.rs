@@ -20,8 +20,9 @@ const LAYOUT_KEYS: [&str; 4] = ["version", "nRows", "nColumns", "inDegrees"];
 ///   file's `nColumns` does. Time is in seconds.
 /// - Values are row-major: the value of row `r`, column `c` is `values[r * n_columns + c]`.
 /// - Angle units: `in_degrees` is `Some(true)` when rotational columns are in degrees,
-///   `Some(false)` when in radians, and `None` when the file has no `inDegrees` line (unknown;
-///   see [`StorageTable::with_in_degrees`]). Other columns are in the units the file uses
+///   `Some(false)` when in radians, and `None` when the file does not say (see
+///   [`StorageTable::parse`] for what says; OpenSim then reads radians, and
+///   [`StorageTable::with_in_degrees`] declares it). Other columns are in the units the file uses
 ///   (OpenSim: SI — metres, newtons, newton-metres).
 /// - Labels read from a file may repeat (OpenSim's legacy IK output repeats the ground-force
 ///   labels of both feet); label lookups then refuse to guess, see

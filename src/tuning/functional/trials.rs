@@ -377,10 +377,8 @@ fn read_trial_file(
     if table.n_rows() == 0 {
         return Err(FunctionalError::NoTrials { file: file.into() });
     }
-    // OpenSim's rule: `inDegrees`, or degrees for a `.mot` with neither `inDegrees` nor `version`.
-    let in_degrees = table
-        .in_degrees()
-        .unwrap_or_else(|| table.metadata_value("version").is_none() && file.extension().is_some_and(|e| e.eq_ignore_ascii_case("mot")));
+    // The unit as OpenSim reads it (see `StorageTable::parse`); undeclared is radians.
+    let in_degrees = table.in_degrees().unwrap_or(false);
     let column = |label: &str, expected: &str| {
         table.column_index(label).ok_or_else(|| FunctionalError::MissingColumn {
             file: file.into(),

@@ -30,6 +30,8 @@ struct Declared {
 struct Header {
     name: String,
     in_degrees: Option<bool>,
+    /// The `version` line's number (0 without one, or when it is not a number, as `atoi`).
+    version: i64,
     metadata: Vec<(String, String)>,
     comments: Vec<String>,
     rows: Vec<Declared>,
@@ -43,11 +45,16 @@ impl StorageTable {
         Self::parse(&decode(bytes, file)?, file)
     }
 
-    /// Parses `.sto`/`.mot` text; `file` is only used in error messages.
+    /// Parses `.sto`/`.mot` text; `file` names errors and, as in OpenSim, its extension bears on
+    /// the angle unit.
     ///
     /// Accepts OpenSim 4 headers and legacy SIMM ones, tab- or space-separated values,
     /// `\r\n` line ends and blank lines between rows. `nRows`/`nColumns` (time counted) and
-    /// their legacy forms are optional but must match the data when present.
+    /// their legacy forms are optional but must match the data when present. The angle unit is
+    /// read as OpenSim's `Storage` reads it: `inDegrees`; in a file without a `version` line (or
+    /// version 0), a SIMM header's `Angles are in degrees.` / `Angles are in radians.` line;
+    /// else degrees for such a file named `.mot` (OpenSim: "Motion files from SIMM are in
+    /// degrees", even over `inDegrees=no` — here a declaration is believed); else unknown.
     pub fn parse(text: &str, file: &Path) -> Result<Self, TableError> {
         let text = strip_bom(text);
         if is_blank(text) {
@@ -72,9 +79,10 @@ impl StorageTable {
             declared: declared.count,
             found: n_rows,
         })?;
+        let simm_motion = header.version < 1 && file.extension().is_some_and(|e| e.eq_ignore_ascii_case("mot"));
         Ok(StorageTable {
             name: header.name,
-            in_degrees: header.in_degrees,
+            in_degrees: header.in_degrees.or(simm_motion.then_some(true)),
             metadata: header.metadata,
             comments: header.comments,
             labels,
@@ -121,6 +129,7 @@ fn read_header<'a>(
     let mut header = Header {
         name: name.to_owned(),
         in_degrees: None,
+        version: 0,
         metadata: Vec::new(),
         comments: Vec::new(),
         rows: Vec::new(),
@@ -133,7 +142,7 @@ fn read_header<'a>(
             HeaderLine::End => return Ok(header),
             HeaderLine::Pair(key, value) => header.add_pair(key, value, number, file)?,
             HeaderLine::Legacy(key, value) => header.add_count(key, value, number, file)?,
-            HeaderLine::Comment => header.comments.push(line.trim_end().to_owned()),
+            HeaderLine::Comment => header.add_comment(line),
         }
     }
     Err(TableError::MissingEndheader { file: file.to_path_buf(), line: header.last_line })
@@ -148,10 +157,23 @@ impl Header {
                 self.in_degrees =
                     Some(parse_yes_no(value).ok_or_else(|| bad_value(key, value, "yes or no", line, file))?)
             }
-            "version" => {}
+            "version" => self.version = leading_integer(value),
             _ => self.metadata.push((key.to_owned(), value.to_owned())),
         }
         Ok(())
+    }
+
+    /// Keeps a free-text line; before any `version` line, SIMM's angle-unit sentence also
+    /// declares the unit.
+    fn add_comment(&mut self, line: &str) {
+        if self.version == 0 {
+            match line.trim() {
+                "Angles are in degrees." => self.in_degrees = Some(true),
+                "Angles are in radians." => self.in_degrees = Some(false),
+                _ => {}
+            }
+        }
+        self.comments.push(line.trim_end().to_owned());
     }
 
     /// Records a declared row (`nRows`, `datarows`) or column (`nColumns`, `datacolumns`) count.
@@ -164,6 +186,14 @@ impl Header {
         }
         Ok(())
     }
+}
+
+/// The integer `value` starts with, 0 if none (C's `atoi`, as OpenSim reads `version`).
+fn leading_integer(value: &str) -> i64 {
+    let value = value.trim_start();
+    let sign_len = usize::from(value.starts_with(['-', '+']));
+    let digits = value[sign_len..].find(|c: char| !c.is_ascii_digit()).map_or(value.len(), |end| sign_len + end);
+    value[..digits].parse().unwrap_or(0)
 }
 
 /// `yes`/`no` (also `true`/`false`), any case.
@@ -291,6 +321,34 @@ mod tests {
             error(&wrong),
             "trial.sto:8: datarows is 2 but the file has 1 data rows; expected them to agree"
         );
+    }
+
+    /// OpenSim's `Storage::parseHeaders` and its constructor decide the unit (opensim-core's
+    /// runningModel kinematics is a `.sto` saying "Angles are in degrees." and nothing else).
+    #[test]
+    fn reads_the_angle_unit_as_opensim_storage() {
+        let body = "endheader\ntime\tknee\n0\t1.5\n";
+        let unit = |header: &str, name: &str| StorageTable::parse(&format!("q\n{header}{body}"), Path::new(name)).unwrap().in_degrees();
+        assert_eq!(unit("Angles are in degrees.\n", "q.sto"), Some(true));
+        assert_eq!(unit("  Angles are in radians.  \n", "q.mot"), Some(false));
+        assert_eq!(unit("version=1\nAngles are in degrees.\n", "q.sto"), None, "after a version line it is a comment");
+        assert_eq!(unit("version=0\nAngles are in degrees.\n", "q.sto"), Some(true));
+        assert_eq!(unit("Angles are in degrees\n", "q.sto"), None, "only the exact sentence");
+        assert_eq!(unit("", "q.sto"), None);
+        assert_eq!(unit("", "q.MOT"), Some(true), "SIMM motions are in degrees");
+        assert_eq!(unit("version=1\n", "q.mot"), None);
+        assert_eq!(unit("version=x\n", "q.mot"), Some(true), "atoi reads 0");
+        assert_eq!(unit("inDegrees=no\n", "q.mot"), Some(false), "a declaration is believed");
+        assert_eq!(unit("inDegrees=no\nAngles are in degrees.\n", "q.sto"), Some(true), "the later line wins");
+        let table = StorageTable::parse(&format!("q\nAngles are in degrees.\n{body}"), Path::new("q.sto")).unwrap();
+        assert_eq!(table.comments(), ["Angles are in degrees."]);
+    }
+
+    #[test]
+    fn leading_integers_read_as_atoi() {
+        for (text, value) in [("1", 1), (" 20302", 20302), ("-3x", -3), ("+4", 4), ("x", 0), ("-", 0), ("", 0)] {
+            assert_eq!(leading_integer(text), value, "{text:?}");
+        }
     }
 
     #[test]
