@@ -11,13 +11,16 @@ muscles, the IK motion, the two CMC_Joint tasks) — and on subject01's walk:
 * `prescribed`: `fast` with a `PrescribedController` in the setup's `ControllerSet` driving BRA
   (excluded from CMC's control) along a line in time and adding 0.05 to TRIlong's control (still
   CMC's): the model's controls are every controller's sum;
+* `emg`: `fast` with opensim-core's EMG tracking tasks (a `MuscleStateTrackingTask` pulling
+  BIClong's activation towards `muscle_emg.sto`, weight 100);
 * `walk`: 0.80–0.86 s of subject01's walk on the scaled gait2392 (92 muscles; the scale and IK
   goldens, the ground reactions) with opensim-core's gait2354 CMC actuators (residuals and
   reserves), tasks and control constraints (`fixtures/subject01/`), filtered at 6 Hz, fast target.
 
 Writes fixtures/golden/cmc/<case>/: setup.xml (inputs by plain name), files.txt (every file
 OpenSim wrote) and every .sto and the controls' `ControlSet` it wrote (the states file's header
-repaired: OpenSim 4.6 leaves an early flush's header lines in it), and initial.json: what the
+repaired: OpenSim 4.6 leaves an early flush's header lines in it; the position errors' labels
+cut to its columns: a state task is labelled there without values), and initial.json: what the
 verbose log (the run's copy of the setup with `use_verbose_printing` on) reports of
 `computeInitialStates` — the muscles' states Z before and after each 0.2 s settling, and of each of
 the first window's two solves the min and max forces, the desired forces and the target's
@@ -40,6 +43,7 @@ ARM26 = {
     "arm26_Reserve_Actuators.xml": REPO / "fixtures" / "cmc" / "arm26_Reserve_Actuators.xml",
     "arm26_ComputedMuscleControl_Tasks.xml": REPO / "fixtures" / "cmc" / "arm26_ComputedMuscleControl_Tasks.xml",
 }
+ARM26_EMG = dict(ARM26, **{name: REPO / "fixtures" / "cmc" / name for name in ("arm26_ComputedMuscleControl_Tasks_EMG.xml", "muscle_emg.sto")})
 GAIT = {
     "subject01_simbody.osim": REPO / "fixtures" / "golden" / "scale" / "subject01_simbody.osim",
     "subject01_walk1_ik.mot": REPO / "fixtures" / "golden" / "ik" / "subject01_walk1_ik.mot",
@@ -101,6 +105,7 @@ CASES = {
     "slow": (ARM26, "arm26", dict(ARM, start=0.2, end=0.4, cutoff=-1, fast="false")),
     "exclude": (ARM26, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true", exclude="BRA TRImed r_elbow_flex")),
     "prescribed": (ARM26, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true", exclude="BRA", controllers=PRESCRIBED)),
+    "emg": (ARM26_EMG, "arm26", dict(ARM, start=0.4, end=0.65, cutoff=6, fast="true", tasks="arm26_ComputedMuscleControl_Tasks_EMG.xml")),
     "walk": (GAIT, "subject01_walk1", dict(WALK, start=0.8, end=0.86, cutoff=6, fast="true")),
 }
 def numbers(line, label):
@@ -132,6 +137,17 @@ def initial_report(log):
     return {"z": {"guess": z[0], "settled": z[1:3]}, "first_window": solves}
 
 
+def repair_position_errors(path):
+    """OpenSim 4.6 labels `_pErr.sto` with every task's name, a MuscleStateTrackingTask's too,
+    but writes values (and counts `nColumns`) for the joint tasks only; keeps as many labels as
+    the header counts."""
+    lines = path.read_text().splitlines()
+    columns = int(next(line for line in lines if line.startswith("nColumns=")).split("=")[1])
+    at = lines.index("endheader") + 1
+    lines[at] = "\t".join(lines[at].split("\t")[:columns])
+    path.write_text("\n".join(lines) + "\n")
+
+
 def main():
     for case in sys.argv[1:] or CASES:
         out = OUT / case
@@ -143,6 +159,7 @@ def main():
         with tool_results("CMCTool", inputs, verbose) as (run, results):
             written = keep_results(results, out, (".sto", "_controls.xml"))
             repair_states(out / f"{name}_states.sto")
+            repair_position_errors(out / f"{name}_pErr.sto")
             (out / "initial.json").write_text(json.dumps(initial_report(run.stdout + run.stderr), indent=1) + "\n")
             print(case, "->", out, ", ".join(written))
 

@@ -56,7 +56,7 @@ fn cmc_agrees_with_opensim() {
         assert!(c.fibers.error < tracked.fibers, "{case}: {:?}", c.fibers);
         assert!(c.reserves.error < tracked.reserves, "{case}: {:?}", c.reserves);
         assert_eq!((c.missing_rows, c.extra_rows), (0, 0), "{case}: every window's end, and only those");
-        assert_eq!(outputs.windows, match case { "fast" | "exclude" | "prescribed" => 21, "slow" => 16, _ => 2 });
+        assert_eq!(outputs.windows, match case { "fast" | "exclude" | "prescribed" | "emg" => 21, "slow" => 16, _ => 2 });
     }
 }
 
@@ -124,3 +124,29 @@ fn unusable_setups_are_refused() {
     }
 }
 
+
+/// A `MuscleStateTrackingTask` needs its state in the model and its data in the task set's
+/// `datafile` (OpenSim ignores a task without data and then fails on it): each gap is refused
+/// naming the file and the task, and nothing is written.
+#[test]
+fn muscle_state_tasks_without_their_data_are_refused() {
+    let tasks = "arm26_ComputedMuscleControl_Tasks_EMG.xml";
+    let cases = [
+        ("<datafile>muscle_emg.sto</datafile>", "", "tracks the task set's <datafile>, which is not given"),
+        ("<datafile>muscle_emg.sto</datafile>", "<datafile>emg.sto</datafile>", "emg.sto"),
+        ("\"BIClong.activation\"", "\"BICshort.activation\"", "no column \"BICshort.activation\""),
+        ("\"BIClong.activation\"", "\"BIClong.excitation\"", "muscle BIClong has no state \"excitation\" (its states: activation, fiber_length)"),
+        ("\"BIClong.activation\"", "\"biceps.activation\"", "the model has no muscle \"biceps\""),
+    ];
+    for (old, new, expected) in cases {
+        let folder = tempfile::tempdir().unwrap();
+        case_folder(folder.path(), "emg", &[]);
+        let text = std::fs::read_to_string(folder.path().join(tasks)).unwrap();
+        assert!(text.contains(old), "{old}");
+        std::fs::write(folder.path().join(tasks), text.replace(old, new)).unwrap();
+        let (code, _, stderr) = osim_tune(&["run", s(&folder.path().join("setup.xml"))]);
+        assert_eq!(code, 2, "{expected}: {stderr}");
+        assert!(stderr.contains(expected), "{expected}: {stderr}");
+        assert!(!folder.path().join("Results").exists(), "{expected}: nothing written");
+    }
+}

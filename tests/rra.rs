@@ -93,12 +93,28 @@ fn unusable_setups_are_refused() {
 /// A task on a coordinate the model lacks is named with its file.
 #[test]
 fn a_task_on_an_unknown_coordinate_is_named() {
+    let stderr = refused_with_tasks_edited("<coordinate> pelvis_tz </coordinate>", "<coordinate> pelvis_tw </coordinate>");
+    assert!(stderr.contains("gait2354_RRA_Tasks.xml") && stderr.contains("pelvis_tw"), "{stderr}");
+}
+
+/// The walk case with its first `old` of the task file replaced by `new`: RRA exits 2 and
+/// writes nothing; its error output.
+fn refused_with_tasks_edited(old: &str, new: &str) -> String {
     let folder = tempfile::tempdir().unwrap();
     case_folder(folder.path(), "walk", &[]);
     let tasks = folder.path().join("gait2354_RRA_Tasks.xml");
-    let text = std::fs::read_to_string(&tasks).unwrap().replacen("<coordinate> pelvis_tz </coordinate>", "<coordinate> pelvis_tw </coordinate>", 1);
-    std::fs::write(&tasks, text).unwrap();
+    let text = std::fs::read_to_string(&tasks).unwrap();
+    assert!(text.contains(old), "{old}");
+    std::fs::write(&tasks, text.replacen(old, new, 1)).unwrap();
     let (code, _, stderr) = osim_tune(&["run", s(&folder.path().join("setup.xml"))]);
     assert_eq!(code, 2, "{stderr}");
-    assert!(stderr.contains("gait2354_RRA_Tasks.xml") && stderr.contains("pelvis_tw"), "{stderr}");
+    assert!(!folder.path().join("Results").exists(), "nothing written");
+    stderr
+}
+
+/// A muscle state tracking task has no muscle to act on in RRA: refused, naming the task.
+#[test]
+fn a_muscle_state_task_is_refused() {
+    let stderr = refused_with_tasks_edited("<objects>", "<objects><MuscleStateTrackingTask name=\"soleus_r.activation\" />");
+    assert!(stderr.contains("gait2354_RRA_Tasks.xml") && stderr.contains("soleus_r.activation") && stderr.contains("RRA drives no muscles"), "{stderr}");
 }

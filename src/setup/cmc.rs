@@ -104,25 +104,41 @@ pub struct JointTask {
     pub limit: f64,
 }
 
-/// The active tracking tasks of a `CMC_TaskSet` file.
+/// A `MuscleStateTrackingTask`: a muscle's state, named `<muscle>.<state>` (e.g.
+/// `BIClong.activation`), pulled towards the task set's `datafile` column of that name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StateTask {
+    pub name: String,
+    /// The first of its weights (default 1).
+    pub weight: f64,
+}
+
+/// The tracking tasks of a `CMC_TaskSet` file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CmcTaskSet {
+    /// The active `CMC_Joint`s.
     pub tasks: Vec<JointTask>,
+    /// Every `MuscleStateTrackingTask` (OpenSim's target reads them whatever their flags).
+    pub state_tasks: Vec<StateTask>,
+    /// The `datafile` of the states they track, as written (OpenSim opens it from the setup's
+    /// directory).
+    pub datafile: Option<String>,
 }
 
 impl CmcTaskSet {
     /// Reads the `<CMC_TaskSet>` file `path` (OpenSim 1.x's `rdCMC_TaskSet` and `rdCMC_Joint`
     /// read as their current classes, `Object::RenameType`): its `CMC_Joint`s whose first
-    /// `active` flag is true, each property from the task or else its class' `<defaults>`; a
-    /// task of another class (points, orientations) is an error naming it.
+    /// `active` flag is true, each property from the task or else its class' `<defaults>`, its
+    /// `MuscleStateTrackingTask`s and its `datafile`; a task of another class (points,
+    /// orientations) is an error naming it.
     pub fn read(path: &Path) -> Result<CmcTaskSet, SetupError> {
         let document = read_document(path)?;
         let set = ComponentReader::new(&document, document.object);
         expect_one_of(set, &["CMC_TaskSet", "rdCMC_TaskSet"])?;
-        let mut tasks = Vec::new();
-        for task in set_members(set, &["CMC_Joint", "rdCMC_Joint"])? {
+        let (mut tasks, mut state_tasks) = (Vec::new(), Vec::new());
+        for task in set_members(set, &["CMC_Joint", "rdCMC_Joint", "MuscleStateTrackingTask"])? {
             let properties = PropertySources::new(task);
-            // Gains and weights are arrays of 3 (one per component); a joint has one component.
+            // Gains and weights are arrays of 3 (one per component); a task has one component.
             let first = |property: &str, default: f64| {
                 let source = properties.of(property);
                 match source.child(property) {
@@ -130,6 +146,10 @@ impl CmcTaskSet {
                     None => Ok(default),
                 }
             };
+            if task.class() == "MuscleStateTrackingTask" {
+                state_tasks.push(StateTask { name: required_name(task, "task")?, weight: first("weight", 1.0)? });
+                continue;
+            }
             // OpenSim tracks a task whose first `active` flag is true (default false); it never
             // reads `on`.
             if !properties.of("active").words("active").first().is_some_and(|flag| flag.eq_ignore_ascii_case("true")) {
@@ -140,7 +160,7 @@ impl CmcTaskSet {
             let limit = properties.of("limit").number_or("limit", 0.0)?;
             tasks.push(JointTask { name, coordinate, weight: first("weight", 1.0)?, kp: first("kp", 1.0)?, kv: first("kv", 0.5)?, ka: first("ka", 1.0)?, limit });
         }
-        Ok(CmcTaskSet { tasks })
+        Ok(CmcTaskSet { tasks, state_tasks, datafile: optional_string(set, "datafile") })
     }
 }
 
@@ -195,5 +215,20 @@ mod tests {
             <rdCMC_Joint name=\"hip\"><coordinate> hip_flexion_r </coordinate><active> false false false </active></rdCMC_Joint></objects></rdCMC_TaskSet>").unwrap();
         let set = CmcTaskSet::read(&file).unwrap();
         assert_eq!(set.tasks, [JointTask { name: "knee".into(), coordinate: "knee_angle_r".into(), weight: 1.0, kp: 400.0, kv: 20.0, ka: 1.0, limit: 0.0 }]);
+    }
+
+    #[test]
+    fn muscle_state_tasks_are_read_whatever_their_flags() {
+        // opensim-core's arm26 EMG tasks: a datafile and one MuscleStateTrackingTask.
+        let folder = tempfile::tempdir().unwrap();
+        let file = folder.path().join("tasks.xml");
+        std::fs::write(&file, "<CMC_TaskSet name=\"arm26\"><datafile>muscle_emg.sto</datafile><objects>
+            <CMC_Joint name=\"elbow\"><coordinate>r_elbow_flex</coordinate><active>true false false</active></CMC_Joint>
+            <MuscleStateTrackingTask name=\"BIClong.activation\"><on>true</on><active>true false false</active><weight>100.00 0. 0.</weight></MuscleStateTrackingTask>
+            <MuscleStateTrackingTask name=\"TRIlong.activation\"><active>false false false</active></MuscleStateTrackingTask></objects></CMC_TaskSet>").unwrap();
+        let set = CmcTaskSet::read(&file).unwrap();
+        assert_eq!(set.tasks.len(), 1);
+        assert_eq!(set.state_tasks, [StateTask { name: "BIClong.activation".into(), weight: 100.0 }, StateTask { name: "TRIlong.activation".into(), weight: 1.0 }]);
+        assert_eq!(set.datafile.as_deref(), Some("muscle_emg.sto"));
     }
 }

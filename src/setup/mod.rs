@@ -39,7 +39,7 @@ pub use marker_placer::MarkerPlacer;
 pub use measurement::{BodyScale, Measurement};
 pub use model_scaler::{ManualScale, ModelScaler, ScalingStep};
 pub use path::{required_input, SetupPath};
-pub use cmc::{CmcSetup, CmcTaskSet, JointTask, TrackingSetup};
+pub use cmc::{CmcSetup, CmcTaskSet, JointTask, StateTask, TrackingSetup};
 pub use rra::RraSetup;
 pub use scale::{GenericModelMaker, ScaleSetup};
 pub use time_range::TimeRange;

@@ -29,10 +29,11 @@ use crate::setup::CmcSetup;
 /// The golden cases: arm26 at 0.40–0.65 s as opensim-core's arm26 CMC test runs it (filtered at
 /// 6 Hz, fast target), the same with BRA and TRImed left out of CMC's control
 /// (`actuators_to_exclude`), the same with BRA driven by a `PrescribedController` of the setup
-/// that also adds to TRIlong's control, and at 0.20–0.40 s unfiltered with the slow target;
+/// that also adds to TRIlong's control, the same with opensim-core's EMG task (BIClong's
+/// activation pulled towards `muscle_emg.sto`), and at 0.20–0.40 s unfiltered with the slow target;
 /// subject01's walk at 0.80–0.86 s on the scaled gait2392 (92 muscles, ground reactions,
 /// opensim-core's gait2354 CMC actuators, tasks and control constraints).
-pub const CMC_CASES: [&str; 5] = ["fast", "slow", "exclude", "prescribed", "walk"];
+pub const CMC_CASES: [&str; 6] = ["fast", "slow", "exclude", "prescribed", "emg", "walk"];
 
 /// The files `case`'s golden setup names, with where the repository keeps them.
 pub fn cmc_inputs(case: &str) -> &'static [(&'static str, &'static str)] {
@@ -41,6 +42,14 @@ pub fn cmc_inputs(case: &str) -> &'static [(&'static str, &'static str)] {
         ("arm26_InverseKinematics.mot", "fixtures/cmc/arm26_InverseKinematics.mot"),
         ("arm26_Reserve_Actuators.xml", "fixtures/cmc/arm26_Reserve_Actuators.xml"),
         ("arm26_ComputedMuscleControl_Tasks.xml", "fixtures/cmc/arm26_ComputedMuscleControl_Tasks.xml"),
+    ];
+    const ARM26_EMG: [(&str, &str); 6] = [
+        ARM26[0],
+        ARM26[1],
+        ARM26[2],
+        ("arm26_ComputedMuscleControl_Tasks_EMG.xml", "fixtures/cmc/arm26_ComputedMuscleControl_Tasks_EMG.xml"),
+        ("muscle_emg.sto", "fixtures/cmc/muscle_emg.sto"),
+        ARM26[3],
     ];
     const WALK: [(&str, &str); 7] = [
         ("subject01_simbody.osim", "fixtures/golden/scale/subject01_simbody.osim"),
@@ -51,7 +60,11 @@ pub fn cmc_inputs(case: &str) -> &'static [(&'static str, &'static str)] {
         ("gait2354_CMC_Tasks.xml", "fixtures/subject01/gait2354_CMC_Tasks.xml"),
         ("gait2354_CMC_ControlConstraints.xml", "fixtures/subject01/gait2354_CMC_ControlConstraints.xml"),
     ];
-    if case == "walk" { &WALK } else { &ARM26 }
+    match case {
+        "walk" => &WALK,
+        "emg" => &ARM26_EMG,
+        _ => &ARM26,
+    }
 }
 
 /// How far our largest position error may exceed OpenSim's, relative.
@@ -95,7 +108,7 @@ pub struct TrackedBounds {
 /// controls follow closely.
 pub fn cmc_tolerances(case: &str) -> CmcTolerances {
     match case {
-        "fast" | "exclude" | "prescribed" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 1e-3, speeds: 3e-2, muscles: 0.1, fibers: 2e-4, reserves: 1e-3 } },
+        "fast" | "exclude" | "prescribed" | "emg" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 1e-3, speeds: 3e-2, muscles: 0.1, fibers: 2e-4, reserves: 1e-3 } },
         "slow" => CmcTolerances { initial_states: 2e-6, force_ranges: 3e-5, lower_forces: true, tracked: TrackedBounds { coordinates: 2e-3, speeds: 5e-2, muscles: 2e-2, fibers: 1e-4, reserves: 2e-4 } },
         _ => CmcTolerances { initial_states: 1e-4, force_ranges: 3e-5, lower_forces: false, tracked: TrackedBounds { coordinates: 3e-3, speeds: 0.2, muscles: 0.15, fibers: 2e-3, reserves: 5e-3 } },
     }

@@ -6,13 +6,15 @@
 //!
 //! `desired.rs` the desired kinematics (padded, FIR-filtered, splined); `tracking.rs` the
 //! windows (`Controller`); `predictor.rs` the actuator force predictor; `target.rs` the fast and
-//! slow optimisation targets; `initial_states.rs` where CMC starts a model with muscles' states;
+//! slow optimisation targets; `state_tasks.rs` the muscle state tracking tasks whose terms join
+//! the targets; `initial_states.rs` where CMC starts a model with muscles' states;
 //! `merson.rs` Simbody's Runge–Kutta–Merson step; `tool.rs` the CMCTool run whole.
 
 mod desired;
 mod initial_states;
 mod merson;
 mod predictor;
+mod state_tasks;
 mod target;
 mod tool;
 mod tracking;

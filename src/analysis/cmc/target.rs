@@ -7,9 +7,13 @@
 //!   optimal force;
 //! - `Slow` (`ActuatorForceTarget`, RRA's): min Σᵢ wᵢ·(q̈ᵢ − q̈ᵢ*)² + s·Σⱼ (fⱼ/Fⱼ)², F a muscle's
 //!   maximum isometric force, an actuator's optimal force, s the stress term's weight.
+//!
+//! The muscle state tasks' terms ([`super::state_tasks`]) join them: the fast target's linear
+//! term and constant, the slow target's constant.
 
 use nalgebra::{DMatrix, DVector};
 
+use super::state_tasks::StateTerms;
 use super::tracking::Controller;
 use crate::analysis::simulation::{Plant, SimulatedState};
 use crate::mechanics::{AppliedForces, PathScratch};
@@ -23,10 +27,10 @@ pub enum Target {
 }
 
 /// The forces (N or N·m) `controller`'s target chooses at the `predicted` state at `time` (s) for
-/// the tasks' `desired` accelerations, within `bounds` ([lower, upper]; an excluded generator's
-/// force is its lower bound), and the target's value there (OpenSim's "performance", over the
-/// controlled generators).
-pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time: f64, desired: &[f64], stress_weight: f64, [lower, upper]: [&[f64]; 2]) -> Result<(Vec<f64>, f64), String> {
+/// the tasks' `desired` accelerations and the state tasks' `terms`, within `bounds` ([lower,
+/// upper]; an excluded generator's force is its lower bound), and the target's value there
+/// (OpenSim's "performance", over the controlled generators).
+pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time: f64, (desired, terms): (&[f64], &StateTerms), stress_weight: f64, [lower, upper]: [&[f64]; 2]) -> Result<(Vec<f64>, f64), String> {
     let plant = controller.plant;
     let coordinates: Vec<usize> = controller.tasks.iter().map(|t| t.coordinate).collect();
     let (base, sensitivity) = acceleration_map(plant, predicted, time, &coordinates)?;
@@ -50,8 +54,8 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
             let weighted: Vec<usize> = (0..coordinates.len()).filter(|&i| controller.tasks[i].task.weight != 0.0).collect();
             let rows = DMatrix::from_fn(weighted.len(), n, |r, k| scaled[(weighted[r], k)]);
             let rhs: Vec<f64> = weighted.iter().map(|&i| -offset[i]).collect();
-            let zero = vec![0.0; n];
-            let qp = DenseQp::new(&hessian, &zero).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(&lower_x, &upper_x)).map_err(|e| e.to_string())?;
+            let linear: Vec<f64> = free.iter().zip(&scales).map(|(&j, c)| terms.linear[j] * c).collect();
+            let qp = DenseQp::new(&hessian, &linear).and_then(|qp| qp.with_equalities(&rows, &rhs)).and_then(|qp| qp.with_bounds(&lower_x, &upper_x)).map_err(|e| e.to_string())?;
             qp.solve(&QpSettings::default())
         }
         Target::Slow => {
@@ -71,8 +75,8 @@ pub fn optimal_forces(controller: &Controller, predicted: &SimulatedState, time:
     let x = &solved.x;
     let stress: f64 = x.iter().map(|x| x * x).sum();
     let performance = match controller.target {
-        Target::Fast => stress,
-        Target::Slow => stress_weight * stress + (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|k| scaled[(i, k)] * x[k]).sum::<f64>()).powi(2)).sum::<f64>(),
+        Target::Fast => stress + terms.weighted,
+        Target::Slow => stress_weight * stress + (0..coordinates.len()).map(|i| controller.tasks[i].task.weight * (offset[i] + (0..n).map(|k| scaled[(i, k)] * x[k]).sum::<f64>()).powi(2)).sum::<f64>() + terms.unweighted,
     };
     let mut forces = lower.to_vec();
     for ((&j, x), c) in free.iter().zip(x).zip(&scales) {

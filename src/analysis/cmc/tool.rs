@@ -7,6 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::state_tasks::state_tracking;
 use super::{desired_state, CmcError, Controller, DesiredKinematics, InitialStates, Target, Task, Tracking};
 use crate::analysis::analyze_tool::{analyze_tool_tables, AnalyzeModel};
 use crate::analysis::controllers::Controllers;
@@ -209,7 +210,10 @@ pub fn run_cmc(model: &Path, setup: &CmcSetup) -> Result<CmcOutputs, CmcError> {
         return Err(CmcError::Input(format!("{}: actuators_to_exclude leaves CMC no actuator to control", tool.file.display())));
     }
     let target = if setup.use_fast_optimization_target { Target::Fast } else { Target::Slow };
-    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, excluded: &excluded, target, window: setup.time_window };
+    let directory = tool.file.parent().unwrap_or(Path::new("."));
+    let (state_tasks, datafile) = state_tracking(&inputs.task_set, &inputs.task_file, directory, &plant)?;
+    inputs.read.extend(datafile);
+    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, state_tasks: &state_tasks, limits: &limits, excluded: &excluded, target, window: setup.time_window };
     let start = start_state(&plant, &inputs.desired, inputs.range[0], tool.solve_for_equilibrium_for_auxiliary_states)?;
     let tracking = controller.track(start, inputs.range, &setup.tracking.integrator)?;
     let tracked = tracked_files(tool, model, &plant, &tracking, &limits, &mut inputs.warnings)?;

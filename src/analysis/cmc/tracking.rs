@@ -20,6 +20,7 @@ use super::desired::DesiredKinematics;
 use super::initial_states::{initial_states, InitialStates};
 use super::merson::{self, PlantRates};
 use super::predictor::{assembled, window_controls, Predictor, Prescribed};
+use super::state_tasks::{state_terms, StateTracking};
 use super::target::{optimal_forces, Target};
 use super::CmcError;
 use crate::analysis::controllers::Controllers;
@@ -48,6 +49,8 @@ pub struct Controller<'p, 'a> {
     pub plant: &'p Plant<'a>,
     pub desired: &'p DesiredKinematics,
     pub tasks: &'p [Task<'p>],
+    /// The `MuscleStateTrackingTask`s, whose terms join the target.
+    pub state_tasks: &'p [StateTracking],
     pub limits: &'p [ControlLinear],
     /// Per generator, whether CMC leaves it uncontrolled (`actuators_to_exclude`): CMC's part of
     /// its control stays 0 (the other controllers', if any, drive it) and its force enters the
@@ -176,7 +179,8 @@ impl Controller<'_, '_> {
             }
         }
         let (lower, upper): (Vec<f64>, Vec<f64>) = at_lower.iter().zip(&at_upper).map(|(&a, &b)| (a.min(b), a.max(b))).unzip();
-        let (forces, performance) = optimal_forces(self, &predicted, end, &desired_accelerations, stress_weight, [&lower, &upper]).map_err(failed)?;
+        let state_terms = state_terms(self.state_tasks, self.plant.generators.len(), &predicted, end);
+        let (forces, performance) = optimal_forces(self, &predicted, end, (&desired_accelerations, &state_terms), stress_weight, [&lower, &upper]).map_err(failed)?;
         let residual = |x: &[f64]| predictor.forces(x).map(|(f, _)| f.iter().zip(&forces).map(|(a, b)| a - b).collect());
         let controls = uncoupled_roots(residual, &lower_controls, &upper_controls, &vec![CONTROL_TOLERANCE; forces.len()]).map_err(failed)?;
         Ok(WindowSolution { controls, position_errors, force_range: [self.controlled(&at_lower), self.controlled(&at_upper)], performance })

@@ -51,13 +51,16 @@ pub fn run_rra(model: &Path, setup: &RraSetup) -> Result<RraOutputs, ResidualRed
     let mut inputs = read_tracking_inputs(model, &setup.tracking)?;
     check_actuated(&inputs.model, tool).map_err(input)?;
     let tasks = tasks(&inputs.task_set, &inputs.model, &inputs.task_file)?;
+    if let Some(task) = inputs.task_set.state_tasks.first() {
+        return Err(input(format!("{}: MuscleStateTrackingTask {}: RRA drives no muscles", inputs.task_file.display(), task.name)));
+    }
     let range = inputs.range;
     let adjustment = if setup.adjust_com_to_reduce_residuals { Some(adjust_mass_center(setup, &inputs.model, &inputs.desired, range, &inputs.desired_file)?) } else { None };
     let tracked_model = adjustment.as_ref().map_or(&inputs.model, |a| &a.model);
     let plant = tracked_model.plant().map_err(|e| input(e.to_string()))?;
     let limits = control_limits(&plant, inputs.constraints.as_ref());
     let excluded = vec![false; plant.generators.len()];
-    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, limits: &limits, excluded: &excluded, target: Target::Slow, window: WINDOW };
+    let controller = Controller { plant: &plant, desired: &inputs.desired, tasks: &tasks, state_tasks: &[], limits: &limits, excluded: &excluded, target: Target::Slow, window: WINDOW };
     let tracking = controller.track(desired_state(&plant, &inputs.desired, range[0], &[]), range, &setup.tracking.integrator)?;
     let tracked = tracked_files(tool, tracked_model, &plant, &tracking, &limits, &mut inputs.warnings)?;
     let final_residuals = tracked.actuation_force.as_ref().map_or([0.0; 6], actuation_residuals);
