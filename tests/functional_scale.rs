@@ -221,6 +221,28 @@ fn refuses_angles_outside_the_coordinate_range() {
     assert!(stderr.contains("set5_flexion.mot:") && stderr.contains("knee_angle_r") && stderr.contains("range"), "{stderr}");
 }
 
+/// Angles in degrees without `inDegrees=yes` (and with `version=1`) are read in radians, as
+/// OpenSim reads them: refused as out of range, the message saying how the unit is read.
+#[test]
+fn undeclared_degrees_are_refused_with_the_unit_rule() {
+    let dir = tempfile::tempdir().unwrap();
+    let trials = dir.path().join("train01");
+    std::fs::create_dir(&trials).unwrap();
+    for entry in std::fs::read_dir(fixture("dynamometry/train01")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, trials.join(path.file_name().unwrap())).unwrap();
+    }
+    let file = trials.join("set5_extension.mot");
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("version=1\n") && text.contains("inDegrees=yes\n"));
+    std::fs::write(&file, text.replace("inDegrees=yes\n", "")).unwrap();
+    let output = dir.path().join("out.osim");
+    let (code, _, stderr) = run_scale(&trials, &output, &[]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("set5_extension.mot:") && stderr.contains("knee_angle_r") && stderr.contains("inDegrees=yes, radians where it does not say"), "{stderr}");
+    assert!(!output.exists());
+}
+
 #[test]
 fn refuses_too_few_angles_and_says_what_is_not_identifiable() {
     let stderr = refused(|columns, cells, _, row| set_cell(columns, cells, "knee_angle_r", |a| if row < 3 { -90.0 } else { a }), |subject| {

@@ -173,7 +173,7 @@ fn check_coordinate_ranges(spec: &ModelSpec, data: &DynamometryData) -> Result<(
                     line: trial.line,
                     column: name.clone(),
                     value: value.to_degrees(),
-                    expected: format!("an angle within the model's range of {name}, [{:.1}, {:.1}]°", low.to_degrees(), high.to_degrees()),
+                    expected: format!("an angle within the model's range of {name}, [{:.1}, {:.1}]° (the file's angles are read in the unit its header gives, as OpenSim reads them: degrees with inDegrees=yes, radians where it does not say)", low.to_degrees(), high.to_degrees()),
                 });
             }
         }
