@@ -126,24 +126,25 @@ fn unusable_setups_are_refused() {
 
 
 /// A `MuscleStateTrackingTask` needs its state in the model and its data in the task set's
-/// `datafile` (OpenSim ignores a task without data and then fails on it): each gap is refused
+/// `datafile`, in time order (OpenSim ignores a task without data and then fails on it): each gap is refused
 /// naming the file and the task, and nothing is written.
 #[test]
 fn muscle_state_tasks_without_their_data_are_refused() {
-    let tasks = "arm26_ComputedMuscleControl_Tasks_EMG.xml";
+    let (tasks, data) = ("arm26_ComputedMuscleControl_Tasks_EMG.xml", "muscle_emg.sto");
     let cases = [
-        ("<datafile>muscle_emg.sto</datafile>", "", "tracks the task set's <datafile>, which is not given"),
-        ("<datafile>muscle_emg.sto</datafile>", "<datafile>emg.sto</datafile>", "emg.sto"),
-        ("\"BIClong.activation\"", "\"BICshort.activation\"", "no column \"BICshort.activation\""),
-        ("\"BIClong.activation\"", "\"BIClong.excitation\"", "muscle BIClong has no state \"excitation\" (its states: activation, fiber_length)"),
-        ("\"BIClong.activation\"", "\"biceps.activation\"", "the model has no muscle \"biceps\""),
+        (tasks, "<datafile>muscle_emg.sto</datafile>", "", "tracks the task set's <datafile>, which is not given"),
+        (tasks, "<datafile>muscle_emg.sto</datafile>", "<datafile>emg.sto</datafile>", "emg.sto"),
+        (tasks, "\"BIClong.activation\"", "\"BICshort.activation\"", "no column \"BICshort.activation\""),
+        (tasks, "\"BIClong.activation\"", "\"BIClong.excitation\"", "muscle BIClong has no state \"excitation\" (its states: activation, fiber_length)"),
+        (tasks, "\"BIClong.activation\"", "\"biceps.activation\"", "the model has no muscle \"biceps\""),
+        (data, "\n0.2\t", "\n0.05\t", "times must increase"),
     ];
-    for (old, new, expected) in cases {
+    for (file, old, new, expected) in cases {
         let folder = tempfile::tempdir().unwrap();
         case_folder(folder.path(), "emg", &[]);
-        let text = std::fs::read_to_string(folder.path().join(tasks)).unwrap();
+        let text = std::fs::read_to_string(folder.path().join(file)).unwrap();
         assert!(text.contains(old), "{old}");
-        std::fs::write(folder.path().join(tasks), text.replace(old, new)).unwrap();
+        std::fs::write(folder.path().join(file), text.replace(old, new)).unwrap();
         let (code, _, stderr) = osim_tune(&["run", s(&folder.path().join("setup.xml"))]);
         assert_eq!(code, 2, "{expected}: {stderr}");
         assert!(stderr.contains(expected), "{expected}: {stderr}");

@@ -172,11 +172,12 @@ pub fn frames_in_range(file: &std::path::Path, times: &[f64], range: [f64; 2]) -
 }
 
 /// An interpolating GCV spline of `degree` through (times, values), as OpenSim builds one
-/// (`GCVSpline(degree, n, x, y)`, error variance 0).
+/// (`GCVSpline(degree, n, x, y)`, error variance 0); the times must increase.
 pub fn spline(degree: usize, times: &[f64], values: &[f64]) -> Result<Function, SignalError> {
     if times.len() <= degree {
         return Err(SignalError::TooFewSamples { needed: degree + 1, found: times.len() });
     }
+    increasing(times)?;
     Ok(Function::new(&FunctionSpec::GCVSpline { degree, error_variance: 0.0, x: times.to_vec(), y: values.to_vec() }))
 }
 

@@ -466,5 +466,3 @@ mod tests {
         assert_eq!(report.status, LeastSquaresStatus::MaxIterations, "{report:?}");
     }
 }
-
-

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use super::analyze_inputs::{actuator_files, analyze_tool_analyses, check_analyses, controllers_of, external_loads_of, output_name};
 use crate::analysis::{analyze_tool_tables, AnalyzeModel};
-use crate::cli::{write_files, Failure, Outcome};
+use crate::cli::{warn_about, write_files, Failure, Outcome};
 use crate::io::osim::OsimDocument;
 use crate::io::table::StorageTable;
 use crate::mechanics::MuscleGeometry;
@@ -45,8 +45,6 @@ pub fn run(model: &Path, coordinates: &Path, setup_file: &Path, output: &Path) -
     for note in &tables.notes {
         eprintln!("note: {note}");
     }
-    for warning in &tables.warnings {
-        eprintln!("warning: {warning}");
-    }
+    warn_about(&tables.warnings);
     Ok(Outcome::Success)
 }

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::analyze_inputs::{analyze_tool_analyses, check_analyses};
 use crate::analysis::{run_cmc, CmcError};
-use crate::cli::{write_files, Failure, Outcome};
+use crate::cli::{warn_about, write_files, Failure, Outcome};
 use crate::setup::CmcSetup;
 
 pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Failure> {
@@ -24,9 +24,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
     };
     let files: Vec<(std::path::PathBuf, String)> = outputs.files.iter().map(|(name, text)| (output.join(name), text.clone())).collect();
     write_files(&files, &outputs.read)?;
-    for warning in &outputs.warnings {
-        eprintln!("warning: {warning}");
-    }
+    warn_about(&outputs.warnings);
     println!(
         "CMC over {}–{} s (tracked from {} s, after the muscles' initial states, to one window short of the end): {} windows → {} files in {}",
         outputs.range[0],

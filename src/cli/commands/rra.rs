@@ -6,7 +6,7 @@ use std::path::Path;
 
 use super::analyze_inputs::{analyze_tool_analyses, check_analyses};
 use crate::analysis::{run_rra, Adjusted, CmcError, ResidualReductionError, Residuals, RESIDUALS};
-use crate::cli::{write_files, Failure, Outcome};
+use crate::cli::{warn_about, write_files, Failure, Outcome};
 use crate::io::osim::format_numbers;
 use crate::setup::RraSetup;
 
@@ -25,9 +25,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
     let mut files: Vec<(std::path::PathBuf, String)> = outputs.files.iter().map(|(name, text)| (output.join(name), text.clone())).collect();
     files.extend(outputs.adjusted_model.clone());
     write_files(&files, &outputs.read)?;
-    for warning in &outputs.warnings {
-        eprintln!("warning: {warning}");
-    }
+    warn_about(&outputs.warnings);
     if let Some(adjusted) = &outputs.adjustment {
         print!("{}", report(adjusted));
     }

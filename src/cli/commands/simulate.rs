@@ -51,9 +51,7 @@ pub fn run(model: &Path, setup_file: &Path, output: &Path) -> Result<Outcome, Fa
         analyses.initial_time = start;
         let tables = analyze_tool_tables(&inputs.analysed(), &states, &states_file, &analyses, name)?;
         files.extend(tables.files.iter().map(|(file, table)| (output.join(file), table.to_text())));
-        for warning in &tables.warnings {
-            eprintln!("warning: {warning}");
-        }
+        warn_about(&tables.warnings);
         for note in &tables.notes {
             eprintln!("note: {note}");
         }
