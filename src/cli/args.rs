@@ -45,6 +45,17 @@ pub enum Command {
         /// PATH=VALUE edits.
         assignments: Vec<String>,
     },
+    /// Convert a 2.x/3.x model into OpenSim 4's format as OpenSim 4 converts it when it opens
+    /// one (joints out of bodies with offset frames, sockets, attached geometry; values it
+    /// passes through a stream at six significant digits). OpenSim 4 reads the result as it reads
+    /// the original; a 4.x model is copied unchanged.
+    Convert {
+        /// The model to convert; never overwritten.
+        input: PathBuf,
+        /// Where to write the 4.x model.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Semantic diff of two OpenSim documents for review: added and removed components, changed
     /// properties with old → new and the relative change of numbers. Formatting, comments and
     /// number spelling (0.1 vs 1.0e-01) are ignored. Exit 0 same, 1 different, 2 error.

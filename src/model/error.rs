@@ -16,6 +16,9 @@ pub enum ModelError {
     /// A reference (socket, body name, coordinate name) names nothing in the model.
     #[error("{}:{line}: {component}: {what} {target:?} does not exist in the model", file.display())]
     UnknownReference { file: PathBuf, line: usize, component: String, what: String, target: String },
+    /// A part of an older model OpenSim 4's format cannot hold as osim-tune converts it.
+    #[error("{}:{line}: {component}: {problem}", file.display())]
+    Unsupported { file: PathBuf, line: usize, component: String, problem: String },
 }
 
 /// A property's text is not what it must be.

@@ -22,6 +22,7 @@ mod probe;
 mod reader;
 mod spec;
 mod station_frame;
+mod upgrade;
 mod wrap_object;
 
 pub use actuator::{read_force_set, ActuatorKind, ActuatorSpec};
@@ -44,4 +45,5 @@ pub use reader::{ComponentReader, PropertySources};
 pub use path_point::{MovingComponent, PathPointKind, PathPointSpec};
 pub use probe::{ActuatorQuantity, BhargavaRates, MetabolicModel, MetabolicMuscleSpec, MetabolicsProbeSpec, ProbeKind, ProbeSpec, UmbergerRates};
 pub use spec::{ModelSpec, GROUND};
+pub use upgrade::{upgrade, UPGRADED_VERSION};
 pub use wrap_object::{WrapObjectSpec, WrapShape};

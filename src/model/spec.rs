@@ -148,7 +148,7 @@ fn body_elements(model: ComponentReader, dialect: Dialect) -> Vec<(String, Eleme
 
 /// Whether a component of this class is a force: muscles, actuators, `…Force` (e.g.
 /// `CoordinateLimitForce`, `ExpressionBasedCoordinateForce`), ligaments and springs.
-fn is_force_class(class: &str) -> bool {
+pub(super) fn is_force_class(class: &str) -> bool {
     is_muscle_class(class) || ["Actuator", "Force", "Ligament", "Spring"].iter().any(|suffix| class.ends_with(suffix))
 }
 

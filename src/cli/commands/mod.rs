@@ -4,6 +4,7 @@ mod analyze;
 mod analyze_inputs;
 mod analyze_tool;
 mod axis;
+mod convert;
 mod diff;
 mod dynamometer;
 mod emg;
@@ -45,6 +46,7 @@ pub fn run(command: Command) -> Result<Outcome, Failure> {
             axis::run(&trial, &request)
         }
         Command::Set { input, output, assignments } => set::run(&input, &output, &assignments),
+        Command::Convert { input, output } => convert::run(&input, &output),
         Command::Diff { a, b, json, rtol } => diff::run(&a, &b, json, rtol),
         Command::Flatten { document } => flatten::run(&document),
         Command::Plot { tables, columns, x, title, y_label, output } => plot::run(&tables, &plot::Request { columns, x, title, y_label }, &output),

@@ -40,7 +40,7 @@ pub struct Document {
     pub(super) source: String,
     /// The file's bytes when they are not all UTF-8: `source` reads each stray byte as `?` at the
     /// same offset, and output writes these bytes back as they were.
-    original: Option<Vec<u8>>,
+    pub(super) original: Option<Vec<u8>>,
     pub(super) elements: Vec<Element>,
     pub(super) line_starts: Vec<usize>,
     /// Replacements keyed by the start of the replaced byte range: (end, new text).
@@ -234,6 +234,11 @@ impl Document {
         Ok(())
     }
 
+    /// The byte just past the element's end tag.
+    pub(super) fn element_end(&self, id: ElementId) -> usize {
+        self.element_range(id).end
+    }
+
     /// Bytes of the whole element.
     fn element_range(&self, id: ElementId) -> Range<usize> {
         let element = self.element(id);
@@ -280,7 +285,7 @@ impl Document {
 }
 
 /// Character data of mixed raw content: comments dropped, CDATA kept verbatim, text unescaped.
-fn character_data(raw: &str) -> String {
+pub(super) fn character_data(raw: &str) -> String {
     let mut value = String::new();
     let mut rest = raw;
     while let Some(open) = rest.find('<') {

@@ -6,7 +6,9 @@ mod document;
 mod error;
 mod parse;
 mod text;
+mod tree;
 
 pub use document::{Attribute, Document, Element, ElementId};
 pub use error::{EditError, XmlError};
 pub use text::escape_attribute;
+pub use tree::{Node, TreeElement};

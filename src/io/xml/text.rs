@@ -35,6 +35,22 @@ pub fn with_ascii_stand_ins(bytes: &[u8]) -> String {
     text
 }
 
+/// `bytes` as text with each byte that is not part of a UTF-8 character read as Windows-1252
+/// (the code page such bytes in OpenSim files come from, e.g. an en dash 0x96 in a citation).
+pub fn with_windows_1252(bytes: &[u8]) -> String {
+    /// Windows-1252's characters for 0x80–0x9F (the rest of 0x80–0xFF is Latin-1).
+    const HIGH: [char; 32] = [
+        '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8d}', 'Ž', '\u{8f}', '\u{90}', '‘', '’', '“', '”', '•', '–', '—', '˜', '™', 'š', '›', 'œ',
+        '\u{9d}', 'ž', 'Ÿ',
+    ];
+    let mut text = String::with_capacity(bytes.len());
+    for chunk in bytes.utf8_chunks() {
+        text.push_str(chunk.valid());
+        text.extend(chunk.invalid().iter().map(|&b| if (0x80..0xa0).contains(&b) { HIGH[usize::from(b - 0x80)] } else { char::from(b) }));
+    }
+    text
+}
+
 /// Offsets where each line of `source` starts (always begins with 0).
 pub fn line_starts(source: &str) -> Vec<usize> {
     std::iter::once(0)
@@ -45,6 +61,11 @@ pub fn line_starts(source: &str) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn stray_bytes_read_as_windows_1252() {
+        assert_eq!(with_windows_1252(b"829\x96840 \xe9 \xc3\xa9"), "829–840 é é");
+    }
 
     #[test]
     fn lines_and_columns_are_one_based() {

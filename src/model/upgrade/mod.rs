@@ -1,0 +1,151 @@
+//! OpenSim 4's conversion of a 2.x/3.x model into its own format, as its `updateFromXMLNode`s
+//! rewrite an older document while loading it: `ground` becomes `<Ground>`, joints leave their
+//! bodies for a `JointSet` with offset frames, names of bodies and coordinates become socket
+//! paths, display objects become attached geometry and appearances. Values the conversion
+//! passes through a C++ stream keep six significant digits, as in OpenSim. The result is a 4.x
+//! document (version [`UPGRADED_VERSION`]) that OpenSim 4 and every osim-tune command read as
+//! OpenSim 4 reads the original.
+
+mod body;
+mod component;
+mod joint;
+mod values;
+
+use std::collections::HashMap;
+
+use crate::io::osim::{Dialect, OsimDocument};
+use crate::io::xml::{Node, TreeElement};
+
+use super::error::ModelError;
+use values::Values;
+
+/// The document version the conversion writes: OpenSim 4.0's.
+pub const UPGRADED_VERSION: u32 = 40000;
+
+/// `document` in the 4.x format: a 2.x/3.x model converted, a 4.x one as it is.
+pub fn upgrade(document: &OsimDocument) -> Result<OsimDocument, ModelError> {
+    if document.version.dialect == Dialect::V4 {
+        return Ok(document.clone());
+    }
+    let xml = &document.xml;
+    let values = Values { file: xml.file() };
+    let mut model = xml.tree(document.object);
+    if model.tag != "Model" {
+        return Err(ModelError::NotAModel { file: xml.file().into(), line: model.line, found: model.tag.clone() });
+    }
+    let upgrade = Upgrade { values, version: document.version.number, coordinate_joints: coordinate_joints(&model) };
+    upgrade.model(&mut model)?;
+    let mut text = format!("<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<OpenSimDocument Version=\"{UPGRADED_VERSION}\">\n");
+    model.print(1, &mut text);
+    text.push_str("</OpenSimDocument>\n");
+    OsimDocument::parse(text, xml.file()).map_err(|error| upgrade.values.unsupported(&model, &format!("the converted model does not read back: {error}")))
+}
+
+/// One conversion: the document's version and where each coordinate's joint is.
+struct Upgrade<'a> {
+    values: Values<'a>,
+    version: u32,
+    /// Joint of each coordinate (3.x: the `Joint` inside a body owns its `CoordinateSet`).
+    coordinate_joints: HashMap<String, String>,
+}
+
+impl Upgrade<'_> {
+    /// `Model::updateFromXMLNode` (< 30501): `ground` out of the `BodySet` as `<Ground>`, each
+    /// body's joint into a `JointSet` after it; then every component's own conversion, and the
+    /// model's sets named as OpenSim 4 names them (`bodyset`, `forceset`, …).
+    fn model(&self, model: &mut TreeElement) -> Result<(), ModelError> {
+        remove_whitespace_from_names(model);
+        let mut ground = None;
+        let mut joints = Vec::new();
+        if let Some(objects) = model.child_mut("BodySet").and_then(|set| set.child_mut("objects")) {
+            let mut bodies = Vec::new();
+            for mut body in objects.take_all() {
+                let name = body.name().unwrap_or_default().to_string();
+                if let Some(joint) = body.take("Joint").and_then(|mut holder| holder.take_all().into_iter().next()) {
+                    joints.push(self.joint(joint, &name)?);
+                }
+                if name == "ground" {
+                    ground = Some(self.ground(body)?);
+                } else {
+                    bodies.push(self.body(body)?);
+                }
+            }
+            bodies.into_iter().for_each(|body| objects.push(body));
+        }
+        if model.child("BodySet").is_some() {
+            let mut joint_objects = TreeElement::new("objects");
+            joints.into_iter().for_each(|joint| joint_objects.push(joint));
+            let mut joint_set = TreeElement::new("JointSet");
+            joint_set.push(joint_objects);
+            model.insert_after("BodySet", joint_set);
+        }
+        if let Some(ground) = ground {
+            model.insert_before("BodySet", ground);
+        }
+        for child in model.elements_mut() {
+            if child.tag.ends_with("Set") {
+                child.set_attribute("name", &child.tag.to_lowercase());
+            }
+            self.components(child)?;
+        }
+        Ok(())
+    }
+
+    /// Each component in `element` and below, converted by its class.
+    fn components(&self, element: &mut TreeElement) -> Result<(), ModelError> {
+        self.component(element)?;
+        for child in element.elements_mut() {
+            self.components(child)?;
+        }
+        Ok(())
+    }
+
+    /// The socket path of a body named in a 3.x property (`ground` is `/ground`).
+    fn body_path(body: &str) -> String {
+        if body == "ground" {
+            "/ground".into()
+        } else {
+            format!("/bodyset/{body}")
+        }
+    }
+
+    /// The socket path of a coordinate: `/jointset/<joint>/<coordinate>`, or its bare name when no
+    /// joint has it (OpenSim's fallback).
+    fn coordinate_path(&self, coordinate: &str) -> String {
+        match self.coordinate_joints.get(coordinate) {
+            Some(joint) => format!("/jointset/{joint}/{coordinate}"),
+            None => coordinate.to_string(),
+        }
+    }
+}
+
+/// Every coordinate of the 3.x model's joints with its joint's name.
+fn coordinate_joints(model: &TreeElement) -> HashMap<String, String> {
+    let mut map = HashMap::new();
+    let bodies = model.child("BodySet").and_then(|set| set.child("objects"));
+    for body in bodies.into_iter().flat_map(|objects| objects.elements()) {
+        for joint in body.child("Joint").into_iter().flat_map(|holder| holder.elements()) {
+            let joint_name = joint.name().map_or_else(|| joint.tag.to_lowercase(), |n| n.to_string());
+            let coordinates = joint.child("CoordinateSet").and_then(|set| set.child("objects"));
+            for coordinate in coordinates.into_iter().flat_map(|objects| objects.elements()) {
+                if let Some(name) = coordinate.name() {
+                    map.insert(name.to_string(), joint_name.clone());
+                }
+            }
+        }
+    }
+    map
+}
+
+/// `Component::updateFromXMLNode` (< 30500): whitespace is no longer allowed in names.
+fn remove_whitespace_from_names(element: &mut TreeElement) {
+    if let Some(name) = element.name().filter(|n| n.contains(char::is_whitespace)) {
+        let name: String = name.chars().filter(|c| !c.is_whitespace()).collect();
+        element.set_attribute("name", &name);
+    }
+    for node in &mut element.children {
+        if let Node::Element(child) = node {
+            remove_whitespace_from_names(child);
+        }
+    }
+}
