@@ -3,7 +3,9 @@ MarkerPlacer with apply false makes ScaleTool.run() return false) on the example
 leg6dof9musc, joint_zoo, Rajagopal2016 (42 muscles wrapping over WrapCylinders), arm26
 (TRIlong and BIClong also over WrapEllipsoids), wrap_zoo (spheres, ellipsoids, tori) and
 ellipsoid_joints (a ScapulothoracicJoint's thoracic radii and winging origin, an EllipsoidJoint's
-radii) and station_frames (the stations of StationDefinedFrames): writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
+radii) and station_frames (the stations of StationDefinedFrames), and on the 2.x/3.x documents of
+arm26, leg6dof9musc and the abdbonepin shoulder model (which OpenSim converts to its 4.x format as
+it loads them): writes fixtures/golden/scale_zoo/<model>_setup.xml and <model>_scaled.osim.
 
 Each body gets anisotropic factors in 0.90-1.12 that differ from body to body, drawn from a
 seeded generator; the subject mass is 1.15 x the model's, with the mass distribution preserved for
@@ -20,7 +22,11 @@ from pathlib import Path
 import opensim as osim
 from tool_run import run_in
 
-MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"]
+MODELS = ["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames",
+          "arm26_v20303", "leg6dof9musc_v20303", "abdbonepin_v30000"]
+# Models outside fixtures/models, by their path under fixtures/.
+SOURCES = {"arm26_v20303": "legacy/arm26_v20303.osim", "leg6dof9musc_v20303": "legacy/leg6dof9musc_v20303.osim",
+           "abdbonepin_v30000": "ik_point_constraint/subject1_abdbonepin.osim"}
 OUT = Path("fixtures/golden/scale_zoo")
 
 
@@ -69,7 +75,7 @@ def run_scale_tool(setup_text, inputs, outputs):
 def main():
     OUT.mkdir(parents=True, exist_ok=True)
     for name in sys.argv[1:] or MODELS:
-        source = Path("fixtures/models") / f"{name}.osim"
+        source = Path("fixtures") / SOURCES.get(name, f"models/{name}.osim")
         model = osim.Model(str(source))
         model.initSystem()
         bodies = [model.getBodySet().get(i).getName() for i in range(model.getBodySet().getSize())]
@@ -77,7 +83,7 @@ def main():
         preserve = name != "joint_zoo"
         run_scale_tool(setup_xml(source.name, bodies, 1.15 * mass, preserve, "scaled.osim"), [source],
                        {"scaled.osim": OUT / f"{name}_scaled.osim"})
-        (OUT / f"{name}_setup.xml").write_text(setup_xml(f"../../models/{name}.osim", bodies, 1.15 * mass, preserve, f"{name}_scaled.osim"))
+        (OUT / f"{name}_setup.xml").write_text(setup_xml("../../" + SOURCES.get(name, f"models/{name}.osim"), bodies, 1.15 * mass, preserve, f"{name}_scaled.osim"))
         print(name, len(bodies), "bodies, mass", mass)
 
 

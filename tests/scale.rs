@@ -106,6 +106,18 @@ fn other_models_scaled_by_manual_factors_equal_opensims() {
     }
 }
 
+/// 2.x/3.x documents — arm26 and leg6dof9musc as OpenSim 2 wrote them (wrap objects, display
+/// geometry, moving and conditional path points, a coupler), the abdbonepin shoulder model as
+/// OpenSim 3 did (a point constraint) — converted to OpenSim 4's format as OpenSim 4.6's ScaleTool
+/// loads them, then scaled by manual factors: every property as OpenSim 4.6 wrote it.
+#[test]
+fn legacy_models_are_converted_and_scaled_as_opensim() {
+    for (model, path) in [("arm26_v20303", "legacy/arm26_v20303.osim"), ("leg6dof9musc_v20303", "legacy/leg6dof9musc_v20303.osim"), ("abdbonepin_v30000", "ik_point_constraint/subject1_abdbonepin.osim")] {
+        let (_, outcome) = scale_by(&format!("golden/scale_zoo/{model}_setup.xml"), path);
+        assert_scaled_model_is_opensims(&outcome, &format!("scale_zoo/{model}_scaled.osim"));
+    }
+}
+
 /// A muscle wrapping over an object of a class OpenSim 4.6 no longer has (arm26 with its
 /// ellipsoid TRIlonghh made a 3.x `WrapCylinderObst`), whose wrapping osim-tune does not
 /// compute: the scaling is refused, naming the muscle and its objects, since its L_opt and L_ts

@@ -1,40 +1,101 @@
-//! OpenSim 4's conversion of 2.x/3.x models: the converted 4.x document reads as the original.
+//! OpenSim 4's conversion of 2.x/3.x models (`model::upgrade`, `osim-tune convert`): the 4.x
+//! document reads as the original does, and every value it writes is the one OpenSim 4.6 writes
+//! when it converts the same model (`oracle/gen_upgrade.py`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use osim_tune::io::osim::OsimDocument;
-use osim_tune::model::{upgrade, ModelSpec};
+use osim_tune::model::{upgrade, ModelSpec, UPGRADED_VERSION};
+use osim_tune::review::{flatten, flatten_for_comparison, FlatEntry};
+use serde_json::Value;
 
-fn converted(path: &str) -> (ModelSpec, ModelSpec) {
-    let document = OsimDocument::read(Path::new(path)).unwrap();
-    let original = ModelSpec::read(&document).unwrap();
-    let upgraded = upgrade(&document).unwrap();
-    std::fs::write(format!("/tmp/up/{}", Path::new(path).file_name().unwrap().to_string_lossy()), upgraded.xml.serialize()).unwrap();
-    (original, ModelSpec::read(&upgraded).unwrap())
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
 }
 
-#[test]
-fn legacy_models_read_the_same_after_conversion() {
-    for path in ["fixtures/legacy/pendulum_leg_v30000.osim", "fixtures/ik_point_constraint/subject1_abdbonepin.osim", "fixtures/ik_constraint_test/constraintTest_ikOnly.osim"] {
-        let (original, upgraded) = converted(path);
-        // OpenSim 4 takes whitespace out of names ("Dynamic Mocap Model").
-        assert_eq!(original.name.replace(' ', ""), upgraded.name, "{path}");
-        let (a, b) = (without_elements(serde_json::to_value(&original).unwrap()), without_elements(serde_json::to_value(&upgraded).unwrap()));
-        for part in ["bodies", "joints", "markers", "forces", "actuators", "constraints", "wrap_objects", "controllers", "probes", "gravity"] {
-            if a[part] != b[part] {
-                let (x, y) = (serde_json::to_string_pretty(&a[part]).unwrap(), serde_json::to_string_pretty(&b[part]).unwrap());
-                let first = x.lines().zip(y.lines()).position(|(p, q)| p != q).unwrap_or(0);
-                panic!("{path}: {part} differ at line {first}:\n{}\n---\n{}", x.lines().skip(first.saturating_sub(20)).take(30).collect::<Vec<_>>().join("\n"), y.lines().skip(first.saturating_sub(20)).take(30).collect::<Vec<_>>().join("\n"));
-            }
+/// The model's spec without document positions (element ids differ between documents).
+fn spec(document: &OsimDocument) -> Value {
+    without_elements(serde_json::to_value(ModelSpec::read(document).unwrap()).unwrap())
+}
+
+fn without_elements(value: Value) -> Value {
+    match value {
+        Value::Object(map) => map.into_iter().filter(|(k, _)| k != "element").map(|(k, v)| (k, without_elements(v))).collect(),
+        Value::Array(items) => items.into_iter().map(without_elements).collect(),
+        other => other,
+    }
+}
+
+/// The first part of two specs that differs, shown side by side.
+fn assert_same_model(a: &Value, b: &Value, what: &str) {
+    for part in ["bodies", "joints", "markers", "forces", "actuators", "constraints", "wrap_objects", "controllers", "probes", "gravity"] {
+        if a[part] != b[part] {
+            let (x, y) = (serde_json::to_string_pretty(&a[part]).unwrap(), serde_json::to_string_pretty(&b[part]).unwrap());
+            let first = x.lines().zip(y.lines()).position(|(p, q)| p != q).unwrap_or(0);
+            let around = |s: &str| s.lines().skip(first.saturating_sub(12)).take(20).collect::<Vec<_>>().join("\n");
+            panic!("{what}: {part} differ:\n{}\n--- vs ---\n{}", around(&x), around(&y));
         }
     }
 }
 
-/// The value without document positions (`element` ids differ between the two documents).
-fn without_elements(value: serde_json::Value) -> serde_json::Value {
-    match value {
-        serde_json::Value::Object(map) => map.into_iter().filter(|(k, _)| k != "element").map(|(k, v)| (k, without_elements(v))).collect(),
-        serde_json::Value::Array(items) => items.into_iter().map(without_elements).collect(),
-        other => other,
+/// Every 2.x/3.x model among the fixtures reads the same after conversion: bodies, joints and
+/// their frames and coordinates, markers, forces with their paths, constraints, wrap objects
+/// (names without whitespace, as OpenSim 4 renames "Dynamic Mocap Model").
+#[test]
+fn legacy_models_read_the_same_after_conversion() {
+    for path in [
+        "legacy/pendulum_leg_v30000.osim",
+        "legacy/pendulum_leg_v30000_digits.osim",
+        "legacy/arm26_v20303.osim",
+        "legacy/leg6dof9musc_v20303.osim",
+        "ik_point_constraint/subject1_abdbonepin.osim",
+        "ik_constraint_test/constraintTest_ikOnly.osim",
+    ] {
+        let document = OsimDocument::read(&fixture(path)).unwrap();
+        let converted = upgrade(&document).unwrap();
+        assert_eq!(converted.version.number, UPGRADED_VERSION);
+        let (original, ours) = (ModelSpec::read(&document).unwrap(), ModelSpec::read(&converted).unwrap());
+        assert_eq!(original.name.replace(' ', ""), ours.name, "{path}");
+        assert_same_model(&spec(&document), &spec(&converted), path);
     }
+}
+
+/// Our conversion against OpenSim 4.6's of the same model: the same model, and every component
+/// and value we write is one OpenSim writes (numbers equal as doubles — the values OpenSim
+/// streams keep its six significant digits; socket paths in their absolute form).
+#[test]
+fn conversion_writes_what_opensim_writes() {
+    for name in ["pendulum_leg_v30000_digits", "arm26_v20303", "leg6dof9musc_v20303"] {
+        let original = OsimDocument::read(&fixture(&format!("legacy/{name}.osim"))).unwrap();
+        let opensim = OsimDocument::read(&fixture(&format!("golden/upgrade/{name}.osim"))).unwrap();
+        let ours = upgrade(&original).unwrap();
+        assert_same_model(&spec(&opensim), &spec(&ours), name);
+        let expected = flatten(&opensim);
+        let mut checked = 0;
+        // OpenSim 4.6 names an unnamed 4.0 `GeometryPath` `path`.
+        for (path, entry) in &flatten_for_comparison(&ours, opensim.version.number).0.entries {
+            let found = expected.get(path);
+            match (entry, found) {
+                (FlatEntry::Component { class }, Some(FlatEntry::Component { class: theirs })) => assert_eq!(class, theirs, "{name}: {path}"),
+                (FlatEntry::Property { value }, Some(FlatEntry::Property { value: theirs })) => assert!(same_value(value, theirs), "{name}: {path} = {value:?}, OpenSim {theirs:?}"),
+                (_, found) => panic!("{name}: {path} ({entry:?}) is not in OpenSim's conversion ({found:?})"),
+            }
+            checked += 1;
+        }
+        assert!(checked > 100, "{name}: {checked}");
+    }
+}
+
+/// Equal text up to whitespace, numbers equal as doubles, relative socket paths as absolute.
+fn same_value(ours: &str, theirs: &str) -> bool {
+    let theirs = theirs.trim().replace("../../../", "/");
+    let (a, b): (Vec<&str>, Vec<&str>) = (ours.split_whitespace().collect(), theirs.split_whitespace().collect());
+    a.len() == b.len() && a.iter().zip(&b).all(|(x, y)| x == y || matches!((x.parse::<f64>(), y.parse::<f64>()), (Ok(p), Ok(q)) if p == q))
+}
+
+/// A 4.x model is returned as it is.
+#[test]
+fn a_4x_model_is_not_converted() {
+    let document = OsimDocument::read(&fixture("models/arm26.osim")).unwrap();
+    assert_eq!(upgrade(&document).unwrap().xml.serialize(), document.xml.serialize());
 }

@@ -34,7 +34,8 @@ pub struct ForceSpec {
     pub muscle: Option<MuscleSpec>,
     /// `appliesForce` (4.x) or not `isDisabled` (2.x/3.x); default true.
     pub applies_force: bool,
-    /// An actuator's `min_control` and `max_control` as written (`None` when absent).
+    /// An actuator's `min_control` and `max_control` as written (`None` when absent, or when a
+    /// 2.x/3.x muscle's are 0 and 1, which OpenSim 4 drops).
     pub controls: [Option<f64>; 2],
 }
 
@@ -61,8 +62,11 @@ impl ForceSpec {
         }
         let muscle = MuscleSpec::read(reader)?;
         let applies_force = if dialect == Dialect::V4 { reader.boolean_or("appliesForce", true)? } else { !reader.boolean_or("isDisabled", false)? };
-        let control = |property: &str| reader.child(property).map(|_| reader.number(property)).transpose();
-        let controls = [control("min_control")?, control("max_control")?];
+        // OpenSim 4 drops a pre-4.0 muscle's `min_control` of 0 and `max_control` of 1, so the
+        // muscle's own defaults hold (`Muscle::updateFromXMLNode`, < 30513).
+        let dropped = |default: f64, value: f64| dialect != Dialect::V4 && is_muscle_class(reader.class()) && value == default;
+        let control = |property: &str, default: f64| reader.child(property).map(|_| reader.number(property)).transpose().map(|v| v.filter(|&v| !dropped(default, v)));
+        let controls = [control("min_control", 0.0)?, control("max_control", 1.0)?];
         Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps, muscle, applies_force, controls })
     }
 

@@ -3,7 +3,7 @@
 use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
 use crate::mechanics::{Multibody, Vec3};
-use crate::review::{diff_flat, flatten, flatten_for_comparison, Difference, Tolerance};
+use crate::review::{diff_flat, flatten, flatten_for_comparison, Change, Difference, Tolerance};
 use crate::setup::IkTaskSet;
 
 /// The agreement the Scale step must reach: 1e-7 relative, or 1e-9 (m, kg, …) for values near 0.
@@ -11,9 +11,13 @@ pub const SCALED_MODEL_TOLERANCE: Tolerance = Tolerance { relative: 1e-7, absolu
 
 /// Every difference between OpenSim's scaled model and ours beyond `tolerance`, ours read as
 /// OpenSim 4.6 writes it (a 4.0 generic model names a muscle's path `geometrypath`; 4.6 `path`).
+/// A frame's default `frame_geometry`, which OpenSim writes for every frame once it has built
+/// the model and a model converted from 3.x does not hold, is no difference.
 pub fn compare_scaled_models(opensim: &OsimDocument, ours: &OsimDocument, tolerance: Tolerance) -> Vec<Difference> {
     let (ours, _) = flatten_for_comparison(ours, opensim.version.number);
-    diff_flat(&flatten(opensim), &ours, tolerance)
+    let mut differences = diff_flat(&flatten(opensim), &ours, tolerance);
+    differences.retain(|d| !(d.path.ends_with("/frame_geometry") && matches!(&d.change, Change::Removed { class } if class == "FrameGeometry")));
+    differences
 }
 
 /// MarkerPlacer's objective Σ w_i‖x_i(q) − x̂_i‖² (m²) over the applied marker tasks of `tasks`,

@@ -10,5 +10,5 @@ mod tree;
 
 pub use document::{Attribute, Document, Element, ElementId};
 pub use error::{EditError, XmlError};
-pub use text::escape_attribute;
+pub use text::{escape_attribute, raw_bytes};
 pub use tree::{Node, TreeElement};

@@ -35,20 +35,32 @@ pub fn with_ascii_stand_ins(bytes: &[u8]) -> String {
     text
 }
 
-/// `bytes` as text with each byte that is not part of a UTF-8 character read as Windows-1252
-/// (the code page such bytes in OpenSim files come from, e.g. an en dash 0x96 in a citation).
-pub fn with_windows_1252(bytes: &[u8]) -> String {
-    /// Windows-1252's characters for 0x80–0x9F (the rest of 0x80–0xFF is Latin-1).
-    const HIGH: [char; 32] = [
-        '€', '\u{81}', '‚', 'ƒ', '„', '…', '†', '‡', 'ˆ', '‰', 'Š', '‹', 'Œ', '\u{8d}', 'Ž', '\u{8f}', '\u{90}', '‘', '’', '“', '”', '•', '–', '—', '˜', '™', 'š', '›', 'œ',
-        '\u{9d}', 'ž', 'Ÿ',
-    ];
+/// The first of 128 private-use characters that stand for the bytes 0x80–0xFF that are not part
+/// of a UTF-8 character, so text moved around in an element tree can be written back as the
+/// bytes it was read from.
+const RAW_BYTE_BASE: u32 = 0x10_FF00;
+
+/// `bytes` as text, each byte that is not part of a UTF-8 character as its private-use stand-in
+/// (see [`raw_bytes`]).
+pub fn with_raw_byte_stand_ins(bytes: &[u8]) -> String {
     let mut text = String::with_capacity(bytes.len());
     for chunk in bytes.utf8_chunks() {
         text.push_str(chunk.valid());
-        text.extend(chunk.invalid().iter().map(|&b| if (0x80..0xa0).contains(&b) { HIGH[usize::from(b - 0x80)] } else { char::from(b) }));
+        text.extend(chunk.invalid().iter().filter_map(|&b| char::from_u32(RAW_BYTE_BASE + u32::from(b))));
     }
     text
+}
+
+/// `text` as bytes, each stand-in of [`with_raw_byte_stand_ins`] as the byte it stands for.
+pub fn raw_bytes(text: &str) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(text.len());
+    for c in text.chars() {
+        match u32::from(c).checked_sub(RAW_BYTE_BASE).and_then(|b| u8::try_from(b).ok()) {
+            Some(byte) => bytes.push(byte),
+            None => bytes.extend_from_slice(c.encode_utf8(&mut [0; 4]).as_bytes()),
+        }
+    }
+    bytes
 }
 
 /// Offsets where each line of `source` starts (always begins with 0).
@@ -63,8 +75,12 @@ mod tests {
     use super::*;
 
     #[test]
-    fn stray_bytes_read_as_windows_1252() {
-        assert_eq!(with_windows_1252(b"829\x96840 \xe9 \xc3\xa9"), "829–840 é é");
+    fn stray_bytes_come_back_as_they_were() {
+        let bytes = b"829\x96840 \xff \xc3\xa9";
+        let text = with_raw_byte_stand_ins(bytes);
+        assert_eq!(text.chars().count(), 11);
+        assert!(text.ends_with(" \u{e9}"));
+        assert_eq!(raw_bytes(&text), bytes);
     }
 
     #[test]

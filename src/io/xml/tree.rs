@@ -187,10 +187,10 @@ impl Document {
         tree
     }
 
-    /// The text of `range`, bytes that are not UTF-8 read as Windows-1252.
+    /// The text of `range`, bytes that are not UTF-8 as their stand-ins.
     fn decoded(&self, range: std::ops::Range<usize>) -> String {
         match &self.original {
-            Some(bytes) => text::with_windows_1252(&bytes[range]),
+            Some(bytes) => text::with_raw_byte_stand_ins(&bytes[range]),
             None => self.source[range].to_string(),
         }
     }

@@ -85,8 +85,9 @@ impl Upgrade<'_> {
     }
 
     /// `MovingPathPoint` (< 30000: `XAttachment` … as `x_location` …; < 30505: coordinates as
-    /// sockets).
+    /// sockets; its 3.x `location`, which its functions override, is no property in OpenSim 4).
     fn moving_path_point(&self, element: &mut TreeElement) {
+        element.take("location");
         if self.version < 30000 {
             for (old, new) in [("XAttachment", "x_location"), ("YAttachment", "y_location"), ("ZAttachment", "z_location")] {
                 if let Some(attachment) = element.child_mut(old) {

@@ -12,7 +12,7 @@ use super::Upgrade;
 impl Upgrade<'_> {
     /// The joint `joint` that held `child` in its 3.x `<Joint>`, in OpenSim 4's form.
     pub(super) fn joint(&self, mut joint: TreeElement, child: &str) -> Result<TreeElement, ModelError> {
-        if joint.name().is_none() {
+        if joint.name().is_none_or(str::is_empty) {
             let name = joint.tag.to_lowercase();
             joint.set_attribute("name", &name);
         }
@@ -78,9 +78,10 @@ impl Upgrade<'_> {
     }
 }
 
-/// The offset frame `<body>_offset` of a component one set below the model.
+/// The offset frame `<body>_offset` on `body` (its socket written as OpenSim writes it once the
+/// model is built: the body's absolute path).
 fn offset_frame(body: &str, translation: [f64; 3], orientation: [f64; 3]) -> TreeElement {
-    let parent = if body == "ground" { "../../../ground".to_string() } else { format!("../../../bodyset/{body}") };
+    let parent = Upgrade::body_path(body);
     let mut frame = TreeElement::named("PhysicalOffsetFrame", &format!("{body}_offset"));
     frame.push(TreeElement::leaf("socket_parent", &parent));
     frame.push(TreeElement::leaf("translation", &stream(&translation)));

@@ -14,7 +14,7 @@ mod values;
 use std::collections::HashMap;
 
 use crate::io::osim::{Dialect, OsimDocument};
-use crate::io::xml::{Node, TreeElement};
+use crate::io::xml::{raw_bytes, TreeElement};
 
 use super::error::ModelError;
 use values::Values;
@@ -38,7 +38,7 @@ pub fn upgrade(document: &OsimDocument) -> Result<OsimDocument, ModelError> {
     let mut text = format!("<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<OpenSimDocument Version=\"{UPGRADED_VERSION}\">\n");
     model.print(1, &mut text);
     text.push_str("</OpenSimDocument>\n");
-    OsimDocument::parse(text, xml.file()).map_err(|error| upgrade.values.unsupported(&model, &format!("the converted model does not read back: {error}")))
+    OsimDocument::from_bytes(raw_bytes(&text), xml.file()).map_err(|error| upgrade.values.unsupported(&model, &format!("the converted model does not read back: {error}")))
 }
 
 /// One conversion: the document's version and where each coordinate's joint is.
@@ -54,7 +54,8 @@ impl Upgrade<'_> {
     /// body's joint into a `JointSet` after it; then every component's own conversion, and the
     /// model's sets named as OpenSim 4 names them (`bodyset`, `forceset`, …).
     fn model(&self, model: &mut TreeElement) -> Result<(), ModelError> {
-        remove_whitespace_from_names(model);
+        without_whitespace(model);
+        name_components(model);
         let mut ground = None;
         let mut joints = Vec::new();
         if let Some(objects) = model.child_mut("BodySet").and_then(|set| set.child_mut("objects")) {
@@ -101,7 +102,7 @@ impl Upgrade<'_> {
     }
 
     /// The socket path of a body named in a 3.x property (`ground` is `/ground`).
-    fn body_path(body: &str) -> String {
+    pub(super) fn body_path(body: &str) -> String {
         if body == "ground" {
             "/ground".into()
         } else {
@@ -125,7 +126,7 @@ fn coordinate_joints(model: &TreeElement) -> HashMap<String, String> {
     let bodies = model.child("BodySet").and_then(|set| set.child("objects"));
     for body in bodies.into_iter().flat_map(|objects| objects.elements()) {
         for joint in body.child("Joint").into_iter().flat_map(|holder| holder.elements()) {
-            let joint_name = joint.name().map_or_else(|| joint.tag.to_lowercase(), |n| n.to_string());
+            let joint_name = joint.name().filter(|n| !n.is_empty()).map_or_else(|| joint.tag.to_lowercase(), str::to_string);
             let coordinates = joint.child("CoordinateSet").and_then(|set| set.child("objects"));
             for coordinate in coordinates.into_iter().flat_map(|objects| objects.elements()) {
                 if let Some(name) = coordinate.name() {
@@ -137,15 +138,47 @@ fn coordinate_joints(model: &TreeElement) -> HashMap<String, String> {
     map
 }
 
-/// `Component::updateFromXMLNode` (< 30500): whitespace is no longer allowed in names.
-fn remove_whitespace_from_names(element: &mut TreeElement) {
-    if let Some(name) = element.name().filter(|n| n.contains(char::is_whitespace)) {
-        let name: String = name.chars().filter(|c| !c.is_whitespace()).collect();
-        element.set_attribute("name", &name);
-    }
-    for node in &mut element.children {
-        if let Node::Element(child) = node {
-            remove_whitespace_from_names(child);
+/// Sets whose members are components (a `FunctionSet`'s functions or a contact force's
+/// parameters are not).
+const COMPONENT_SETS: [&str; 11] =
+    ["BodySet", "MarkerSet", "ForceSet", "ConstraintSet", "ControllerSet", "ProbeSet", "ComponentSet", "ContactGeometrySet", "WrapObjectSet", "PathPointSet", "PathWrapSet"];
+
+/// `Component::updateFromXMLNode` (< 30500): whitespace is no longer allowed in names, and an
+/// unnamed component (e.g. a `PathWrap`) is named after its class, lowercase — the second of a
+/// name `<name>_0`, the third `<name>_1`, as OpenSim renames duplicates; a body's
+/// `WrapObjectSet` is `wrapobjectset`. Groups of a set are not components and keep their names.
+fn name_components(element: &mut TreeElement) {
+    for child in element.elements_mut() {
+        without_whitespace(child);
+        if child.tag == "WrapObjectSet" {
+            child.set_attribute("name", "wrapobjectset");
         }
+        if COMPONENT_SETS.contains(&child.tag.as_str()) {
+            if let Some(objects) = child.child_mut("objects") {
+                name_unnamed(objects);
+            }
+        }
+        if child.tag != "groups" {
+            name_components(child);
+        }
+    }
+}
+
+/// Names the unnamed members of a set's `objects` after their class.
+fn name_unnamed(objects: &mut TreeElement) {
+    let mut generated: HashMap<String, usize> = HashMap::new();
+    for member in objects.elements_mut().filter(|m| m.name().is_none_or(str::is_empty)) {
+        let base = member.tag.to_lowercase();
+        let count = generated.entry(base.clone()).or_insert(0);
+        let name = if *count == 0 { base } else { format!("{base}_{}", *count - 1) };
+        *count += 1;
+        member.set_attribute("name", &name);
+    }
+}
+
+fn without_whitespace(component: &mut TreeElement) {
+    if let Some(name) = component.name().filter(|n| n.contains(char::is_whitespace)) {
+        let name: String = name.chars().filter(|c| !c.is_whitespace()).collect();
+        component.set_attribute("name", &name);
     }
 }

@@ -4,10 +4,10 @@
 //! put on the axis with its Z along it; the child frame is placed so that the child body's pose
 //! relative to the parent body at the reference angle is unchanged.
 
-use crate::io::osim::{format_numbers, Dialect, OsimDocument, OsimError};
+use crate::io::osim::{format_numbers, OsimDocument, OsimError};
 use crate::io::xml::{EditError, ElementId};
 use crate::mechanics::{body_fixed_xyz_angles, rotation_about, Mat3, MechanicsError, Multibody, MuscleGeometry, Transform, Vec3};
-use crate::model::{ComponentReader, JointSpec, ModelError, ModelSpec, MotionType, Offset};
+use crate::model::{upgrade, ComponentReader, JointSpec, ModelError, ModelSpec, MotionType, Offset};
 
 use super::path_change::{path_changes, PathChange};
 
@@ -57,11 +57,12 @@ pub enum SwapError {
     BadAxis { problem: String },
 }
 
-/// Replaces joint `joint` of a 4.x model by a `PinJoint` about `axis` (in the parent body's
-/// frame), preserving the child's pose at `reference_angle` (rad; `None`: the coordinate's
-/// default value).
+/// Replaces joint `joint` by a `PinJoint` about `axis` (in the parent body's frame), preserving
+/// the child's pose at `reference_angle` (rad; `None`: the coordinate's default value). A 2.x/3.x
+/// model is converted to OpenSim 4's format first, as OpenSim 4 would write it.
 pub fn swap_knee(document: &OsimDocument, joint: &str, axis: &JointAxis, reference_angle: Option<f64>) -> Result<SwappedKnee, SwapError> {
     let axis = checked_axis(axis)?;
+    let document = &upgrade(document)?;
     let spec = ModelSpec::read(document)?;
     let (element, joint_spec) = hinge(document, &spec, joint)?;
     let coordinate = joint_spec.coordinates[0].clone();
@@ -100,7 +101,7 @@ fn checked_axis(axis: &JointAxis) -> Result<JointAxis, SwapError> {
     Ok(JointAxis { point: axis.point, direction: axis.direction / norm })
 }
 
-/// The joint's element and spec, checked to be a one-coordinate rotational joint of a 4.x model
+/// The joint's element and spec, checked to be a one-coordinate rotational joint
 /// whose frames are offset frames it owns, each directly on a body.
 fn hinge<'a>(document: &OsimDocument, spec: &'a ModelSpec, joint: &str) -> Result<(ElementId, &'a JointSpec), SwapError> {
     let file = document.xml.file().to_path_buf();
@@ -108,10 +109,6 @@ fn hinge<'a>(document: &OsimDocument, spec: &'a ModelSpec, joint: &str) -> Resul
         let known = spec.joints.iter().map(|j| j.name.as_str()).collect::<Vec<_>>().join(", ");
         return Err(SwapError::UnknownJoint { file, joint: joint.into(), known });
     };
-    if document.version.dialect != Dialect::V4 {
-        let problem = "is in a 3.x model; save the model in OpenSim 4 first".to_string();
-        return Err(SwapError::Unsupported { file, line: document.xml.line(document.object), joint: joint.into(), problem });
-    }
     let element = document.resolve(&format!("/jointset/{joint}"))?;
     let unsupported = |problem: String| SwapError::Unsupported { file: file.clone(), line: document.xml.line(element), joint: joint.into(), problem };
     let rotational = joint_spec.coordinates.len() == 1 && joint_spec.coordinates[0].motion_type == MotionType::Rotational;

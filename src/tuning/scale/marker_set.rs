@@ -33,7 +33,10 @@ pub fn read_marker_set(path: &Path) -> Result<Vec<MarkerDefinition>, ScaleError>
         let marker = set.at(element);
         let parent_frame = match document.version.dialect {
             Dialect::V4 => marker.text("socket_parent_frame")?,
-            _ => format!("/bodyset/{}", marker.text("body")?),
+            _ => match marker.text("body")?.as_str() {
+                "ground" => "/ground".to_string(),
+                body => format!("/bodyset/{body}"),
+            },
         };
         markers.push(MarkerDefinition { name: marker.name(), parent_frame, location: marker.vec3("location")?, fixed: marker.boolean_or("fixed", false)? });
     }

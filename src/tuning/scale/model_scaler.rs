@@ -7,7 +7,7 @@ use super::geometry::geometry_edits;
 use super::inertia::Inertial;
 use super::path_lengths::{default_pose_lengths, rescale_edits, PathRescale};
 use super::scale_set::ScaleSet;
-use crate::io::osim::{Dialect, OsimDocument};
+use crate::io::osim::OsimDocument;
 use crate::model::{ComponentReader, ModelSpec};
 
 /// The scaled model and what changed in it.
@@ -26,14 +26,6 @@ pub struct ScaledModel {
 /// so the model weighs `subject_mass` (kg) when it is given.
 pub fn scale_model(document: &OsimDocument, scale_set: &ScaleSet, preserve_mass_distribution: bool, subject_mass: Option<f64>) -> Result<ScaledModel, ScaleError> {
     let model = ModelSpec::read(document)?;
-    if document.version.dialect != Dialect::V4 {
-        return Err(ScaleError::Unsupported {
-            file: model.file.clone(),
-            line: document.xml.line(document.object),
-            component: model.name.clone(),
-            problem: "scaling writes OpenSim 4 models; open and save this 3.x model in OpenSim 4 first".into(),
-        });
-    }
     let lengths_before = default_pose_lengths(&model)?;
     let mut scaled = document.clone();
     apply(&mut scaled, &geometry_edits(document, scale_set)?)?;

@@ -12,7 +12,7 @@ use super::scale_set::ScaleSet;
 use crate::io::osim::OsimDocument;
 use crate::io::table::MarkerTable;
 use crate::mechanics::Multibody;
-use crate::model::ModelSpec;
+use crate::model::{upgrade, ModelSpec};
 use crate::setup::{ModelScaler, ScaleSetup, ScalingStep};
 use crate::solvers::{CoordinateValues, IkTasks};
 
@@ -36,9 +36,10 @@ pub struct ScaleOutcome {
 }
 
 /// Runs the Scale step of `setup` on `generic` (the setup's `model_file` is not read, so a
-/// caller may pass another model). `progress` receives one line per step.
+/// caller may pass another model; a 2.x/3.x one is converted to OpenSim 4's format first, as
+/// OpenSim 4's ScaleTool loads it). `progress` receives one line per step.
 pub fn run_scale_tool(generic: &OsimDocument, setup: &ScaleSetup, progress: &mut dyn FnMut(&str)) -> Result<ScaleOutcome, ScaleError> {
-    let mut document = generic.clone();
+    let mut document = upgrade(generic)?;
     if let Some(file) = setup.generic_model_maker.as_ref().and_then(|m| m.marker_set_file.as_ref()) {
         progress(&format!("markers: {}", file.written));
         document = update_marker_set(&document, &read_marker_set(&file.resolved)?)?;
