@@ -192,3 +192,27 @@ fn a_reader_closing_the_pipe_early_ends_diff_quietly() {
     const SIGPIPE: i32 = 13;
     assert_eq!(output.status.signal(), Some(SIGPIPE), "{:?}", output.status);
 }
+
+/// `convert` writes a 2.x model in the 4.x format (which `info` reads as version 40000 with the
+/// same muscles), copies a 4.x model unchanged, and refuses to overwrite its input.
+#[test]
+fn convert_writes_an_older_model_in_opensim_4s_format() {
+    let dir = temporary();
+    let input = common::fixture("legacy/arm26_v20303.osim");
+    let output = dir.path().join("arm26.osim");
+    let (code, stdout, stderr) = osim_tune(&["convert", s(&input), "-o", s(&output)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.contains("from version 20303 to 40000"), "{stdout}");
+    let (code, stdout, _) = osim_tune(&["info", "--json", s(&output)]);
+    assert_eq!(code, 0);
+    let summary: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(summary["version"], 40000);
+    assert_eq!(summary["muscles"].as_array().unwrap().len(), 6);
+    let again = dir.path().join("again.osim");
+    let (code, stdout, _) = osim_tune(&["convert", s(&output), "-o", s(&again)]);
+    assert_eq!(code, 0);
+    assert!(stdout.contains("already in OpenSim 4's format"), "{stdout}");
+    assert_eq!(std::fs::read(&output).unwrap(), std::fs::read(&again).unwrap());
+    let (code, _, stderr) = osim_tune(&["convert", s(&input), "-o", s(&input)]);
+    assert_eq!(code, 2, "{stderr}");
+}

@@ -33,8 +33,8 @@ fn spec(definition: &Value) -> FunctionSpec {
     match definition["class"].as_str().unwrap() {
         "Constant" => FunctionSpec::Constant { value: number("value") },
         "LinearFunction" => FunctionSpec::LinearFunction { slope: number("slope"), intercept: number("intercept") },
-        "SimmSpline" => FunctionSpec::SimmSpline { x: numbers("x"), y: numbers("y") },
-        "NaturalCubicSpline" => FunctionSpec::NaturalCubicSpline { x: numbers("x"), y: numbers("y") },
+        // OpenSim reads a `NaturalCubicSpline` as a `SimmSpline`, and so does osim-tune.
+        "SimmSpline" | "NaturalCubicSpline" => FunctionSpec::SimmSpline { x: numbers("x"), y: numbers("y") },
         "GCVSpline" => {
             let degree = definition["degree"].as_u64().unwrap() as usize;
             let error_variance = definition.get("error_variance").map_or(0.0, |_| number("error_variance"));

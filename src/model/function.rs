@@ -13,8 +13,8 @@ pub enum FunctionSpec {
     Constant { value: f64 },
     /// y = slope·x + intercept (`coefficients` = slope intercept).
     LinearFunction { slope: f64, intercept: f64 },
+    /// Also a `NaturalCubicSpline`, which OpenSim registers as a renamed `SimmSpline`.
     SimmSpline { x: Vec<f64>, y: Vec<f64> },
-    NaturalCubicSpline { x: Vec<f64>, y: Vec<f64> },
     /// Woltring's smoothing spline of odd `degree` (= 2·`half_order` − 1); `error_variance` 0
     /// interpolates, > 0 smooths, < 0 picks the smoothing by generalized cross-validation.
     GCVSpline { degree: usize, error_variance: f64, x: Vec<f64>, y: Vec<f64> },
@@ -42,13 +42,9 @@ impl FunctionSpec {
                 let c = reader.numbers_or("coefficients", &[1.0, 0.0])?;
                 FunctionSpec::LinearFunction { slope: c[0], intercept: c[1] }
             }
-            "SimmSpline" => {
+            "SimmSpline" | "NaturalCubicSpline" => {
                 let (x, y) = knots(reader, 2)?;
                 FunctionSpec::SimmSpline { x, y }
-            }
-            "NaturalCubicSpline" => {
-                let (x, y) = knots(reader, 2)?;
-                FunctionSpec::NaturalCubicSpline { x, y }
             }
             "GCVSpline" => {
                 let half_order = reader.number("half_order")?;

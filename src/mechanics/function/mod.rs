@@ -86,7 +86,7 @@ impl Function {
         let kind = match spec {
             FunctionSpec::Constant { value } => Kind::Constant(*value),
             FunctionSpec::LinearFunction { slope, intercept } => Kind::Linear { slope: *slope, intercept: *intercept },
-            FunctionSpec::SimmSpline { x, y } | FunctionSpec::NaturalCubicSpline { x, y } => {
+            FunctionSpec::SimmSpline { x, y } => {
                 Kind::SimmSpline(SimmSpline::new(x, y))
             }
             FunctionSpec::GCVSpline { degree, error_variance, x, y } => {
@@ -181,17 +181,6 @@ mod tests {
     fn constant_has_no_slope() {
         let f = Function::new(&FunctionSpec::Constant { value: 3.5 });
         assert_eq!((f.value(-9.0), f.derivative(1.0), f.second_derivative(1.0)), (3.5, 0.0, 0.0));
-    }
-
-    #[test]
-    fn natural_cubic_spline_is_a_simm_spline() {
-        let (x, y) = knots(&[0.0, 0.5, 1.3, 2.0], &[0.0, 0.8, 0.4, -0.3]);
-        let simm = Function::new(&FunctionSpec::SimmSpline { x: x.clone(), y: y.clone() });
-        let natural = Function::new(&FunctionSpec::NaturalCubicSpline { x, y });
-        for t in [-1.0, 0.2, 0.5, 1.7, 3.0] {
-            assert_eq!(simm.value(t), natural.value(t));
-            assert_eq!(simm.second_derivative(t), natural.second_derivative(t));
-        }
     }
 
     #[test]

@@ -2,8 +2,11 @@
 //! (markers, path points, constraints, springs, prescribed forces, contact geometry),
 //! `isDisabled` into `appliesForce`/`isEnforced`/`enabled`, display properties into an
 //! `Appearance` (paths, wrap objects, contact geometry), 2.x muscle paths, controls left at a
-//! muscle's defaults, a coordinate's `motion_type` dropped, and functions written as the
-//! named object OpenSim 4 writes (`<LinearFunction name="function">`).
+//! muscle's defaults, a coordinate's `motion_type` dropped, a `TransformAxis`'s function written
+//! as the named object OpenSim 4 writes (`<LinearFunction name="function">`), `NaturalCubicSpline`
+//! written as the `SimmSpline` OpenSim reads it as, and display objects (`VisibleObject`) that
+//! have no place in OpenSim 4 dropped. Other properties OpenSim 4 no longer has (a 2.x Thelen
+//! muscle's `damping`, a coordinate's `initial_value`) are kept as written; OpenSim 4 ignores them.
 
 use crate::io::xml::TreeElement;
 use crate::model::error::ModelError;
@@ -39,6 +42,9 @@ impl Upgrade<'_> {
                 }
             }
         }
+        if class == "NaturalCubicSpline" {
+            element.tag = "SimmSpline".into();
+        }
         match class.as_str() {
             "ConditionalPathPoint" => self.coordinate_sockets(element, &[("coordinate", "socket_coordinate")]),
             "MovingPathPoint" => self.moving_path_point(element),
@@ -55,6 +61,7 @@ impl Upgrade<'_> {
             c if c.starts_with("Contact") && !c.ends_with("Set") => contact_geometry(element),
             _ => {}
         }
+        element.take("VisibleObject");
         if is_muscle_class(&class) {
             self.muscle(element);
         }

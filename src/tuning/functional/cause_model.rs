@@ -45,7 +45,7 @@ pub fn apply_cause(cause: &SingleCause, initial: &[MuscleParameters], document: 
 /// frame's translation, in its body, gains R(orientation)·offset.
 fn move_axis(document: &mut OsimDocument, joint: &str, axis_move: &AxisMove) -> Result<CauseEdit, OsimError> {
     if document.version.dialect != Dialect::V4 {
-        return Ok(CauseEdit::NotInModel(format!("moves joint {joint}, whose frames a 3.x model does not write as offset frames; save the model in OpenSim 4 first")));
+        return Ok(CauseEdit::NotInModel(format!("moves joint {joint}, whose frames a 3.x model does not write as offset frames; convert the model with `osim-tune convert` first")));
     }
     let mut frames = Vec::new();
     for socket in ["socket_parent_frame", "socket_child_frame"] {
