@@ -239,3 +239,19 @@ fn a_from_file_task_in_marker_placement_follows_the_coordinate_file_as_opensim()
     let differences = compare_scaled_models(&golden, &at_opensim_pose.document, Tolerance { relative: 0.0, absolute: 1e-7 });
     assert!(differences.is_empty(), "{differences:#?}");
 }
+
+/// A 3.x marker-set file names bodies by `<body>`: a marker on `ground` is on `/ground` (as
+/// OpenSim's conversion makes it), the others on `/bodyset/<body>`.
+#[test]
+fn a_3x_marker_set_puts_ground_markers_on_ground() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("markers.xml");
+    let text = "<OpenSimDocument Version=\"30000\"><MarkerSet><objects>\
+        <Marker name=\"LAB\"><body>ground</body><location>0 0 0</location></Marker>\
+        <Marker name=\"KNEE\"><body>femur_r</body><location>0 -0.4 0.05</location><fixed>true</fixed></Marker>\
+        </objects></MarkerSet></OpenSimDocument>";
+    std::fs::write(&path, text).unwrap();
+    let markers = read_marker_set(&path).unwrap();
+    assert_eq!(markers.iter().map(|m| m.parent_frame.as_str()).collect::<Vec<_>>(), ["/ground", "/bodyset/femur_r"]);
+    assert!(markers[1].fixed);
+}

@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::model::{upgrade, ModelSpec, UPGRADED_VERSION};
-use osim_tune::review::{flatten, flatten_for_comparison, FlatEntry};
+use osim_tune::review::flatten;
+use osim_tune::validation::conversion_mismatches;
 use serde_json::Value;
 
 fn fixture(name: &str) -> PathBuf {
@@ -70,27 +71,14 @@ fn conversion_writes_what_opensim_writes() {
         let opensim = OsimDocument::read(&fixture(&format!("golden/upgrade/{name}.osim"))).unwrap();
         let ours = upgrade(&original).unwrap();
         assert_same_model(&spec(&opensim), &spec(&ours), name);
-        let expected = flatten(&opensim);
-        let mut checked = 0;
-        // OpenSim 4.6 names an unnamed 4.0 `GeometryPath` `path`.
-        for (path, entry) in &flatten_for_comparison(&ours, opensim.version.number).0.entries {
-            let found = expected.get(path);
-            match (entry, found) {
-                (FlatEntry::Component { class }, Some(FlatEntry::Component { class: theirs })) => assert_eq!(class, theirs, "{name}: {path}"),
-                (FlatEntry::Property { value }, Some(FlatEntry::Property { value: theirs })) => assert!(same_value(value, theirs), "{name}: {path} = {value:?}, OpenSim {theirs:?}"),
-                (_, found) => panic!("{name}: {path} ({entry:?}) is not in OpenSim's conversion ({found:?})"),
-            }
-            checked += 1;
-        }
+        let mismatches = conversion_mismatches(&opensim, &ours);
+        assert!(mismatches.is_empty(), "{name}: {mismatches:#?}");
+        let checked = flatten(&ours).entries.len();
         assert!(checked > 100, "{name}: {checked}");
+        let mut altered = ours.clone();
+        altered.set_property("/bodyset/shank/mass", "3.75").or_else(|_| altered.set_property("/bodyset/r_humerus/mass", "1.9")).or_else(|_| altered.set_property("/bodyset/tibia_r/mass", "3.8")).unwrap();
+        assert_eq!(conversion_mismatches(&opensim, &altered).len(), 1, "{name}: a changed mass is seen");
     }
-}
-
-/// Equal text up to whitespace, numbers equal as doubles, relative socket paths as absolute.
-fn same_value(ours: &str, theirs: &str) -> bool {
-    let theirs = theirs.trim().replace("../../../", "/");
-    let (a, b): (Vec<&str>, Vec<&str>) = (ours.split_whitespace().collect(), theirs.split_whitespace().collect());
-    a.len() == b.len() && a.iter().zip(&b).all(|(x, y)| x == y || matches!((x.parse::<f64>(), y.parse::<f64>()), (Ok(p), Ok(q)) if p == q))
 }
 
 /// A 4.x model is returned as it is.
@@ -98,4 +86,17 @@ fn same_value(ours: &str, theirs: &str) -> bool {
 fn a_4x_model_is_not_converted() {
     let document = OsimDocument::read(&fixture("models/arm26.osim")).unwrap();
     assert_eq!(upgrade(&document).unwrap().xml.serialize(), document.xml.serialize());
+}
+
+/// A value the conversion computes with (a display geometry's transform, which no other part of
+/// osim-tune reads) that is not what it must be names the file, line and component.
+#[test]
+fn a_bad_value_names_file_and_line() {
+    let path = fixture("legacy/arm26_v20303.osim");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = text.lines().position(|l| l.contains("<transform> -0 0 -0 0 0 0</transform>")).unwrap() + 1;
+    let broken = text.replacen("<transform> -0 0 -0 0 0 0</transform>", "<transform> -0 0 -0 0 0</transform>", 1);
+    let document = OsimDocument::parse(broken, &path).unwrap();
+    let error = upgrade(&document).unwrap_err().to_string();
+    assert!(error.contains(&format!("arm26_v20303.osim:{line}: DisplayGeometry: <transform> must be 6 numbers")), "{error}");
 }

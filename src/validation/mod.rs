@@ -20,10 +20,12 @@ mod model_goldens;
 mod muscle_thelen;
 mod scale;
 mod tool_case;
+mod upgrade;
 mod walk_dynamics;
 mod cmc;
 mod rra;
 
+pub use upgrade::conversion_mismatches;
 pub use cmc::{cmc_tolerances, compare_cmc_case, run_cmc_case, CmcComparison, CmcTolerances, TrackedBounds, CMC_CASES, cmc_inputs, POSITION_ERROR_MARGIN};
 pub use rra::{compare_rra_case, rra_tolerances, run_rra_case, RraComparison, RRA_CASES, RRA_INPUTS, RRA_MASS_CENTER_TOLERANCE, RRA_REPORT_TOLERANCE};
 pub use analyze_tool::{case_tolerance, compare_analyze_tool_setup, row_errors, row_tolerance, table_error, AnalyzeToolComparison, ANALYZE_TOOL_CASES, ANALYZE_TOOL_INPUTS, OFF_BOUND_TOLERANCE, VALUE_TOLERANCE};

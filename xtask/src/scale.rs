@@ -1,6 +1,8 @@
 //! Scale-step rows of the validation table: OpenSim 4.6's ScaleTool run on subject01
 //! (`fixtures/golden/scale`, from `../shared/reference/pipelines/gait2392_subject01`) and by
-//! manual factors on leg6dof9musc, joint_zoo, Rajagopal2016, arm26, the wrap zoo, the ellipsoid joints and the station frames (`fixtures/golden/scale_zoo`), and by
+//! manual factors on leg6dof9musc, joint_zoo, Rajagopal2016, arm26, the wrap zoo, the ellipsoid joints and the station frames (`fixtures/golden/scale_zoo`) and on
+//! 2.x/3.x documents it converts as it loads them (with our conversion against OpenSim's,
+//! `fixtures/golden/upgrade`), and by
 //! measurements with marker placement on leg6dof9musc and a synthetic static trial
 //! (`fixtures/golden/scale_measured`).
 
@@ -10,11 +12,11 @@ use std::process::Command;
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::{MarkerTable, StorageTable};
 use osim_tune::mechanics::Multibody;
-use osim_tune::model::ModelSpec;
+use osim_tune::model::{upgrade, ModelSpec};
 use osim_tune::review::{Difference, Tolerance};
 use osim_tune::setup::ScaleSetup;
 use osim_tune::tuning::scale::{averaged_frame, move_markers_to_pose, run_scale_tool, ScaleOutcome};
-use osim_tune::validation::{compare_scaled_models, marker_objective, SCALED_MODEL_TOLERANCE};
+use osim_tune::validation::{compare_scaled_models, conversion_mismatches, marker_objective, SCALED_MODEL_TOLERANCE};
 
 use crate::root;
 use crate::validate::Row;
@@ -28,7 +30,9 @@ pub fn rows() -> Vec<Row> {
     rows.push(scaled_model_row("scaled model, every property (1e-7 rel. or 1e-9)".into(), REFERENCE, &outcome, &golden("subject01_scaledOnly.osim")));
     rows.extend(placement_rows(&outcome, &setup, Placement { reference: REFERENCE, pose: "scale/subject01_static_output.mot", placed: "scale/subject01_simbody.osim" }));
     rows.extend(opensim_loads(&outcome));
-    rows.extend(["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"].map(manual_scale_row));
+    rows.extend(["leg6dof9musc", "joint_zoo", "Rajagopal2016", "arm26", "wrap_zoo", "ellipsoid_joints", "station_frames"].map(|m| manual_scale_row(m, &format!("models/{m}.osim"))));
+    rows.extend(LEGACY_MODELS.map(|(model, path)| manual_scale_row(model, path)));
+    rows.extend(["pendulum_leg_v30000_digits", "arm26_v20303", "leg6dof9musc_v20303"].map(conversion_row));
     rows.extend(measured_leg_rows());
     let (_, linked) = scale_by(&root().join("fixtures/golden/scale_linked/setup.xml"), &root().join("fixtures/models/linked_mechanisms.osim"));
     let golden = root().join("fixtures/golden/scale_linked/scaled.osim");
@@ -65,12 +69,26 @@ fn measured_leg_rows() -> Vec<Row> {
     rows
 }
 
-/// `model` (from `fixtures/models`) scaled by its anisotropic manual factors, every property
+/// 2.x/3.x documents (under `fixtures/`), which OpenSim's ScaleTool converts as it loads them.
+const LEGACY_MODELS: [(&str, &str); 3] =
+    [("arm26_v20303", "legacy/arm26_v20303.osim"), ("leg6dof9musc_v20303", "legacy/leg6dof9musc_v20303.osim"), ("abdbonepin_v30000", "ik_point_constraint/subject1_abdbonepin.osim")];
+
+/// `model` (at `path` under `fixtures/`) scaled by its anisotropic manual factors, every property
 /// against OpenSim's.
-fn manual_scale_row(model: &str) -> Row {
+fn manual_scale_row(model: &str, path: &str) -> Row {
     let golden = |suffix: &str| root().join(format!("fixtures/golden/scale_zoo/{model}_{suffix}"));
-    let (_, outcome) = scale_by(&golden("setup.xml"), &root().join(format!("fixtures/models/{model}.osim")));
+    let (_, outcome) = scale_by(&golden("setup.xml"), &root().join("fixtures").join(path));
     scaled_model_row(format!("{model} by manual factors, every property"), "OpenSim 4.6 ScaleTool, manualScale", &outcome, &golden("scaled.osim"))
+}
+
+/// A 2.x/3.x model (`fixtures/legacy/<model>.osim`) converted to the 4.x format: components and
+/// values written that OpenSim 4.6's own conversion (`fixtures/golden/upgrade`) does not write.
+fn conversion_row(model: &str) -> Row {
+    let generic = OsimDocument::read(&root().join(format!("fixtures/legacy/{model}.osim"))).expect("legacy model");
+    let converted = upgrade(&generic).expect("the model converts");
+    let opensim = OsimDocument::read(&root().join(format!("fixtures/golden/upgrade/{model}.osim"))).expect("golden conversion");
+    let mismatches = conversion_mismatches(&opensim, &converted);
+    Row { what: format!("{model} to 4.x, every value"), reference: "OpenSim 4.6 conversion".into(), worst: mismatches.len() as f64, tolerance: 0.0, at: mismatches.first().cloned().unwrap_or_default() }
 }
 
 fn scale_factor_row(outcome: &ScaleOutcome, csv: &str) -> Row {

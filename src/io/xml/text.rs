@@ -51,7 +51,8 @@ pub fn with_raw_byte_stand_ins(bytes: &[u8]) -> String {
     text
 }
 
-/// `text` as bytes, each stand-in of [`with_raw_byte_stand_ins`] as the byte it stands for.
+/// `text` as bytes, each private-use stand-in of a stray byte (as `Document::tree` reads them) as
+/// the byte it stands for.
 pub fn raw_bytes(text: &str) -> Vec<u8> {
     let mut bytes = Vec::with_capacity(text.len());
     for c in text.chars() {
