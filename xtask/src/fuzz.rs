@@ -1,6 +1,7 @@
 //! `cargo xtask fuzz-smoke [SECONDS]`: feeds mutated copies of the fixtures (bit flips, byte
 //! insertions and deletions, truncation, splices of other inputs) to every parser — documents
-//! into the model view, force sets and every tool setup (Scale, IK, ID, Analyze, ExternalLoads)
+//! into the model view (2.x/3.x ones also converted to 4.x and read again), force sets and every
+//! tool setup (Scale, IK, ID, Analyze, ExternalLoads)
 //! — for a bounded time and reports any panic. Seeded, so a failing run can be repeated.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -10,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use osim_tune::io::osim::OsimDocument;
 use osim_tune::io::table::{MarkerTable, StorageTable};
-use osim_tune::model::{read_force_set, ModelSpec};
+use osim_tune::model::{read_force_set, upgrade, ModelSpec};
 use osim_tune::setup::{AnalyzeSetup, ExternalLoadsSetup, IdSetup, IkSetup, ScaleSetup};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
@@ -24,6 +25,9 @@ fn parse_osim(bytes: &[u8]) {
     let text = String::from_utf8_lossy(bytes).into_owned();
     if let Ok(document) = OsimDocument::parse(text, Path::new("fuzz.osim")) {
         let _ = ModelSpec::read(&document);
+        if let Ok(converted) = upgrade(&document) {
+            let _ = ModelSpec::read(&converted);
+        }
         let _ = read_force_set(&document);
         let _ = (ScaleSetup::from_document(&document), IkSetup::from_document(&document), IdSetup::from_document(&document));
         let _ = (AnalyzeSetup::from_document(&document), ExternalLoadsSetup::from_document(&document));

@@ -16,7 +16,7 @@ use crate::model::spec::is_force_class;
 use super::Upgrade;
 
 /// Body-name properties and the sockets OpenSim 4 makes of them, by class.
-const BODY_SOCKETS: [(&str, &[(&str, &str)]); 9] = [
+const BODY_SOCKETS: [(&str, &[(&str, &str)]); 10] = [
     ("Marker", &[("body", "socket_parent_frame")]),
     ("PathPoint", &[("body", "socket_parent_frame")]),
     ("ConditionalPathPoint", &[("body", "socket_parent_frame")]),
@@ -26,6 +26,7 @@ const BODY_SOCKETS: [(&str, &[(&str, &str)]); 9] = [
     ("PointOnLineConstraint", &[("line_body", "socket_line_body"), ("follower_body", "socket_follower_body")]),
     ("RollingOnSurfaceConstraint", &[("rolling_body", "socket_rolling_body"), ("surface_body", "socket_surface_body")]),
     ("PointToPointSpring", &[("body1", "socket_body1"), ("body2", "socket_body2")]),
+    ("PrescribedForce", &[("body", "socket_frame")]),
 ];
 
 /// Classes whose two bodies with locations and orientations become two frames.
@@ -49,11 +50,6 @@ impl Upgrade<'_> {
             "ConditionalPathPoint" => self.coordinate_sockets(element, &[("coordinate", "socket_coordinate")]),
             "MovingPathPoint" => self.moving_path_point(element),
             "GeometryPath" => geometry_path(element),
-            "PrescribedForce" => {
-                if let Some(body) = element.take("body") {
-                    element.push(TreeElement::leaf("socket_frame", &Self::body_path(body.text.trim())));
-                }
-            }
             "Coordinate" => drop(element.take("motion_type")),
             "TransformAxis" => named_transform_function(element),
             c if TWO_FRAME_LINKERS.contains(&c) => self.two_frame_links(element)?,

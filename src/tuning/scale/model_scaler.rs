@@ -8,7 +8,7 @@ use super::inertia::Inertial;
 use super::path_lengths::{default_pose_lengths, rescale_edits, PathRescale};
 use super::scale_set::ScaleSet;
 use crate::io::osim::OsimDocument;
-use crate::model::{ComponentReader, ModelSpec};
+use crate::model::{upgrade, ComponentReader, ModelSpec};
 
 /// The scaled model and what changed in it.
 #[derive(Debug, Clone)]
@@ -21,10 +21,11 @@ pub struct ScaledModel {
     pub paths: Vec<PathRescale>,
 }
 
-/// Scales `document` (an OpenSim 4 model) by `scale_set`. Masses follow the volume
-/// (|sx·sy·sz|) unless `preserve_mass_distribution`; then every mass and inertia is multiplied
-/// so the model weighs `subject_mass` (kg) when it is given.
+/// Scales `document` (a 2.x/3.x model converted to OpenSim 4's format first) by `scale_set`.
+/// Masses follow the volume (|sx·sy·sz|) unless `preserve_mass_distribution`; then every mass
+/// and inertia is multiplied so the model weighs `subject_mass` (kg) when it is given.
 pub fn scale_model(document: &OsimDocument, scale_set: &ScaleSet, preserve_mass_distribution: bool, subject_mass: Option<f64>) -> Result<ScaledModel, ScaleError> {
+    let document = &upgrade(document)?;
     let model = ModelSpec::read(document)?;
     let lengths_before = default_pose_lengths(&model)?;
     let mut scaled = document.clone();
