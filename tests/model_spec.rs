@@ -311,3 +311,16 @@ fn controllers_are_read() {
     let [ControllerSpec::Unsupported { name, reason, .. }] = spec.controllers.as_slice() else { panic!("{:?}", spec.controllers) };
     assert!(name == "p_all" && reason.contains("ExpressionBasedFunction"), "{reason}");
 }
+
+/// A 3.x joint with `reverse` true, which OpenSim 4 turns into a joint from the child body to
+/// the parent, is refused naming the joint's line rather than read the other way round.
+#[test]
+fn a_reversed_3x_joint_is_refused() {
+    let path = common::fixture("legacy/pendulum_leg_v30000.osim");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let line = text.lines().position(|l| l.contains("<parent_body>thigh</parent_body>")).unwrap() + 1;
+    let reversed = text.replacen("<parent_body>thigh</parent_body>", "<parent_body>thigh</parent_body><reverse>true</reverse>", 1);
+    let document = OsimDocument::parse(reversed, &path).unwrap();
+    let error = ModelSpec::read(&document).unwrap_err().to_string();
+    assert!(error.contains(&format!("pendulum_leg_v30000.osim:{line}:")) && error.contains("<reverse> must be false"), "{error}");
+}

@@ -49,6 +49,10 @@ impl JointSpec {
     /// Reads a 3.x joint nested in `<Body name=child_body><Joint>`; its offsets as OpenSim 4's
     /// conversion to offset frames re-writes them, to six significant digits.
     pub fn read_v3(reader: ComponentReader, child_body: &str) -> Result<JointSpec, ModelError> {
+        if reader.boolean_or("reverse", false)? {
+            let expected = "false: OpenSim 4 turns a reversed joint into one from its child body to its parent, a tree osim-tune does not build";
+            return Err(reader.bad("reverse", expected, "true"));
+        }
         let parent_body = reader.text("parent_body")?;
         // OpenSim's 3.x conversion always adds offset frames named `<body>_offset`.
         let parent = FrameChain {

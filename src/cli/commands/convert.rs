@@ -10,7 +10,6 @@ use crate::model::{upgrade, ModelSpec};
 pub fn run(input: &Path, output: &Path) -> Result<Outcome, Failure> {
     ensure_not_an_input(output, &[input])?;
     let document = OsimDocument::read(input)?;
-    ModelSpec::read(&document)?;
     let converted = upgrade(&document)?;
     ModelSpec::read(&converted)?;
     write_atomically(output, &converted.xml.serialize(), &[input])?;
