@@ -75,7 +75,7 @@ fn conversion_writes_what_opensim_writes() {
         assert!(mismatches.is_empty(), "{name}: {mismatches:#?}");
         let checked = flatten(&ours).entries.len();
         assert!(checked > 100, "{name}: {checked}");
-        let mut altered = ours.clone();
+        let mut altered = ours.clone().into_owned();
         altered.set_property("/bodyset/shank/mass", "3.75").or_else(|_| altered.set_property("/bodyset/r_humerus/mass", "1.9")).or_else(|_| altered.set_property("/bodyset/tibia_r/mass", "3.8")).unwrap();
         assert_eq!(conversion_mismatches(&opensim, &altered).len(), 1, "{name}: a changed mass is seen");
     }

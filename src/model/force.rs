@@ -62,11 +62,9 @@ impl ForceSpec {
         }
         let muscle = MuscleSpec::read(reader)?;
         let applies_force = if dialect == Dialect::V4 { reader.boolean_or("appliesForce", true)? } else { !reader.boolean_or("isDisabled", false)? };
-        // OpenSim 4 drops a pre-4.0 muscle's `min_control` of 0 and `max_control` of 1, so the
-        // muscle's own defaults hold (`Muscle::updateFromXMLNode`, < 30513).
-        let dropped = |default: f64, value: f64| dialect != Dialect::V4 && is_muscle_class(reader.class()) && value == default;
-        let control = |property: &str, default: f64| reader.child(property).map(|_| reader.number(property)).transpose().map(|v| v.filter(|&v| !dropped(default, v)));
-        let controls = [control("min_control", 0.0)?, control("max_control", 1.0)?];
+        let dropped = |property: &str, value: f64| dialect != Dialect::V4 && is_muscle_class(reader.class()) && DROPPED_MUSCLE_CONTROLS.contains(&(property, value));
+        let control = |property: &str| reader.child(property).map(|_| reader.number(property)).transpose().map(|v| v.filter(|&v| !dropped(property, v)));
+        let controls = [control("min_control")?, control("max_control")?];
         Ok(ForceSpec { name: reader.name(), class: reader.class().to_string(), element: reader.element, path_points, path_wraps, muscle, applies_force, controls })
     }
 
@@ -76,6 +74,10 @@ impl ForceSpec {
         is_muscle_class(&self.class)
     }
 }
+
+/// The control bounds OpenSim 4 drops from a pre-4.0 muscle, so the muscle's own defaults hold
+/// (`Muscle::updateFromXMLNode`, < 30513): a `min_control` of 0 and a `max_control` of 1.
+pub(super) const DROPPED_MUSCLE_CONTROLS: [(&str, f64); 2] = [("min_control", 0.0), ("max_control", 1.0)];
 
 /// Whether an element class is a muscle: its name ends in `Muscle` (or `Muscle_Deprecated`), so
 /// `Bhargava2004SmoothedMuscleMetabolics` or `MuscleActivationDynamics` are not.

@@ -10,7 +10,7 @@
 
 use crate::io::xml::TreeElement;
 use crate::model::error::ModelError;
-use crate::model::force::is_muscle_class;
+use crate::model::force::{is_muscle_class, DROPPED_MUSCLE_CONTROLS};
 use crate::model::spec::is_force_class;
 
 use super::Upgrade;
@@ -109,12 +109,7 @@ impl Upgrade<'_> {
         if self.version <= 20301 {
             if muscle.child("GeometryPath").is_none() {
                 let mut path = TreeElement::new("GeometryPath");
-                for (old, new) in [("MusclePointSet", "PathPointSet"), ("MuscleWrapSet", "PathWrapSet")] {
-                    if let Some(mut set) = muscle.take(old) {
-                        set.tag = new.into();
-                        path.push(set);
-                    }
-                }
+                ["MusclePointSet", "MuscleWrapSet"].iter().filter_map(|set| muscle.take(set)).for_each(|set| path.push(set));
                 muscle.push(path);
             }
             if let Some(path) = muscle.child_mut("GeometryPath") {
@@ -128,7 +123,7 @@ impl Upgrade<'_> {
                 pennation.tag = "pennation_angle_at_optimal".into();
             }
         }
-        for (property, default) in [("min_control", 0.0), ("max_control", 1.0)] {
+        for (property, default) in DROPPED_MUSCLE_CONTROLS {
             if muscle.child_text(property).and_then(|t| t.parse::<f64>().ok()) == Some(default) {
                 muscle.take(property);
             }
@@ -172,36 +167,23 @@ fn geometry_path(path: &mut TreeElement) {
 /// `VisibleObject` into an `Appearance` (cyan, half opaque, as OpenSim's wrap objects are), added
 /// only when they said something.
 fn wrap_object(wrap: &mut TreeElement) {
-    let mut color = "0 1 1".to_string();
-    let mut representation = "3".to_string();
-    let mut visible = None;
-    let mut modified = false;
+    let (mut color, mut representation, mut visible, mut modified) = ("0 1 1".to_string(), "3".to_string(), None, false);
     if let Some(c) = wrap.take("color") {
         color = c.text.trim().to_string();
         modified = true;
     }
-    if let Some(preference) = wrap.take("display_preference") {
-        match preference.text.trim().parse::<i32>().unwrap_or(4) {
-            0 => visible = Some("false"),
-            p if p < 4 => representation = p.to_string(),
-            _ => {}
-        }
-        modified |= preference.text.trim() != "4";
+    let preference = |element: &TreeElement| element.text.trim().parse::<i32>().ok();
+    match wrap.take("display_preference").as_ref().and_then(preference) {
+        Some(0) => (visible, modified) = (Some("false"), true),
+        Some(p) if p < 4 => (representation, modified) = (p.to_string(), true),
+        _ => {}
     }
-    if let Some(object) = wrap.take("VisibleObject") {
-        match object.child_text("display_preference").and_then(|p| p.parse::<i32>().ok()) {
-            Some(0) => {
-                visible = Some("false");
-                modified = true;
-            }
-            Some(p) if p < 4 && representation == "3" => {
-                representation = p.to_string();
-                modified = true;
-            }
-            _ => {}
-        }
+    match wrap.take("VisibleObject").as_ref().and_then(|object| object.child("display_preference")).and_then(preference) {
+        Some(0) => (visible, modified) = (Some("false"), true),
+        Some(p) if p < 4 && representation == "3" => (representation, modified) = (p.to_string(), true),
+        _ => {}
     }
-    if !modified && visible.is_none() {
+    if !modified {
         return;
     }
     let mut appearance = TreeElement::new("Appearance");
@@ -246,12 +228,9 @@ fn contact_geometry(geometry: &mut TreeElement) {
 /// the 3.x way).
 fn named_transform_function(axis: &mut TreeElement) {
     let Some(wrapper) = axis.elements_mut().find(|e| e.tag == "function" && e.name().is_none()) else { return };
-    let mut functions = wrapper.take_all();
-    if functions.len() == 1 {
-        let mut function = functions.remove(0);
+    if wrapper.elements().count() == 1 {
+        let mut function = wrapper.take_all().remove(0);
         function.set_attribute("name", "function");
         *wrapper = function;
-    } else {
-        functions.into_iter().for_each(|f| wrapper.push(f));
     }
 }

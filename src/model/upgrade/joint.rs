@@ -17,8 +17,10 @@ impl Upgrade<'_> {
             joint.set_attribute("name", &name);
         }
         let parent = joint.take("parent_body").map(|p| p.text.trim().to_string()).unwrap_or_else(|| "ground".into());
-        let parent_offset = self.offset_frame(&mut joint, &parent, "location_in_parent", "orientation_in_parent")?;
-        let child_offset = self.offset_frame(&mut joint, child, "location", "orientation")?;
+        let (translation, orientation) = self.take_offset(&mut joint, "location_in_parent", "orientation_in_parent")?;
+        let parent_offset = offset_frame(&parent, translation, orientation);
+        let (translation, orientation) = self.take_offset(&mut joint, "location", "orientation")?;
+        let child_offset = offset_frame(child, translation, orientation);
         let reverse = joint.take("reverse").is_some_and(|r| r.text.trim() == "true");
         let (parent_socket, child_socket) = (format!("{parent}_offset"), format!("{child}_offset"));
         let (parent_socket, child_socket) = if reverse { (child_socket, parent_socket) } else { (parent_socket, child_socket) };
@@ -40,14 +42,14 @@ impl Upgrade<'_> {
         Ok(converted)
     }
 
-    /// `XMLDocument::addPhysicalOffsetFrame30505_30517`: the offset frame `<body>_offset` on
-    /// `body` made of (and removing) the component's `location` and `orientation` properties.
-    fn offset_frame(&self, component: &mut TreeElement, body: &str, location: &str, orientation: &str) -> Result<TreeElement, ModelError> {
+    /// The component's `location` and `orientation` properties (given names; 0 when absent),
+    /// removed from it.
+    fn take_offset(&self, component: &mut TreeElement, location: &str, orientation: &str) -> Result<([f64; 3], [f64; 3]), ModelError> {
         let translation = self.values.numbers(component, location, [0.0; 3])?;
         let rotation = self.values.numbers(component, orientation, [0.0; 3])?;
         component.take(location);
         component.take(orientation);
-        Ok(offset_frame(body, translation, rotation))
+        Ok((translation, rotation))
     }
 
     /// `TwoFrameLinker::updateFromXMLNode` (< 30505; `WeldConstraint`, bushing forces): each of
@@ -58,11 +60,7 @@ impl Upgrade<'_> {
         let mut sockets = Vec::new();
         for (index, socket) in [(1, "socket_frame1"), (2, "socket_frame2")] {
             let body = link.take(&format!("body_{index}")).map(|b| b.text.trim().to_string()).unwrap_or_default();
-            let (location, orientation) = (format!("location_body_{index}"), format!("orientation_body_{index}"));
-            let translation = self.values.numbers(link, &location, [0.0; 3])?;
-            let rotation = self.values.numbers(link, &orientation, [0.0; 3])?;
-            link.take(&location);
-            link.take(&orientation);
+            let (translation, rotation) = self.take_offset(link, &format!("location_body_{index}"), &format!("orientation_body_{index}"))?;
             if translation.iter().chain(&rotation).any(|&v| v != 0.0) {
                 frames.push(offset_frame(&body, translation, rotation));
                 sockets.push(TreeElement::leaf(socket, &format!("{body}_offset")));
@@ -78,8 +76,8 @@ impl Upgrade<'_> {
     }
 }
 
-/// The offset frame `<body>_offset` on `body` (its socket written as OpenSim writes it once the
-/// model is built: the body's absolute path).
+/// `XMLDocument::addPhysicalOffsetFrame30505_30517`: the offset frame `<body>_offset` on `body`
+/// (its socket written as OpenSim writes it once the model is built: the body's absolute path).
 fn offset_frame(body: &str, translation: [f64; 3], orientation: [f64; 3]) -> TreeElement {
     let parent = Upgrade::body_path(body);
     let mut frame = TreeElement::named("PhysicalOffsetFrame", &format!("{body}_offset"));

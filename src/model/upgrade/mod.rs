@@ -11,6 +11,7 @@ mod component;
 mod joint;
 mod values;
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 use crate::io::osim::{Dialect, OsimDocument};
@@ -22,10 +23,10 @@ use values::Values;
 /// The document version the conversion writes: OpenSim 4.0's.
 pub const UPGRADED_VERSION: u32 = 40000;
 
-/// `document` in the 4.x format: a 2.x/3.x model converted, a 4.x one as it is.
-pub fn upgrade(document: &OsimDocument) -> Result<OsimDocument, ModelError> {
+/// `document` in the 4.x format: a 2.x/3.x model converted, a 4.x one borrowed as it is.
+pub fn upgrade(document: &OsimDocument) -> Result<Cow<'_, OsimDocument>, ModelError> {
     if document.version.dialect == Dialect::V4 {
-        return Ok(document.clone());
+        return Ok(Cow::Borrowed(document));
     }
     let xml = &document.xml;
     let values = Values { file: xml.file() };
@@ -38,7 +39,7 @@ pub fn upgrade(document: &OsimDocument) -> Result<OsimDocument, ModelError> {
     let mut text = format!("<?xml version=\"1.0\" encoding=\"UTF-8\" ?>\n<OpenSimDocument Version=\"{UPGRADED_VERSION}\">\n");
     model.print(1, &mut text);
     text.push_str("</OpenSimDocument>\n");
-    OsimDocument::from_bytes(raw_bytes(&text), xml.file()).map_err(|error| upgrade.values.unsupported(&model, &format!("the converted model does not read back: {error}")))
+    OsimDocument::from_bytes(raw_bytes(&text), xml.file()).map(Cow::Owned).map_err(|error| upgrade.values.unsupported(&model, &format!("the converted model does not read back: {error}")))
 }
 
 /// One conversion: the document's version and where each coordinate's joint is.

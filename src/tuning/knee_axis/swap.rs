@@ -62,7 +62,8 @@ pub enum SwapError {
 /// model is converted to OpenSim 4's format first, as OpenSim 4 would write it.
 pub fn swap_knee(document: &OsimDocument, joint: &str, axis: &JointAxis, reference_angle: Option<f64>) -> Result<SwappedKnee, SwapError> {
     let axis = checked_axis(axis)?;
-    let document = &upgrade(document)?;
+    let upgraded = upgrade(document)?;
+    let document: &OsimDocument = &upgraded;
     let spec = ModelSpec::read(document)?;
     let (element, joint_spec) = hinge(document, &spec, joint)?;
     let coordinate = joint_spec.coordinates[0].clone();

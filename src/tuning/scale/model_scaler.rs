@@ -25,7 +25,8 @@ pub struct ScaledModel {
 /// Masses follow the volume (|sx·sy·sz|) unless `preserve_mass_distribution`; then every mass
 /// and inertia is multiplied so the model weighs `subject_mass` (kg) when it is given.
 pub fn scale_model(document: &OsimDocument, scale_set: &ScaleSet, preserve_mass_distribution: bool, subject_mass: Option<f64>) -> Result<ScaledModel, ScaleError> {
-    let document = &upgrade(document)?;
+    let upgraded = upgrade(document)?;
+    let document: &OsimDocument = &upgraded;
     let model = ModelSpec::read(document)?;
     let lengths_before = default_pose_lengths(&model)?;
     let mut scaled = document.clone();

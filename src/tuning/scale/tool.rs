@@ -39,7 +39,7 @@ pub struct ScaleOutcome {
 /// caller may pass another model; a 2.x/3.x one is converted to OpenSim 4's format first, as
 /// OpenSim 4's ScaleTool loads it). `progress` receives one line per step.
 pub fn run_scale_tool(generic: &OsimDocument, setup: &ScaleSetup, progress: &mut dyn FnMut(&str)) -> Result<ScaleOutcome, ScaleError> {
-    let mut document = upgrade(generic)?;
+    let mut document = upgrade(generic)?.into_owned();
     if let Some(file) = setup.generic_model_maker.as_ref().and_then(|m| m.marker_set_file.as_ref()) {
         progress(&format!("markers: {}", file.written));
         document = update_marker_set(&document, &read_marker_set(&file.resolved)?)?;
